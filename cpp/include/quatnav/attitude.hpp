@@ -1,0 +1,50 @@
+// quatnav: pieces shared by the attitude filters (initialization from gravity and field,
+// checked normalization of measurement vectors).
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "quaternion.hpp"
+#include "types.hpp"
+
+namespace quatnav {
+namespace detail {
+
+/// Tilt and heading from one accelerometer and magnetometer sample. Returns false for
+/// degenerate input. mag may be null (heading 0). mag_ref receives [m_x, 0, m_z] normalized.
+template <class S>
+bool attitude_from_acc_mag(const Vec3<S>& acc, const Vec3<S>* mag, Quat<S>& q, Vec3<S>& mag_ref) {
+  const S an = acc.norm();
+  if (!(an > std::numeric_limits<S>::min() * S(1e6))) return false;
+  const Vec3<S> a = acc / an;
+  const S roll = std::atan2(-a[1], -a[2]);
+  const S pitch = std::atan2(a[0], std::sqrt(a[1] * a[1] + a[2] * a[2]));
+  S yaw = S(0);
+  if (mag != nullptr) {
+    const S mn = mag->norm();
+    if (!(mn > std::numeric_limits<S>::min() * S(1e6))) return false;
+    const Vec3<S> m = *mag / mn;
+    // Level the field: m_h = Ry(pitch) Rx(roll) m_b = Rz(yaw)^T m_n.
+    const Quat<S> q_tilt = quat::from_euler(roll, pitch, S(0));
+    const Vec3<S> mh = quat::rotate(q_tilt, m);
+    const S horiz = std::sqrt(mh[0] * mh[0] + mh[1] * mh[1]);
+    if (!(horiz > S(1e-3))) return false;  // field parallel to gravity: no heading
+    yaw = std::atan2(-mh[1], mh[0]);
+    mag_ref = Vec3<S>(horiz, S(0), mh[2]);
+  }
+  q = quat::from_euler(roll, pitch, yaw);
+  return true;
+}
+
+/// Normalize a vector that must not be zero; false on non-finite or (near) zero input.
+template <class S> Status unit_vector(const Vec3<S>& v, Vec3<S>& u) {
+  if (!v.allFinite()) return Status::NonFinite;
+  const S n = v.norm();
+  if (!(n > std::sqrt(std::numeric_limits<S>::min()))) return Status::ZeroNorm;
+  u = v / n;
+  return Status::Ok;
+}
+
+}  // namespace detail
+}  // namespace quatnav

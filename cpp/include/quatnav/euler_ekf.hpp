@@ -1,0 +1,257 @@
+// quatnav: the Euler-angle EKF that paper 000 compares its quaternion EKF against.
+//
+// State x = [roll, pitch, yaw, bx, by, bz] (ZYX Euler angles of C_nb in rad, gyro bias in
+// rad/s). Time update: Euler-rate kinematics (paper 004 eq. 1) integrated with one Euler step,
+//   e(k) = e(k-1) + T E(roll, pitch) (w - b),
+//   E = [[1, sin(roll) tan(pitch), cos(roll) tan(pitch)],
+//        [0, cos(roll),            -sin(roll)],
+//        [0, sin(roll)/cos(pitch),  cos(roll)/cos(pitch)]].
+// Measurements: the same normalized accelerometer and magnetometer as the quaternion EKF,
+// h = C_bn(e) [0, 0, -1] and C_bn(e) [m_x, 0, m_z] (paper 000 eq. 1 for C_bn).
+//
+// The singularity: E is unbounded at pitch = +/-90 deg. Where |cos(pitch)| < singular_cos the
+// step still runs with cos(pitch) held at +/-singular_cos, and near_singularity() (batch flag
+// kSingular) reports it: results there are not to be trusted. This is the parametrization's
+// fault, not the data's; the quaternion EKF has no such point.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "attitude.hpp"
+#include "kalman.hpp"
+#include "quaternion.hpp"
+#include "types.hpp"
+
+namespace quatnav {
+
+template <class S> struct EulerEKFParams {
+  S gyro_noise = S(0.005);      ///< gyro white-noise density [rad/s/sqrt(Hz)]
+  S gyro_bias_noise = S(1e-5);  ///< gyro bias random-walk density [rad/s^2/sqrt(Hz)]
+  S acc_noise = S(0.05);        ///< std of each component of the normalized accelerometer [-]
+  S mag_noise = S(0.1);         ///< std of each component of the normalized magnetometer [-]
+  S init_att_sigma = S(0.05);   ///< initial one-sigma of each Euler angle [rad]
+  S init_bias_sigma = S(0.01);  ///< initial gyro-bias one-sigma [rad/s]
+  S max_dt = S(1);              ///< a predict with dt above this is refused [s]
+  S singular_cos = S(0.02);     ///< |cos(pitch)| below this is reported as singular [-]
+};
+
+template <class S> struct EulerEKFState {
+  Vec3<S> euler = Vec3<S>::Zero();              ///< [roll, pitch, yaw] [rad]
+  Vec3<S> bias = Vec3<S>::Zero();               ///< gyro bias [rad/s]
+  Mat<S, 6, 6> P = Mat<S, 6, 6>::Identity();    ///< covariance of [euler, bias]
+  Vec3<S> mag_ref = Vec3<S>(S(1), S(0), S(0));  ///< normalized reference field [m_x, 0, m_z]
+  bool initialized = false;
+  bool mag_ref_set = false;
+};
+
+namespace detail {
+
+/// C_bn(roll, pitch, yaw) and its three partial derivatives.
+template <class S> void euler_cbn(const Vec3<S>& e, Mat3<S>& C, Mat3<S>* dC) {
+  const S cr = std::cos(e[0]), sr = std::sin(e[0]), cp = std::cos(e[1]), sp = std::sin(e[1]);
+  const S cy = std::cos(e[2]), sy = std::sin(e[2]);
+  Mat3<S> Rx, Ry, Rz;  // transposed elementary rotations (navigation to body)
+  Rx << S(1), S(0), S(0), S(0), cr, sr, S(0), -sr, cr;
+  Ry << cp, S(0), -sp, S(0), S(1), S(0), sp, S(0), cp;
+  Rz << cy, sy, S(0), -sy, cy, S(0), S(0), S(0), S(1);
+  C = Rx * Ry * Rz;
+  if (dC) {
+    Mat3<S> dRx, dRy, dRz;
+    dRx << S(0), S(0), S(0), S(0), -sr, cr, S(0), -cr, -sr;
+    dRy << -sp, S(0), -cp, S(0), S(0), S(0), cp, S(0), -sp;
+    dRz << -sy, cy, S(0), -cy, -sy, S(0), S(0), S(0), S(0);
+    dC[0] = dRx * Ry * Rz;
+    dC[1] = Rx * dRy * Rz;
+    dC[2] = Rx * Ry * dRz;
+  }
+}
+
+/// Euler-rate matrix E of paper 004 eq. (1), with cos(pitch) held away from zero.
+template <class S> Mat3<S> euler_rate_matrix(S roll, S cp_safe, S sp) {
+  const S cr = std::cos(roll), sr = std::sin(roll), tp = sp / cp_safe;
+  Mat3<S> E;
+  E << S(1), sr * tp, cr * tp, S(0), cr, -sr, S(0), sr / cp_safe, cr / cp_safe;
+  return E;
+}
+
+template <class S> S safe_cos(S pitch, S min_cos, bool& singular) {
+  const S c = std::cos(pitch);
+  singular = std::abs(c) < min_cos;
+  return singular ? (c < S(0) ? -min_cos : min_cos) : c;
+}
+
+/// Time update e' = e + T E (w - b) and its Jacobian (6x6).
+template <class S>
+void euler_propagate(const Vec3<S>& e, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, S min_cos,
+                     Vec3<S>& e_out, Mat<S, 6, 6>& F, Mat3<S>& E, bool& singular) {
+  const S cp = safe_cos(e[1], min_cos, singular), sp = std::sin(e[1]);
+  const S cr = std::cos(e[0]), sr = std::sin(e[0]);
+  E = euler_rate_matrix(e[0], cp, sp);
+  const Vec3<S> w = gyr - bias;
+  e_out = e + dt * E * w;
+  const S a = w[1] * sr + w[2] * cr;  // q sin(roll) + r cos(roll)
+  const S b = w[1] * cr - w[2] * sr;  // q cos(roll) - r sin(roll)
+  F.setIdentity();
+  // d/droll
+  F(0, 0) += dt * b * sp / cp;
+  F(1, 0) += dt * (-a);
+  F(2, 0) += dt * b / cp;
+  // d/dpitch (zero while held at the singular bound)
+  if (!singular) {
+    F(0, 1) += dt * a / (cp * cp);
+    F(2, 1) += dt * a * sp / (cp * cp);
+  }
+  F.template topRightCorner<3, 3>() = -dt * E;
+}
+
+}  // namespace detail
+
+template <class S> class EulerEKF {
+ public:
+  using Scalar = S;
+  using Params = EulerEKFParams<S>;
+  using State = EulerEKFState<S>;
+  using Mat6 = Mat<S, 6, 6>;
+  static constexpr int kStates = 6;
+
+  EulerEKF() = default;
+  explicit EulerEKF(const Params& p) : params_(p) {}
+
+  const Params& params() const { return params_; }
+  const State& state() const { return st_; }
+  const Vec3<S>& euler() const { return st_.euler; }
+  Quat<S> quat() const { return quat::from_euler(st_.euler); }
+  const Vec3<S>& bias() const { return st_.bias; }
+  const Mat6& covariance() const { return st_.P; }
+  bool initialized() const { return st_.initialized; }
+  /// True when the last predict ran with |cos(pitch)| below singular_cos.
+  bool near_singularity() const { return singular_; }
+  std::uint32_t extra_flags() const { return singular_ ? flags::kSingular : 0u; }
+
+  Status set_state(const State& s) {
+    if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag_ref.allFinite())
+      return Status::NonFinite;
+    st_ = s;
+    return Status::Ok;
+  }
+
+  /// Covariance of the body-frame rotation vector (q_true = q * exp(dtheta)): W P_ee W^T with
+  /// W = E^-1 the map from Euler-angle to body-rate perturbations.
+  Mat3<S> attitude_covariance() const {
+    const S cr = std::cos(st_.euler[0]), sr = std::sin(st_.euler[0]);
+    const S cp = std::cos(st_.euler[1]), sp = std::sin(st_.euler[1]);
+    Mat3<S> W;
+    W << S(1), S(0), -sp, S(0), cr, sr * cp, S(0), -sr, cr * cp;
+    return W * st_.P.template topLeftCorner<3, 3>() * W.transpose();
+  }
+
+  void set_mag_dip(S dip) {
+    st_.mag_ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
+    st_.mag_ref_set = true;
+  }
+
+  Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
+  Status initialize(const Vec3<S>& acc, const Vec3<S>& mag) { return init_impl(acc, &mag); }
+
+  Status reset(const Vec3<S>& euler, const Vec3<S>& bias, const Mat6& P) {
+    if (!euler.allFinite() || !bias.allFinite() || !P.allFinite()) return Status::NonFinite;
+    st_.euler = euler;
+    st_.bias = bias;
+    st_.P = P;
+    symmetrize(st_.P);
+    st_.initialized = true;
+    return Status::Ok;
+  }
+
+  Status predict(const Vec3<S>& gyr, S dt) {
+    if (!st_.initialized) return Status::NotInitialized;
+    if (!gyr.allFinite()) return Status::NonFinite;
+    if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
+    Vec3<S> e;
+    Mat6 F;
+    Mat3<S> E;
+    bool singular = false;
+    detail::euler_propagate(st_.euler, st_.bias, gyr, dt, params_.singular_cos, e, F, E, singular);
+    Mat6 Q = Mat6::Zero();
+    Q.template topLeftCorner<3, 3>() = (dt * params_.gyro_noise * params_.gyro_noise) * E * E.transpose();
+    Q.template bottomRightCorner<3, 3>().diagonal().setConstant(dt * params_.gyro_bias_noise *
+                                                                params_.gyro_bias_noise);
+    Mat6 P = F * st_.P * F.transpose() + Q;
+    symmetrize(P);
+    if (!P.allFinite() || !e.allFinite()) return Status::NumericalFailure;
+    e[0] = quat::wrap_pi(e[0]);
+    e[2] = quat::wrap_pi(e[2]);
+    st_.euler = e;
+    st_.P = P;
+    singular_ = singular;
+    return Status::Ok;
+  }
+
+  UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
+    return update3(acc, S(0), S(-1), params_.acc_noise, gate);
+  }
+
+  UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
+    UpdateResult<S, 3> res;
+    if (!st_.initialized) return res;
+    if (!st_.mag_ref_set) {
+      Vec3<S> m;
+      res.status = detail::unit_vector(mag, m);
+      if (res.status != Status::Ok) return res;
+      const Vec3<S> mn = quat::rotate(quat(), m);
+      st_.mag_ref = Vec3<S>(std::sqrt(mn[0] * mn[0] + mn[1] * mn[1]), S(0), mn[2]);
+      st_.mag_ref_set = true;
+    }
+    return update3(mag, st_.mag_ref[0], st_.mag_ref[2], params_.mag_noise, gate);
+  }
+
+ private:
+  Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
+    if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
+    Quat<S> q;
+    Vec3<S> mref = st_.mag_ref;
+    if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
+    st_.euler = quat::to_euler(q);
+    st_.bias.setZero();
+    if (mag && !st_.mag_ref_set) {
+      st_.mag_ref = mref / mref.norm();
+      st_.mag_ref_set = true;
+    }
+    st_.P.setZero();
+    st_.P.template topLeftCorner<3, 3>().diagonal().setConstant(params_.init_att_sigma * params_.init_att_sigma);
+    st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_bias_sigma *
+                                                                    params_.init_bias_sigma);
+    st_.initialized = true;
+    return Status::Ok;
+  }
+
+  UpdateResult<S, 3> update3(const Vec3<S>& v, S rx, S rz, S sigma, S gate) {
+    UpdateResult<S, 3> res;
+    if (!st_.initialized) return res;
+    Vec3<S> u;
+    res.status = detail::unit_vector(v, u);
+    if (res.status != Status::Ok) return res;
+    Mat3<S> C, dC[3];
+    detail::euler_cbn(st_.euler, C, dC);
+    const Vec3<S> r(rx, S(0), rz);
+    Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
+    for (int i = 0; i < 3; ++i) H.col(i) = dC[i] * r;
+    const Mat3<S> R = Mat3<S>::Identity() * (sigma * sigma);
+    Mat6 P = st_.P;
+    Vec<S, 6> dx;
+    if (kalman_correct<S, 6, 3>(P, H, R, Vec3<S>(u - C * r), dx, res, gate) != Status::Ok) return res;
+    st_.euler += dx.template head<3>();
+    st_.euler[0] = quat::wrap_pi(st_.euler[0]);
+    st_.euler[2] = quat::wrap_pi(st_.euler[2]);
+    st_.bias += dx.template tail<3>();
+    st_.P = P;
+    return res;
+  }
+
+  Params params_{};
+  State st_{};
+  bool singular_ = false;
+};
+
+}  // namespace quatnav

@@ -1,0 +1,10 @@
+// quatnav: every public header.
+#pragma once
+
+#include "types.hpp"
+#include "quaternion.hpp"
+#include "kalman.hpp"
+#include "attitude.hpp"
+#include "quaternion_ekf.hpp"
+#include "euler_ekf.hpp"
+#include "batch.hpp"

@@ -1,0 +1,83 @@
+// quatnav: type aliases and the step status shared by every filter.
+//
+// Conventions (stated once here, in README.md and in quatnav/conventions.py):
+//  * Quaternions are Hamilton, scalar first: q = [w, x, y, z] in every array.
+//  * q_nb rotates body-frame vectors into the navigation frame: v_n = q_nb * v_b * conj(q_nb),
+//    i.e. v_n = C_nb v_b with C_nb = to_rotmat(q_nb).
+//  * Navigation frame NED (x north, y east, z down) unless a function says otherwise;
+//    body frame forward-right-down.
+//  * SI units and radians. Euler angles are ZYX: C_nb = Rz(yaw) Ry(pitch) Rx(roll).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+
+namespace quatnav {
+
+template <class S> using Vec2 = Eigen::Matrix<S, 2, 1>;
+template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
+template <class S> using Vec4 = Eigen::Matrix<S, 4, 1>;
+template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
+template <class S> using Mat4 = Eigen::Matrix<S, 4, 4>;
+template <class S> using Mat43 = Eigen::Matrix<S, 4, 3>;
+template <class S> using Mat34 = Eigen::Matrix<S, 3, 4>;
+template <class S, int N> using Vec = Eigen::Matrix<S, N, 1>;
+template <class S, int R, int C> using Mat = Eigen::Matrix<S, R, C>;
+/// A quaternion stored scalar first, [w, x, y, z] (Hamilton).
+template <class S> using Quat = Eigen::Matrix<S, 4, 1>;
+
+/// What a step did. A step that does not return Ok or Rejected left the state untouched.
+enum class Status : std::uint8_t {
+  Ok = 0,             ///< step applied
+  NotInitialized,     ///< the filter has no attitude yet (call initialize or reset)
+  NonFinite,          ///< an input was NaN or infinite; nothing changed
+  ZeroNorm,           ///< a vector that must be normalized had (near) zero norm; nothing changed
+  InvalidDt,          ///< dt <= 0, non-finite, or above the filter's max_dt; nothing changed
+  Saturated,          ///< a reading was at or above the sensor's range; nothing changed
+  SolveFailed,        ///< the innovation covariance was not positive definite; nothing changed
+  Rejected,           ///< the innovation failed the chi-square gate; nothing changed
+  NumericalFailure,   ///< the result would have been non-finite; nothing changed
+  InvalidArgument,    ///< a parameter or state given to the filter is malformed; nothing changed
+};
+
+inline const char* to_string(Status s) {
+  switch (s) {
+    case Status::Ok: return "ok";
+    case Status::NotInitialized: return "not_initialized";
+    case Status::NonFinite: return "non_finite";
+    case Status::ZeroNorm: return "zero_norm";
+    case Status::InvalidDt: return "invalid_dt";
+    case Status::Saturated: return "saturated";
+    case Status::SolveFailed: return "solve_failed";
+    case Status::Rejected: return "rejected";
+    case Status::NumericalFailure: return "numerical_failure";
+    case Status::InvalidArgument: return "invalid_argument";
+  }
+  return "unknown";
+}
+
+/// Per-sample flags written by the batch runs (a bit mask, uint32).
+namespace flags {
+constexpr std::uint32_t kInitialized = 1u << 0;      ///< the filter was initialized at this sample
+constexpr std::uint32_t kPredictSkipped = 1u << 1;   ///< time update skipped (invalid gyro or dt)
+constexpr std::uint32_t kAccSkipped = 1u << 2;       ///< accelerometer update skipped (invalid input)
+constexpr std::uint32_t kMagSkipped = 1u << 3;       ///< magnetometer update skipped (invalid input)
+constexpr std::uint32_t kAccRejected = 1u << 4;      ///< accelerometer rejected (gate or disturbance)
+constexpr std::uint32_t kMagRejected = 1u << 5;      ///< magnetometer rejected (gate or disturbance)
+constexpr std::uint32_t kSolveFailed = 1u << 6;      ///< a Kalman correction failed; state kept
+constexpr std::uint32_t kSingular = 1u << 7;         ///< near a parametrization singularity (Euler filter)
+constexpr std::uint32_t kAtRest = 1u << 8;           ///< rest detected
+constexpr std::uint32_t kNoMag = 1u << 9;            ///< no magnetometer sample at this step
+}  // namespace flags
+
+/// The outcome of one measurement update with M rows.
+template <class S, int M>
+struct UpdateResult {
+  Status status = Status::NotInitialized;
+  Vec<S, M> innovation = Vec<S, M>::Zero();     ///< z - h(x) before the update
+  Mat<S, M, M> innovation_cov = Mat<S, M, M>::Zero();  ///< S = H P H^T + R
+  S nis = S(0);                                 ///< innovation^T S^-1 innovation
+  bool accepted() const { return status == Status::Ok; }
+};
+
+}  // namespace quatnav

@@ -1,0 +1,111 @@
+// QuaternionEKF and EulerEKF (paper 000) for float32 and float64.
+#include <quatnav/euler_ekf.hpp>
+#include <quatnav/quaternion_ekf.hpp>
+
+#include "attitude_binding.hpp"
+
+namespace quatnav_py {
+namespace {
+
+template <class S> void bind_qekf(py::module_& m) {
+  using F = quatnav::QuaternionEKF<S>;
+  using P = typename F::Params;
+  using St = typename F::State;
+  bind_update_result<S, 3>(m);
+  bind_update_result<S, 6>(m);
+  py::class_<P>(m, cls_name<S>("QuaternionEKFParams").c_str())
+      .def(py::init<>())
+      .def_readwrite("gyro_noise", &P::gyro_noise)
+      .def_readwrite("gyro_bias_noise", &P::gyro_bias_noise)
+      .def_readwrite("acc_noise", &P::acc_noise)
+      .def_readwrite("mag_noise", &P::mag_noise)
+      .def_readwrite("init_att_sigma", &P::init_att_sigma)
+      .def_readwrite("init_bias_sigma", &P::init_bias_sigma)
+      .def_readwrite("max_dt", &P::max_dt);
+  py::class_<F> cls(m, cls_name<S>("QuaternionEKF").c_str());
+  cls.def(py::init<const P&>(), py::arg("params"));
+  def_attitude_common<F>(cls);
+  cls.def("reset", [](F& f, const quatnav::Quat<S>& q, const quatnav::Vec3<S>& b, const typename F::Mat7& P) {
+        return status_str(f.reset(q, b, P));
+      }, py::arg("quat"), py::arg("bias"), py::arg("P"))
+      .def("update_acc_mag", [](F& f, const quatnav::Vec3<S>& a, const quatnav::Vec3<S>& mg, S gate) {
+        return f.update_acc_mag(a, mg, gate);
+      }, py::arg("acc"), py::arg("mag"), py::arg("gate") = S(0))
+      .def("get_state", [](const F& f) {
+        const St& s = f.state();
+        py::dict d;
+        d["quat"] = quatnav::Quat<S>(s.q);
+        d["bias"] = quatnav::Vec3<S>(s.bias);
+        d["P"] = typename F::Mat7(s.P);
+        d["mag_ref"] = quatnav::Vec3<S>(s.mag_ref);
+        d["initialized"] = s.initialized;
+        d["mag_ref_set"] = s.mag_ref_set;
+        return d;
+      })
+      .def("set_state", [](F& f, const py::dict& d) {
+        St s;
+        s.q = d["quat"].cast<quatnav::Quat<S>>();
+        s.bias = d["bias"].cast<quatnav::Vec3<S>>();
+        s.P = d["P"].cast<typename F::Mat7>();
+        s.mag_ref = d["mag_ref"].cast<quatnav::Vec3<S>>();
+        s.initialized = d["initialized"].cast<bool>();
+        s.mag_ref_set = d["mag_ref_set"].cast<bool>();
+        return status_str(f.set_state(s));
+      }, py::arg("state"));
+}
+
+template <class S> void bind_euler(py::module_& m) {
+  using F = quatnav::EulerEKF<S>;
+  using P = typename F::Params;
+  using St = typename F::State;
+  py::class_<P>(m, cls_name<S>("EulerEKFParams").c_str())
+      .def(py::init<>())
+      .def_readwrite("gyro_noise", &P::gyro_noise)
+      .def_readwrite("gyro_bias_noise", &P::gyro_bias_noise)
+      .def_readwrite("acc_noise", &P::acc_noise)
+      .def_readwrite("mag_noise", &P::mag_noise)
+      .def_readwrite("init_att_sigma", &P::init_att_sigma)
+      .def_readwrite("init_bias_sigma", &P::init_bias_sigma)
+      .def_readwrite("max_dt", &P::max_dt)
+      .def_readwrite("singular_cos", &P::singular_cos);
+  py::class_<F> cls(m, cls_name<S>("EulerEKF").c_str());
+  cls.def(py::init<const P&>(), py::arg("params"));
+  def_attitude_common<F>(cls);
+  cls.def_property_readonly("euler", [](const F& f) { return quatnav::Vec3<S>(f.euler()); })
+      .def_property_readonly("near_singularity", &F::near_singularity)
+      .def("reset", [](F& f, const quatnav::Vec3<S>& e, const quatnav::Vec3<S>& b, const typename F::Mat6& P) {
+        return status_str(f.reset(e, b, P));
+      }, py::arg("euler"), py::arg("bias"), py::arg("P"))
+      .def("get_state", [](const F& f) {
+        const St& s = f.state();
+        py::dict d;
+        d["euler"] = quatnav::Vec3<S>(s.euler);
+        d["bias"] = quatnav::Vec3<S>(s.bias);
+        d["P"] = typename F::Mat6(s.P);
+        d["mag_ref"] = quatnav::Vec3<S>(s.mag_ref);
+        d["initialized"] = s.initialized;
+        d["mag_ref_set"] = s.mag_ref_set;
+        return d;
+      })
+      .def("set_state", [](F& f, const py::dict& d) {
+        St s;
+        s.euler = d["euler"].cast<quatnav::Vec3<S>>();
+        s.bias = d["bias"].cast<quatnav::Vec3<S>>();
+        s.P = d["P"].cast<typename F::Mat6>();
+        s.mag_ref = d["mag_ref"].cast<quatnav::Vec3<S>>();
+        s.initialized = d["initialized"].cast<bool>();
+        s.mag_ref_set = d["mag_ref_set"].cast<bool>();
+        return status_str(f.set_state(s));
+      }, py::arg("state"));
+}
+
+}  // namespace
+
+void bind_attitude(py::module_& m) {
+  bind_qekf<double>(m);
+  bind_qekf<float>(m);
+  bind_euler<double>(m);
+  bind_euler<float>(m);
+}
+
+}  // namespace quatnav_py

@@ -1,0 +1,13 @@
+"""quatnav: attitude and inertial-navigation filters.
+
+Conventions: Hamilton quaternions ``[w, x, y, z]``; ``q_nb`` rotates body vectors into the
+navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, yaw]``. See
+:mod:`quatnav.quaternion`.
+"""
+from . import _core
+from . import quaternion
+from .attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
+
+__version__ = _core.__version__
+
+__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "__version__"]

@@ -1,0 +1,161 @@
+"""Input validation shared by every Python entry point.
+
+Each helper raises ``TypeError`` (not numeric) or ``ValueError`` (shape, length, values) with
+a message that names the argument and, for batch input, the first offending row.
+"""
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+ON_INVALID = ("raise", "skip")
+
+
+def resolve_dtype(dtype) -> np.dtype:
+    try:
+        dt = np.dtype(dtype)
+    except TypeError as exc:
+        raise TypeError(f"dtype: expected float32 or float64, got {dtype!r}") from exc
+    if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
+        raise TypeError(f"dtype: expected float32 or float64, got {dt}")
+    return dt
+
+
+def _numeric(x, name: str) -> np.ndarray:
+    if isinstance(x, (str, bytes)):
+        raise TypeError(f"{name}: expected a numeric array, got {type(x).__name__}")
+    try:
+        a = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise ValueError(f"{name}: cannot be converted to an array ({exc})") from exc
+    if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool):
+        raise TypeError(f"{name}: expected a numeric array, got dtype {a.dtype}")
+    if np.iscomplexobj(a):
+        raise TypeError(f"{name}: complex values are not accepted")
+    return a
+
+
+def first_bad_row(a: np.ndarray) -> int | None:
+    """Index of the first row of ``a`` with a non-finite value, or None."""
+    bad = ~np.isfinite(a)
+    if a.ndim > 1:
+        bad = bad.reshape(a.shape[0], -1).any(axis=1)
+    idx = np.flatnonzero(bad)
+    return int(idx[0]) if idx.size else None
+
+
+def vectors(x, name: str, cols: int = 3, n: int | None = None, dtype=np.float64,
+            finite: bool = True, allow_nan_rows: bool = False) -> np.ndarray:
+    """Check an (N, cols) array and return it C-contiguous in ``dtype``.
+
+    ``finite``: raise on the first row with NaN/inf. ``allow_nan_rows``: rows that are entirely
+    NaN are allowed (they mean "no sample") while partly-NaN or infinite rows still raise.
+    """
+    a = _numeric(x, name)
+    if a.ndim != 2 or a.shape[1] != cols:
+        raise ValueError(f"{name}: expected shape (N, {cols}), got {a.shape}")
+    if n is not None and a.shape[0] != n:
+        raise ValueError(f"{name}: expected {n} rows (as many as gyr), got {a.shape[0]}")
+    if a.shape[0] == 0:
+        raise ValueError(f"{name}: no samples")
+    a = np.ascontiguousarray(a, dtype=dtype)
+    if finite:
+        check = a
+        if allow_nan_rows:
+            allnan = np.isnan(a).all(axis=1)
+            check = a[~allnan]
+            rows = np.flatnonzero(~allnan)
+            r = first_bad_row(check)
+            if r is not None:
+                raise ValueError(f"{name}: non-finite value in row {int(rows[r])}: {a[rows[r]]}")
+        else:
+            r = first_bad_row(check)
+            if r is not None:
+                raise ValueError(f"{name}: non-finite value in row {r}: {a[r]}")
+    return a
+
+
+def nonzero_rows(a: np.ndarray, name: str, skip_nan_rows: bool = True) -> None:
+    """Raise on the first row with (near) zero norm."""
+    norms = np.linalg.norm(a, axis=1)
+    bad = norms <= np.finfo(a.dtype).tiny ** 0.5
+    if skip_nan_rows:
+        bad &= np.isfinite(norms)
+    idx = np.flatnonzero(bad)
+    if idx.size:
+        raise ValueError(f"{name}: zero-norm vector in row {int(idx[0])}")
+
+
+def vector(x, name: str, size: int = 3, dtype=np.float64, nonzero: bool = False) -> np.ndarray:
+    """Check one vector of ``size`` finite values."""
+    a = _numeric(x, name)
+    if a.shape != (size,):
+        raise ValueError(f"{name}: expected shape ({size},), got {a.shape}")
+    a = np.ascontiguousarray(a, dtype=dtype)
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: non-finite value {a}")
+    if nonzero and not np.linalg.norm(a) > 0:
+        raise ValueError(f"{name}: zero-norm vector")
+    return a
+
+
+def positive(x, name: str, allow_zero: bool = False) -> float:
+    if isinstance(x, bool) or not isinstance(x, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"{name}: expected a real number, got {type(x).__name__}")
+    v = float(x)
+    if not np.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise ValueError(f"{name}: expected a {'non-negative' if allow_zero else 'positive'} finite number, got {x!r}")
+    return v
+
+
+def time_steps(n: int, dt=None, t=None, dtype=np.float64, max_dt: float | None = None) -> np.ndarray:
+    """Per-sample step lengths (N,) from a scalar/array ``dt`` or timestamps ``t``.
+
+    With timestamps, ``dt[k] = t[k] - t[k-1]`` and the first step repeats ``t[1] - t[0]``
+    (the first sample is taken one period after the state it updates). Timestamps must be
+    strictly increasing.
+    """
+    if (dt is None) == (t is None):
+        raise ValueError("dt, t: give exactly one of dt (seconds) or t (timestamps, seconds)")
+    if t is not None:
+        ta = _numeric(t, "t")
+        if ta.shape != (n,):
+            raise ValueError(f"t: expected shape ({n},), got {ta.shape}")
+        ta = ta.astype(np.float64)
+        r = first_bad_row(ta)
+        if r is not None:
+            raise ValueError(f"t: non-finite value in row {r}")
+        d = np.diff(ta)
+        bad = np.flatnonzero(~(d > 0))
+        if bad.size:
+            k = int(bad[0]) + 1
+            raise ValueError(f"t: timestamps must be strictly increasing; row {k} ({ta[k]!r}) "
+                             f"does not follow row {k - 1} ({ta[k - 1]!r})")
+        if n == 1:
+            raise ValueError("t: one timestamp gives no step length; pass dt instead")
+        steps = np.concatenate([d[:1], d])
+    else:
+        da = _numeric(dt, "dt")
+        if da.ndim == 0:
+            v = positive(float(da), "dt")
+            steps = np.full(n, v)
+        else:
+            if da.shape != (n,):
+                raise ValueError(f"dt: expected a scalar or shape ({n},), got {da.shape}")
+            steps = da.astype(np.float64)
+            bad = np.flatnonzero(~(np.isfinite(steps) & (steps > 0)))
+            if bad.size:
+                raise ValueError(f"dt: expected positive finite steps; row {int(bad[0])} is {steps[bad[0]]!r}")
+    if max_dt is not None:
+        big = np.flatnonzero(steps > max_dt)
+        if big.size:
+            raise ValueError(f"{'t' if t is not None else 'dt'}: step {steps[big[0]]!r} s in row {int(big[0])} "
+                             f"exceeds max_dt={max_dt} s")
+    return np.ascontiguousarray(steps, dtype=dtype)
+
+
+def on_invalid(value: str) -> str:
+    if value not in ON_INVALID:
+        raise ValueError(f"on_invalid: expected one of {ON_INVALID}, got {value!r}")
+    return value

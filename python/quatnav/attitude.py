@@ -1,0 +1,306 @@
+"""Attitude filters of paper 000: :class:`QuaternionEKF` and its baseline :class:`EulerEKF`.
+
+Both wrap the C++ classes of ``quatnav._core`` (float64 or float32, chosen by ``dtype``);
+batch runs execute in C++ with the GIL released. Plain numpy twins live in
+:mod:`quatnav.reference`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core, _validate as V
+from . import quaternion as Q
+
+__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS"]
+
+#: Bits of :attr:`AttitudeResult.flags` (the C++ ``quatnav::flags`` constants).
+FLAGS = {
+    "initialized": 1 << 0,
+    "predict_skipped": 1 << 1,
+    "acc_skipped": 1 << 2,
+    "mag_skipped": 1 << 3,
+    "acc_rejected": 1 << 4,
+    "mag_rejected": 1 << 5,
+    "solve_failed": 1 << 6,
+    "singular": 1 << 7,
+    "at_rest": 1 << 8,
+    "no_mag": 1 << 9,
+}
+
+
+@dataclass
+class AttitudeResult:
+    """Output of an attitude filter's :meth:`run`.
+
+    Attributes
+    ----------
+    quat : (N, 4) ndarray
+        ``q_nb`` [w, x, y, z] after each sample (navigation frame NED, x magnetic north).
+    bias : (N, 3) ndarray
+        Gyro bias estimate, rad/s.
+    sigma : (N, n_states) ndarray
+        One-sigma of every state (square roots of the covariance diagonal).
+    att_sigma : (N, 3) ndarray
+        One-sigma of the attitude error as a body-frame rotation vector, rad.
+    flags : (N,) uint32 ndarray
+        Bits of :data:`FLAGS` per sample.
+    """
+
+    quat: np.ndarray
+    bias: np.ndarray
+    sigma: np.ndarray
+    att_sigma: np.ndarray
+    flags: np.ndarray
+    skipped_rows: dict = field(default_factory=dict)
+
+    @property
+    def euler(self) -> np.ndarray:
+        """(N, 3) ZYX Euler angles [roll, pitch, yaw], rad."""
+        return Q.to_euler(self.quat)
+
+    def flag(self, name: str) -> np.ndarray:
+        """Boolean (N,) array: where flag ``name`` (a key of :data:`FLAGS`) is set."""
+        return (self.flags & FLAGS[name]) != 0
+
+
+class _AttitudeFilter:
+    _core_name: str = ""
+    _param_names: tuple = ()
+    n_states: int = 0
+
+    def __init__(self, dtype=np.float64, **params):
+        self.dtype = V.resolve_dtype(dtype)
+        suffix = "_f32" if self.dtype == np.float32 else "_f64"
+        p = getattr(_core, self._core_name + "Params" + suffix)()
+        for name, value in params.items():
+            if name not in self._param_names:
+                raise TypeError(f"{type(self).__name__}: unknown parameter {name!r}; "
+                                f"known: {', '.join(self._param_names)}")
+            setattr(p, name, V.positive(value, name))
+        self._f = getattr(_core, self._core_name + suffix)(p)
+
+    # -- parameters and state -------------------------------------------------------------
+    @property
+    def params(self) -> dict:
+        p = self._f.params
+        return {name: getattr(p, name) for name in self._param_names}
+
+    @property
+    def quat(self) -> np.ndarray:
+        """Current ``q_nb`` [w, x, y, z]."""
+        return np.asarray(self._f.quat, dtype=float)
+
+    @property
+    def bias(self) -> np.ndarray:
+        """Current gyro bias, rad/s."""
+        return np.asarray(self._f.bias, dtype=float)
+
+    @property
+    def covariance(self) -> np.ndarray:
+        return np.asarray(self._f.covariance, dtype=float)
+
+    @property
+    def attitude_covariance(self) -> np.ndarray:
+        """3x3 covariance of the body-frame attitude error rotation vector, rad^2."""
+        return np.asarray(self._f.attitude_covariance, dtype=float)
+
+    @property
+    def initialized(self) -> bool:
+        return bool(self._f.initialized)
+
+    def get_state(self) -> dict:
+        """A copy of the complete state; :meth:`set_state` restores it exactly."""
+        return {k: (np.array(v) if isinstance(v, np.ndarray) else v) for k, v in self._f.get_state().items()}
+
+    def set_state(self, state: dict) -> None:
+        if not isinstance(state, dict):
+            raise TypeError(f"state: expected a dict from get_state(), got {type(state).__name__}")
+        missing = [k for k in self._f.get_state() if k not in state]
+        if missing:
+            raise ValueError(f"state: missing keys {missing}")
+        status = self._f.set_state(state)
+        if status != "ok":
+            raise ValueError(f"state: refused ({status})")
+
+    def set_mag_dip(self, dip: float) -> None:
+        """Fix the reference field ``[cos(dip), 0, sin(dip)]`` (dip positive down, rad)."""
+        dip = float(dip)
+        if not np.isfinite(dip) or abs(dip) > np.pi / 2:
+            raise ValueError(f"dip: expected a finite angle in [-pi/2, pi/2] rad, got {dip!r}")
+        self._f.set_mag_dip(dip)
+
+    # -- single steps --------------------------------------------------------------------
+    def initialize(self, acc, mag=None) -> None:
+        """Tilt from one accelerometer sample, heading from one magnetometer sample."""
+        a = V.vector(acc, "acc", dtype=self.dtype, nonzero=True)
+        m = None if mag is None else V.vector(mag, "mag", dtype=self.dtype, nonzero=True)
+        status = self._f.initialize(a, m)
+        if status != "ok":
+            raise ValueError(f"acc, mag: cannot initialize ({status})")
+
+    def predict(self, gyr, dt: float) -> str:
+        """Time update with one gyro sample (rad/s) over ``dt`` seconds."""
+        g = V.vector(gyr, "gyr", dtype=self.dtype)
+        d = V.positive(dt, "dt")
+        status = self._f.predict(g, d)
+        if status == "not_initialized":
+            raise ValueError("predict: the filter is not initialized (call initialize or reset first)")
+        if status == "invalid_dt":
+            raise ValueError(f"dt: {d} s exceeds max_dt={self._f.params.max_dt} s")
+        return status
+
+    def update_acc(self, acc, gate: float = 0.0):
+        """Accelerometer update; returns an UpdateResult (status, innovation, innovation_cov, nis)."""
+        self._require_init("update_acc")
+        return self._f.update_acc(V.vector(acc, "acc", dtype=self.dtype, nonzero=True), float(gate))
+
+    def update_mag(self, mag, gate: float = 0.0):
+        """Magnetometer update; returns an UpdateResult."""
+        self._require_init("update_mag")
+        return self._f.update_mag(V.vector(mag, "mag", dtype=self.dtype, nonzero=True), float(gate))
+
+    def _require_init(self, what: str) -> None:
+        if not self._f.initialized:
+            raise ValueError(f"{what}: the filter is not initialized (call initialize or reset first)")
+
+    # -- batch ---------------------------------------------------------------------------
+    def run(self, gyr, acc, mag=None, dt=None, t=None, on_invalid: str = "raise") -> AttitudeResult:
+        """Run the filter over N samples (in C++, GIL released).
+
+        Parameters
+        ----------
+        gyr : (N, 3) array_like
+            Angular rate, rad/s, body frame.
+        acc : (N, 3) array_like
+            Specific force (any unit; normalized).
+        mag : (N, 3) array_like, optional
+            Magnetic field (any unit; normalized). Rows that are entirely NaN mean "no
+            magnetometer sample" (sensors at different rates). Without ``mag`` the filter runs
+            in 6D mode and heading is free.
+        dt : float or (N,) array_like, optional
+            Step length in seconds; or
+        t : (N,) array_like, optional
+            Strictly increasing timestamps, seconds.
+        on_invalid : {"raise", "skip"}
+            "raise": the first non-finite or zero-norm row raises ``ValueError`` naming the
+            argument and row. "skip": such samples skip the affected update; the result's
+            ``flags`` and ``skipped_rows`` report them.
+
+        Returns
+        -------
+        AttitudeResult
+        """
+        mode = V.on_invalid(on_invalid)
+        strict = mode == "raise"
+        g = V.vectors(gyr, "gyr", dtype=self.dtype, finite=strict)
+        n = g.shape[0]
+        a = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
+        m = None
+        if mag is not None:
+            m = V.vectors(mag, "mag", n=n, dtype=self.dtype, finite=strict, allow_nan_rows=True)
+        if strict:
+            V.nonzero_rows(a, "acc")
+            if m is not None:
+                V.nonzero_rows(m, "mag")
+        steps = V.time_steps(n, dt=dt, t=t, dtype=self.dtype,
+                             max_dt=float(self._f.params.max_dt) if strict else None)
+        quat, bias, sigma, att_sigma, flags = self._f.run(g, a, m, steps)
+        skipped = {}
+        for name in ("predict_skipped", "acc_skipped", "mag_skipped"):
+            rows = np.flatnonzero(flags & FLAGS[name])
+            if rows.size:
+                skipped[name] = rows
+        return AttitudeResult(quat, bias, sigma, att_sigma, flags, skipped)
+
+
+class QuaternionEKF(_AttitudeFilter):
+    """Quaternion EKF with gyro-bias states (Kim & Jang 2019; paper 000).
+
+    State ``[q0, q1, q2, q3, bx, by, bz]``: ``q_nb`` and the gyro bias. Measurements: the
+    normalized accelerometer (gravity ``[0, 0, -1]`` in NED) and the normalized magnetometer
+    (reference ``[m_x, 0, m_z]``, x = magnetic north, learned from the first samples unless
+    :meth:`set_mag_dip` is called).
+
+    Parameters (keyword, SI units)
+    ------------------------------
+    gyro_noise : float, default 0.005
+        Gyro white-noise density, rad/s/sqrt(Hz).
+    gyro_bias_noise : float, default 1e-5
+        Gyro bias random-walk density, rad/s^2/sqrt(Hz).
+    acc_noise : float, default 0.05
+        Standard deviation of each component of the normalized accelerometer (dimensionless;
+        0.05 is about 0.5 m/s^2 at 1 g).
+    mag_noise : float, default 0.1
+        Standard deviation of each component of the normalized magnetometer (dimensionless).
+    init_att_sigma : float, default 0.05
+        Attitude one-sigma after :meth:`initialize`, rad.
+    init_bias_sigma : float, default 0.01
+        Gyro-bias one-sigma after :meth:`initialize`, rad/s.
+    max_dt : float, default 1.0
+        Longest accepted time step, s.
+    dtype : float64 or float32
+        Precision of the C++ filter.
+    """
+
+    _core_name = "QuaternionEKF"
+    _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
+                    "init_bias_sigma", "max_dt")
+    n_states = 7
+
+    def reset(self, quat, bias=None, P=None) -> None:
+        """Start from a given ``q_nb``, gyro bias (rad/s) and 7x7 covariance."""
+        q = V.vector(quat, "quat", 4, dtype=self.dtype, nonzero=True)
+        b = np.zeros(3, self.dtype) if bias is None else V.vector(bias, "bias", dtype=self.dtype)
+        if P is None:
+            p = self._f.params
+            X = Q.xi(q / np.linalg.norm(q))
+            P = np.zeros((7, 7))
+            P[:4, :4] = (p.init_att_sigma / 2) ** 2 * X @ X.T
+            P[4:, 4:] = np.eye(3) * p.init_bias_sigma**2
+        P = np.asarray(P, dtype=self.dtype)
+        if P.shape != (7, 7) or not np.all(np.isfinite(P)):
+            raise ValueError(f"P: expected a finite 7x7 matrix, got shape {P.shape}")
+        self._f.reset(q, b, P)
+
+    def update_acc_mag(self, acc, mag, gate: float = 0.0):
+        """Joint accelerometer + magnetometer update, paper 000 eq. (11)-(12)."""
+        self._require_init("update_acc_mag")
+        return self._f.update_acc_mag(V.vector(acc, "acc", dtype=self.dtype, nonzero=True),
+                                      V.vector(mag, "mag", dtype=self.dtype, nonzero=True), float(gate))
+
+
+class EulerEKF(_AttitudeFilter):
+    """Euler-angle EKF, the baseline paper 000 compares against.
+
+    State ``[roll, pitch, yaw, bx, by, bz]``; Euler-rate kinematics (paper 004 eq. 1); the same
+    measurements as :class:`QuaternionEKF`. Near pitch = +/-90 deg the parametrization is
+    singular: the ``"singular"`` flag reports it (``singular_cos``: the |cos(pitch)| threshold).
+    Parameters as :class:`QuaternionEKF` plus ``singular_cos`` (default 0.02);
+    ``init_att_sigma`` is the one-sigma of each Euler angle.
+    """
+
+    _core_name = "EulerEKF"
+    _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
+                    "init_bias_sigma", "max_dt", "singular_cos")
+    n_states = 6
+
+    @property
+    def euler(self) -> np.ndarray:
+        return np.asarray(self._f.euler, dtype=float)
+
+    @property
+    def near_singularity(self) -> bool:
+        return bool(self._f.near_singularity)
+
+    def reset(self, euler, bias=None, P=None) -> None:
+        e = V.vector(euler, "euler", dtype=self.dtype)
+        b = np.zeros(3, self.dtype) if bias is None else V.vector(bias, "bias", dtype=self.dtype)
+        if P is None:
+            p = self._f.params
+            P = np.diag([p.init_att_sigma**2] * 3 + [p.init_bias_sigma**2] * 3)
+        P = np.asarray(P, dtype=self.dtype)
+        if P.shape != (6, 6) or not np.all(np.isfinite(P)):
+            raise ValueError(f"P: expected a finite 6x6 matrix, got shape {P.shape}")
+        self._f.reset(e, b, P)

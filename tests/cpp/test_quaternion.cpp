@@ -1,0 +1,84 @@
+// Quaternion helpers: identities, round trips, and the exponential map's Jacobian.
+#include <gtest/gtest.h>
+
+#include <quatnav/quaternion.hpp>
+#include <random>
+
+using namespace quatnav;
+
+namespace {
+template <class S> Quat<S> random_quat(std::mt19937& g) {
+  std::normal_distribution<double> n;
+  Quat<S> q(S(n(g)), S(n(g)), S(n(g)), S(n(g)));
+  return q / q.norm();
+}
+}  // namespace
+
+TEST(Quaternion, ProductMatchesEigen) {
+  std::mt19937 g(1);
+  for (int i = 0; i < 100; ++i) {
+    const Quat<double> a = random_quat<double>(g), b = random_quat<double>(g);
+    const Quat<double> ref = quat::from_eigen<double>(quat::to_eigen(a) * quat::to_eigen(b));
+    EXPECT_LT((quat::mul(a, b) - ref).norm(), 1e-14);
+    EXPECT_LT((quat::left(a) * b - ref).norm(), 1e-14);
+    EXPECT_LT((quat::right(b) * a - ref).norm(), 1e-14);
+  }
+}
+
+TEST(Quaternion, RotationMatrixAgreesWithEigenAndRotate) {
+  std::mt19937 g(2);
+  for (int i = 0; i < 100; ++i) {
+    const Quat<double> q = random_quat<double>(g);
+    const Mat3<double> C = quat::to_rotmat(q);
+    EXPECT_LT((C - quat::to_eigen(q).toRotationMatrix()).norm(), 1e-14);
+    const Vec3<double> v(0.3, -1.2, 2.0);
+    EXPECT_LT((quat::rotate(q, v) - C * v).norm(), 1e-13);
+    EXPECT_LT((quat::rotate_inv(q, v) - C.transpose() * v).norm(), 1e-13);
+    EXPECT_LT(quat::angle_between(quat::from_rotmat(C), q), 1e-7);
+  }
+}
+
+TEST(Quaternion, EulerRoundTripAndOrder) {
+  // ZYX: C_nb = Rz(yaw) Ry(pitch) Rx(roll).
+  const double r = 0.3, p = -0.4, y = 2.5;
+  const Mat3<double> C = (Eigen::AngleAxisd(y, Eigen::Vector3d::UnitZ()) *
+                          Eigen::AngleAxisd(p, Eigen::Vector3d::UnitY()) *
+                          Eigen::AngleAxisd(r, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Quat<double> q = quat::from_euler(r, p, y);
+  EXPECT_LT((quat::to_rotmat(q) - C).norm(), 1e-14);
+  EXPECT_LT((quat::to_euler(q) - Vec3<double>(r, p, y)).norm(), 1e-14);
+}
+
+TEST(Quaternion, RotvecJacobianMatchesFiniteDifferences) {
+  for (double scale : {1e-9, 1e-4, 0.3, 2.0, 3.0}) {
+    const Vec3<double> r = scale * Vec3<double>(0.6, -0.3, 0.74);
+    const Mat43<double> J = quat::from_rotvec_jacobian(r);
+    const double h = 1e-6;
+    for (int j = 0; j < 3; ++j) {
+      Vec3<double> rp = r, rm = r;
+      rp[j] += h;
+      rm[j] -= h;
+      const Quat<double> d = (quat::from_rotvec(rp) - quat::from_rotvec(rm)) / (2 * h);
+      EXPECT_LT((J.col(j) - d).norm(), 1e-8) << "scale " << scale << " col " << j;
+    }
+    EXPECT_LT((quat::to_rotvec(quat::from_rotvec(r)) - r).norm(), 1e-12 * std::max(1.0, scale));
+  }
+}
+
+TEST(Quaternion, EnuNedConversion) {
+  // A body aligned with ENU axes (q_enu_b = identity) has, w.r.t. NED, C_nb = [[0,1,0],[1,0,0],[0,0,-1]].
+  const Quat<double> q = quat::enu_to_ned(quat::identity<double>());
+  Mat3<double> C;
+  C << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  EXPECT_LT((quat::to_rotmat(q) - C).norm(), 1e-15);
+  EXPECT_LT((quat::ned_to_enu(q) - quat::identity<double>()).norm(), 1e-15);
+}
+
+TEST(Quaternion, FloatAndDoubleAgree) {
+  std::mt19937 g(3);
+  const Quat<double> a = random_quat<double>(g);
+  const Quat<float> af = a.cast<float>();
+  EXPECT_LT((quat::to_euler(af).cast<double>() - quat::to_euler(a)).norm(), 1e-5);
+  EXPECT_LT((quat::from_rotvec(Vec3<float>(1e-4f, 2e-4f, 0.f)).cast<double>() -
+             quat::from_rotvec(Vec3<double>(1e-4, 2e-4, 0.))).norm(), 1e-7);
+}

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Build and run every test of quatnav on a fresh Debian machine:
+#   1. installs what is missing (GoogleTest from Debian's libgtest-dev; Python test extras),
+#   2. installs the quatnav package (builds the C++ extension with scikit-build-core),
+#   3. builds and runs the GoogleTest suite with ctest,
+#   4. installs the headers with `cmake --install` and builds a separate CMake project that
+#      does find_package(quatnav) (cpp/examples/consumer),
+#   5. runs pytest on tests/python against the installed package.
+# Environment: PYTHON (default python3), QUATNAV_JOBS (default 2),
+#              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+PY=${PYTHON:-python3}
+JOBS=${QUATNAV_JOBS:-2}
+export DEBIAN_FRONTEND=noninteractive
+
+SUDO=""
+if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null; then SUDO=sudo; fi
+
+# --- system packages -----------------------------------------------------------------------
+need=()
+[ -f /usr/include/gtest/gtest.h ] || need+=(libgtest-dev)
+command -v g++ >/dev/null || need+=(g++)
+if [ ${#need[@]} -gt 0 ]; then
+  echo "== installing Debian packages: ${need[*]}"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq "${need[@]}" >/dev/null
+fi
+
+# --- Python package and test dependencies ---------------------------------------------------
+echo "== installing quatnav with its test, eval and peers extras"
+"$PY" -m pip install -q --upgrade pip >/dev/null 2>&1 || true
+"$PY" -m pip install -q cmake ninja cmeel-eigen pybind11 scikit-build-core
+"$PY" -m pip install -q ".[test,eval,peers]"
+
+EIGEN_PREFIX=$("$PY" -m cmeel cmake)
+
+# --- C++ tests --------------------------------------------------------------------------------
+echo "== building the GoogleTest suite"
+cmake -S . -B build/tests -DQUATNAV_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_PREFIX_PATH="$EIGEN_PREFIX" -DCMAKE_INSTALL_PREFIX="$ROOT/build/install" >/dev/null
+cmake --build build/tests -j "$JOBS"
+ctest --test-dir build/tests --output-on-failure -j "$JOBS"
+
+if [ "${QUATNAV_SANITIZE:-0}" = 1 ]; then
+  echo "== GoogleTest suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+  cmake -S . -B build/tests-asan -DQUATNAV_BUILD_TESTS=ON -DQUATNAV_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
+        -DCMAKE_PREFIX_PATH="$EIGEN_PREFIX" >/dev/null
+  cmake --build build/tests-asan -j "$JOBS"
+  ctest --test-dir build/tests-asan --output-on-failure -j "$JOBS"
+fi
+
+# --- the installed package as a C++ dependency -----------------------------------------------
+echo "== cmake --install and a find_package(quatnav) consumer"
+cmake --install build/tests >/dev/null
+cmake -S cpp/examples/consumer -B build/consumer -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_PREFIX_PATH="$ROOT/build/install;$EIGEN_PREFIX" >/dev/null
+cmake --build build/consumer -j "$JOBS" >/dev/null
+./build/consumer/quatnav_consumer
+
+# --- Python tests ---------------------------------------------------------------------------
+echo "== pytest"
+"$PY" -m pytest -q tests/python "$@"
