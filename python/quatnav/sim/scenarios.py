@@ -111,9 +111,9 @@ def paper002_straight_then_circle(seed=0, speed=2.0, radius=20.0, rate_hz=100.0)
     if rate_hz != PAPER002_NOISE_RATE_HZ:
         raise ValueError(f"rate_hz must be {PAPER002_NOISE_RATE_HZ} (the rate at which the paper's "
                          "noise variances are taken)")
-    traj = make_trajectory([Cruise(100.0), Turn(100.0, rate=speed / radius, ramp=1.0)], rate_hz,
+    traj = make_trajectory([Cruise(100.0), Turn(110.0, rate=speed / radius, ramp=1.0)], rate_hz,
                            lat0=_LAT0, lon0=_LON0, h0=_H0, rpy0=(0.0, 0.0, np.radians(30.0)),
-                           speed0=speed)
+                           speed0=speed, t_end=200.0)
     gyro_density = units.deg_per_h(0.3) / np.sqrt(PAPER002_NOISE_RATE_HZ)  # rad/s/sqrt(Hz)
     accel_density_ug = 30.0 / np.sqrt(PAPER002_NOISE_RATE_HZ)  # ug/sqrt(Hz)
     imu = ImuSpec(gyro=GyroSpec(bias_deg_per_h=1.0,

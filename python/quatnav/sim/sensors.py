@@ -33,7 +33,8 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 
 from .. import earth
-from . import _rot, units
+from .. import quaternion as quat
+from . import units
 from .trajectory import Trajectory
 
 __all__ = [
@@ -385,7 +386,7 @@ def simulate_mag(traj: Trajectory, spec: MagSpec, rng: np.random.Generator) -> M
     idx = np.arange(0, len(traj), m)
     t = traj.t[idx]
     m_n = earth_field_n(spec)
-    m_b = _rot.rotate_inv(traj.q_nb[idx], np.broadcast_to(m_n, (len(idx), 3)))
+    m_b = quat.rotate_inv(traj.q_nb[idx], np.broadcast_to(m_n, (len(idx), 3)))
     out = m_b @ np.asarray(spec.soft_iron, float).T + units.microtesla(_vec(spec, "hard_iron_uT", 3))
     disturbed = np.zeros(len(idx), bool)
     for d in spec.disturbances:
@@ -464,9 +465,9 @@ def simulate_gps(traj: Trajectory, spec: GpsSpec, rng: np.random.Generator) -> G
     q = traj.q_nb[iv]
     w_eb_b = traj.omega_ib_b[iv]
     if traj.earth_rate:
-        w_eb_b = w_eb_b - _rot.rotate_inv(q, earth.earth_rate_n(traj.lat[iv]))
-    pos = traj.pos_n[iv] + _rot.rotate(q, np.broadcast_to(lever, (n, 3)))
-    vel = traj.v_n[iv] + _rot.rotate(q, np.cross(w_eb_b, lever))
+        w_eb_b = w_eb_b - quat.rotate_inv(q, earth.earth_rate_n(traj.lat[iv]))
+    pos = traj.pos_n[iv] + quat.rotate(q, np.broadcast_to(lever, (n, 3)))
+    vel = traj.v_n[iv] + quat.rotate(q, np.cross(w_eb_b, lever))
     sig = np.array([spec.pos_sigma_h_m, spec.pos_sigma_h_m, spec.pos_sigma_v_m])
     pos = pos + rng.standard_normal((n, 3)) * sig
     vel = vel + rng.standard_normal((n, 3)) * spec.vel_sigma_m_s

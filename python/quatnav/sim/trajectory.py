@@ -49,7 +49,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import earth
-from . import _rot
+from .. import quaternion as quat
 
 __all__ = [
     "MotionState", "Segment", "Rest", "Accelerate", "Cruise", "Turn", "CoordinatedTurn", "Climb",
@@ -176,7 +176,7 @@ class _EulerSegment(Segment):
         tau = np.asarray(tau, float)
         d_rpy, speed, v_extra = self._profile(tau, s0)
         rpy = s0.rpy + d_rpy
-        q = _rot.from_euler(rpy[:, 0], rpy[:, 1], rpy[:, 2])
+        q = quat.from_euler(rpy)
         course = s0.course + d_rpy[:, 2]
         path = s0.path + d_rpy[:, 1]
         v = speed[:, None] * _direction(course, path)
@@ -193,7 +193,7 @@ class _EulerSegment(Segment):
         v = speed[0] * _direction(course, path)
         if v_extra is not None:
             v = v + v_extra[0]
-        return MotionState(rpy=rpy, q_nb=_rot.from_euler(*rpy), speed=float(speed[0]),
+        return MotionState(rpy=rpy, q_nb=quat.from_euler(rpy), speed=float(speed[0]),
                            course=float(course), path=float(path), v_n=v)
 
 
@@ -385,14 +385,14 @@ class Rotate(Segment):
 
     def evaluate(self, tau, s0):
         tau = np.asarray(tau, float)
-        dq = _rot.from_rotvec(self._angle(tau)[:, None] * self._unit_axis())
-        q = _rot.mul(np.broadcast_to(s0.q_nb, dq.shape), dq)
+        dq = quat.from_rotvec(self._angle(tau)[:, None] * self._unit_axis())
+        q = quat.mul(np.broadcast_to(s0.q_nb, dq.shape), dq)
         return q, np.broadcast_to(s0.v_n, (tau.shape[0], 3)).copy()
 
     def end_state(self, s0):
         q, _ = self.evaluate(np.array([self.duration]), s0)
         q = q[0]
-        rpy = _rot.to_euler(q)
+        rpy = quat.to_euler(q)
         rpy[2] = s0.rpy[2] + np.angle(np.exp(1j * (rpy[2] - s0.rpy[2])))  # keep yaw unwrapped
         return dataclasses.replace(s0, rpy=rpy, q_nb=q)
 
@@ -550,12 +550,12 @@ class WaypointPath(Segment):
 
     def evaluate(self, tau, s0):
         rpy, v = self._state(np.asarray(tau, float), s0)
-        return _rot.from_euler(rpy[:, 0], rpy[:, 1], rpy[:, 2]), v
+        return quat.from_euler(rpy), v
 
     def end_state(self, s0):
         rpy, v = self._state(np.array([self.duration]), s0)
         rpy, v = rpy[0], v[0]
-        return MotionState(rpy=rpy, q_nb=_rot.from_euler(*rpy), speed=float(np.linalg.norm(v)),
+        return MotionState(rpy=rpy, q_nb=quat.from_euler(rpy), speed=float(np.linalg.norm(v)),
                            course=float(rpy[2]), path=float(rpy[1]), v_n=v)
 
 
@@ -636,12 +636,12 @@ def _initial_state(rpy0, speed0):
         raise ValueError(f"rpy0 must be [roll, pitch, yaw] (rad), got {rpy0!r}")
     speed0 = _check_positive("speed0", speed0, allow_zero=True)
     course, path = rpy0[2], rpy0[1]
-    return MotionState(rpy=rpy0, q_nb=_rot.from_euler(*rpy0), speed=speed0, course=course,
+    return MotionState(rpy=rpy0, q_nb=quat.from_euler(rpy0), speed=speed0, course=course,
                        path=path, v_n=speed0 * _direction(course, path))
 
 
 def make_trajectory(segments, rate_hz, lat0=np.radians(36.37), lon0=np.radians(127.36), h0=50.0,
-                    rpy0=(0.0, 0.0, 0.0), speed0=0.0, earth_rate=True) -> Trajectory:
+                    rpy0=(0.0, 0.0, 0.0), speed0=0.0, earth_rate=True, t_end=None) -> Trajectory:
     """Build the truth of a segment sequence.
 
     Parameters
@@ -660,6 +660,9 @@ def make_trajectory(segments, rate_hz, lat0=np.radians(36.37), lon0=np.radians(1
         Initial speed (m/s) along yaw/pitch.
     earth_rate : bool
         Include Earth rotation, Coriolis and transport-rate terms.
+    t_end : float, optional
+        Keep only samples with t <= t_end (s), e.g. to stop inside a turn instead of after
+        its ramp-down.
 
     Returns
     -------
@@ -699,7 +702,7 @@ def make_trajectory(segments, rate_hz, lat0=np.radians(36.37), lon0=np.radians(1
         if isinstance(seg_r, WaypointPath):
             T = n * dt
             q_e, v_e = seg_r.evaluate(np.array([T]), state)
-            rpy_e = _rot.to_euler(q_e[0])
+            rpy_e = quat.to_euler(q_e[0])
             rpy_e[2] = state.rpy[2] + np.angle(np.exp(1j * (rpy_e[2] - state.rpy[2])))
             state = MotionState(rpy=rpy_e, q_nb=q_e[0], speed=float(np.linalg.norm(v_e[0])),
                                 course=float(rpy_e[2]), path=float(rpy_e[1]), v_n=v_e[0])
@@ -741,9 +744,9 @@ def make_trajectory(segments, rate_hz, lat0=np.radians(36.37), lon0=np.radians(1
     ddq *= sign[:, None]
     qn = np.linalg.norm(q, axis=1)
     q /= qn[:, None]
-    qc = _rot.conj(q)
-    omega_nb_b = 2.0 * _rot.mul(qc, dq)[:, 1:]
-    alpha_nb_b = 2.0 * _rot.mul(qc, ddq)[:, 1:]
+    qc = quat.conj(q)
+    omega_nb_b = 2.0 * quat.mul(qc, dq)[:, 1:]
+    alpha_nb_b = 2.0 * quat.mul(qc, ddq)[:, 1:]
 
     # Position by Simpson's rule on the half-step grid.
     from scipy.integrate import cumulative_simpson
@@ -762,22 +765,27 @@ def make_trajectory(segments, rate_hz, lat0=np.radians(36.37), lon0=np.radians(1
     else:
         w_ie = np.zeros((M, 3))
         w_en = np.zeros((M, 3))
-    omega_ib_b = omega_nb_b + _rot.rotate_inv(q, w_ie + w_en)
-    f_ib_b = _rot.rotate_inv(q, dv + np.cross(2 * w_ie + w_en, v) - g_n)
+    omega_ib_b = omega_nb_b + quat.rotate_inv(q, w_ie + w_en)
+    f_ib_b = quat.rotate_inv(q, dv + np.cross(2 * w_ie + w_en, v) - g_n)
 
     def simpson_increments(x):
-        out = np.zeros((N, 3))
+        out = np.zeros(((x.shape[0] + 1) // 2, 3))
         out[1:] = dt / 6.0 * (x[0:-1:2] + 4.0 * x[1::2] + x[2::2])
         return out
 
+    n_keep = N if t_end is None else int(np.floor(float(_check_positive("t_end", t_end)) * rate_hz + 1e-9)) + 1
+    if n_keep > N:
+        raise ValueError(f"t_end={t_end} is beyond the end of the segments ({(N - 1) * dt} s)")
+    M = 2 * n_keep - 1
     ev = slice(0, M, 2)
-    rpy = _rot.to_euler(q[ev])
+    rpy = quat.to_euler(q[ev])
     return Trajectory(
         t=tf[ev].copy(), lat=lat[ev], lon=lon[ev], h=hgt[ev],
         pos_n=earth.geodetic_to_ned(lat[ev], lon[ev], hgt[ev], lat0, lon0, h0),
         v_n=v[ev], a_n=dv[ev], q_nb=q[ev], rpy=rpy, omega_nb_b=omega_nb_b[ev],
         omega_ib_b=omega_ib_b[ev], alpha_nb_b=alpha_nb_b[ev], f_ib_b=f_ib_b[ev],
-        dtheta_b=simpson_increments(omega_ib_b), dv_b=simpson_increments(f_ib_b),
+        dtheta_b=simpson_increments(omega_ib_b[:M])[:n_keep],
+        dv_b=simpson_increments(f_ib_b[:M])[:n_keep],
         rate_hz=rate_hz, earth_rate=bool(earth_rate))
 
 
