@@ -1,0 +1,200 @@
+"""Save and load scenarios: ``.npz`` (everything) and CSV (documented columns).
+
+NPZ
+---
+One array per field, named ``<group>.<field>`` (groups ``truth``, ``imu``, ``gps``, ``mag``,
+``baro``, ``compass``), plus ``meta``: a JSON string with name, seed, description, params and
+the trajectory's rate and Earth-rate flag.
+
+CSV
+---
+``save_csv(scenario, "run.csv")`` writes
+
+* ``run.csv``: the truth at every trajectory sample, columns :func:`csv_columns` ``("truth")``;
+* ``run_imu.csv``, ``run_gps.csv``, ``run_mag.csv``, ``run_baro.csv``, ``run_compass.csv`` for the
+  sensors present, columns :func:`csv_columns` ``(group)``;
+* ``run_meta.json``: the metadata.
+
+Column names are the field names; vectors get a suffix per component: ``_N, _E, _D`` for
+NED vectors (``*_n``), ``_x, _y, _z`` for body vectors (``*_b``) and sensor triads,
+``_w, _x, _y, _z`` for quaternions and ``_roll, _pitch, _yaw`` for ``rpy``. Units are SI and
+radians as in the in-memory objects (:class:`~quatnav.sim.trajectory.Trajectory` and the
+``*Data`` classes of :mod:`quatnav.sim.sensors`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .scenarios import Scenario
+from .sensors import BaroData, CompassData, GpsData, ImuData, MagData
+from .trajectory import Trajectory
+
+__all__ = ["save_npz", "load_npz", "save_csv", "load_csv", "csv_columns"]
+
+_TYPES = {"imu": ImuData, "gps": GpsData, "mag": MagData, "baro": BaroData, "compass": CompassData}
+_SCALARS = {"truth": ("rate_hz", "earth_rate"), "imu": ("rate_hz",)}
+
+
+def _array_fields(cls):
+    return [f.name for f in dataclasses.fields(cls) if f.name not in ("rate_hz", "earth_rate")]
+
+
+def _suffixes(name, width):
+    if width == 4:
+        return ["_w", "_x", "_y", "_z"]
+    if name == "rpy":
+        return ["_roll", "_pitch", "_yaw"]
+    if name.endswith("_n"):
+        return ["_N", "_E", "_D"]
+    return ["_x", "_y", "_z"][:width] if width <= 3 else [f"_{i}" for i in range(width)]
+
+
+_WIDTHS = {"pos_n": 3, "v_n": 3, "a_n": 3, "q_nb": 4, "rpy": 3, "omega_nb_b": 3,
+           "omega_ib_b": 3, "alpha_nb_b": 3, "f_ib_b": 3, "dtheta_b": 3, "dv_b": 3, "gyro": 3,
+           "accel": 3, "gyro_bias": 3, "accel_bias": 3, "mag": 3}
+
+
+def csv_columns(group):
+    """Column names of a CSV file of ``group`` ("truth", "imu", "gps", "mag", "baro", "compass")."""
+    cls = Trajectory if group == "truth" else _TYPES[group]
+    cols = []
+    for name in _array_fields(cls):
+        if group == "mag" and name == "field_n":
+            continue  # constant: stored in the metadata
+        w = _WIDTHS.get(name, 1)
+        cols += [name] if w == 1 else [name + s for s in _suffixes(name, w)]
+    return cols
+
+
+def _meta(s: Scenario):
+    m = {"name": s.name, "seed": s.seed, "description": s.description, "params": s.params,
+         "truth": {"rate_hz": s.truth.rate_hz, "earth_rate": s.truth.earth_rate},
+         "imu": {"rate_hz": s.imu.rate_hz}}
+    if s.mag is not None:
+        m["mag"] = {"field_n": s.mag.field_n.tolist()}
+    return m
+
+
+def _json_default(o):
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, np.generic):
+        return o.item()
+    raise TypeError(f"cannot serialize {type(o).__name__}")
+
+
+def save_npz(scenario: Scenario, path):
+    """Write a scenario to ``path`` (.npz, compressed)."""
+    arrays = {}
+    for f in _array_fields(Trajectory):
+        arrays[f"truth.{f}"] = getattr(scenario.truth, f)
+    for g in _TYPES:
+        obj = getattr(scenario, g)
+        if obj is None:
+            continue
+        for f in _array_fields(type(obj)):
+            arrays[f"{g}.{f}"] = getattr(obj, f)
+    arrays["meta"] = np.array(json.dumps(_meta(scenario), default=_json_default))
+    np.savez_compressed(path, **arrays)
+
+
+def _build(meta, get):
+    truth = Trajectory(**{f: get("truth", f) for f in _array_fields(Trajectory)},
+                       rate_hz=float(meta["truth"]["rate_hz"]),
+                       earth_rate=bool(meta["truth"]["earth_rate"]))
+    sensors = {}
+    for g, cls in _TYPES.items():
+        if get(g, None) is None:
+            continue
+        kw = {f: get(g, f) for f in _array_fields(cls)}
+        if g == "imu":
+            kw["rate_hz"] = float(meta["imu"]["rate_hz"])
+        sensors[g] = cls(**kw)
+    return Scenario(name=meta["name"], seed=int(meta["seed"]), description=meta["description"],
+                    truth=truth, params=meta["params"], **sensors)
+
+
+def load_npz(path) -> Scenario:
+    """Read a scenario written by :func:`save_npz`."""
+    with np.load(path, allow_pickle=False) as z:
+        data = {k: z[k] for k in z.files}
+    meta = json.loads(str(data["meta"]))
+
+    def get(group, field):
+        if field is None:
+            return True if any(k.startswith(group + ".") for k in data) else None
+        return data[f"{group}.{field}"]
+    return _build(meta, get)
+
+
+def _paths(path):
+    p = Path(path)
+    stem = p.with_suffix("")
+    return p, {g: Path(f"{stem}_{g}.csv") for g in _TYPES}, Path(f"{stem}_meta.json")
+
+
+def _to_table(obj, group):
+    cls = Trajectory if group == "truth" else _TYPES[group]
+    cols = []
+    for name in _array_fields(cls):
+        if group == "mag" and name == "field_n":
+            continue
+        a = np.asarray(getattr(obj, name), dtype=float)
+        cols.append(a.reshape(a.shape[0], -1))
+    return np.hstack(cols)
+
+
+def save_csv(scenario: Scenario, path):
+    """Write a scenario as CSV files (see the module doc for the files and columns)."""
+    main, side, meta_path = _paths(path)
+    np.savetxt(main, _to_table(scenario.truth, "truth"), delimiter=",",
+               header=",".join(csv_columns("truth")), comments="", fmt="%.17g")
+    for g in _TYPES:
+        obj = getattr(scenario, g)
+        if obj is not None:
+            np.savetxt(side[g], _to_table(obj, g), delimiter=",",
+                       header=",".join(csv_columns(g)), comments="", fmt="%.17g")
+    meta_path.write_text(json.dumps(_meta(scenario), default=_json_default, indent=1))
+
+
+def load_csv(path) -> Scenario:
+    """Read a scenario written by :func:`save_csv`."""
+    main, side, meta_path = _paths(path)
+    meta = json.loads(meta_path.read_text())
+    tables = {}
+
+    def read(group, file):
+        with open(file) as fh:
+            header = fh.readline().strip().split(",")
+        if header != csv_columns(group):
+            raise ValueError(f"{file}: unexpected columns {header[:4]}...; expected {csv_columns(group)[:4]}...")
+        tables[group] = np.atleast_2d(np.loadtxt(file, delimiter=",", skiprows=1, ndmin=2))
+
+    read("truth", main)
+    for g, f in side.items():
+        if f.exists():
+            read(g, f)
+    ints = {"index", "index_valid"}
+    bools = {"saturated", "disturbed"}
+
+    def get(group, field):
+        if field is None:
+            return True if group in tables else None
+        if group == "mag" and field == "field_n":
+            return np.asarray(meta["mag"]["field_n"], float)
+        cols = csv_columns(group)
+        sel = [i for i, c in enumerate(cols) if c == field or (c.startswith(field + "_")
+               and c[len(field) + 1:] in ("N", "E", "D", "x", "y", "z", "w", "roll", "pitch", "yaw"))]
+        a = tables[group][:, sel]
+        a = a[:, 0] if len(sel) == 1 else a
+        if field in ints:
+            return a.astype(np.int64)
+        if field in bools:
+            return a.astype(bool)
+        return a
+    return _build(meta, get)

@@ -1,0 +1,101 @@
+"""Plot a scenario: track, attitude and sensor signals (matplotlib, imported only when called)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["plot_scenario"]
+
+
+def plot_scenario(scenario, path=None, show=False):
+    """Draw a 2x3 overview of a scenario.
+
+    Panels: horizontal track (truth and GPS), height (truth, GPS, altimeter), attitude in
+    degrees (truth and compass yaw), gyro (deg/s), accelerometer (m/s^2), magnetometer (uT) or
+    speed.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    path : str or path-like, optional
+        Save the figure there (format from the extension).
+    show : bool
+        Call ``plt.show()``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib
+    if path is not None and not show:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    tr = scenario.truth
+    fig, ax = plt.subplots(2, 3, figsize=(15, 8), constrained_layout=True)
+    fig.suptitle(f"{scenario.name} (seed {scenario.seed})")
+    a = ax[0, 0]
+    a.plot(tr.pos_n[:, 1], tr.pos_n[:, 0], "k-", label="truth", zorder=3)
+    if scenario.gps is not None:
+        a.plot(scenario.gps.pos_n[:, 1], scenario.gps.pos_n[:, 0], ".", ms=2, label="GPS")
+    a.set_xlabel("east (m)")
+    a.set_ylabel("north (m)")
+    a.set_aspect("equal", adjustable="datalim")
+    a.legend(loc="best")
+    a.set_title("track")
+
+    a = ax[0, 1]
+    a.plot(tr.t, tr.h, "k-", label="truth", zorder=3)
+    if scenario.gps is not None:
+        a.plot(scenario.gps.t_valid, scenario.gps.h, ".", ms=2, label="GPS")
+    if scenario.baro is not None:
+        a.plot(scenario.baro.t, scenario.baro.h, ".", ms=2, label="altimeter")
+    a.set_xlabel("t (s)")
+    a.set_ylabel("height (m)")
+    a.legend(loc="best")
+    a.set_title("height")
+
+    a = ax[0, 2]
+    deg = np.degrees(tr.rpy)
+    for i, n in enumerate(("roll", "pitch", "yaw")):
+        a.plot(tr.t, deg[:, i], label=n)
+    if scenario.compass is not None:
+        a.plot(scenario.compass.t, np.degrees(scenario.compass.yaw), ".", ms=2, label="compass")
+    a.set_xlabel("t (s)")
+    a.set_ylabel("deg")
+    a.legend(loc="best")
+    a.set_title("attitude (truth)")
+
+    imu = scenario.imu
+    for a, y, yt, unit, title in ((ax[1, 0], np.degrees(imu.gyro), np.degrees(tr.omega_ib_b),
+                                   "deg/s", "gyro"),
+                                  (ax[1, 1], imu.accel, tr.f_ib_b, "m/s^2", "accelerometer")):
+        for i, c in enumerate("xyz"):
+            a.plot(imu.t, y[:, i], lw=0.5, label=f"{c} measured")
+            a.plot(tr.t, yt[:, i], "k-", lw=0.5)
+        a.set_xlabel("t (s)")
+        a.set_ylabel(unit)
+        a.legend(loc="best", fontsize="small")
+        a.set_title(f"{title} (black: truth)")
+
+    a = ax[1, 2]
+    if scenario.mag is not None:
+        for i, c in enumerate("xyz"):
+            a.plot(scenario.mag.t, scenario.mag.mag[:, i] * 1e6, lw=0.5, label=c)
+        if np.any(scenario.mag.disturbed):
+            a.fill_between(scenario.mag.t, 0, 1, where=scenario.mag.disturbed, color="r",
+                           alpha=0.15, transform=a.get_xaxis_transform(), label="disturbed")
+        a.set_ylabel("uT")
+        a.set_title("magnetometer")
+    else:
+        a.plot(tr.t, np.linalg.norm(tr.v_n, axis=1), "k-")
+        a.set_ylabel("m/s")
+        a.set_title("speed (truth)")
+    a.set_xlabel("t (s)")
+    if scenario.mag is not None:
+        a.legend(loc="best")
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    if show:
+        plt.show()
+    return fig
