@@ -11,6 +11,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     from . import demo
     demo.add_parser(sub)
+    from .sim import cli as sim_cli
+    sim_cli.add_parser(sub)
     return parser
 
 
