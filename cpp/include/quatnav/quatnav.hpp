@@ -8,3 +8,5 @@
 #include "quaternion_ekf.hpp"
 #include "euler_ekf.hpp"
 #include "batch.hpp"
+#include "earth.hpp"
+#include "strapdown.hpp"
