@@ -4,6 +4,7 @@
 namespace quatnav_py {
 void bind_math(py::module_& m);
 void bind_attitude(py::module_& m);
+void bind_strapdown(py::module_& m);
 }  // namespace quatnav_py
 
 PYBIND11_MODULE(_core, m) {
@@ -11,4 +12,5 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = QUATNAV_VERSION;
   quatnav_py::bind_math(m);
   quatnav_py::bind_attitude(m);
+  quatnav_py::bind_strapdown(m);
 }
