@@ -10,7 +10,7 @@ the velocity ``v_n(tau)`` with respect to the Earth. From these two functions al
    ``a_n = dv_n/dt`` are computed with 5-point central differences (step 1e-3 s, truncation
    error O(1e-13), well below anything a navigation filter can see);
 2. latitude, longitude and height are integrated from ``v_n`` with Simpson's rule on a grid of
-   half the sample period (``scipy.integrate.cumulative_simpson``), iterating the weak
+   half the sample period (cumulative, O(h^4) at every grid point), iterating the weak
    dependence of the radii on latitude;
 3. with the Earth model of :mod:`quatnav.earth`::
 
@@ -107,6 +107,20 @@ def _window(tau, T, tr):
     integ = np.where(tau <= T - tr, iup, total - idn)
     integ = np.where(tau >= T, total, integ)
     return w, dw, integ
+
+
+def _cumulative_simpson(y, h):
+    """Cumulative integral of samples ``y`` (M odd, spacing h) from 0, O(h^4) at every point.
+
+    Even points: composite Simpson. Odd points: the panel's parabola integrated over its first
+    half, h/12 (5 y0 + 8 y1 - y2).
+    """
+    y = np.asarray(y, float)
+    out = np.zeros_like(y)
+    panels = h / 3.0 * (y[0:-2:2] + 4.0 * y[1:-1:2] + y[2::2])
+    out[2::2] = np.cumsum(panels)
+    out[1::2] = out[0:-2:2] + h / 12.0 * (5.0 * y[0:-2:2] + 8.0 * y[1:-1:2] - y[2::2])
+    return out
 
 
 def _direction(course, path):
@@ -749,14 +763,13 @@ def make_trajectory(segments, rate_hz, lat0=np.radians(36.37), lon0=np.radians(1
     alpha_nb_b = 2.0 * quat.mul(qc, ddq)[:, 1:]
 
     # Position by Simpson's rule on the half-step grid.
-    from scipy.integrate import cumulative_simpson
-    hgt = h0 - cumulative_simpson(v[:, 2], dx=h2, initial=0.0)
+    hgt = h0 - _cumulative_simpson(v[:, 2], h2)
     lat = np.full(M, lat0)
     for _ in range(3):
         R_M, _ = earth.radii(lat)
-        lat = lat0 + cumulative_simpson(v[:, 0] / (R_M + hgt), dx=h2, initial=0.0)
+        lat = lat0 + _cumulative_simpson(v[:, 0] / (R_M + hgt), h2)
     _, R_N = earth.radii(lat)
-    lon = lon0 + cumulative_simpson(v[:, 1] / ((R_N + hgt) * np.cos(lat)), dx=h2, initial=0.0)
+    lon = lon0 + _cumulative_simpson(v[:, 1] / ((R_N + hgt) * np.cos(lat)), h2)
 
     g_n = earth.gravity_n(lat, hgt)
     if earth_rate:
