@@ -6,8 +6,9 @@ navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, y
 """
 from . import _core
 from . import quaternion
+from . import earth, strapdown
 from .attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 
 __version__ = _core.__version__
 
-__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "__version__"]
+__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]

@@ -78,6 +78,14 @@ def test_paper004_and_paper001(scen):
     assert hm.mag.disturbed.any() and not scen["handheld_marg"].mag.disturbed.any()
 
 
+def test_scenario_options():
+    s = make_scenario("paper004_static", seed=1, duration=10.0, gps_rate_hz=1.0)
+    assert s.truth.t[-1] == pytest.approx(10.0) and len(s.gps.t) == 10
+    assert s.params["choices"]["gps_rate_hz"] == 1.0
+    h = make_scenario("handheld_marg", seed=1, rate_hz=100.0, duration=10.0)
+    assert h.imu.rate_hz == 100.0 and h.mag.t.shape == h.imu.t.shape
+
+
 def test_bad_scenario_arguments():
     with pytest.raises(ValueError, match="unknown scenario name"):
         make_scenario("nope")

@@ -162,16 +162,19 @@ _P004_CHOICES = {"imu": "ADXRS150-class gyro, Kionix +/-2 g accelerometer, 12-bi
                         "datasheet noise and bias", "gps_rate_hz": 5.0, "gps_latency_s": 0.1}
 
 
-def paper004_static(seed=0, duration=120.0):
-    """Paper 004, ground static test: the IMU at rest (slightly tilted) for ``duration`` s."""
+def paper004_static(seed=0, duration=120.0, gps_rate_hz=5.0):
+    """Paper 004, ground static test: the IMU at rest (slightly tilted) for ``duration`` s.
+
+    ``gps_rate_hz`` (1, 2 or 5 Hz; the paper's GPS gives 1 to a few Hz) applies to all three
+    paper 004 scenarios."""
     traj = make_trajectory([Rest(duration)], 50.0, lat0=_LAT0, lon0=_LON0, h0=_H0,
                            rpy0=np.radians([2.0, -1.0, 30.0]))
     return _assemble("paper004_static", seed, "paper 004: ground static test, 50 Hz MEMS IMU",
-                     traj, imu=_paper004_imu(), **_paper004_aids(),
-                     extra={"choices": _P004_CHOICES})
+                     traj, imu=_paper004_imu(), **_paper004_aids(gps_rate_hz),
+                     extra={"choices": dict(_P004_CHOICES, gps_rate_hz=gps_rate_hz)})
 
 
-def paper004_turntable(seed=0):
+def paper004_turntable(seed=0, gps_rate_hz=5.0):
     """Paper 004, turntable test: rotations about the roll axis (+30, -60, +30 deg), then about
     the pitch axis, at up to about 15 deg/s, with rests in between."""
     a = np.radians(30.0)
@@ -184,10 +187,11 @@ def paper004_turntable(seed=0):
                            rpy0=(0.0, 0.0, np.radians(90.0)))
     return _assemble("paper004_turntable", seed,
                      "paper 004: turntable, rotation about roll then about pitch", traj,
-                     imu=_paper004_imu(), **_paper004_aids(), extra={"choices": _P004_CHOICES})
+                     imu=_paper004_imu(), **_paper004_aids(gps_rate_hz),
+                     extra={"choices": dict(_P004_CHOICES, gps_rate_hz=gps_rate_hz)})
 
 
-def paper004_walk(seed=0, speed=1.4):
+def paper004_walk(seed=0, speed=1.4, gps_rate_hz=5.0):
     """Paper 004, walking test: a quarter of a sports field at about 1.4 m/s.
 
     The path (chosen): 40 m north, a quarter circle of radius 20 m turning east, 30 m east;
@@ -203,9 +207,10 @@ def paper004_walk(seed=0, speed=1.4):
             WaypointPath(np.column_stack([pts[:, 0] - run, pts[:, 1], np.zeros(len(pts))]), speed),
             Accelerate(4.0, to_speed=0.0), Rest(10.0)]
     traj = make_trajectory(segs, 50.0, lat0=_LAT0, lon0=_LON0, h0=_H0)
-    ch = dict(_P004_CHOICES, path="40 m N, quarter circle r=20 m, 30 m E", speed_m_s=speed)
+    ch = dict(_P004_CHOICES, path="40 m N, quarter circle r=20 m, 30 m E", speed_m_s=speed,
+              gps_rate_hz=gps_rate_hz)
     return _assemble("paper004_walk", seed, "paper 004: walking a quarter of a sports field",
-                     traj, imu=_paper004_imu(), **_paper004_aids(), extra={"choices": ch})
+                     traj, imu=_paper004_imu(), **_paper004_aids(gps_rate_hz), extra={"choices": ch})
 
 
 def paper001_constant_turn(seed=0, speed=10.0, rate_deg_s=12.0, lever_arm_b_m=(0.8, 0.3, -0.9)):
