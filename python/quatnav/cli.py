@@ -13,6 +13,8 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_parser(sub)
     from .sim import cli as sim_cli
     sim_cli.add_parser(sub)
+    from . import experiments
+    experiments.add_parser(sub)
     return parser
 
 
