@@ -105,6 +105,16 @@ void euler_propagate(const Vec3<S>& e, const Vec3<S>& bias, const Vec3<S>& gyr, 
   F.template topRightCorner<3, 3>() = -dt * E;
 }
 
+/// Measurement h(e) = C_bn(e) r for r = [r_x, 0, r_z] and its Jacobian (3x6; zero bias columns).
+template <class S> void euler_measurement(const Vec3<S>& e, S rx, S rz, Vec3<S>& h, Mat<S, 3, 6>& H) {
+  Mat3<S> C, dC[3];
+  euler_cbn(e, C, dC);
+  const Vec3<S> r(rx, S(0), rz);
+  h = C * r;
+  H.setZero();
+  for (int i = 0; i < 3; ++i) H.col(i) = dC[i] * r;
+}
+
 }  // namespace detail
 
 template <class S> class EulerEKF {
@@ -232,15 +242,13 @@ template <class S> class EulerEKF {
     Vec3<S> u;
     res.status = detail::unit_vector(v, u);
     if (res.status != Status::Ok) return res;
-    Mat3<S> C, dC[3];
-    detail::euler_cbn(st_.euler, C, dC);
-    const Vec3<S> r(rx, S(0), rz);
-    Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
-    for (int i = 0; i < 3; ++i) H.col(i) = dC[i] * r;
+    Vec3<S> h;
+    Mat<S, 3, 6> H;
+    detail::euler_measurement(st_.euler, rx, rz, h, H);
     const Mat3<S> R = Mat3<S>::Identity() * (sigma * sigma);
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    if (kalman_correct<S, 6, 3>(P, H, R, Vec3<S>(u - C * r), dx, res, gate) != Status::Ok) return res;
+    if (kalman_correct<S, 6, 3>(P, H, R, Vec3<S>(u - h), dx, res, gate) != Status::Ok) return res;
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);
     st_.euler[2] = quat::wrap_pi(st_.euler[2]);

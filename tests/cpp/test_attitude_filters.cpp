@@ -1,0 +1,254 @@
+// Paper 000 filters: Jacobians against finite differences, no heap in a step, bad input leaves
+// the state bit-for-bit untouched, convergence on static data, float and double.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+#include <quatnav/quatnav.hpp>
+
+using namespace quatnav;
+
+namespace {
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+template <class T> bool bitwise_equal(const T& a, const T& b) {
+  return std::memcmp(static_cast<const void*>(&a), static_cast<const void*>(&b), sizeof(T)) == 0;
+}
+// State structs have padding after the bools; compare member by member.
+template <class S> bool same_state(const QuaternionEKFState<S>& a, const QuaternionEKFState<S>& b) {
+  return bitwise_equal(a.q, b.q) && bitwise_equal(a.bias, b.bias) && bitwise_equal(a.P, b.P) &&
+         bitwise_equal(a.mag_ref, b.mag_ref) && a.initialized == b.initialized && a.mag_ref_set == b.mag_ref_set;
+}
+template <class S> bool same_state(const EulerEKFState<S>& a, const EulerEKFState<S>& b) {
+  return bitwise_equal(a.euler, b.euler) && bitwise_equal(a.bias, b.bias) && bitwise_equal(a.P, b.P) &&
+         bitwise_equal(a.mag_ref, b.mag_ref) && a.initialized == b.initialized && a.mag_ref_set == b.mag_ref_set;
+}
+}  // namespace
+
+TEST(QuaternionEKF, TransitionJacobianMatchesFiniteDifferences) {
+  const Quat<double> q = quat::normalized(Quat<double>(0.8, 0.3, -0.4, 0.2));
+  const Vec3<double> b(0.01, -0.02, 0.03), w(1.5, -0.7, 2.2);
+  const double dt = 0.01;
+  Quat<double> q1;
+  Mat<double, 7, 7> Phi;
+  detail::qekf_propagate(q, b, w, dt, q1, Phi);
+  Vec<double, 7> x;
+  x << q, b;
+  const double h = 1e-7;
+  for (int j = 0; j < 7; ++j) {
+    Vec<double, 7> xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    Quat<double> qp, qm;
+    Mat<double, 7, 7> dummy;
+    detail::qekf_propagate(Quat<double>(xp.head<4>()), Vec3<double>(xp.tail<3>()), w, dt, qp, dummy);
+    detail::qekf_propagate(Quat<double>(xm.head<4>()), Vec3<double>(xm.tail<3>()), w, dt, qm, dummy);
+    EXPECT_LT((Phi.col(j).head<4>() - (qp - qm) / (2 * h)).norm(), 1e-8) << "column " << j;
+  }
+  EXPECT_TRUE((Phi.bottomLeftCorner<3, 4>().isZero(0.0)));
+  EXPECT_TRUE((Phi.bottomRightCorner<3, 3>().isIdentity(0.0)));
+}
+
+TEST(QuaternionEKF, TransitionJacobianReducesToPaperEq10) {
+  // eq. (10): Phi_qq = I + T/2 Omega(w~), Phi_qb = T/2 * [[q1 q2 q3], [-q0 q3 -q2], [-q3 -q0 q1], [q2 -q1 -q0]].
+  const Quat<double> q = quat::normalized(Quat<double>(0.8, 0.3, -0.4, 0.2));
+  const Vec3<double> b(0.01, -0.02, 0.03), w(1.5, -0.7, 2.2);
+  for (double T : {1e-2, 1e-3}) {
+    Quat<double> q1;
+    Mat<double, 7, 7> Phi;
+    detail::qekf_propagate(q, b, w, T, q1, Phi);
+    Mat<double, 7, 7> eq10 = Mat<double, 7, 7>::Identity();
+    eq10.topLeftCorner<4, 4>() += T / 2 * quat::omega(Vec3<double>(w - b));
+    Mat43<double> G;
+    G << q[1], q[2], q[3], -q[0], q[3], -q[2], -q[3], -q[0], q[1], q[2], -q[1], -q[0];
+    eq10.topRightCorner<4, 3>() = T / 2 * G;
+    // Agreement to second order in T (the exact exponential differs only there).
+    EXPECT_LT((Phi - eq10).norm(), 2.0 * T * T * (w - b).squaredNorm()) << "T = " << T;
+  }
+}
+
+TEST(QuaternionEKF, MeasurementJacobianMatchesFiniteDifferences) {
+  const Quat<double> q = quat::normalized(Quat<double>(0.5, -0.3, 0.6, 0.4));
+  for (auto r : {Vec2<double>(0.0, -1.0), Vec2<double>(0.45, 0.89)}) {
+    const Mat34<double> H = detail::qekf_H(q, r[0], r[1]);
+    for (int j = 0; j < 4; ++j) {
+      Quat<double> qp = q, qm = q;
+      qp[j] += 1e-7;
+      qm[j] -= 1e-7;
+      const Vec3<double> d = (detail::qekf_h(qp, r[0], r[1]) - detail::qekf_h(qm, r[0], r[1])) / 2e-7;
+      EXPECT_LT((H.col(j) - d).norm(), 1e-8);
+    }
+    // h is C_bn(q) r for unit q.
+    EXPECT_LT((detail::qekf_h(q, r[0], r[1]) - quat::rotate_inv(q, Vec3<double>(r[0], 0, r[1]))).norm(), 1e-14);
+  }
+}
+
+TEST(EulerEKF, JacobiansMatchFiniteDifferences) {
+  const Vec3<double> e(0.3, -0.5, 2.0), b(0.01, 0.02, -0.01), w(0.5, -1.0, 0.8);
+  const double dt = 0.01, h = 1e-7;
+  Vec3<double> e1;
+  Mat<double, 6, 6> F;
+  Mat3<double> E;
+  bool sing = false;
+  detail::euler_propagate(e, b, w, dt, 0.02, e1, F, E, sing);
+  Vec<double, 6> x;
+  x << e, b;
+  for (int j = 0; j < 6; ++j) {
+    Vec<double, 6> xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    Vec3<double> ep, em;
+    Mat<double, 6, 6> d1;
+    detail::euler_propagate(Vec3<double>(xp.head<3>()), Vec3<double>(xp.tail<3>()), w, dt, 0.02, ep, d1, E, sing);
+    detail::euler_propagate(Vec3<double>(xm.head<3>()), Vec3<double>(xm.tail<3>()), w, dt, 0.02, em, d1, E, sing);
+    EXPECT_LT((F.col(j).head<3>() - (ep - em) / (2 * h)).norm(), 1e-8) << "column " << j;
+  }
+  Vec3<double> hv;
+  Mat<double, 3, 6> H;
+  detail::euler_measurement(e, 0.45, 0.89, hv, H);
+  EXPECT_LT((hv - quat::rotate_inv(quat::from_euler(e), Vec3<double>(0.45, 0, 0.89))).norm(), 1e-14);
+  for (int j = 0; j < 3; ++j) {
+    Vec3<double> ep = e, em = e, hp, hm;
+    ep[j] += h;
+    em[j] -= h;
+    Mat<double, 3, 6> d;
+    detail::euler_measurement(ep, 0.45, 0.89, hp, d);
+    detail::euler_measurement(em, 0.45, 0.89, hm, d);
+    EXPECT_LT((H.col(j) - (hp - hm) / (2 * h)).norm(), 1e-8);
+  }
+}
+
+template <class F> void expect_no_heap_in_steps() {
+  using S = typename F::Scalar;
+  F f;
+  const Vec3<S> acc(S(0.5), S(-0.3), S(-9.7)), mag(S(20), S(3), S(40)), gyr(S(0.1), S(-0.2), S(0.3));
+  ASSERT_EQ(f.initialize(acc, mag), Status::Ok);
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int k = 0; k < 10; ++k) {
+    f.predict(gyr, S(0.01));
+    f.update_acc(acc);
+    f.update_mag(mag);
+  }
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE(f.quat().allFinite());
+}
+
+TEST(NoHeap, QuaternionEKF) {
+  expect_no_heap_in_steps<QuaternionEKF<double>>();
+  expect_no_heap_in_steps<QuaternionEKF<float>>();
+}
+TEST(NoHeap, EulerEKF) {
+  expect_no_heap_in_steps<EulerEKF<double>>();
+  expect_no_heap_in_steps<EulerEKF<float>>();
+}
+
+TEST(NoHeap, BatchRun) {
+  QuaternionEKF<double> f;
+  const int n = 50;
+  std::vector<double> gyr(3 * n, 0.01), acc(3 * n), mag(3 * n), dt(n, 0.01), q(4 * n), b(3 * n), s(7 * n), as(3 * n);
+  std::vector<std::uint32_t> fl(n);
+  for (int k = 0; k < n; ++k) {
+    acc[3 * k + 2] = -9.81;
+    mag[3 * k] = 20;
+    mag[3 * k + 2] = 40;
+  }
+  Eigen::internal::set_is_malloc_allowed(false);
+  run_attitude_batch(f, gyr.data(), acc.data(), mag.data(), dt.data(), n, q.data(), b.data(), s.data(), as.data(),
+                     fl.data());
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(fl[0] & flags::kInitialized, flags::kInitialized);
+  EXPECT_TRUE(std::isfinite(q[4 * n - 1]));
+}
+
+template <class F> void expect_bad_input_leaves_state() {
+  using S = typename F::Scalar;
+  F f;
+  const Vec3<S> acc(S(0.5), S(-0.3), S(-9.7)), mag(S(20), S(3), S(40)), gyr(S(0.1), S(-0.2), S(0.3));
+  EXPECT_EQ(f.predict(gyr, S(0.01)), Status::NotInitialized);
+  EXPECT_EQ(f.initialize(Vec3<S>::Zero(), mag), Status::ZeroNorm);
+  EXPECT_EQ(f.initialize(Vec3<S>(S(kNaN), S(0), S(1)), mag), Status::NonFinite);
+  ASSERT_EQ(f.initialize(acc, mag), Status::Ok);
+  f.predict(gyr, S(0.01));
+  f.update_acc(acc);
+  const auto before = f.state();
+  const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  EXPECT_EQ(f.predict(Vec3<S>(nan, S(0), S(0)), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(Vec3<S>(inf, S(0), S(0)), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(gyr, S(0)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(gyr, S(-0.01)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(gyr, nan), Status::InvalidDt);
+  EXPECT_EQ(f.predict(gyr, S(100)), Status::InvalidDt);
+  EXPECT_EQ(f.update_acc(Vec3<S>::Zero()).status, Status::ZeroNorm);
+  EXPECT_EQ(f.update_acc(Vec3<S>(S(0), nan, S(1))).status, Status::NonFinite);
+  EXPECT_EQ(f.update_mag(Vec3<S>::Zero()).status, Status::ZeroNorm);
+  EXPECT_EQ(f.update_mag(Vec3<S>(inf, S(0), S(0))).status, Status::NonFinite);
+  // A gate of 1e-12 rejects any real innovation.
+  EXPECT_EQ(f.update_acc(Vec3<S>(S(3), S(0), S(-9)), S(1e-12)).status, Status::Rejected);
+  EXPECT_TRUE(same_state(before, f.state()));
+}
+
+TEST(BadInput, QuaternionEKFStateUntouched) {
+  expect_bad_input_leaves_state<QuaternionEKF<double>>();
+  expect_bad_input_leaves_state<QuaternionEKF<float>>();
+}
+TEST(BadInput, EulerEKFStateUntouched) {
+  expect_bad_input_leaves_state<EulerEKF<double>>();
+  expect_bad_input_leaves_state<EulerEKF<float>>();
+}
+
+TEST(BadInput, QuaternionEKFRefusesMalformedState) {
+  QuaternionEKF<double> f;
+  auto s = f.state();
+  s.q = Quat<double>(2, 0, 0, 0);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s.q = Quat<double>(kNaN, 0, 0, 0);
+  EXPECT_EQ(f.set_state(s), Status::NonFinite);
+}
+
+template <class F> void expect_static_convergence() {
+  using S = typename F::Scalar;
+  // True attitude roll 20, pitch -10, yaw 50 deg; field dip 60 deg.
+  const Quat<double> qt = quat::from_euler(0.349, -0.1745, 0.8727);
+  const Vec3<double> g_n(0, 0, -9.81), m_n(25, 0, 43.3);
+  const Vec3<S> acc = quat::rotate_inv(qt, g_n).template cast<S>(), mag = quat::rotate_inv(qt, m_n).template cast<S>();
+  F f;
+  // Start from a wrong attitude: initialize from a perturbed sample.
+  const Quat<double> qw = quat::mul(qt, quat::from_rotvec(Vec3<double>(0.2, -0.15, 0.3)));
+  ASSERT_EQ(f.initialize(quat::rotate_inv(qw, g_n).template cast<S>(), quat::rotate_inv(qw, m_n).template cast<S>()),
+            Status::Ok);
+  f.set_mag_dip(S(std::atan2(43.3, 25.0)));
+  // The initial error leaks into the bias states, which settle slowly: 100 s.
+  for (int k = 0; k < 10000; ++k) {
+    ASSERT_EQ(f.predict(Vec3<S>::Zero(), S(0.01)), Status::Ok);
+    ASSERT_EQ(f.update_acc(acc).status, Status::Ok);
+    ASSERT_EQ(f.update_mag(mag).status, Status::Ok);
+  }
+  const double err = quat::angle_between(Quat<double>(f.quat().template cast<double>()), qt);
+  EXPECT_LT(err, 1e-3);
+  // ... and lies within the filter's own 3 sigma.
+  const Mat3<S> Pa = f.attitude_covariance();
+  EXPECT_LT(err, 3.0 * std::sqrt(double(Pa.trace())));
+}
+
+TEST(Static, QuaternionEKFConverges) {
+  expect_static_convergence<QuaternionEKF<double>>();
+  expect_static_convergence<QuaternionEKF<float>>();
+}
+TEST(Static, EulerEKFConverges) {
+  expect_static_convergence<EulerEKF<double>>();
+  expect_static_convergence<EulerEKF<float>>();
+}
+
+TEST(QuaternionEKF, JointUpdateEqualsPaperStackedForm) {
+  // update_acc_mag is eq. (11)-(12) as one 6-vector; it must accept and move toward the truth.
+  QuaternionEKF<double> f;
+  const Quat<double> qt = quat::from_euler(0.1, 0.2, 0.3);
+  const Vec3<double> acc = quat::rotate_inv(qt, Vec3<double>(0, 0, -9.81)), mag = quat::rotate_inv(qt, Vec3<double>(25, 0, 43));
+  ASSERT_EQ(f.initialize(Vec3<double>(0, 0, -9.81), Vec3<double>(25, 0, 43)), Status::Ok);
+  const double e0 = quat::angle_between(f.quat(), qt);
+  const auto r = f.update_acc_mag(acc, mag);
+  EXPECT_EQ(r.status, Status::Ok);
+  EXPECT_LT(quat::angle_between(f.quat(), qt), e0);
+  EXPECT_NEAR(f.quat().norm(), 1.0, 1e-15);
+}

@@ -1,0 +1,54 @@
+// The shared Kalman correction: against the textbook formulas, gating, failure leaves P alone.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <Eigen/LU>
+#include <quatnav/kalman.hpp>
+#include <random>
+
+using namespace quatnav;
+
+TEST(Kalman, MatchesTextbookFormulas) {
+  std::mt19937 g(4);
+  std::normal_distribution<double> n;
+  Mat<double, 5, 5> A;
+  for (int i = 0; i < 25; ++i) A.data()[i] = n(g);
+  const Mat<double, 5, 5> P0 = A * A.transpose() + Mat<double, 5, 5>::Identity();
+  Mat<double, 2, 5> H;
+  for (int i = 0; i < 10; ++i) H.data()[i] = n(g);
+  const Mat<double, 2, 2> R = Vec2<double>(0.3, 0.5).asDiagonal();
+  const Vec2<double> y(0.7, -0.2);
+  Mat<double, 5, 5> P = P0;
+  Vec<double, 5> dx;
+  UpdateResult<double, 2> res;
+  ASSERT_EQ((kalman_correct<double, 5, 2>(P, H, R, y, dx, res)), Status::Ok);
+  const Mat<double, 2, 2> S = H * P0 * H.transpose() + R;
+  const Mat<double, 5, 2> K = P0 * H.transpose() * S.inverse();
+  EXPECT_LT((dx - K * y).norm(), 1e-12);
+  EXPECT_LT((P - (P0 - K * S * K.transpose())).norm(), 1e-12);
+  EXPECT_NEAR(res.nis, y.dot(S.inverse() * y), 1e-12);
+  EXPECT_EQ(P, P.transpose());
+}
+
+TEST(Kalman, GateRejectsAndFailureLeavesCovarianceUntouched) {
+  Mat<double, 3, 3> P = Mat<double, 3, 3>::Identity();
+  Mat<double, 1, 3> H(1.0, 0.0, 0.0);
+  Mat<double, 1, 1> R;
+  R << 1.0;
+  Vec<double, 1> y;
+  y << 10.0;  // NIS = 100 / 2 = 50
+  Vec<double, 3> dx = Vec<double, 3>::Constant(42.0);
+  UpdateResult<double, 1> res;
+  const Mat<double, 3, 3> P0 = P;
+  EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res, 9.0)), Status::Rejected);
+  EXPECT_NEAR(res.nis, 50.0, 1e-12);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  EXPECT_EQ(dx[0], 42.0);
+  R << -2.0;  // S = 1 - 2 < 0: not positive definite
+  EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res)), Status::SolveFailed);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  R << 1.0;
+  y << std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res)), Status::NumericalFailure);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+}
