@@ -7,6 +7,22 @@
 namespace quatnav_py {
 namespace {
 
+template <class S> void put_mag_ref(py::dict& d, const quatnav::MagRef<S>& m) {
+  d["mag_ref"] = quatnav::Vec3<S>(m.ref);
+  d["mag_sin_dip_sum"] = m.sin_dip_sum;
+  d["mag_ref_count"] = m.count;
+  d["mag_ref_fixed"] = m.fixed;
+}
+
+template <class S> quatnav::MagRef<S> get_mag_ref(const py::dict& d) {
+  quatnav::MagRef<S> m;
+  m.ref = d["mag_ref"].cast<quatnav::Vec3<S>>();
+  m.sin_dip_sum = d["mag_sin_dip_sum"].cast<S>();
+  m.count = d["mag_ref_count"].cast<std::uint32_t>();
+  m.fixed = d["mag_ref_fixed"].cast<bool>();
+  return m;
+}
+
 template <class S> void bind_qekf(py::module_& m) {
   using F = quatnav::QuaternionEKF<S>;
   using P = typename F::Params;
@@ -21,6 +37,7 @@ template <class S> void bind_qekf(py::module_& m) {
       .def_readwrite("mag_noise", &P::mag_noise)
       .def_readwrite("init_att_sigma", &P::init_att_sigma)
       .def_readwrite("init_bias_sigma", &P::init_bias_sigma)
+      .def_readwrite("mag_ref_samples", &P::mag_ref_samples)
       .def_readwrite("max_dt", &P::max_dt);
   py::class_<F> cls(m, cls_name<S>("QuaternionEKF").c_str());
   cls.def(py::init<const P&>(), py::arg("params"));
@@ -37,9 +54,8 @@ template <class S> void bind_qekf(py::module_& m) {
         d["quat"] = quatnav::Quat<S>(s.q);
         d["bias"] = quatnav::Vec3<S>(s.bias);
         d["P"] = typename F::Mat7(s.P);
-        d["mag_ref"] = quatnav::Vec3<S>(s.mag_ref);
+        put_mag_ref(d, s.mag);
         d["initialized"] = s.initialized;
-        d["mag_ref_set"] = s.mag_ref_set;
         return d;
       })
       .def("set_state", [](F& f, const py::dict& d) {
@@ -47,9 +63,8 @@ template <class S> void bind_qekf(py::module_& m) {
         s.q = d["quat"].cast<quatnav::Quat<S>>();
         s.bias = d["bias"].cast<quatnav::Vec3<S>>();
         s.P = d["P"].cast<typename F::Mat7>();
-        s.mag_ref = d["mag_ref"].cast<quatnav::Vec3<S>>();
+        s.mag = get_mag_ref<S>(d);
         s.initialized = d["initialized"].cast<bool>();
-        s.mag_ref_set = d["mag_ref_set"].cast<bool>();
         return status_str(f.set_state(s));
       }, py::arg("state"));
 }
@@ -66,6 +81,7 @@ template <class S> void bind_euler(py::module_& m) {
       .def_readwrite("mag_noise", &P::mag_noise)
       .def_readwrite("init_att_sigma", &P::init_att_sigma)
       .def_readwrite("init_bias_sigma", &P::init_bias_sigma)
+      .def_readwrite("mag_ref_samples", &P::mag_ref_samples)
       .def_readwrite("max_dt", &P::max_dt)
       .def_readwrite("singular_cos", &P::singular_cos);
   py::class_<F> cls(m, cls_name<S>("EulerEKF").c_str());
@@ -82,9 +98,8 @@ template <class S> void bind_euler(py::module_& m) {
         d["euler"] = quatnav::Vec3<S>(s.euler);
         d["bias"] = quatnav::Vec3<S>(s.bias);
         d["P"] = typename F::Mat6(s.P);
-        d["mag_ref"] = quatnav::Vec3<S>(s.mag_ref);
+        put_mag_ref(d, s.mag);
         d["initialized"] = s.initialized;
-        d["mag_ref_set"] = s.mag_ref_set;
         return d;
       })
       .def("set_state", [](F& f, const py::dict& d) {
@@ -92,9 +107,8 @@ template <class S> void bind_euler(py::module_& m) {
         s.euler = d["euler"].cast<quatnav::Vec3<S>>();
         s.bias = d["bias"].cast<quatnav::Vec3<S>>();
         s.P = d["P"].cast<typename F::Mat6>();
-        s.mag_ref = d["mag_ref"].cast<quatnav::Vec3<S>>();
+        s.mag = get_mag_ref<S>(d);
         s.initialized = d["initialized"].cast<bool>();
-        s.mag_ref_set = d["mag_ref_set"].cast<bool>();
         return status_str(f.set_state(s));
       }, py::arg("state"));
 }

@@ -68,6 +68,7 @@ class AttitudeResult:
 class _AttitudeFilter:
     _core_name: str = ""
     _param_names: tuple = ()
+    _int_params: tuple = ("mag_ref_samples",)
     n_states: int = 0
 
     def __init__(self, dtype=np.float64, **params):
@@ -78,7 +79,12 @@ class _AttitudeFilter:
             if name not in self._param_names:
                 raise TypeError(f"{type(self).__name__}: unknown parameter {name!r}; "
                                 f"known: {', '.join(self._param_names)}")
-            setattr(p, name, V.positive(value, name))
+            if name in self._int_params:
+                if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+                    raise ValueError(f"{name}: expected a positive integer, got {value!r}")
+                setattr(p, name, int(value))
+            else:
+                setattr(p, name, V.positive(value, name))
         self._f = getattr(_core, self._core_name + suffix)(p)
 
     # -- parameters and state -------------------------------------------------------------
@@ -238,6 +244,9 @@ class QuaternionEKF(_AttitudeFilter):
         Attitude one-sigma after :meth:`initialize`, rad.
     init_bias_sigma : float, default 0.01
         Gyro-bias one-sigma after :meth:`initialize`, rad/s.
+    mag_ref_samples : int, default 100
+        Magnetometer samples over which the dip of the reference field is averaged (unless
+        :meth:`set_mag_dip` fixes it).
     max_dt : float, default 1.0
         Longest accepted time step, s.
     dtype : float64 or float32
@@ -246,7 +255,7 @@ class QuaternionEKF(_AttitudeFilter):
 
     _core_name = "QuaternionEKF"
     _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "max_dt")
+                    "init_bias_sigma", "mag_ref_samples", "max_dt")
     n_states = 7
 
     def reset(self, quat, bias=None, P=None) -> None:
@@ -283,7 +292,7 @@ class EulerEKF(_AttitudeFilter):
 
     _core_name = "EulerEKF"
     _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "max_dt", "singular_cos")
+                    "init_bias_sigma", "mag_ref_samples", "max_dt", "singular_cos")
     n_states = 6
 
     @property

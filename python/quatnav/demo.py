@@ -33,36 +33,44 @@ class RotationData:
 def rotation_scenario(n: int = 6000, rate: float = 100.0, seed: int = 0, max_rate: float = 2.0,
                       gyro_bias=(0.02, -0.015, 0.01), gyro_noise: float = 0.005,
                       acc_noise: float = 0.05, mag_noise: float = 0.5, dip_deg: float = 60.0,
-                      start_still: float = 1.0, pitch_limit: float | None = 1.2) -> RotationData:
+                      start_still: float = 1.0, pitch_limit: float = 1.2) -> RotationData:
     """A smooth random rotation sampled at ``rate`` Hz, consistent by construction.
 
-    The body rate is a sum of random sinusoids (zero for the first ``start_still`` s); the true
-    attitude is integrated exactly for a rate held over each sample interval, so
-    ``q[k] = q[k-1] * exp(omega[k] dt)``. Noise values are standard deviations per sample
-    (gyro_noise in rad/s, acc_noise in m/s^2, mag_noise in uT). With ``pitch_limit`` the pitch
-    rate is steered so that |pitch| stays below that value (rad).
+    Roll, pitch and yaw are sums of random sinusoids (|pitch| below ``pitch_limit`` rad, still
+    for the first ``start_still`` s), scaled so the body rate peaks near ``max_rate`` rad/s. The
+    body rate of sample k is the constant rate that turns ``q[k-1]`` into ``q[k]`` over one
+    interval, ``q[k] = q[k-1] * exp(omega[k] dt)``, so a filter that integrates the gyro that
+    way sees exact data. Noise values are standard deviations per sample (gyro_noise rad/s,
+    acc_noise m/s^2, mag_noise uT); the field has intensity 50 uT and the given dip.
     """
     rng = np.random.default_rng(seed)
     dt = 1.0 / rate
     t = np.arange(n) * dt
-    freqs = rng.uniform(0.05, 0.6, size=(3, 4))
+    freqs = rng.uniform(0.03, 0.3, size=(3, 4))
     phases = rng.uniform(0, 2 * np.pi, size=(3, 4))
     amps = rng.uniform(0.3, 1.0, size=(3, 4))
-    omega = np.einsum("ij,ijn->ni", amps, np.sin(2 * np.pi * freqs[..., None] * t + phases[..., None]))
-    omega *= max_rate / np.max(np.abs(omega))
-    ramp = np.clip((t - start_still) / 1.0, 0.0, 1.0)
-    omega *= ramp[:, None]
-    q = np.empty((n, 4))
-    q[0] = Q.identity()
-    for k in range(1, n):
-        qk = Q.mul(q[k - 1], Q.from_rotvec(omega[k] * dt))
-        if pitch_limit is not None:
-            pitch = Q.to_euler(qk)[1]
-            if abs(pitch) > pitch_limit:
-                # Reverse the body rate so the attitude turns back.
-                omega[k:] *= -1.0
-                qk = Q.mul(q[k - 1], Q.from_rotvec(omega[k] * dt))
-        q[k] = qk / np.linalg.norm(qk)
+    ramp = np.clip((t - start_still) / 2.0, 0.0, 1.0)
+    ramp = ramp * ramp * (3 - 2 * ramp)  # smooth start
+    ang = np.einsum("ij,ijn->ni", amps, np.sin(2 * np.pi * freqs[..., None] * t + phases[..., None])
+                    - np.sin(phases[..., None]))
+    ang[:, 1] = pitch_limit * np.tanh(ang[:, 1])
+    rpy = ang * ramp[:, None]
+
+    def rates(scale):
+        q = Q.from_euler(rpy * [scale, 1.0, scale])
+        w = np.zeros((n, 3))
+        w[1:] = Q.to_rotvec(Q.mul(Q.conj(q[:-1]), q[1:])) / dt
+        return q, w
+
+    q, omega = rates(1.0)
+    peak = np.max(np.linalg.norm(omega, axis=1))
+    if peak > 0:
+        # Scale roll and yaw excursions (pitch is bounded) until the peak rate is max_rate.
+        for _ in range(3):
+            rpy[:, [0, 2]] *= max_rate / peak
+            rpy[:, 1] *= min(1.0, max_rate / peak)
+            q, omega = rates(1.0)
+            peak = np.max(np.linalg.norm(omega, axis=1))
     dip = np.radians(dip_deg)
     mag_n = 50.0 * np.array([np.cos(dip), 0.0, np.sin(dip)])
     bias = np.asarray(gyro_bias, float)

@@ -18,11 +18,13 @@ template <class T> bool bitwise_equal(const T& a, const T& b) {
 // State structs have padding after the bools; compare member by member.
 template <class S> bool same_state(const QuaternionEKFState<S>& a, const QuaternionEKFState<S>& b) {
   return bitwise_equal(a.q, b.q) && bitwise_equal(a.bias, b.bias) && bitwise_equal(a.P, b.P) &&
-         bitwise_equal(a.mag_ref, b.mag_ref) && a.initialized == b.initialized && a.mag_ref_set == b.mag_ref_set;
+         bitwise_equal(a.mag.ref, b.mag.ref) && a.mag.count == b.mag.count && a.initialized == b.initialized &&
+         a.mag.fixed == b.mag.fixed;
 }
 template <class S> bool same_state(const EulerEKFState<S>& a, const EulerEKFState<S>& b) {
   return bitwise_equal(a.euler, b.euler) && bitwise_equal(a.bias, b.bias) && bitwise_equal(a.P, b.P) &&
-         bitwise_equal(a.mag_ref, b.mag_ref) && a.initialized == b.initialized && a.mag_ref_set == b.mag_ref_set;
+         bitwise_equal(a.mag.ref, b.mag.ref) && a.mag.count == b.mag.count && a.initialized == b.initialized &&
+         a.mag.fixed == b.mag.fixed;
 }
 }  // namespace
 

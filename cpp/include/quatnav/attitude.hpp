@@ -3,12 +3,41 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "quaternion.hpp"
 #include "types.hpp"
 
 namespace quatnav {
+
+/// The normalized reference field [m_x, 0, m_z] (x = magnetic north, z = down) of an attitude
+/// filter. Unless fixed by the user (dip angle), it is learned from the first magnetometer
+/// samples: the mean of sin(dip) = z component of the normalized field rotated into the
+/// navigation frame by the current attitude, over the first `max_samples` samples.
+template <class S> struct MagRef {
+  Vec3<S> ref = Vec3<S>(S(1), S(0), S(0));  ///< normalized [m_x, 0, m_z]
+  S sin_dip_sum = S(0);                     ///< sum of the sin(dip) samples learned so far
+  std::uint32_t count = 0;                  ///< samples learned so far
+  bool fixed = false;                       ///< set by the user; never learned
+
+  bool valid() const { return fixed || count > 0; }
+  void fix(S dip) {
+    ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
+    fixed = true;
+  }
+  /// Learn from a unit field vector expressed in the navigation frame.
+  void learn(const Vec3<S>& m_n_unit, std::uint32_t max_samples) {
+    if (fixed || count >= max_samples) return;
+    sin_dip_sum += m_n_unit[2];
+    ++count;
+    S sd = sin_dip_sum / S(count);
+    sd = sd > S(1) ? S(1) : (sd < S(-1) ? S(-1) : sd);
+    ref = Vec3<S>(std::sqrt(S(1) - sd * sd), S(0), sd);
+  }
+  bool finite() const { return ref.allFinite() && std::isfinite(sin_dip_sum); }
+};
+
 namespace detail {
 
 /// Tilt and heading from one accelerometer and magnetometer sample. Returns false for

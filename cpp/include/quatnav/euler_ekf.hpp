@@ -32,6 +32,7 @@ template <class S> struct EulerEKFParams {
   S mag_noise = S(0.1);         ///< std of each component of the normalized magnetometer [-]
   S init_att_sigma = S(0.05);   ///< initial one-sigma of each Euler angle [rad]
   S init_bias_sigma = S(0.01);  ///< initial gyro-bias one-sigma [rad/s]
+  std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
   S max_dt = S(1);              ///< a predict with dt above this is refused [s]
   S singular_cos = S(0.02);     ///< |cos(pitch)| below this is reported as singular [-]
 };
@@ -40,9 +41,8 @@ template <class S> struct EulerEKFState {
   Vec3<S> euler = Vec3<S>::Zero();              ///< [roll, pitch, yaw] [rad]
   Vec3<S> bias = Vec3<S>::Zero();               ///< gyro bias [rad/s]
   Mat<S, 6, 6> P = Mat<S, 6, 6>::Identity();    ///< covariance of [euler, bias]
-  Vec3<S> mag_ref = Vec3<S>(S(1), S(0), S(0));  ///< normalized reference field [m_x, 0, m_z]
+  MagRef<S> mag;                                ///< reference field, learned or given
   bool initialized = false;
-  bool mag_ref_set = false;
 };
 
 namespace detail {
@@ -140,7 +140,7 @@ template <class S> class EulerEKF {
   std::uint32_t extra_flags() const { return singular_ ? flags::kSingular : 0u; }
 
   Status set_state(const State& s) {
-    if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag_ref.allFinite())
+    if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite())
       return Status::NonFinite;
     st_ = s;
     return Status::Ok;
@@ -157,8 +157,7 @@ template <class S> class EulerEKF {
   }
 
   void set_mag_dip(S dip) {
-    st_.mag_ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
-    st_.mag_ref_set = true;
+    st_.mag.fix(dip);
   }
 
   Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
@@ -205,28 +204,25 @@ template <class S> class EulerEKF {
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
-    if (!st_.mag_ref_set) {
-      Vec3<S> m;
-      res.status = detail::unit_vector(mag, m);
-      if (res.status != Status::Ok) return res;
-      const Vec3<S> mn = quat::rotate(quat(), m);
-      st_.mag_ref = Vec3<S>(std::sqrt(mn[0] * mn[0] + mn[1] * mn[1]), S(0), mn[2]);
-      st_.mag_ref_set = true;
-    }
-    return update3(mag, st_.mag_ref[0], st_.mag_ref[2], params_.mag_noise, gate);
+    Vec3<S> m;
+    res.status = detail::unit_vector(mag, m);
+    if (res.status != Status::Ok) return res;
+    st_.mag.learn(quat::rotate(quat(), m), params_.mag_ref_samples);
+    return update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
   }
 
  private:
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
     if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
     Quat<S> q;
-    Vec3<S> mref = st_.mag_ref;
+    Vec3<S> mref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     st_.euler = quat::to_euler(q);
     st_.bias.setZero();
-    if (mag && !st_.mag_ref_set) {
-      st_.mag_ref = mref / mref.norm();
-      st_.mag_ref_set = true;
+    if (mag) {
+      // Start learning the reference afresh from this sample (unless the user fixed it).
+      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
     }
     st_.P.setZero();
     st_.P.template topLeftCorner<3, 3>().diagonal().setConstant(params_.init_att_sigma * params_.init_att_sigma);

@@ -39,6 +39,7 @@ template <class S> struct QuaternionEKFParams {
   S mag_noise = S(0.1);           ///< std of each component of the normalized magnetometer [-]
   S init_att_sigma = S(0.05);     ///< initial attitude one-sigma after initialize() [rad]
   S init_bias_sigma = S(0.01);    ///< initial gyro-bias one-sigma [rad/s]
+  std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
   S max_dt = S(1);                ///< a predict with dt above this is refused [s]
 };
 
@@ -47,9 +48,8 @@ template <class S> struct QuaternionEKFState {
   Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
   Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
   Mat<S, 7, 7> P = Mat<S, 7, 7>::Identity();      ///< covariance of [q, bias]
-  Vec3<S> mag_ref = Vec3<S>(S(1), S(0), S(0));    ///< normalized reference field [m_x, 0, m_z]
+  MagRef<S> mag;                                  ///< reference field, learned or given
   bool initialized = false;
-  bool mag_ref_set = false;                       ///< mag_ref has been learned or given
 };
 
 namespace detail {
@@ -130,7 +130,7 @@ template <class S> class QuaternionEKF {
   /// Restore a state previously read with state(). Refused (InvalidArgument) when the
   /// quaternion is not unit length or anything is non-finite.
   Status set_state(const State& s) {
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag_ref.allFinite())
+    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite())
       return Status::NonFinite;
     if (std::abs(s.q.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
     st_ = s;
@@ -144,8 +144,7 @@ template <class S> class QuaternionEKF {
 
   /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
   void set_mag_dip(S dip) {
-    st_.mag_ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
-    st_.mag_ref_set = true;
+    st_.mag.fix(dip);
   }
 
   /// Initialize from one accelerometer (and optionally magnetometer) sample: tilt from gravity,
@@ -198,16 +197,11 @@ template <class S> class QuaternionEKF {
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
-    if (!st_.mag_ref_set) {
-      // Learn the dip from this sample and the current attitude.
-      Vec3<S> m;
-      res.status = detail::unit_vector(mag, m);
-      if (res.status != Status::Ok) return res;
-      const Vec3<S> mn = quat::rotate(st_.q, m);
-      st_.mag_ref = Vec3<S>(std::sqrt(mn[0] * mn[0] + mn[1] * mn[1]), S(0), mn[2]);
-      st_.mag_ref_set = true;
-    }
-    return update3(mag, st_.mag_ref[0], st_.mag_ref[2], params_.mag_noise, gate);
+    Vec3<S> m;
+    res.status = detail::unit_vector(mag, m);
+    if (res.status != Status::Ok) return res;
+    st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
+    return update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
   }
 
   /// Joint accelerometer + magnetometer update, eq. (11)-(12) as one 6-vector.
@@ -219,17 +213,13 @@ template <class S> class QuaternionEKF {
     if (res.status != Status::Ok) return res;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
-    if (!st_.mag_ref_set) {
-      const Vec3<S> mn = quat::rotate(st_.q, m);
-      st_.mag_ref = Vec3<S>(std::sqrt(mn[0] * mn[0] + mn[1] * mn[1]), S(0), mn[2]);
-      st_.mag_ref_set = true;
-    }
+    st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
     Vec<S, 6> z, h;
     z << a, m;
-    h << detail::qekf_h(st_.q, S(0), S(-1)), detail::qekf_h(st_.q, st_.mag_ref[0], st_.mag_ref[2]);
+    h << detail::qekf_h(st_.q, S(0), S(-1)), detail::qekf_h(st_.q, st_.mag.ref[0], st_.mag.ref[2]);
     Mat<S, 6, 7> H = Mat<S, 6, 7>::Zero();
     H.template block<3, 4>(0, 0) = detail::qekf_H(st_.q, S(0), S(-1));
-    H.template block<3, 4>(3, 0) = detail::qekf_H(st_.q, st_.mag_ref[0], st_.mag_ref[2]);
+    H.template block<3, 4>(3, 0) = detail::qekf_H(st_.q, st_.mag.ref[0], st_.mag.ref[2]);
     Mat<S, 6, 6> R = Mat<S, 6, 6>::Zero();
     R.diagonal() << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
         Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
@@ -241,13 +231,14 @@ template <class S> class QuaternionEKF {
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
     if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
     Quat<S> q;
-    Vec3<S> mref = st_.mag_ref;
+    Vec3<S> mref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     st_.q = q;
     st_.bias.setZero();
-    if (mag && !st_.mag_ref_set) {
-      st_.mag_ref = mref / mref.norm();
-      st_.mag_ref_set = true;
+    if (mag) {
+      // Start learning the reference afresh from this sample (unless the user fixed it).
+      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
     }
     // Attitude sigma s (rad) on each body axis -> quaternion block (s/2)^2 Xi Xi^T.
     st_.P.setZero();

@@ -53,27 +53,38 @@ class _Base:
             p[k] = float(v)
         self.p = SimpleNamespace(**p)
         self.mag_ref = np.array([1.0, 0.0, 0.0])
-        self.mag_ref_set = False
+        self.mag_sin_dip_sum = 0.0
+        self.mag_ref_count = 0
+        self.mag_ref_fixed = False
         self.initialized = False
 
     def set_mag_dip(self, dip):
         self.mag_ref = np.array([np.cos(dip), 0.0, np.sin(dip)])
-        self.mag_ref_set = True
+        self.mag_ref_fixed = True
 
-    def _learn_mag_ref(self, m_unit):
-        mn = Q.rotate(self.quat, m_unit)
-        self.mag_ref = np.array([np.hypot(mn[0], mn[1]), 0.0, mn[2]])
-        self.mag_ref_set = True
+    def _learn_mag_ref(self, m_n_unit):
+        """Average sin(dip) over the first mag_ref_samples samples (unless fixed)."""
+        if self.mag_ref_fixed or self.mag_ref_count >= self.p.mag_ref_samples:
+            return
+        self.mag_sin_dip_sum += m_n_unit[2]
+        self.mag_ref_count += 1
+        sd = np.clip(self.mag_sin_dip_sum / self.mag_ref_count, -1.0, 1.0)
+        self.mag_ref = np.array([np.sqrt(1 - sd * sd), 0.0, sd])
 
     def update_mag(self, mag, gate=0.0):
         if not self.initialized:
             return SimpleNamespace(status="not_initialized")
-        if not self.mag_ref_set:
-            status, m = _unit(mag)
-            if status != "ok":
-                return SimpleNamespace(status=status)
-            self._learn_mag_ref(m)
+        status, m = _unit(mag)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        self._learn_mag_ref(Q.rotate(self.quat, m))
         return self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_noise, gate)
+
+    def _init_mag_ref(self, mref):
+        if mref is not None:
+            if not self.mag_ref_fixed:
+                self.mag_sin_dip_sum, self.mag_ref_count = 0.0, 0
+            self._learn_mag_ref(mref)
 
     def update_acc(self, acc, gate=0.0):
         if not self.initialized:
@@ -107,7 +118,7 @@ class QuaternionEKF(_Base):
     """Quaternion EKF of paper 000 in numpy. State x = [q0 q1 q2 q3 bx by bz]."""
 
     defaults = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
-                    init_att_sigma=0.05, init_bias_sigma=0.01, max_dt=1.0)
+                    init_att_sigma=0.05, init_bias_sigma=0.01, mag_ref_samples=100, max_dt=1.0)
     n_states = 7
 
     def __init__(self, **params):
@@ -158,8 +169,7 @@ class QuaternionEKF(_Base):
             return "zero_norm"
         self.q, mref = out
         self.bias = np.zeros(3)
-        if mref is not None and not self.mag_ref_set:
-            self.mag_ref, self.mag_ref_set = mref, True
+        self._init_mag_ref(mref)
         X = Q.xi(self.q)
         self.P = np.zeros((7, 7))
         self.P[:4, :4] = (self.p.init_att_sigma / 2) ** 2 * X @ X.T
@@ -197,8 +207,7 @@ class QuaternionEKF(_Base):
         sm, m = _unit(mag)
         if sa != "ok" or sm != "ok":
             return SimpleNamespace(status=sa if sa != "ok" else sm)
-        if not self.mag_ref_set:
-            self._learn_mag_ref(m)
+        self._learn_mag_ref(Q.rotate(self.q, m))
         rx, rz = self.mag_ref[0], self.mag_ref[2]
         H = np.zeros((6, 7))
         H[:3, :4] = self.H(self.q, *GRAVITY_REF)
@@ -229,7 +238,7 @@ class EulerEKF(_Base):
     """Euler-angle EKF (paper 000's baseline) in numpy. State [roll, pitch, yaw, bx, by, bz]."""
 
     defaults = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
-                    init_att_sigma=0.05, init_bias_sigma=0.01, max_dt=1.0, singular_cos=0.02)
+                    init_att_sigma=0.05, init_bias_sigma=0.01, mag_ref_samples=100, max_dt=1.0, singular_cos=0.02)
     n_states = 6
 
     def __init__(self, **params):
@@ -283,8 +292,7 @@ class EulerEKF(_Base):
         q, mref = out
         self.euler = Q.to_euler(q)
         self.bias = np.zeros(3)
-        if mref is not None and not self.mag_ref_set:
-            self.mag_ref, self.mag_ref_set = mref, True
+        self._init_mag_ref(mref)
         self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_bias_sigma**2] * 3)
         self.initialized = True
         return "ok"
