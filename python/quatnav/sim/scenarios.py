@@ -197,7 +197,7 @@ def paper004_walk(seed=0, speed=1.4, gps_rate_hz=5.0):
     The path (chosen): 40 m north, a quarter circle of radius 20 m turning east, 30 m east;
     about 100 m, with 10 s rests at both ends.
     """
-    arc = np.radians(np.arange(15.0, 90.1, 15.0))
+    arc = np.radians(np.arange(5.0, 90.1, 5.0))
     pts = [[40.0, 0.0]]
     pts += [[40.0 + 20.0 * np.sin(a), 20.0 - 20.0 * np.cos(a)] for a in arc]
     pts += [[60.0, 50.0]]

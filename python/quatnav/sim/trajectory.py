@@ -492,6 +492,11 @@ class WaypointPath(Segment):
         Speed (m/s) on each leg; the time of each leg is its length over its speed.
     bank : bool
         If True the vehicle banks as in a coordinated turn, else it stays level (walker, car).
+    max_leg : float, optional
+        Split legs longer than this (m) into equal parts, keeping straight legs straight (an
+        interpolating spline rings where knot spacing or curvature changes abruptly; give curves
+        about as many points per metre). Default 2 m;
+        ``None`` keeps the points as given.
 
     The vehicle must enter moving along its current course; the path is C4-smooth, it leaves
     with the direction of the last leg and zero acceleration. Yaw follows the horizontal
@@ -501,6 +506,7 @@ class WaypointPath(Segment):
     points_n: object
     speed: object
     bank: bool = False
+    max_leg: Optional[float] = 2.0
 
     def __post_init__(self):
         p = _check_finite("points_n", self.points_n)
@@ -515,6 +521,16 @@ class WaypointPath(Segment):
         legs = np.linalg.norm(np.diff(pts, axis=0), axis=1)
         if np.any(legs <= 0):
             raise ValueError("points_n: consecutive points must differ")
+        if self.max_leg is not None:
+            ml = _check_positive("max_leg", self.max_leg)
+            dense, dsp = [pts[0]], []
+            for i, L in enumerate(legs):
+                m = max(1, int(np.ceil(L / ml - 1e-9)))
+                for j in range(1, m + 1):
+                    dense.append(pts[i] + (pts[i + 1] - pts[i]) * j / m)
+                    dsp.append(sp[i])
+            pts, sp = np.array(dense), np.array(dsp)
+            legs = np.linalg.norm(np.diff(pts, axis=0), axis=1)
         times = np.concatenate([[0.0], np.cumsum(legs / sp)])
         object.__setattr__(self, "_pts", pts)
         object.__setattr__(self, "_times", times)
