@@ -125,9 +125,10 @@ def test_save_load_npz_csv(tmp_path, scen):
 def test_plot(tmp_path, scen):
     pytest.importorskip("matplotlib")
     from quatnav.sim import plot_scenario
-    plot_scenario(scen["paper001_constant_turn"], tmp_path / "p.png")
-    plot_scenario(scen["handheld_marg_disturbed"], tmp_path / "h.png")
-    assert (tmp_path / "p.png").stat().st_size > 10000
+    import matplotlib.pyplot as plt
+    fig = plot_scenario(scen["handheld_marg_disturbed"], tmp_path / "h.png")
+    assert len(fig.axes) == 6 and (tmp_path / "h.png").stat().st_size > 10000
+    plt.close(fig)
 
 
 def test_cli(tmp_path, capsys):

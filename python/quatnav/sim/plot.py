@@ -8,7 +8,7 @@ __all__ = ["plot_scenario"]
 
 
 def plot_scenario(scenario, path=None, show=False):
-    """Draw a 2x3 overview of a scenario.
+    """Draw a 2x3 overview of a scenario (long signals are thinned to about 4000 points).
 
     Panels: horizontal track (truth and GPS), height (truth, GPS, altimeter), attitude in
     degrees (truth and compass yaw), gyro (deg/s), accelerometer (m/s^2), magnetometer (uT) or
@@ -32,10 +32,16 @@ def plot_scenario(scenario, path=None, show=False):
     import matplotlib.pyplot as plt
 
     tr = scenario.truth
+
+    def thin(n):
+        """Index step that keeps at most about 4000 points per line."""
+        return max(1, n // 4000)
+
+    st, si = thin(len(tr.t)), thin(len(scenario.imu.t))
     fig, ax = plt.subplots(2, 3, figsize=(15, 8), constrained_layout=True)
     fig.suptitle(f"{scenario.name} (seed {scenario.seed})")
     a = ax[0, 0]
-    a.plot(tr.pos_n[:, 1], tr.pos_n[:, 0], "k-", label="truth", zorder=3)
+    a.plot(tr.pos_n[::st, 1], tr.pos_n[::st, 0], "k-", label="truth", zorder=3)
     if scenario.gps is not None:
         a.plot(scenario.gps.pos_n[:, 1], scenario.gps.pos_n[:, 0], ".", ms=2, label="GPS")
     a.set_xlabel("east (m)")
@@ -45,7 +51,7 @@ def plot_scenario(scenario, path=None, show=False):
     a.set_title("track")
 
     a = ax[0, 1]
-    a.plot(tr.t, tr.h, "k-", label="truth", zorder=3)
+    a.plot(tr.t[::st], tr.h[::st], "k-", label="truth", zorder=3)
     if scenario.gps is not None:
         a.plot(scenario.gps.t_valid, scenario.gps.h, ".", ms=2, label="GPS")
     if scenario.baro is not None:
@@ -56,9 +62,9 @@ def plot_scenario(scenario, path=None, show=False):
     a.set_title("height")
 
     a = ax[0, 2]
-    deg = np.degrees(tr.rpy)
+    deg = np.degrees(tr.rpy[::st])
     for i, n in enumerate(("roll", "pitch", "yaw")):
-        a.plot(tr.t, deg[:, i], label=n)
+        a.plot(tr.t[::st], deg[:, i], label=n)
     if scenario.compass is not None:
         a.plot(scenario.compass.t, np.degrees(scenario.compass.yaw), ".", ms=2, label="compass")
     a.set_xlabel("t (s)")
@@ -71,8 +77,8 @@ def plot_scenario(scenario, path=None, show=False):
                                    "deg/s", "gyro"),
                                   (ax[1, 1], imu.accel, tr.f_ib_b, "m/s^2", "accelerometer")):
         for i, c in enumerate("xyz"):
-            a.plot(imu.t, y[:, i], lw=0.5, label=f"{c} measured")
-            a.plot(tr.t, yt[:, i], "k-", lw=0.5)
+            a.plot(imu.t[::si], y[::si, i], lw=0.5, label=f"{c} measured")
+            a.plot(tr.t[::st], yt[::st, i], "k-", lw=0.5)
         a.set_xlabel("t (s)")
         a.set_ylabel(unit)
         a.legend(loc="best", fontsize="small")
@@ -80,15 +86,16 @@ def plot_scenario(scenario, path=None, show=False):
 
     a = ax[1, 2]
     if scenario.mag is not None:
+        sm = thin(len(scenario.mag.t))
         for i, c in enumerate("xyz"):
-            a.plot(scenario.mag.t, scenario.mag.mag[:, i] * 1e6, lw=0.5, label=c)
+            a.plot(scenario.mag.t[::sm], scenario.mag.mag[::sm, i] * 1e6, lw=0.5, label=c)
         if np.any(scenario.mag.disturbed):
             a.fill_between(scenario.mag.t, 0, 1, where=scenario.mag.disturbed, color="r",
                            alpha=0.15, transform=a.get_xaxis_transform(), label="disturbed")
         a.set_ylabel("uT")
         a.set_title("magnetometer")
     else:
-        a.plot(tr.t, np.linalg.norm(tr.v_n, axis=1), "k-")
+        a.plot(tr.t[::st], np.linalg.norm(tr.v_n[::st], axis=1), "k-")
         a.set_ylabel("m/s")
         a.set_title("speed (truth)")
     a.set_xlabel("t (s)")
