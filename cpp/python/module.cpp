@@ -5,6 +5,7 @@ namespace quatnav_py {
 void bind_math(py::module_& m);
 void bind_attitude(py::module_& m);
 void bind_strapdown(py::module_& m);
+void bind_marg(py::module_& m);
 }  // namespace quatnav_py
 
 PYBIND11_MODULE(_core, m) {
@@ -13,4 +14,5 @@ PYBIND11_MODULE(_core, m) {
   quatnav_py::bind_math(m);
   quatnav_py::bind_attitude(m);
   quatnav_py::bind_strapdown(m);
+  quatnav_py::bind_marg(m);
 }

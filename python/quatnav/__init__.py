@@ -8,7 +8,9 @@ from . import _core
 from . import quaternion
 from . import earth, strapdown
 from .attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
+from .marg import MARG_FLAGS, MargFilter, MargResult
 
 __version__ = _core.__version__
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
+__all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]

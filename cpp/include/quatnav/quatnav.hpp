@@ -7,6 +7,7 @@
 #include "attitude.hpp"
 #include "quaternion_ekf.hpp"
 #include "euler_ekf.hpp"
+#include "marg_filter.hpp"
 #include "batch.hpp"
 #include "earth.hpp"
 #include "strapdown.hpp"

@@ -15,6 +15,7 @@ import importlib
 
 #: name on the command line -> module (relative to this package) with add_arguments/run.
 EXPERIMENTS: dict[str, str] = {
+    "marg-turn": ".marg_turn",
 }
 
 

@@ -1,0 +1,493 @@
+// quatnav: MARG attitude filter by Gauss-Newton iteration, blended with gyro integration, with
+// the accelerometer corrected for the vehicle's acceleration by GPS (Shin & Hong, "Small attitude
+// sensor development using quaternion and attitude error correction"; called paper 001 in the
+// docs).
+//
+// Per sample:
+//  1. predict: q- = q * exp((w - b) T)  (gyro integration, the 1/2 q * w term of eq. 6);
+//  2. the measured unit vectors y0 = [m0_b; n0_b] and their navigation-frame references
+//     [m_n; n_n] (eq. 1, 3); the accelerometer is first corrected with the GPS antenna
+//     acceleration and the lever-arm terms (eq. 7, see below);
+//  3. Gauss-Newton from q-: eps = y0 - y(q) (eq. 3), X = dy/dq (eq. 4),
+//     dq = (X^T X)^-1 X^T eps (eq. 5), q <- q + dq, until |dq| < gn_tol or gn_max_iter steps;
+//  4. blend (eq. 6): q+ = normalize(q- + alpha (q_GN - q-)), alpha = 1 - exp(-k T);
+//  5. optionally the gyro bias: b <- b - k_b T e, e = 2 vec(conj(q-) * q_GN) (body frame).
+//
+// Deviations from the paper, each deliberate:
+//  * eq. (5) needs X of full column rank 4. In 6D mode (no magnetometer) X is 3x4 and X^T X is
+//    singular (rotation about gravity is unobservable); we use the Moore-Penrose pseudo-inverse
+//    of that case, dq = X^T (X X^T)^-1 eps, the minimum-norm step, which leaves the heading
+//    untouched.
+//  * eq. (6) is a continuous-time blend q_dot = 1/2 q * w + k dq. Integrated over one step with
+//    q_GN held, its correction part is q <- q + (1 - exp(-k T)) (q_GN - q), which equals k T dq
+//    to first order and never overshoots (alpha < 1 for any T); the gyro part is integrated
+//    exactly for a rate constant over the step.
+//  * eq. (7) as printed mixes frames and drops terms. With d = r_g - r_i the lever arm from the
+//    IMU to the GPS antenna in the body frame, rigid-body kinematics give
+//        a_g_n = a_i_n + C_nb (w_dot x d + w x (w x d)),
+//    and the accelerometer senses f_b = C_bn (a_i_n - g_n). Hence
+//        f_b + w_dot x d + w x (w x d) = C_bn (a_g_n - g_n),                        (7')
+//    i.e. measurement side n0_b = unit(f_b + w_dot x d + w x (w x d)) and reference side
+//    n_n = unit(a_g_n - g_n). The printed eq. (7) (i) multiplies the body-frame lever arm by
+//    R = R^{n->b} inside the navigation-frame bracket (it must be R^T = C_nb), (ii) loses one
+//    w~ of the centripetal term w~ w~^T d in its third line, and (iii) writes the angular
+//    acceleration term as w~ d instead of w_dot~ d. We use (7'); a_g_n comes from differences of
+//    GPS velocity, low-pass filtered (time constant gps_acc_tau) and held between fixes; w_dot
+//    from differences of the bias-corrected gyro, low-pass filtered (omega_dot_tau). The Earth
+//    rate in w (7e-5 rad/s) is neglected in the lever-arm terms.
+//  * The paper scales by 1/g; we normalize both sides of each vector pair instead, so that the
+//    Gauss-Newton residual compares directions only, as in eq. (3) for the magnetic field.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "attitude.hpp"
+#include "quaternion.hpp"
+#include "types.hpp"
+
+namespace quatnav {
+
+namespace flags {
+constexpr std::uint32_t kGpsCorrected = 1u << 16;      ///< MargFilter: acc corrected with GPS (eq. 7)
+constexpr std::uint32_t kGnNotConverged = 1u << 17;    ///< MargFilter: Gauss-Newton hit gn_max_iter
+}  // namespace flags
+
+/// Parameters of MargFilter. Every field has its unit and default.
+template <class S> struct MargFilterParams {
+  S gain = S(1);                   ///< k of eq. (6): blend rate towards the Gauss-Newton attitude [1/s]
+  S bias_gain = S(0);              ///< gyro-bias integral gain [1/s^2]; 0 disables the bias estimate
+  int gn_max_iter = 3;             ///< Gauss-Newton iterations per update, at most [-]
+  S gn_tol = S(1e-6);              ///< stop iterating when |dq| is below this [-]
+  S gravity = S(9.80665);          ///< magnitude of gravity used in eq. (7) [m/s^2]
+  Vec3<S> lever_arm_b = Vec3<S>::Zero();  ///< IMU to GPS antenna, body frame [m]
+  bool gps_correction = true;      ///< apply eq. (7) when a GPS acceleration is available
+  S gps_acc_tau = S(0.05);         ///< low-pass time constant of the GPS acceleration [s]; 0: none
+  S omega_dot_tau = S(0.1);        ///< low-pass time constant of the angular acceleration [s]; 0: none
+  S gps_timeout = S(0.5);          ///< GPS acceleration older than this is not used [s]
+  /// Magnetic declination, east of true north [rad]. The filter's navigation frame is NED with x
+  /// along magnetic north (the reference field is [m_x, 0, m_z]); GPS velocities are in true
+  /// NED and are rotated by -declination about down before use. Left at 0 while the field
+  /// points 8 deg off true north, a 2 m/s^2 turn acceleration is misplaced by 0.3 m/s^2.
+  S declination = S(0);
+  S max_dt = S(1);                 ///< a predict with dt above this is refused [s]
+};
+
+/// The complete filter state; state()/set_state() round-trip exactly.
+template <class S> struct MargFilterState {
+  Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
+  Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
+  Vec3<S> mag_ref = Vec3<S>(S(1), S(0), S(0));    ///< normalized reference field [m_x, 0, m_z]
+  Vec3<S> omega_b = Vec3<S>::Zero();              ///< last bias-corrected body rate [rad/s]
+  Vec3<S> omega_dot_b = Vec3<S>::Zero();          ///< low-passed angular acceleration [rad/s^2]
+  Vec3<S> gps_vel_n = Vec3<S>::Zero();            ///< last GPS velocity, magnetic NED [m/s]
+  Vec3<S> gps_acc_n = Vec3<S>::Zero();            ///< low-passed GPS antenna acceleration, magnetic NED [m/s^2]
+  S gps_t = S(0);                                 ///< time of the last GPS fix [s]
+  S time_since_gps = S(0);                        ///< time since the last GPS fix [s]
+  S time_since_update = S(0);                     ///< time integrated since the last update [s]
+  int gps_fixes = 0;                              ///< 0: none, 1: velocity only, 2: acceleration
+  bool omega_set = false;                         ///< omega_b holds a rate (w_dot can be formed)
+  bool initialized = false;
+  bool mag_ref_set = false;                       ///< mag_ref has been learned or given
+};
+
+/// The outcome of one Gauss-Newton update.
+template <class S> struct MargUpdateResult {
+  Status status = Status::NotInitialized;
+  int iterations = 0;          ///< Gauss-Newton steps taken
+  bool converged = false;      ///< |dq| fell below gn_tol
+  bool gps_corrected = false;  ///< the accelerometer was corrected with eq. (7)
+  S residual = S(0);           ///< |eps| at the predicted attitude (eq. 3)
+  S residual_final = S(0);     ///< |eps| at the Gauss-Newton attitude
+  Vec3<S> correction = Vec3<S>::Zero();  ///< rotation applied to q-, body frame [rad]
+  bool accepted() const { return status == Status::Ok; }
+};
+
+namespace detail {
+
+/// eq. (1)-(2): y = R^{n->b}(q) r for a reference vector r, in the homogeneous quadratic form of
+/// eq. (2) (for a non-unit q it is |q|^2 times the rotation):
+///   y = (q0^2 - |v|^2) r + 2 (v.r) v - 2 q0 (v x r),  v = [q1, q2, q3].
+template <class S> Vec3<S> marg_h(const Quat<S>& q, const Vec3<S>& r) {
+  const S q0 = q[0];
+  const Vec3<S> v(q[1], q[2], q[3]);
+  return (q0 * q0 - v.squaredNorm()) * r + S(2) * v.dot(r) * v - S(2) * q0 * v.cross(r);
+}
+
+/// eq. (4): X = dy/dq (3x4) of marg_h.
+template <class S> Mat34<S> marg_jacobian(const Quat<S>& q, const Vec3<S>& r) {
+  const S q0 = q[0];
+  const Vec3<S> v(q[1], q[2], q[3]);
+  Mat34<S> X;
+  X.col(0) = S(2) * q0 * r - S(2) * v.cross(r);
+  X.template rightCols<3>() = S(2) * (v * r.transpose() - r * v.transpose() +
+                                      v.dot(r) * Mat3<S>::Identity() + q0 * quat::skew(r));
+  return X;
+}
+
+/// A Cholesky factor fit for solving: success and a pivot ratio above sqrt(epsilon), i.e. a
+/// condition number below about 1/epsilon (rank-deficient X, e.g. a reference field parallel to
+/// gravity, is refused rather than solved into a huge step).
+template <class Llt> bool well_conditioned(const Llt& llt) {
+  using S = typename Llt::Scalar;
+  if (llt.info() != Eigen::Success) return false;
+  const auto d = llt.matrixLLT().diagonal();
+  return d.allFinite() && d.minCoeff() > d.maxCoeff() * std::sqrt(std::numeric_limits<S>::epsilon());
+}
+
+/// Gauss-Newton iteration of eq. (3)-(5) on K vector pairs (K = 1: gravity only, K = 2: field
+/// and gravity). meas and refs hold unit vectors in their columns (body and navigation frame).
+/// Starts from q0; writes the (unnormalized) solution, the step count and convergence.
+/// Returns SolveFailed (outputs meaningless) when the normal equations are singular.
+template <class S, int K>
+Status marg_gauss_newton(const Quat<S>& q0, const Mat<S, 3, K>& meas, const Mat<S, 3, K>& refs,
+                         int max_iter, S tol, Quat<S>& q_out, int& iterations, bool& converged) {
+  constexpr int M = 3 * K;
+  Quat<S> q = q0;
+  q_out = q0;
+  iterations = 0;
+  converged = false;
+  for (int it = 0; it < max_iter; ++it) {
+    Vec<S, M> eps;
+    Mat<S, M, 4> X;
+    for (int j = 0; j < K; ++j) {
+      const Vec3<S> r = refs.col(j);
+      eps.template segment<3>(3 * j) = meas.col(j) - marg_h(q, r);   // eq. (3)
+      X.template block<3, 4>(3 * j, 0) = marg_jacobian(q, r);          // eq. (4)
+    }
+    Quat<S> dq;
+    if constexpr (M >= 4) {
+      // eq. (5): dq = (X^T X)^-1 X^T eps, by a Cholesky solve.
+      const Eigen::LLT<Mat4<S>> llt(X.transpose() * X);
+      if (!well_conditioned(llt)) return Status::SolveFailed;
+      dq = llt.solve(X.transpose() * eps);
+    } else {
+      // 6D mode: the minimum-norm pseudo-inverse X^T (X X^T)^-1 (see the header comment).
+      const Eigen::LLT<Mat<S, M, M>> llt(X * X.transpose());
+      if (!well_conditioned(llt)) return Status::SolveFailed;
+      dq = X.transpose() * llt.solve(eps);
+    }
+    if (!dq.allFinite() || !(dq.norm() < S(2))) return Status::SolveFailed;
+    q += dq;
+    ++iterations;
+    if (dq.norm() < tol) {
+      converged = true;
+      break;
+    }
+  }
+  q_out = q;
+  return Status::Ok;
+}
+
+/// |eps| of eq. (3) at q.
+template <class S, int K>
+S marg_residual(const Quat<S>& q, const Mat<S, 3, K>& meas, const Mat<S, 3, K>& refs) {
+  S s = S(0);
+  for (int j = 0; j < K; ++j) s += (meas.col(j) - marg_h(q, Vec3<S>(refs.col(j)))).squaredNorm();
+  return std::sqrt(s);
+}
+
+/// eq. (7'): the accelerometer side f_b + w_dot x d + w x (w x d) [m/s^2].
+template <class S>
+Vec3<S> marg_lever_corrected(const Vec3<S>& f_b, const Vec3<S>& omega_b, const Vec3<S>& omega_dot_b,
+                             const Vec3<S>& d_b) {
+  return f_b + omega_dot_b.cross(d_b) + omega_b.cross(omega_b.cross(d_b));
+}
+
+/// One-pole low-pass weight for a step T and time constant tau (tau <= 0: no filtering).
+template <class S> S lowpass_weight(S T, S tau) {
+  return tau > S(0) ? S(1) - std::exp(-T / tau) : S(1);
+}
+
+}  // namespace detail
+
+template <class S> class MargFilter {
+ public:
+  using Scalar = S;
+  using Params = MargFilterParams<S>;
+  using State = MargFilterState<S>;
+  using Result = MargUpdateResult<S>;
+
+  MargFilter() = default;
+  explicit MargFilter(const Params& p) : params_(p) {}
+
+  /// True when every parameter is in its range (the constructor does not check).
+  static bool valid_params(const Params& p) {
+    return p.gain >= S(0) && p.bias_gain >= S(0) && p.gn_max_iter >= 1 && p.gn_tol > S(0) &&
+           p.gravity > S(0) && p.lever_arm_b.allFinite() && p.gps_acc_tau >= S(0) &&
+           p.omega_dot_tau >= S(0) && p.gps_timeout > S(0) && p.max_dt > S(0) && std::isfinite(p.declination) &&
+           std::isfinite(p.gain) && std::isfinite(p.bias_gain) && std::isfinite(p.gps_acc_tau) &&
+           std::isfinite(p.omega_dot_tau) && std::isfinite(p.gravity);
+  }
+
+  const Params& params() const { return params_; }
+  const State& state() const { return st_; }
+  const Quat<S>& quat() const { return st_.q; }
+  const Vec3<S>& bias() const { return st_.bias; }
+  bool initialized() const { return st_.initialized; }
+  /// The GPS antenna acceleration eq. (7) would use now, if any [m/s^2].
+  bool gps_acc_available() const {
+    return params_.gps_correction && st_.gps_fixes >= 2 && st_.time_since_gps <= params_.gps_timeout;
+  }
+  const Vec3<S>& gps_acc_n() const { return st_.gps_acc_n; }
+
+  /// Restore a state previously read with state(). Refused when the quaternion is not unit
+  /// length (InvalidArgument) or anything is non-finite (NonFinite).
+  Status set_state(const State& s) {
+    if (!s.q.allFinite() || !s.bias.allFinite() || !s.mag_ref.allFinite() || !s.omega_b.allFinite() ||
+        !s.omega_dot_b.allFinite() || !s.gps_vel_n.allFinite() || !s.gps_acc_n.allFinite() ||
+        !std::isfinite(s.gps_t) || !std::isfinite(s.time_since_gps) || !std::isfinite(s.time_since_update))
+      return Status::NonFinite;
+    if (std::abs(s.q.norm() - S(1)) > S(1e-3) || s.gps_fixes < 0 || s.gps_fixes > 2)
+      return Status::InvalidArgument;
+    st_ = s;
+    return Status::Ok;
+  }
+
+  /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
+  void set_mag_dip(S dip) {
+    st_.mag_ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
+    st_.mag_ref_set = true;
+  }
+
+  /// Initialize from one accelerometer (and optionally magnetometer) sample.
+  Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
+  Status initialize(const Vec3<S>& acc, const Vec3<S>& mag) { return init_impl(acc, &mag); }
+
+  /// Start from a given attitude and gyro bias.
+  Status reset(const Quat<S>& q, const Vec3<S>& bias) {
+    if (!q.allFinite() || !bias.allFinite()) return Status::NonFinite;
+    const S n = q.norm();
+    if (!(n > S(0.5))) return Status::InvalidArgument;
+    st_.q = q / n;
+    st_.bias = bias;
+    st_.time_since_update = S(0);
+    st_.initialized = true;
+    return Status::Ok;
+  }
+
+  /// Gyro integration over dt [s] with one gyro sample [rad/s] (the 1/2 q * w term of eq. 6);
+  /// also forms the angular acceleration for eq. (7).
+  Status predict(const Vec3<S>& gyr, S dt) {
+    if (!st_.initialized) return Status::NotInitialized;
+    if (!gyr.allFinite()) return Status::NonFinite;
+    if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
+    const Vec3<S> w = gyr - st_.bias;
+    const Quat<S> q_new = quat::mul(st_.q, quat::from_rotvec(Vec3<S>(w * dt)));
+    Vec3<S> wdot = st_.omega_dot_b;
+    if (st_.omega_set) {
+      const Vec3<S> raw = (w - st_.omega_b) / dt;
+      wdot += detail::lowpass_weight(dt, params_.omega_dot_tau) * (raw - wdot);
+    }
+    if (!q_new.allFinite() || !wdot.allFinite()) return Status::NumericalFailure;
+    st_.q = q_new / q_new.norm();
+    st_.omega_b = w;
+    st_.omega_dot_b = wdot;
+    st_.omega_set = true;
+    st_.time_since_gps += dt;
+    st_.time_since_update += dt;
+    return Status::Ok;
+  }
+
+  /// One GPS velocity fix v_true_n [m/s] (of the antenna, true NED) valid at time t [s] (any clock, strictly
+  /// increasing from fix to fix). The antenna acceleration of eq. (7) is the difference of
+  /// successive fixes, low-pass filtered, held until the next fix. A gap longer than gps_timeout
+  /// restarts the differencing.
+  Status update_gps_velocity(const Vec3<S>& v_true_n, S t) {
+    if (!v_true_n.allFinite() || !std::isfinite(t)) return Status::NonFinite;
+    // True NED -> the filter's magnetic NED: rotate by -declination about down.
+    const S cd = std::cos(params_.declination), sd = std::sin(params_.declination);
+    const Vec3<S> v_n(cd * v_true_n[0] + sd * v_true_n[1], -sd * v_true_n[0] + cd * v_true_n[1], v_true_n[2]);
+    if (st_.gps_fixes == 0) {
+      st_.gps_fixes = 1;
+    } else {
+      const S dt = t - st_.gps_t;
+      if (!(dt > S(0))) return Status::InvalidDt;
+      if (dt > params_.gps_timeout) {
+        st_.gps_fixes = 1;
+      } else {
+        const Vec3<S> raw = (v_n - st_.gps_vel_n) / dt;
+        if (st_.gps_fixes == 1) {
+          st_.gps_acc_n = raw;
+        } else {
+          st_.gps_acc_n += detail::lowpass_weight(dt, params_.gps_acc_tau) * (raw - st_.gps_acc_n);
+        }
+        st_.gps_fixes = 2;
+      }
+    }
+    st_.gps_vel_n = v_n;
+    st_.gps_t = t;
+    st_.time_since_gps = S(0);
+    return Status::Ok;
+  }
+
+  /// Gauss-Newton update with the accelerometer only (6D mode; heading is not observed).
+  /// acc: specific force [m/s^2] (units matter only when eq. 7 is applied).
+  Result update_acc(const Vec3<S>& acc) { return update_impl<1>(acc, nullptr); }
+
+  /// Gauss-Newton update with accelerometer [m/s^2] and magnetometer (any unit), eq. (1)-(6).
+  Result update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag) { return update_impl<2>(acc, &mag); }
+
+ private:
+  Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
+    if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
+    Quat<S> q;
+    Vec3<S> mref = st_.mag_ref;
+    if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
+    st_.q = q;
+    st_.bias.setZero();
+    if (mag && !st_.mag_ref_set) {
+      st_.mag_ref = mref / mref.norm();
+      st_.mag_ref_set = true;
+    }
+    st_.time_since_update = S(0);
+    st_.initialized = true;
+    return Status::Ok;
+  }
+
+  template <int K> Result update_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
+    Result res;
+    if (!st_.initialized) return res;
+    if (!acc.allFinite() || (mag && !mag->allFinite())) {
+      res.status = Status::NonFinite;
+      return res;
+    }
+    // Gravity pair, corrected by eq. (7') when the GPS acceleration is available.
+    Vec3<S> f = acc, ref_n(S(0), S(0), S(-1));
+    res.gps_corrected = gps_acc_available();
+    if (res.gps_corrected) {
+      f = detail::marg_lever_corrected(acc, st_.omega_b, st_.omega_dot_b, params_.lever_arm_b);
+      ref_n = st_.gps_acc_n - Vec3<S>(S(0), S(0), params_.gravity);
+    }
+    Mat<S, 3, K> meas, refs;
+    Vec3<S> u;
+    res.status = detail::unit_vector(f, u);
+    if (res.status != Status::Ok) return res;
+    meas.col(K - 1) = u;
+    res.status = detail::unit_vector(ref_n, u);
+    if (res.status != Status::Ok) return res;
+    refs.col(K - 1) = u;
+    Vec3<S> mag_ref = st_.mag_ref;
+    bool learn_mag = false;
+    if constexpr (K == 2) {
+      res.status = detail::unit_vector(*mag, u);
+      if (res.status != Status::Ok) return res;
+      meas.col(0) = u;
+      if (!st_.mag_ref_set) {  // learn the reference field from this sample and the attitude
+        const Vec3<S> mn = quat::rotate(st_.q, u);
+        mag_ref = Vec3<S>(std::sqrt(mn[0] * mn[0] + mn[1] * mn[1]), S(0), mn[2]);
+        learn_mag = true;
+      }
+      refs.col(0) = mag_ref;
+    }
+    // Gauss-Newton from the predicted attitude, eq. (3)-(5).
+    const Quat<S> q_pred = st_.q;
+    Quat<S> q_gn;
+    res.status = detail::marg_gauss_newton<S, K>(q_pred, meas, refs, params_.gn_max_iter, params_.gn_tol,
+                                                 q_gn, res.iterations, res.converged);
+    if (res.status != Status::Ok) return res;
+    res.residual = detail::marg_residual<S, K>(q_pred, meas, refs);
+    res.residual_final = detail::marg_residual<S, K>(q_gn, meas, refs);
+    const S n_gn = q_gn.norm();
+    if (!(n_gn > S(0.5))) {
+      res.status = Status::NumericalFailure;
+      return res;
+    }
+    q_gn /= n_gn;
+    // eq. (6), integrated over the time since the last update with q_GN held.
+    const S T = st_.time_since_update;
+    const S alpha = S(1) - std::exp(-params_.gain * T);
+    Quat<S> q_new = q_pred + alpha * (q_gn - q_pred);
+    const S n_new = q_new.norm();
+    if (!(n_new > S(0.5)) || !q_new.allFinite()) {
+      res.status = Status::NumericalFailure;
+      return res;
+    }
+    q_new /= n_new;
+    Vec3<S> bias = st_.bias;
+    if (params_.bias_gain > S(0)) {
+      const Quat<S> e = quat::canonical(quat::mul(quat::conj(q_pred), q_gn));
+      bias -= (params_.bias_gain * T * S(2)) * Vec3<S>(e[1], e[2], e[3]);
+    }
+    if (!bias.allFinite()) {
+      res.status = Status::NumericalFailure;
+      return res;
+    }
+    res.correction = quat::to_rotvec(quat::mul(quat::conj(q_pred), q_new));
+    st_.q = q_new;
+    st_.bias = bias;
+    st_.time_since_update = S(0);
+    if (learn_mag) {
+      st_.mag_ref = mag_ref;
+      st_.mag_ref_set = true;
+    }
+    return res;
+  }
+
+  Params params_{};
+  State st_{};
+};
+
+/// Batch run of MargFilter over n IMU samples with GPS velocity fixes at their own times.
+///
+/// Inputs (row-major): t (n, IMU sample times [s]), dt (n, step before each sample [s]), gyr
+/// (n x 3, rad/s), acc (n x 3, m/s^2), mag (n x 3 or null; an all-NaN row means "no sample"),
+/// gps_t (m, fix times [s], same clock as t, non-decreasing), gps_vel (m x 3, m/s NED; null when
+/// m = 0). At sample k: every fix with gps_t <= t[k] not yet used is fed to
+/// update_gps_velocity (held in between); then initialize (first sample) or predict + update.
+/// Outputs (any may be null): quat (n x 4), bias (n x 3), gps_acc (n x 3: the antenna
+/// acceleration used by eq. 7 at that sample, NaN when none), residual (n, |eps| before the
+/// update), flags (n). Allocates nothing.
+template <class S>
+void run_marg_batch(MargFilter<S>& f, const S* t, const S* dt, const S* gyr, const S* acc, const S* mag,
+                    std::size_t n, const S* gps_t, const S* gps_vel, std::size_t m, S* quat_out, S* bias_out,
+                    S* gps_acc_out, S* residual_out, std::uint32_t* flags_out) {
+  std::size_t j = 0;
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  for (std::size_t k = 0; k < n; ++k) {
+    while (j < m && gps_t[j] <= t[k]) {
+      f.update_gps_velocity(Vec3<S>(Eigen::Map<const Vec3<S>>(gps_vel + 3 * j)), gps_t[j]);
+      ++j;
+    }
+    const Vec3<S> a = Eigen::Map<const Vec3<S>>(acc + 3 * k);
+    bool have_mag = mag != nullptr;
+    if (have_mag) {
+      const S* mk = mag + 3 * k;
+      have_mag = !(std::isnan(mk[0]) && std::isnan(mk[1]) && std::isnan(mk[2]));
+    }
+    std::uint32_t fl = have_mag ? 0u : flags::kNoMag;
+    S resid = nan;
+    bool used_gps = false;
+    if (!f.initialized()) {
+      const Status s = have_mag ? f.initialize(a, Vec3<S>(Eigen::Map<const Vec3<S>>(mag + 3 * k)))
+                                : f.initialize(a);
+      fl |= (s == Status::Ok) ? flags::kInitialized : (flags::kAccSkipped | flags::kPredictSkipped);
+    } else {
+      if (f.predict(Vec3<S>(Eigen::Map<const Vec3<S>>(gyr + 3 * k)), dt[k]) != Status::Ok)
+        fl |= flags::kPredictSkipped;
+      MargUpdateResult<S> r = have_mag ? f.update_acc_mag(a, Vec3<S>(Eigen::Map<const Vec3<S>>(mag + 3 * k)))
+                                       : f.update_acc(a);
+      if (r.status == Status::Ok) {
+        resid = r.residual;
+        used_gps = r.gps_corrected;
+        if (r.gps_corrected) fl |= flags::kGpsCorrected;
+        if (!r.converged) fl |= flags::kGnNotConverged;
+      } else if (r.status == Status::SolveFailed || r.status == Status::NumericalFailure) {
+        fl |= flags::kSolveFailed | flags::kAccSkipped | (have_mag ? flags::kMagSkipped : 0u);
+      } else {
+        fl |= flags::kAccSkipped | (have_mag ? flags::kMagSkipped : 0u);
+      }
+    }
+    if (quat_out) Eigen::Map<Vec4<S>>(quat_out + 4 * k) = f.quat();
+    if (bias_out) Eigen::Map<Vec3<S>>(bias_out + 3 * k) = f.bias();
+    if (gps_acc_out)
+      Eigen::Map<Vec3<S>>(gps_acc_out + 3 * k) = used_gps ? f.gps_acc_n() : Vec3<S>::Constant(nan);
+    if (residual_out) residual_out[k] = resid;
+    if (flags_out) flags_out[k] = fl;
+  }
+}
+
+}  // namespace quatnav

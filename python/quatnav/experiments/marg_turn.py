@@ -1,0 +1,167 @@
+"""``quatnav experiment marg-turn``: paper 001's constant-rate turn, before and after the GPS
+acceleration correction (eq. 7), Monte Carlo over seeds.
+
+    quatnav experiment marg-turn --json FILE [--plot FILE.png] [--seeds 20] [--gain 1.0]
+
+Scenario ``paper001_constant_turn`` (:mod:`quatnav.sim`): rest, accelerate, straight, a 60 s
+level turn at 12 deg/s and 10 m/s (centripetal ~2.1 m/s^2), straight; the GPS antenna is offset
+from the IMU by a lever arm. Truth roll and pitch are zero throughout the turn, so every degree
+of roll or pitch the filter reports there is error.
+
+Variants, all on the same sensor data of each seed:
+
+* ``uncorrected``: MargFilter without GPS (the accelerometer taken as gravity);
+* ``gps_no_lever``: GPS antenna acceleration removed, lever-arm terms left out (d = 0);
+* ``corrected``: the full correction of eq. (7) (GPS acceleration and lever-arm terms);
+* ``corrected_no_declination``: as ``corrected`` but with the GPS acceleration taken as if true
+  north were magnetic north (the scenario's declination is -8.5 deg): the filter's frame is
+  magnetic NED, so the turn acceleration is misplaced by sin(8.5 deg) of itself;
+* ``qekf``: the QuaternionEKF of paper 000 on the accelerometer and magnetometer (no GPS).
+
+Reported: roll and pitch RMSE (deg) in the turn and over the whole run, per seed and as
+mean/std over seeds; the figure shows roll and pitch of one seed, before (dotted) and after
+(solid) the correction, like the paper's Fig. 4.
+"""
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+
+from .. import quaternion as Q
+
+SCENARIO = "paper001_constant_turn"
+VARIANTS = ("uncorrected", "gps_no_lever", "corrected", "corrected_no_declination", "qekf")
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--json", metavar="FILE", help="write the figures to this JSON file")
+    parser.add_argument("--plot", metavar="FILE.png", help="write a figure like the paper's Fig. 4")
+    parser.add_argument("--seeds", type=int, default=20, help="Monte Carlo runs, seeds 0..N-1 (default 20)")
+    parser.add_argument("--gain", type=float, default=1.0, help="MargFilter gain k of eq. (6), 1/s (default 1)")
+    parser.add_argument("--gps-tau", type=float, default=0.05,
+                        help="low-pass time constant of the GPS acceleration, s (default 0.05)")
+
+
+def _inputs(s):
+    """IMU, magnetometer (aligned to the IMU samples) and GPS arrays of a scenario."""
+    imu = s.imu
+    n = len(imu.t)
+    mag = np.full((n, 3), np.nan)
+    pos = np.searchsorted(imu.index, s.mag.index)
+    ok = (pos < n) & (imu.index[np.minimum(pos, n - 1)] == s.mag.index)
+    mag[pos[ok]] = s.mag.mag[ok]
+    truth_q = s.truth.q_nb[imu.index]
+    return dict(t=imu.t, gyr=imu.gyro, acc=imu.accel, mag=mag, gps_t=s.gps.t_valid, gps_vel_n=s.gps.v_n,
+                q_true=truth_q, rate_z=s.truth.omega_nb_b[imu.index, 2],
+                lever=np.asarray(s.params["gps"]["lever_arm_b_m"], float),
+                declination=float(np.radians(s.params["mag"]["declination_deg"])))
+
+
+def _tilt_errors(quat, q_true):
+    """Roll and pitch errors (rad) of estimates against truth, as (N, 2)."""
+    e = Q.to_euler(quat)[:, :2] - Q.to_euler(q_true)[:, :2]
+    return np.vstack([Q.wrap_pi(e[:, 0]), e[:, 1]]).T
+
+
+def run_seed(s, gain: float = 1.0, gps_tau: float = 0.05, keep_series: bool = False) -> dict:
+    """Run every variant on one scenario; return the RMSE figures (deg) and optionally series."""
+    from .. import MargFilter, QuaternionEKF
+    d = _inputs(s)
+    t = d["t"]
+    est = {}
+    est["uncorrected"] = MargFilter(gain=gain).run(d["gyr"], d["acc"], d["mag"], t=t).quat
+    gps = dict(gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+    mf = dict(gain=gain, gps_acc_tau=gps_tau)
+    est["gps_no_lever"] = MargFilter(declination=d["declination"], **mf).run(
+        d["gyr"], d["acc"], d["mag"], t=t, **gps).quat
+    est["corrected"] = MargFilter(declination=d["declination"], lever_arm_b=d["lever"], **mf).run(
+        d["gyr"], d["acc"], d["mag"], t=t, **gps).quat
+    est["corrected_no_declination"] = MargFilter(lever_arm_b=d["lever"], **mf).run(
+        d["gyr"], d["acc"], d["mag"], t=t, **gps).quat
+    est["qekf"] = QuaternionEKF().run(d["gyr"], d["acc"], d["mag"], t=t).quat
+    rate = np.abs(d["rate_z"])
+    turn = rate > 0.5 * rate.max()
+    settled = t >= t[0] + 1.0
+    out = {"seed": int(s.seed), "turn_s": [float(t[turn][0]), float(t[turn][-1])], "rmse_deg": {}}
+    series = {}
+    for name, q in est.items():
+        e = np.degrees(_tilt_errors(q, d["q_true"]))
+        series[name] = e
+        r_turn = np.sqrt(np.mean(e[turn] ** 2, axis=0))
+        r_all = np.sqrt(np.mean(e[settled] ** 2, axis=0))
+        out["rmse_deg"][name] = {
+            "roll_turn": float(r_turn[0]), "pitch_turn": float(r_turn[1]),
+            "turn": float(np.sqrt(np.mean(np.sum(e[turn] ** 2, axis=1)))),
+            "roll_all": float(r_all[0]), "pitch_all": float(r_all[1]),
+        }
+    if keep_series:
+        out["series"] = dict(t=t, truth=np.degrees(Q.to_euler(d["q_true"])[:, :2]),
+                             est={k: np.degrees(Q.to_euler(v)[:, :2]) for k, v in est.items()}, turn=turn)
+    return out
+
+
+def monte_carlo(seeds: int = 20, gain: float = 1.0, gps_tau: float = 0.05, keep_first: bool = False):
+    from ..sim import make_scenario
+    runs = []
+    first = None
+    for seed in range(seeds):
+        r = run_seed(make_scenario(SCENARIO, seed=seed), gain=gain, gps_tau=gps_tau, keep_series=keep_first and seed == 0)
+        if "series" in r:
+            first = r.pop("series")
+        runs.append(r)
+    summary = {}
+    for v in VARIANTS:
+        summary[v] = {}
+        for key in runs[0]["rmse_deg"][v]:
+            x = np.array([r["rmse_deg"][v][key] for r in runs])
+            summary[v][key] = {"mean": float(x.mean()), "std": float(x.std(ddof=1)) if len(x) > 1 else 0.0}
+    res = {"scenario": SCENARIO, "seeds": seeds, "gain_per_s": gain, "gps_acc_tau_s": gps_tau, "summary_rmse_deg": summary, "runs": runs}
+    u, c = summary["uncorrected"]["turn"]["mean"], summary["corrected"]["turn"]["mean"]
+    res["turn_tilt_rmse_reduction"] = float(1 - c / u) if u > 0 else None
+    return res, first
+
+
+def plot(series, path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = series["t"]
+    fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    for i, name in enumerate(("roll", "pitch")):
+        ax = axes[i]
+        ax.plot(t, series["est"]["uncorrected"][:, i], ":", color="tab:red", label="before correction")
+        ax.plot(t, series["est"]["corrected"][:, i], "-", color="tab:blue", label="after correction (eq. 7)")
+        ax.plot(t, series["truth"][:, i], "-", color="k", lw=0.8, label="truth")
+        ax.set_ylabel(f"{name} [deg]")
+        ax.grid(True, alpha=0.3)
+        turn_t = t[series["turn"]]
+        ax.axvspan(turn_t[0], turn_t[-1], color="0.9", zorder=0)
+    axes[0].legend(loc="best", fontsize=8)
+    axes[1].set_xlabel("time [s]  (shaded: constant-rate turn)")
+    fig.suptitle("paper 001 constant-rate turn: attitude before (dotted) and after (solid) the GPS correction")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def run(args) -> int:
+    if args.seeds < 1:
+        print("marg-turn: --seeds must be >= 1", file=sys.stderr)
+        return 2
+    res, first = monte_carlo(args.seeds, args.gain, args.gps_tau, keep_first=bool(args.plot))
+    s = res["summary_rmse_deg"]
+    print(f"{SCENARIO}: {args.seeds} seeds, gain k = {args.gain} 1/s; roll/pitch RMSE [deg], mean over seeds")
+    print(f"{'variant':25s} {'roll(turn)':>11s} {'pitch(turn)':>12s} {'tilt(turn)':>11s} {'roll(all)':>10s} {'pitch(all)':>11s}")
+    for v in VARIANTS:
+        r = s[v]
+        print(f"{v:25s} {r['roll_turn']['mean']:11.3f} {r['pitch_turn']['mean']:12.3f} {r['turn']['mean']:11.3f} "
+              f"{r['roll_all']['mean']:10.3f} {r['pitch_all']['mean']:11.3f}")
+    print(f"tilt RMSE in the turn reduced by {100 * res['turn_tilt_rmse_reduction']:.1f} % by the correction")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(res, fh, indent=1)
+    if args.plot:
+        plot(first, args.plot)
+    return 0

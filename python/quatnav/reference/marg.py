@@ -1,0 +1,272 @@
+"""Reference (numpy) MargFilter of paper 001; see quatnav.marg and marg_filter.hpp.
+
+Gauss-Newton attitude from gravity and field (eq. 1-5) blended with gyro integration (eq. 6),
+the accelerometer corrected by the GPS antenna acceleration and the lever-arm terms (eq. 7,
+as corrected in marg_filter.hpp: f_b + w_dot x d + w x (w x d) = C_bn (a_g_n - g_n)).
+"""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from .. import quaternion as Q
+from .attitude import _unit, attitude_from_acc_mag
+
+
+def h(q, r):
+    """eq. (1)-(2): y = R^{n->b}(q) r written out from the matrix of eq. (2) (homogeneous in q)."""
+    q0, q1, q2, q3 = q
+    R = np.array([
+        [q0**2 + q1**2 - q2**2 - q3**2, 2 * (q1 * q2 + q3 * q0), 2 * (q1 * q3 - q2 * q0)],
+        [2 * (q1 * q2 - q3 * q0), q0**2 + q2**2 - q1**2 - q3**2, 2 * (q2 * q3 + q1 * q0)],
+        [2 * (q1 * q3 + q2 * q0), 2 * (q2 * q3 - q1 * q0), q0**2 + q3**2 - q2**2 - q1**2],
+    ])
+    return R @ np.asarray(r, float)
+
+
+def jacobian(q, r):
+    """eq. (4): X_ij = dy_i / dq_j of :func:`h` (3x4), differentiated entry by entry."""
+    q0, q1, q2, q3 = q
+    rx, ry, rz = r
+    d0 = 2 * np.array([q0 * rx + q3 * ry - q2 * rz, -q3 * rx + q0 * ry + q1 * rz, q2 * rx - q1 * ry + q0 * rz])
+    d1 = 2 * np.array([q1 * rx + q2 * ry + q3 * rz, q2 * rx - q1 * ry + q0 * rz, q3 * rx - q0 * ry - q1 * rz])
+    d2 = 2 * np.array([-q2 * rx + q1 * ry - q0 * rz, q1 * rx + q2 * ry + q3 * rz, q0 * rx + q3 * ry - q2 * rz])
+    d3 = 2 * np.array([-q3 * rx + q0 * ry + q1 * rz, -q0 * rx - q3 * ry + q2 * rz, q1 * rx + q2 * ry + q3 * rz])
+    return np.column_stack([d0, d1, d2, d3])
+
+
+def gauss_newton(q0, meas, refs, max_iter, tol):
+    """eq. (3)-(5) from q0 on the unit-vector pairs (meas[j] in body, refs[j] in navigation frame).
+
+    Returns (status, q (unnormalized), iterations, converged).
+    """
+    q = np.array(q0, float)
+    for it in range(max_iter):
+        eps = np.concatenate([m - h(q, r) for m, r in zip(meas, refs)])      # eq. (3)
+        X = np.vstack([jacobian(q, r) for r in refs])                        # eq. (4)
+        if X.shape[0] >= 4:
+            A = X.T @ X                                                      # eq. (5)
+            rhs = X.T @ eps
+        else:  # 6D mode: minimum-norm pseudo-inverse X^T (X X^T)^-1
+            A = X @ X.T
+            rhs = eps
+        try:
+            L = np.linalg.cholesky(A)
+        except np.linalg.LinAlgError:
+            return "solve_failed", q0, it, False
+        d = np.diag(L)
+        if not d.min() > d.max() * np.sqrt(np.finfo(float).eps):
+            return "solve_failed", q0, it, False
+        sol = np.linalg.solve(A, rhs)
+        dq = sol if X.shape[0] >= 4 else X.T @ sol
+        if not (np.all(np.isfinite(dq)) and np.linalg.norm(dq) < 2):
+            return "solve_failed", q0, it, False
+        q = q + dq
+        if np.linalg.norm(dq) < tol:
+            return "ok", q, it + 1, True
+    return "ok", q, max_iter, False
+
+
+def residual(q, meas, refs):
+    return float(np.sqrt(sum(np.sum((m - h(q, r)) ** 2) for m, r in zip(meas, refs))))
+
+
+def lever_corrected(f_b, omega_b, omega_dot_b, d_b):
+    """eq. (7'): f_b + w_dot x d + w x (w x d)."""
+    return f_b + np.cross(omega_dot_b, d_b) + np.cross(omega_b, np.cross(omega_b, d_b))
+
+
+def _lowpass_weight(T, tau):
+    return 1.0 - np.exp(-T / tau) if tau > 0 else 1.0
+
+
+class MargFilter:
+    """MargFilter (paper 001) in numpy, method for method like the C++ class."""
+
+    defaults = dict(gain=1.0, bias_gain=0.0, gn_max_iter=3, gn_tol=1e-6, gravity=9.80665,
+                    gps_correction=True, gps_acc_tau=0.05, omega_dot_tau=0.1, gps_timeout=0.5,
+                    max_dt=1.0, declination=0.0)
+
+    def __init__(self, lever_arm_b=(0.0, 0.0, 0.0), **params):
+        p = dict(self.defaults)
+        for k, v in params.items():
+            if k not in p:
+                raise TypeError(f"unknown parameter {k!r}")
+            p[k] = v
+        self.p = SimpleNamespace(**p)
+        self.lever_arm_b = np.asarray(lever_arm_b, float)
+        self.q = Q.identity()
+        self.bias = np.zeros(3)
+        self.mag_ref = np.array([1.0, 0.0, 0.0])
+        self.mag_ref_set = False
+        self.omega_b = np.zeros(3)
+        self.omega_dot_b = np.zeros(3)
+        self.omega_set = False
+        self.gps_vel_n = np.zeros(3)
+        self.gps_acc_n = np.zeros(3)
+        self.gps_t = 0.0
+        self.gps_fixes = 0
+        self.time_since_gps = 0.0
+        self.time_since_update = 0.0
+        self.initialized = False
+
+    @property
+    def quat(self):
+        return self.q
+
+    def set_mag_dip(self, dip):
+        self.mag_ref = np.array([np.cos(dip), 0.0, np.sin(dip)])
+        self.mag_ref_set = True
+
+    def gps_acc_available(self):
+        return (self.p.gps_correction and self.gps_fixes >= 2
+                and self.time_since_gps <= self.p.gps_timeout)
+
+    def initialize(self, acc, mag=None):
+        out = attitude_from_acc_mag(acc, mag)
+        if out is None:
+            return "zero_norm"
+        self.q, mref = out
+        self.bias = np.zeros(3)
+        if mref is not None and not self.mag_ref_set:
+            self.mag_ref, self.mag_ref_set = mref, True
+        self.time_since_update = 0.0
+        self.initialized = True
+        return "ok"
+
+    def predict(self, gyr, dt):
+        """Gyro integration, q- = q * exp((w - b) T) (eq. 6's 1/2 q * w term), and w_dot."""
+        if not self.initialized:
+            return "not_initialized"
+        if not np.all(np.isfinite(gyr)):
+            return "non_finite"
+        if not (0 < dt <= self.p.max_dt):
+            return "invalid_dt"
+        w = np.asarray(gyr, float) - self.bias
+        q = Q.mul(self.q, Q.from_rotvec(w * dt))
+        if self.omega_set:
+            raw = (w - self.omega_b) / dt
+            self.omega_dot_b = self.omega_dot_b + _lowpass_weight(dt, self.p.omega_dot_tau) * (raw - self.omega_dot_b)
+        self.q = q / np.linalg.norm(q)
+        self.omega_b, self.omega_set = w, True
+        self.time_since_gps += dt
+        self.time_since_update += dt
+        return "ok"
+
+    def update_gps_velocity(self, v_n, t):
+        """One GPS velocity fix (true NED), rotated into the filter's magnetic NED frame."""
+        v_n = np.asarray(v_n, float)
+        if not (np.all(np.isfinite(v_n)) and np.isfinite(t)):
+            return "non_finite"
+        c, s = np.cos(self.p.declination), np.sin(self.p.declination)
+        v_n = np.array([c * v_n[0] + s * v_n[1], -s * v_n[0] + c * v_n[1], v_n[2]])
+        if self.gps_fixes == 0:
+            self.gps_fixes = 1
+        else:
+            dt = t - self.gps_t
+            if not dt > 0:
+                return "invalid_dt"
+            if dt > self.p.gps_timeout:
+                self.gps_fixes = 1
+            else:
+                raw = (v_n - self.gps_vel_n) / dt
+                if self.gps_fixes == 1:
+                    self.gps_acc_n = raw
+                else:
+                    self.gps_acc_n = self.gps_acc_n + _lowpass_weight(dt, self.p.gps_acc_tau) * (raw - self.gps_acc_n)
+                self.gps_fixes = 2
+        self.gps_vel_n, self.gps_t, self.time_since_gps = v_n, float(t), 0.0
+        return "ok"
+
+    def update_acc(self, acc):
+        return self._update(acc, None)
+
+    def update_acc_mag(self, acc, mag):
+        return self._update(acc, mag)
+
+    def _update(self, acc, mag):
+        res = SimpleNamespace(status="not_initialized", iterations=0, converged=False,
+                              gps_corrected=False, residual=0.0, residual_final=0.0,
+                              correction=np.zeros(3))
+        if not self.initialized:
+            return res
+        acc = np.asarray(acc, float)
+        if not np.all(np.isfinite(acc)) or (mag is not None and not np.all(np.isfinite(mag))):
+            res.status = "non_finite"
+            return res
+        f, ref_n = acc, np.array([0.0, 0.0, -1.0])
+        res.gps_corrected = self.gps_acc_available()
+        if res.gps_corrected:  # eq. (7')
+            f = lever_corrected(acc, self.omega_b, self.omega_dot_b, self.lever_arm_b)
+            ref_n = self.gps_acc_n - np.array([0.0, 0.0, self.p.gravity])
+        st, n0 = _unit(f)
+        if st != "ok":
+            res.status = st
+            return res
+        st, n_ref = _unit(ref_n)
+        if st != "ok":
+            res.status = st
+            return res
+        meas, refs = [n0], [n_ref]
+        mag_ref, learn = self.mag_ref, False
+        if mag is not None:
+            st, m0 = _unit(mag)
+            if st != "ok":
+                res.status = st
+                return res
+            if not self.mag_ref_set:
+                mn = Q.rotate(self.q, m0)
+                mag_ref, learn = np.array([np.hypot(mn[0], mn[1]), 0.0, mn[2]]), True
+            meas, refs = [m0, n0], [mag_ref, n_ref]
+        q_pred = self.q
+        st, q_gn, res.iterations, res.converged = gauss_newton(q_pred, meas, refs, int(self.p.gn_max_iter),
+                                                               self.p.gn_tol)
+        if st != "ok":
+            res.status = st
+            return res
+        res.residual = residual(q_pred, meas, refs)
+        res.residual_final = residual(q_gn, meas, refs)
+        q_gn = q_gn / np.linalg.norm(q_gn)
+        T = self.time_since_update
+        alpha = 1.0 - np.exp(-self.p.gain * T)                          # eq. (6) over T
+        q_new = q_pred + alpha * (q_gn - q_pred)
+        q_new = q_new / np.linalg.norm(q_new)
+        if self.p.bias_gain > 0:
+            e = Q.canonical(Q.mul(Q.conj(q_pred), q_gn))
+            self.bias = self.bias - self.p.bias_gain * T * 2 * e[1:]
+        res.correction = Q.to_rotvec(Q.mul(Q.conj(q_pred), q_new))
+        self.q = q_new
+        self.time_since_update = 0.0
+        if learn:
+            self.mag_ref, self.mag_ref_set = mag_ref, True
+        res.status = "ok"
+        return res
+
+    def run(self, gyr, acc, mag=None, dt=None, t=None, gps_vel_n=None, gps_t=None):
+        """Same loop as run_marg_batch in marg_filter.hpp."""
+        gyr = np.asarray(gyr, float)
+        n = len(gyr)
+        dt = np.broadcast_to(np.asarray(dt, float), (n,))
+        if t is None:
+            t = np.concatenate([[0.0], np.cumsum(dt[1:])])
+        m = 0 if gps_t is None else len(gps_t)
+        quat = np.empty((n, 4))
+        bias = np.empty((n, 3))
+        j = 0
+        for k in range(n):
+            while j < m and gps_t[j] <= t[k]:
+                self.update_gps_velocity(gps_vel_n[j], gps_t[j])
+                j += 1
+            mk = None if mag is None or np.all(np.isnan(mag[k])) else mag[k]
+            if not self.initialized:
+                self.initialize(acc[k], mk)
+            else:
+                self.predict(gyr[k], dt[k])
+                if mk is None:
+                    self.update_acc(acc[k])
+                else:
+                    self.update_acc_mag(acc[k], mk)
+            quat[k] = self.q
+            bias[k] = self.bias
+        return SimpleNamespace(quat=quat, bias=bias)
