@@ -250,3 +250,25 @@ def test_lever_arm_in_run_replaces_parameter_and_keeps_state():
     assert f.params["gain"] == 1.5
     np.testing.assert_array_equal(f.params["lever_arm_b"], [1.0, 2.0, 3.0])
     assert s["initialized"]
+
+
+def _broad_dir():
+    import os
+    from pathlib import Path
+    root = Path(os.environ.get("QUATNAV_DATA", Path(__file__).resolve().parents[2].parent / "shared" / "data"))
+    return root / "broad"
+
+
+def test_broad_slow_rotation_inclination():
+    """Real data (BROAD trial 02, no GPS): the Gauss-Newton filter tracks inclination within a
+    few degrees, like the QuaternionEKF."""
+    path = _broad_dir() / "02_undisturbed_slow_rotation_B.mat"
+    if not path.is_file():
+        pytest.skip(f"BROAD data not found at {path.parent} (set QUATNAV_DATA)")
+    from quatnav.experiments import marg_broad
+    tr = marg_broad.load_trial(path)
+    assert tr["gyr"].shape == tr["acc"].shape == tr["mag"].shape and tr["movement"].any()
+    out = marg_broad.run_trial(tr)
+    assert out["marg"]["inclination_rmse_deg"] < 3.0
+    assert out["marg_6d"]["inclination_rmse_deg"] < 3.0
+    assert out["marg"]["heading_rmse_deg"] < 10.0

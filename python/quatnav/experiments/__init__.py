@@ -16,6 +16,7 @@ import importlib
 #: name on the command line -> module (relative to this package) with add_arguments/run.
 EXPERIMENTS: dict[str, str] = {
     "marg-turn": ".marg_turn",
+    "marg-broad": ".marg_broad",
 }
 
 
