@@ -180,6 +180,9 @@ def test_constant_turn_correction_gains():
     # The filter's frame is magnetic NED: the GPS acceleration must be rotated by the
     # declination (-8.5 deg here), or the turn acceleration is misplaced along track.
     assert out["rmse_deg"]["corrected"]["pitch_turn"] < 0.7 * out["rmse_deg"]["corrected_no_declination"]["pitch_turn"]
+    # With exact sensors the lever-arm terms of eq. (7') remove what is left of the error.
+    dg = marg_turn.diagnose_lever_arm(s, gps_taus=(0.05,))
+    assert dg["exact"]["with_lever"] < 0.2 * dg["exact"]["without_lever"]
 
 
 def test_bad_input_names_argument_and_row():
