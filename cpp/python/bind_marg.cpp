@@ -75,6 +75,7 @@ template <class S> void bind_marg_t(py::module_& m) {
       .def_readwrite("gps_timeout", &P::gps_timeout)
       .def_readwrite("max_dt", &P::max_dt)
       .def_readwrite("declination", &P::declination)
+      .def_readwrite("mag_ref_samples", &P::mag_ref_samples)
       .def_property_readonly("valid", [](const P& p) { return F::valid_params(p); });
   py::class_<F> cls(m, cls_name<S>("MargFilter").c_str());
   cls.def(py::init<const P&>(), py::arg("params"))
@@ -101,7 +102,10 @@ template <class S> void bind_marg_t(py::module_& m) {
         py::dict d;
         d["quat"] = Q4(s.q);
         d["bias"] = V3(s.bias);
-        d["mag_ref"] = V3(s.mag_ref);
+        d["mag_ref"] = V3(s.mag.ref);
+        d["mag_sin_dip_sum"] = s.mag.sin_dip_sum;
+        d["mag_ref_count"] = s.mag.count;
+        d["mag_ref_fixed"] = s.mag.fixed;
         d["omega_b"] = V3(s.omega_b);
         d["omega_dot_b"] = V3(s.omega_dot_b);
         d["gps_vel_n"] = V3(s.gps_vel_n);
@@ -112,14 +116,16 @@ template <class S> void bind_marg_t(py::module_& m) {
         d["gps_fixes"] = s.gps_fixes;
         d["omega_set"] = s.omega_set;
         d["initialized"] = s.initialized;
-        d["mag_ref_set"] = s.mag_ref_set;
         return d;
       })
       .def("set_state", [](F& f, const py::dict& d) {
         St s;
         s.q = d["quat"].cast<Q4>();
         s.bias = d["bias"].cast<V3>();
-        s.mag_ref = d["mag_ref"].cast<V3>();
+        s.mag.ref = d["mag_ref"].cast<V3>();
+        s.mag.sin_dip_sum = d["mag_sin_dip_sum"].cast<S>();
+        s.mag.count = d["mag_ref_count"].cast<std::uint32_t>();
+        s.mag.fixed = d["mag_ref_fixed"].cast<bool>();
         s.omega_b = d["omega_b"].cast<V3>();
         s.omega_dot_b = d["omega_dot_b"].cast<V3>();
         s.gps_vel_n = d["gps_vel_n"].cast<V3>();
@@ -130,7 +136,6 @@ template <class S> void bind_marg_t(py::module_& m) {
         s.gps_fixes = d["gps_fixes"].cast<int>();
         s.omega_set = d["omega_set"].cast<bool>();
         s.initialized = d["initialized"].cast<bool>();
-        s.mag_ref_set = d["mag_ref_set"].cast<bool>();
         return status_str(f.set_state(s));
       }, py::arg("state"))
       .def("run", &marg_run<S>, py::arg("t"), py::arg("dt"), py::arg("gyr"), py::arg("acc"), py::arg("mag"),

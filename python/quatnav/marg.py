@@ -100,6 +100,9 @@ class MargFilter:
         differencing, s.
     max_dt : float, default 1.0
         Longest accepted time step, s.
+    mag_ref_samples : int, default 100
+        Magnetometer samples over which the reference field's dip is averaged (from
+        initialization on, as for the other attitude filters) unless :meth:`set_mag_dip` fixes it.
     declination : float, default 0.0
         Magnetic declination (east of true north), rad. The filter's navigation frame has x along
         magnetic north; GPS velocities (true NED) are rotated into it. Leaving it at zero where
@@ -131,6 +134,10 @@ class MargFilter:
                 p.declination = d
             elif name in _FLOAT_PARAMS:
                 setattr(p, name, V.positive(value, name, allow_zero=name in _ZERO_OK))
+            elif name == "mag_ref_samples":
+                if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)) or value < 1:
+                    raise ValueError(f"mag_ref_samples: expected a positive integer, got {value!r}")
+                p.mag_ref_samples = int(value)
             elif name == "gn_max_iter":
                 if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
                     raise TypeError(f"gn_max_iter: expected an integer, got {type(value).__name__}")
@@ -144,14 +151,14 @@ class MargFilter:
             elif name == "lever_arm_b":
                 p.lever_arm_b = V.vector(value, "lever_arm_b", dtype=self.dtype)
             else:
-                known = _FLOAT_PARAMS + ("gn_max_iter", "gps_correction", "lever_arm_b")
+                known = _FLOAT_PARAMS + ("gn_max_iter", "gps_correction", "lever_arm_b", "mag_ref_samples")
                 raise TypeError(f"MargFilter: unknown parameter {name!r}; known: {', '.join(known)}")
 
     # -- parameters and state -------------------------------------------------------------
     @property
     def params(self) -> dict:
         p = self._f.params
-        out = {name: getattr(p, name) for name in _FLOAT_PARAMS + ("gn_max_iter", "gps_correction")}
+        out = {name: getattr(p, name) for name in _FLOAT_PARAMS + ("gn_max_iter", "gps_correction", "mag_ref_samples")}
         out["lever_arm_b"] = np.array(p.lever_arm_b, dtype=float)
         return out
 
@@ -335,7 +342,7 @@ class MargFilter:
         """New parameters, same state."""
         p = getattr(_core, "MargFilterParams" + self._suffix)()
         old = self._f.params
-        for name in _FLOAT_PARAMS + ("gn_max_iter", "gps_correction", "lever_arm_b"):
+        for name in _FLOAT_PARAMS + ("gn_max_iter", "gps_correction", "lever_arm_b", "mag_ref_samples"):
             setattr(p, name, getattr(old, name))
         self._apply_params(p, changes)
         state = self._f.get_state()

@@ -74,13 +74,14 @@ template <class S> struct MargFilterParams {
   /// points 8 deg off true north, a 2 m/s^2 turn acceleration is misplaced by 0.3 m/s^2.
   S declination = S(0);
   S max_dt = S(1);                 ///< a predict with dt above this is refused [s]
+  std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
 };
 
 /// The complete filter state; state()/set_state() round-trip exactly.
 template <class S> struct MargFilterState {
   Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
   Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
-  Vec3<S> mag_ref = Vec3<S>(S(1), S(0), S(0));    ///< normalized reference field [m_x, 0, m_z]
+  MagRef<S> mag;                                  ///< reference field, learned or given
   Vec3<S> omega_b = Vec3<S>::Zero();              ///< last bias-corrected body rate [rad/s]
   Vec3<S> omega_dot_b = Vec3<S>::Zero();          ///< low-passed angular acceleration [rad/s^2]
   Vec3<S> gps_vel_n = Vec3<S>::Zero();            ///< last GPS velocity, magnetic NED [m/s]
@@ -91,7 +92,6 @@ template <class S> struct MargFilterState {
   int gps_fixes = 0;                              ///< 0: none, 1: velocity only, 2: acceleration
   bool omega_set = false;                         ///< omega_b holds a rate (w_dot can be formed)
   bool initialized = false;
-  bool mag_ref_set = false;                       ///< mag_ref has been learned or given
 };
 
 /// The outcome of one Gauss-Newton update.
@@ -237,7 +237,7 @@ template <class S> class MargFilter {
   /// Restore a state previously read with state(). Refused when the quaternion is not unit
   /// length (InvalidArgument) or anything is non-finite (NonFinite).
   Status set_state(const State& s) {
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.mag_ref.allFinite() || !s.omega_b.allFinite() ||
+    if (!s.q.allFinite() || !s.bias.allFinite() || !s.mag.finite() || !s.omega_b.allFinite() ||
         !s.omega_dot_b.allFinite() || !s.gps_vel_n.allFinite() || !s.gps_acc_n.allFinite() ||
         !std::isfinite(s.gps_t) || !std::isfinite(s.time_since_gps) || !std::isfinite(s.time_since_update))
       return Status::NonFinite;
@@ -248,10 +248,7 @@ template <class S> class MargFilter {
   }
 
   /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
-  void set_mag_dip(S dip) {
-    st_.mag_ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
-    st_.mag_ref_set = true;
-  }
+  void set_mag_dip(S dip) { st_.mag.fix(dip); }
 
   /// Initialize from one accelerometer (and optionally magnetometer) sample.
   Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
@@ -335,13 +332,14 @@ template <class S> class MargFilter {
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
     if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
     Quat<S> q;
-    Vec3<S> mref = st_.mag_ref;
+    Vec3<S> mref = st_.mag.ref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     st_.q = q;
     st_.bias.setZero();
-    if (mag && !st_.mag_ref_set) {
-      st_.mag_ref = mref / mref.norm();
-      st_.mag_ref_set = true;
+    if (mag) {
+      // Start learning the reference afresh from this sample (unless the user fixed it).
+      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
     }
     st_.time_since_update = S(0);
     st_.initialized = true;
@@ -370,18 +368,13 @@ template <class S> class MargFilter {
     res.status = detail::unit_vector(ref_n, u);
     if (res.status != Status::Ok) return res;
     refs.col(K - 1) = u;
-    Vec3<S> mag_ref = st_.mag_ref;
-    bool learn_mag = false;
+    MagRef<S> mag_ref = st_.mag;  // kept only if the update succeeds
     if constexpr (K == 2) {
       res.status = detail::unit_vector(*mag, u);
       if (res.status != Status::Ok) return res;
       meas.col(0) = u;
-      if (!st_.mag_ref_set) {  // learn the reference field from this sample and the attitude
-        const Vec3<S> mn = quat::rotate(st_.q, u);
-        mag_ref = Vec3<S>(std::sqrt(mn[0] * mn[0] + mn[1] * mn[1]), S(0), mn[2]);
-        learn_mag = true;
-      }
-      refs.col(0) = mag_ref;
+      mag_ref.learn(quat::rotate(st_.q, u), params_.mag_ref_samples);
+      refs.col(0) = mag_ref.ref;
     }
     // Gauss-Newton from the predicted attitude, eq. (3)-(5).
     const Quat<S> q_pred = st_.q;
@@ -420,10 +413,7 @@ template <class S> class MargFilter {
     st_.q = q_new;
     st_.bias = bias;
     st_.time_since_update = S(0);
-    if (learn_mag) {
-      st_.mag_ref = mag_ref;
-      st_.mag_ref_set = true;
-    }
+    st_.mag = mag_ref;
     return res;
   }
 

@@ -86,7 +86,7 @@ class MargFilter:
 
     defaults = dict(gain=1.0, bias_gain=0.0, gn_max_iter=3, gn_tol=1e-6, gravity=9.80665,
                     gps_correction=True, gps_acc_tau=0.05, omega_dot_tau=0.1, gps_timeout=0.5,
-                    max_dt=1.0, declination=0.0)
+                    max_dt=1.0, declination=0.0, mag_ref_samples=100)
 
     def __init__(self, lever_arm_b=(0.0, 0.0, 0.0), **params):
         p = dict(self.defaults)
@@ -99,7 +99,9 @@ class MargFilter:
         self.q = Q.identity()
         self.bias = np.zeros(3)
         self.mag_ref = np.array([1.0, 0.0, 0.0])
-        self.mag_ref_set = False
+        self.mag_sin_dip_sum = 0.0
+        self.mag_ref_count = 0
+        self.mag_ref_fixed = False
         self.omega_b = np.zeros(3)
         self.omega_dot_b = np.zeros(3)
         self.omega_set = False
@@ -117,7 +119,17 @@ class MargFilter:
 
     def set_mag_dip(self, dip):
         self.mag_ref = np.array([np.cos(dip), 0.0, np.sin(dip)])
-        self.mag_ref_set = True
+        self.mag_ref_fixed = True
+
+    def _learned(self, m_n_unit):
+        """(ref, sum, count) after learning from one field sample: the mean of sin(dip) over the
+        first mag_ref_samples samples, as the other attitude filters (unless fixed)."""
+        s, c = self.mag_sin_dip_sum, self.mag_ref_count
+        if self.mag_ref_fixed or c >= self.p.mag_ref_samples:
+            return self.mag_ref, s, c
+        s, c = s + m_n_unit[2], c + 1
+        sd = np.clip(s / c, -1.0, 1.0)
+        return np.array([np.sqrt(1 - sd * sd), 0.0, sd]), s, c
 
     def gps_acc_available(self):
         return (self.p.gps_correction and self.gps_fixes >= 2
@@ -129,8 +141,9 @@ class MargFilter:
             return "zero_norm"
         self.q, mref = out
         self.bias = np.zeros(3)
-        if mref is not None and not self.mag_ref_set:
-            self.mag_ref, self.mag_ref_set = mref, True
+        if mref is not None and not self.mag_ref_fixed:
+            self.mag_sin_dip_sum, self.mag_ref_count = 0.0, 0
+            self.mag_ref, self.mag_sin_dip_sum, self.mag_ref_count = self._learned(mref / np.linalg.norm(mref))
         self.time_since_update = 0.0
         self.initialized = True
         return "ok"
@@ -209,16 +222,14 @@ class MargFilter:
             res.status = st
             return res
         meas, refs = [n0], [n_ref]
-        mag_ref, learn = self.mag_ref, False
+        learned = (self.mag_ref, self.mag_sin_dip_sum, self.mag_ref_count)
         if mag is not None:
             st, m0 = _unit(mag)
             if st != "ok":
                 res.status = st
                 return res
-            if not self.mag_ref_set:
-                mn = Q.rotate(self.q, m0)
-                mag_ref, learn = np.array([np.hypot(mn[0], mn[1]), 0.0, mn[2]]), True
-            meas, refs = [m0, n0], [mag_ref, n_ref]
+            learned = self._learned(Q.rotate(self.q, m0))
+            meas, refs = [m0, n0], [learned[0], n_ref]
         q_pred = self.q
         st, q_gn, res.iterations, res.converged = gauss_newton(q_pred, meas, refs, int(self.p.gn_max_iter),
                                                                self.p.gn_tol)
@@ -238,8 +249,7 @@ class MargFilter:
         res.correction = Q.to_rotvec(Q.mul(Q.conj(q_pred), q_new))
         self.q = q_new
         self.time_since_update = 0.0
-        if learn:
-            self.mag_ref, self.mag_ref_set = mag_ref, True
+        self.mag_ref, self.mag_sin_dip_sum, self.mag_ref_count = learned
         res.status = "ok"
         return res
 
