@@ -3,6 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
-"$PY" -m pip install -q ".[eval]"
+"$PY" -m pip install -q ".[sim,eval]"
 mkdir -p out
 quatnav demo --plot out/demo.png "$@"

@@ -32,7 +32,7 @@ fi
 echo "== installing quatnav with its test, eval and peers extras"
 "$PY" -m pip install -q --upgrade pip >/dev/null 2>&1 || true
 "$PY" -m pip install -q cmake ninja cmeel-eigen pybind11 scikit-build-core
-"$PY" -m pip install -q ".[test,eval,peers]"
+"$PY" -m pip install -q ".[sim,test,eval,peers]"
 
 EIGEN_PREFIX=$("$PY" -m cmeel cmake)
 

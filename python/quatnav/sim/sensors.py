@@ -245,7 +245,8 @@ class ImuData:
 def gauss_markov(n, sigma, corr_time, dt, rng, dim=3):
     """First-order Gauss-Markov samples, shape (n, dim), stationary with standard deviation
     ``sigma`` and correlation time ``corr_time`` (s)."""
-    from scipy.signal import lfilter
+    from .._optional import require
+    lfilter = require("scipy.signal", "quatnav.sim Gauss-Markov noise").lfilter
     e = rng.standard_normal((n, dim))
     if sigma == 0:
         return np.zeros((n, dim))

@@ -544,7 +544,8 @@ class WaypointPath(Segment):
     def _spline(self, s0):
         key = (tuple(np.round(s0.v_n, 12)),)
         if key not in self._spline_cache:
-            from scipy.interpolate import make_interp_spline
+            from .._optional import require
+            make_interp_spline = require("scipy.interpolate", "quatnav.sim waypoint paths").make_interp_spline
             if s0.speed <= 0:
                 raise ValueError("WaypointPath: the vehicle must be moving when the path starts "
                                  "(precede it with Accelerate)")
