@@ -1,9 +1,10 @@
-"""``quatnav demo``: both filters of paper 000 on a built-in simulated rotation.
+"""``quatnav demo``: the attitude filters on a built-in simulated rotation.
 
 The scenario: smooth random rotation (up to ~2 rad/s) with a magnetometer, constant gyro bias,
 white sensor noise; exact truth. Prints RMSE of roll, pitch and yaw and the final gyro-bias
-error of :class:`~quatnav.QuaternionEKF` and :class:`~quatnav.EulerEKF`; ``--plot`` writes a
-figure.
+error of :class:`~quatnav.QuaternionEKF`, :class:`~quatnav.EulerEKF` and
+:class:`~quatnav.MargFilter` (paper defaults, which estimate no gyro bias, and with its bias
+integrator on); ``--plot`` writes a figure.
 """
 from __future__ import annotations
 
@@ -86,12 +87,15 @@ def euler_errors_deg(q_est, q_true) -> np.ndarray:
 
 
 def run_demo(plot: str | None = None, seed: int = 0, quiet: bool = False) -> dict:
-    from . import EulerEKF, QuaternionEKF
+    from . import EulerEKF, MargFilter, QuaternionEKF
 
     d = rotation_scenario(seed=seed)
     results = {}
-    for name, cls in (("QuaternionEKF", QuaternionEKF), ("EulerEKF", EulerEKF)):
-        f = cls()
+    filters = (("QuaternionEKF", QuaternionEKF, {}), ("EulerEKF", EulerEKF, {}),
+               ("MargFilter", MargFilter, {}),
+               ("MargFilter+bias", MargFilter, {"bias_gain": 0.05}))
+    for name, cls, params in filters:
+        f = cls(**params)
         t0 = time.perf_counter()
         r = f.run(d.gyr, d.acc, d.mag, dt=d.dt)
         elapsed = time.perf_counter() - t0
@@ -104,10 +108,10 @@ def run_demo(plot: str | None = None, seed: int = 0, quiet: bool = False) -> dic
     if not quiet:
         print(f"quatnav demo: simulated rotation, {len(d.t)} samples at {1 / d.dt:.0f} Hz, "
               f"gyro bias {np.degrees(d.gyro_bias) * 3600} deg/h (RMSE after 5 s)")
-        print(f"{'filter':<15}{'roll':>9}{'pitch':>9}{'yaw':>9}   {'|bias err|':>12}{'samples/s':>12}")
-        print(f"{'':<15}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[deg/h]':>12}")
+        print(f"{'filter':<17}{'roll':>9}{'pitch':>9}{'yaw':>9}   {'|bias err|':>12}{'samples/s':>12}")
+        print(f"{'':<17}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[deg/h]':>12}")
         for name, v in results.items():
-            print(f"{name:<15}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
+            print(f"{name:<17}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
                   f"{v['bias_err_deg_h']:12.1f}{v['samples_per_s']:12.3g}")
     if plot:
         _plot(d, results, plot)
@@ -134,14 +138,14 @@ def _plot(d: RotationData, results: dict, path: str) -> None:
     axes[3].set_yscale("log")
     axes[3].set_xlabel("time [s]")
     axes[0].legend(loc="upper right")
-    fig.suptitle("quatnav demo: paper 000 filters on a simulated rotation")
+    fig.suptitle("quatnav demo: attitude filters on a simulated rotation")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("demo", help="run both attitude filters on a simulated rotation and print a table")
+    p = sub.add_parser("demo", help="run the filters on built-in simulated scenarios and print a table")
     p.add_argument("--plot", metavar="FILE.png", help="write a figure of the errors")
     p.add_argument("--seed", type=int, default=0)
     p.set_defaults(func=lambda a: run_demo(plot=a.plot, seed=a.seed) and 0)
