@@ -11,3 +11,5 @@
 #include "batch.hpp"
 #include "earth.hpp"
 #include "strapdown.hpp"
+#include "unscented.hpp"
+#include "nav_filter13.hpp"

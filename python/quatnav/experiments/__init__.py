@@ -17,6 +17,7 @@ import importlib
 EXPERIMENTS: dict[str, str] = {
     "marg-turn": ".marg_turn",
     "marg-broad": ".marg_broad",
+    "nav13": ".nav13",
 }
 
 

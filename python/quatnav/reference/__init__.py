@@ -9,3 +9,7 @@ from .marg import MargFilter
 
 __all__ = ["kalman_correct", "QuaternionEKF", "EulerEKF"]
 __all__ += ["MargFilter"]
+from .nav13 import NavFilter13
+
+__all__ = ["kalman_correct", "QuaternionEKF", "EulerEKF"]
+__all__ += ["NavFilter13"]

@@ -1,0 +1,215 @@
+// NavFilter13 (paper 002) for float32 and float64, one class per time update:
+// NavFilter13Ekf_f64, NavFilter13SecondOrder_f64, NavFilter13Ukf_f64 (and _f32), plus a timing
+// helper that measures the cost of one time update of each policy in the same run.
+#include <quatnav/nav_filter13.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "common.hpp"
+
+namespace quatnav_py {
+namespace {
+
+template <class S> void bind_params(py::module_& m) {
+  using P = quatnav::NavFilter13Params<S>;
+  py::class_<P>(m, cls_name<S>("NavFilter13Params").c_str())
+      .def(py::init<>())
+      .def_readwrite("accel_noise", &P::accel_noise)
+      .def_readwrite("gyro_noise", &P::gyro_noise)
+      .def_readwrite("accel_bias_noise", &P::accel_bias_noise)
+      .def_readwrite("gyro_bias_noise", &P::gyro_bias_noise)
+      .def_readwrite("vel_noise", &P::vel_noise)
+      .def_readwrite("yaw_noise", &P::yaw_noise)
+      .def_readwrite("ukf_alpha", &P::ukf_alpha)
+      .def_readwrite("ukf_beta", &P::ukf_beta)
+      .def_readwrite("ukf_kappa", &P::ukf_kappa)
+      .def_readwrite("max_dt", &P::max_dt)
+      .def_readwrite("earth_rotation", &P::earth_rotation);
+}
+
+template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& fb, const carray<typename F::Scalar>& wb,
+                                      const carray<typename F::Scalar>& t, const carray<typename F::Scalar>& dt,
+                                      const carray<typename F::Scalar>& vel_t, const carray<typename F::Scalar>& vel,
+                                      const carray<typename F::Scalar>& yaw_t, const carray<typename F::Scalar>& yaw,
+                                      typename F::Scalar gate_vel, typename F::Scalar gate_yaw, bool return_cov) {
+  using S = typename F::Scalar;
+  const py::ssize_t n = fb.ndim() == 2 ? fb.shape(0) : -1;
+  if (n < 0) throw py::value_error("f_ib_b: expected shape (N, 3)");
+  require_shape<S>(fb, "f_ib_b", n, 3);
+  require_shape<S>(wb, "omega_ib_b", n, 3);
+  require_shape<S>(t, "t", n, -1);
+  require_shape<S>(dt, "dt", n, -1);
+  const py::ssize_t nv = vel_t.ndim() == 1 ? vel_t.shape(0) : -1;
+  const py::ssize_t ny = yaw_t.ndim() == 1 ? yaw_t.shape(0) : -1;
+  if (nv < 0) throw py::value_error("vel_t: expected shape (K,)");
+  if (ny < 0) throw py::value_error("yaw_t: expected shape (K,)");
+  require_shape<S>(vel, "vel", nv, 3);
+  require_shape<S>(yaw, "yaw", ny, -1);
+  auto x = empty<S>(n, 13), sigma = empty<S>(n, 13), att_sigma = empty<S>(n, 3);
+  py::array_t<S> P;
+  if (return_cov) P = py::array_t<S>({n, py::ssize_t(13), py::ssize_t(13)});
+  py::array_t<std::uint32_t> fl({n});
+  auto vi = empty<S>(nv, 3), vn = empty<S>(nv, -1), yi = empty<S>(ny, -1), yn = empty<S>(ny, -1);
+  py::array_t<std::uint8_t> vs({nv}), ys({ny});
+  {
+    const S *pf = fb.data(), *pw = wb.data(), *pt = t.data(), *pd = dt.data(), *pvt = vel_t.data(),
+            *pv = vel.data(), *pyt = yaw_t.data(), *py_ = yaw.data();
+    S *px = x.mutable_data(), *ps = sigma.mutable_data(), *pas = att_sigma.mutable_data();
+    S* pP = return_cov ? P.mutable_data() : nullptr;
+    std::uint32_t* pfl = fl.mutable_data();
+    S *pvi = vi.mutable_data(), *pvn = vn.mutable_data(), *pyi = yi.mutable_data(), *pyn = yn.mutable_data();
+    std::uint8_t *pvs = vs.mutable_data(), *pys = ys.mutable_data();
+    py::gil_scoped_release release;
+    quatnav::run_nav13_batch(f, pf, pw, pt, pd, std::size_t(n), pvt, pv, std::size_t(nv), pyt, py_, std::size_t(ny),
+                             gate_vel, gate_yaw, px, ps, pP, pas, pfl, pvi, pvn, pvs, pyi, pyn, pys);
+  }
+  py::dict d;
+  d["x"] = x;
+  d["sigma"] = sigma;
+  d["att_sigma"] = att_sigma;
+  d["P"] = return_cov ? py::object(P) : py::object(py::none());
+  d["flags"] = fl;
+  d["vel_innovation"] = vi;
+  d["vel_nis"] = vn;
+  d["vel_status"] = vs;
+  d["yaw_innovation"] = yi;
+  d["yaw_nis"] = yn;
+  d["yaw_status"] = ys;
+  return d;
+}
+
+template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, const char* base) {
+  using F = quatnav::NavFilter13<S, TU>;
+  using St = typename F::State;
+  using V3 = quatnav::Vec3<S>;
+  using Q4 = quatnav::Quat<S>;
+  using M13 = typename F::Mat13;
+  py::class_<F> cls(m, cls_name<S>(base).c_str());
+  cls.def(py::init<const typename F::Params&>(), py::arg("params"))
+      .def_property_readonly("params", &F::params)
+      .def_property_readonly("params_valid", &F::params_valid)
+      .def_property_readonly("time_update", [](const F&) { return std::string(quatnav::to_string(TU)); })
+      .def_property_readonly("initialized", &F::initialized)
+      .def_property_readonly("x", [](const F& f) { return typename F::Vec13(f.x()); })
+      .def_property_readonly("covariance", [](const F& f) { return M13(f.covariance()); })
+      .def_property_readonly("error_covariance", [](const F& f) { return quatnav::Mat<S, 12, 12>(f.error_covariance()); })
+      .def("reset", [](F& f, const V3& v, const Q4& q, const V3& ba, const V3& bg, const M13& P, S lat, S lon, S h) {
+            return status_str(f.reset(v, q, ba, bg, P, lat, lon, h));
+          }, py::arg("v_n"), py::arg("q_nb"), py::arg("accel_bias"), py::arg("gyro_bias"), py::arg("P"),
+          py::arg("lat"), py::arg("lon"), py::arg("h"))
+      .def("set_position", [](F& f, S lat, S lon, S h) { return status_str(f.set_position(lat, lon, h)); },
+           py::arg("lat"), py::arg("lon"), py::arg("h"))
+      .def("predict", [](F& f, const V3& fb, const V3& wb, S dt) { return status_str(f.predict(fb, wb, dt)); },
+           py::arg("f_ib_b"), py::arg("omega_ib_b"), py::arg("dt"))
+      .def("update_velocity", [](F& f, const V3& v, S gate) { return f.update_velocity(v, gate); },
+           py::arg("v_n"), py::arg("gate") = S(0))
+      .def("update_yaw", [](F& f, S yaw, S gate) { return f.update_yaw(yaw, gate); }, py::arg("yaw"),
+           py::arg("gate") = S(0))
+      .def("update_velocity_yaw", [](F& f, const V3& v, S yaw, S gate) { return f.update_velocity_yaw(v, yaw, gate); },
+           py::arg("v_n"), py::arg("yaw"), py::arg("gate") = S(0))
+      .def("get_state", [](const F& f) {
+        const St& s = f.state();
+        py::dict d;
+        d["v_n"] = V3(s.v_n);
+        d["q_nb"] = Q4(s.q_nb);
+        d["accel_bias"] = V3(s.accel_bias);
+        d["gyro_bias"] = V3(s.gyro_bias);
+        d["P"] = M13(s.P);
+        d["lat"] = s.lat;
+        d["lon"] = s.lon;
+        d["h"] = s.h;
+        d["initialized"] = s.initialized;
+        return d;
+      })
+      .def("set_state", [](F& f, const py::dict& d) {
+        St s;
+        s.v_n = d["v_n"].cast<V3>();
+        s.q_nb = d["q_nb"].cast<Q4>();
+        s.accel_bias = d["accel_bias"].cast<V3>();
+        s.gyro_bias = d["gyro_bias"].cast<V3>();
+        s.P = d["P"].cast<M13>();
+        s.lat = d["lat"].cast<S>();
+        s.lon = d["lon"].cast<S>();
+        s.h = d["h"].cast<S>();
+        s.initialized = d["initialized"].cast<bool>();
+        return status_str(f.set_state(s));
+      }, py::arg("state"))
+      .def("run", &nav13_run<F>, py::arg("f_ib_b"), py::arg("omega_ib_b"), py::arg("t"), py::arg("dt"),
+           py::arg("vel_t"), py::arg("vel"), py::arg("yaw_t"), py::arg("yaw"), py::arg("gate_vel") = S(0),
+           py::arg("gate_yaw") = S(0), py::arg("return_covariance") = false,
+           "Batch run (GIL released). Returns a dict of arrays.");
+}
+
+template <class S> void bind_all(py::module_& m) {
+  bind_update_result<S, 1>(m);
+  bind_update_result<S, 3>(m);
+  bind_update_result<S, 4>(m);
+  bind_params<S>(m);
+  bind_filter<S, quatnav::TimeUpdate::Ekf>(m, "NavFilter13Ekf");
+  bind_filter<S, quatnav::TimeUpdate::SecondOrder>(m, "NavFilter13SecondOrder");
+  bind_filter<S, quatnav::TimeUpdate::Ukf>(m, "NavFilter13Ukf");
+}
+
+/// Median over `repeats` of the mean time (ns) of `iterations` consecutive time updates, the three
+/// policies interleaved within every repeat (double precision, a representative state and P).
+template <quatnav::TimeUpdate TU>
+double time_block(quatnav::NavFilter13<double, TU>& f, const quatnav::NavFilter13State<double>& s0, int iterations) {
+  f.set_state(s0);
+  const quatnav::Vec3<double> fb(0.05, -0.02, -9.79), wb(0.001, -0.002, 0.1);
+  const auto a = std::chrono::steady_clock::now();
+  for (int k = 0; k < iterations; ++k) f.predict(fb, wb, 0.01);
+  const auto b = std::chrono::steady_clock::now();
+  return std::chrono::duration<double, std::nano>(b - a).count() / iterations;
+}
+
+py::dict time_update_cost_ns(int repeats, int iterations) {
+  using namespace quatnav;
+  if (repeats < 1 || iterations < 1) throw py::value_error("repeats, iterations: expected positive integers");
+  NavFilter13<double, TimeUpdate::Ekf> fe;
+  NavFilter13<double, TimeUpdate::SecondOrder> fs;
+  NavFilter13<double, TimeUpdate::Ukf> fu;
+  const Quat<double> q = quat::from_euler(0.1, -0.1, 0.5);
+  Mat<double, 13, 13> P = Mat<double, 13, 13>::Zero();
+  P.block<3, 3>(0, 0).diagonal().setConstant(0.09);
+  const Mat43<double> X = quat::xi(q);
+  P.block<4, 4>(3, 3) = 0.25 * 0.03 * X * X.transpose();
+  P.block<3, 3>(7, 7).diagonal().setConstant(4e-4);
+  P.block<3, 3>(10, 10).diagonal().setConstant(1e-10);
+  fe.reset(Vec3<double>(1, 1, 0), q, Vec3<double>::Zero(), Vec3<double>::Zero(), P, 0.63, 2.2, 50);
+  const NavFilter13State<double> s0 = fe.state();
+  std::vector<double> te, ts, tu;
+  {
+    py::gil_scoped_release release;
+    for (int r = 0; r < repeats; ++r) {
+      te.push_back(time_block(fe, s0, iterations));
+      ts.push_back(time_block(fs, s0, iterations));
+      tu.push_back(time_block(fu, s0, iterations));
+    }
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t k = v.size() / 2;
+    return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
+  };
+  py::dict d;
+  d["ekf"] = median(te);
+  d["second_order"] = median(ts);
+  d["ukf"] = median(tu);
+  d["repeats"] = repeats;
+  d["iterations"] = iterations;
+  return d;
+}
+
+}  // namespace
+
+void bind_nav13(py::module_& m) {
+  bind_all<double>(m);
+  bind_all<float>(m);
+  m.def("nav13_time_update_cost_ns", &time_update_cost_ns, py::arg("repeats") = 21, py::arg("iterations") = 2000,
+        "Cost of one NavFilter13 time update per policy (ns, float64): the median over `repeats` of the mean "
+        "over `iterations` consecutive predicts, the three policies interleaved in each repeat.");
+}
+
+}  // namespace quatnav_py

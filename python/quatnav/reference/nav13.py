@@ -1,0 +1,313 @@
+"""Reference (numpy) 13-state navigation filter of paper 002; see :mod:`quatnav.nav13`.
+
+Written to be read next to ``cpp/include/quatnav/nav_filter13.hpp`` (same algorithm, same
+method names; the tests compare the two step by step). State ``x = [v_n, q_nb, b_a, b_g]``.
+"""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from .. import earth
+from .. import quaternion as Q
+from .kalman import kalman_correct
+
+TIME_UPDATES = ("ekf", "second_order", "ukf")
+V, QI, BA, BG = slice(0, 3), slice(3, 7), slice(7, 10), slice(10, 13)
+
+DEFAULTS = dict(accel_noise=2.9420e-5, gyro_noise=1.4544e-7, accel_bias_noise=0.0, gyro_bias_noise=0.0,
+                vel_noise=0.03048, yaw_noise=0.034906585, ukf_alpha=1.0, ukf_beta=2.0, ukf_kappa=0.0,
+                max_dt=1.0, earth_rotation=True)
+
+
+def quad_rotmat(M):
+    """Eq. (5) with q_i q_j replaced by M_ij: ``C(q) = quad_rotmat(outer(q, q))``."""
+    ww, xx, yy, zz = M[0, 0], M[1, 1], M[2, 2], M[3, 3]
+    wx, wy, wz, xy, xz, yz = M[0, 1], M[0, 2], M[0, 3], M[1, 2], M[1, 3], M[2, 3]
+    return np.array([[ww + xx - yy - zz, 2 * (xy - wz), 2 * (xz + wy)],
+                     [2 * (xy + wz), ww - xx + yy - zz, 2 * (yz - wx)],
+                     [2 * (xz - wy), 2 * (yz + wx), ww - xx - yy + zz]])
+
+
+def rotmat_hom(q):
+    return quad_rotmat(np.outer(q, q))
+
+
+def dCa_dq(q, a):
+    """J(q, a) = d(C(q) a)/dq, 3x4 (eq. A.9)."""
+    w, x, y, z = q
+    ax, ay, az = a
+    return 2.0 * np.array([
+        [w * ax - z * ay + y * az, x * ax + y * ay + z * az, -y * ax + x * ay + w * az, -z * ax - w * ay + x * az],
+        [z * ax + w * ay - x * az, y * ax - x * ay - w * az, x * ax + y * ay + z * az, w * ax - z * ay + y * az],
+        [-y * ax + x * ay + w * az, z * ax + w * ay - x * az, -w * ax + z * ay - y * az, x * ax + y * ay + z * az]])
+
+
+def _pure(v):
+    return np.array([0.0, v[0], v[1], v[2]])
+
+
+def rhs(x, u):
+    """Continuous-time eq. (1), (3), (7)."""
+    q = x[QI]
+    a = u.f_ib_b - x[BA]
+    w = u.omega_ib_b - x[BG]
+    alpha = 2 * u.omega_ie_n + u.omega_en_n
+    w_in = u.omega_ie_n + u.omega_en_n
+    d = np.zeros(13)
+    d[V] = rotmat_hom(q) @ a - np.cross(alpha, x[V]) + u.g_n
+    d[QI] = 0.5 * (Q.xi(q) @ w - Q.left(_pure(w_in)) @ q)
+    return d
+
+
+def f_d(x, u):
+    """Eq. (12): one Euler step."""
+    return x + u.dt * rhs(x, u)
+
+
+def jacobian(x, u):
+    q = x[QI]
+    a = u.f_ib_b - x[BA]
+    w = u.omega_ib_b - x[BG]
+    alpha = 2 * u.omega_ie_n + u.omega_en_n
+    w_in = u.omega_ie_n + u.omega_en_n
+    dt = u.dt
+    F = np.eye(13)
+    F[V, V] -= dt * Q.skew(alpha)
+    F[V, QI] = dt * dCa_dq(q, a)
+    F[V, BA] = -dt * rotmat_hom(q)
+    F[QI, QI] += dt / 2 * (Q.omega(w) - Q.left(_pure(w_in)))
+    F[QI, BG] = -dt / 2 * Q.xi(q)
+    return F
+
+
+def second_order_term(x, P, u):
+    """1/2 sum_ij P_ij d2 f_d / dx_i dx_j (eq. 16-17), non-zero blocks only."""
+    q = x[QI]
+    a = u.f_ib_b - x[BA]
+    s = np.zeros(13)
+    sv = quad_rotmat(P[QI, QI]) @ a
+    for k in range(3):
+        sv -= dCa_dq(q, np.eye(3)[k]) @ P[QI, 7 + k]
+    s[V] = u.dt * sv
+    sq = np.zeros(4)
+    for k in range(3):
+        sq += Q.xi(P[QI, 10 + k])[:, k]
+    s[QI] = -u.dt / 2 * sq
+    return s
+
+
+def process_noise(q, dt, p):
+    Qm = np.zeros((13, 13))
+    C = rotmat_hom(q)
+    X = Q.xi(q)
+    Qm[V, V] = dt * p.accel_noise**2 * C @ C.T
+    Qm[QI, QI] = dt * p.gyro_noise**2 / 4 * X @ X.T
+    Qm[BA, BA] = dt * p.accel_bias_noise**2 * np.eye(3)
+    Qm[BG, BG] = dt * p.gyro_bias_noise**2 * np.eye(3)
+    return Qm
+
+
+def yaw_of(q):
+    """Eq. (14), atan2 form."""
+    return np.arctan2(2 * (q[1] * q[2] + q[0] * q[3]), q[0]**2 + q[1]**2 - q[2]**2 - q[3]**2)
+
+
+def yaw_jacobian(q):
+    n = 2 * (q[1] * q[2] + q[0] * q[3])
+    d = q[0]**2 + q[1]**2 - q[2]**2 - q[3]**2
+    dn = 2 * np.array([q[3], q[2], q[1], q[0]])
+    dd = 2 * np.array([q[0], q[1], -q[2], -q[3]])
+    return (d * dn - n * dd) / (n * n + d * d)
+
+
+def normalize(x, P):
+    q = x[QI]
+    n = np.linalg.norm(q)
+    qh = q / n
+    J = (np.eye(4) - np.outer(qh, qh)) / n
+    P = P.copy()
+    P[QI, :] = J @ P[QI, :]
+    P[:, QI] = P[:, QI] @ J.T
+    P = 0.5 * (P + P.T)
+    x = x.copy()
+    x[QI] = qh
+    return x, P
+
+
+def to_error(q):
+    T = np.zeros((12, 13))
+    T[0:3, V] = np.eye(3)
+    T[3:6, QI] = 2 * Q.xi(q).T
+    T[6:9, BA] = np.eye(3)
+    T[9:12, BG] = np.eye(3)
+    return T
+
+
+def from_error(q):
+    T = np.zeros((13, 12))
+    T[V, 0:3] = np.eye(3)
+    T[QI, 3:6] = 0.5 * Q.xi(q)
+    T[BA, 6:9] = np.eye(3)
+    T[BG, 9:12] = np.eye(3)
+    return T
+
+
+def ukf_weights(alpha, beta, kappa, n=12):
+    lam = alpha**2 * (n + kappa) - n
+    if not n + lam > 0:
+        return None
+    wm = np.full(2 * n + 1, 1 / (2 * (n + lam)))
+    wc = wm.copy()
+    wm[0] = lam / (n + lam)
+    wc[0] = wm[0] + 1 - alpha**2 + beta
+    return SimpleNamespace(gamma=np.sqrt(n + lam), wm=wm, wc=wc)
+
+
+class NavFilter13:
+    """Plain numpy twin of :class:`quatnav.NavFilter13` (same steps, same method names)."""
+
+    def __init__(self, time_update="ekf", **params):
+        if time_update not in TIME_UPDATES:
+            raise ValueError(f"time_update: expected one of {TIME_UPDATES}, got {time_update!r}")
+        self.time_update = time_update
+        p = dict(DEFAULTS)
+        p.update(params)
+        self.params = SimpleNamespace(**p)
+        self.weights = ukf_weights(p["ukf_alpha"], p["ukf_beta"], p["ukf_kappa"])
+        self.x = np.zeros(13)
+        self.x[3] = 1.0
+        self.P = np.eye(13)
+        self.lat = self.lon = self.h = 0.0
+        self.initialized = False
+
+    # -- state --------------------------------------------------------------------------
+    def reset(self, v_n, q_nb, accel_bias, gyro_bias, P, lat, lon, h):
+        x = np.concatenate([v_n, q_nb, accel_bias, gyro_bias]).astype(float)
+        P = np.asarray(P, float)
+        self.x, self.P = normalize(x, 0.5 * (P + P.T))
+        self.lat, self.lon, self.h = float(lat), float(lon), float(h)
+        self.initialized = True
+        return "ok"
+
+    def get_state(self):
+        return dict(v_n=self.x[V].copy(), q_nb=self.x[QI].copy(), accel_bias=self.x[BA].copy(),
+                    gyro_bias=self.x[BG].copy(), P=self.P.copy(), lat=self.lat, lon=self.lon, h=self.h,
+                    initialized=self.initialized)
+
+    def set_state(self, s):
+        self.x = np.concatenate([s["v_n"], s["q_nb"], s["accel_bias"], s["gyro_bias"]]).astype(float)
+        self.P = np.array(s["P"], float)
+        self.lat, self.lon, self.h = float(s["lat"]), float(s["lon"]), float(s["h"])
+        self.initialized = bool(s["initialized"])
+        return "ok"
+
+    def error_covariance(self):
+        T = to_error(self.x[QI])
+        return T @ self.P @ T.T
+
+    # -- time update ----------------------------------------------------------------------
+    def _input(self, f_ib_b, omega_ib_b, dt):
+        p = self.params
+        u = SimpleNamespace(f_ib_b=np.asarray(f_ib_b, float), omega_ib_b=np.asarray(omega_ib_b, float), dt=float(dt))
+        u.g_n = earth.gravity_n(self.lat, self.h)
+        if p.earth_rotation:
+            u.omega_ie_n = earth.earth_rate_n(self.lat)
+            u.omega_en_n = earth.transport_rate_n(self.lat, self.h, self.x[V])
+        else:
+            u.omega_ie_n = np.zeros(3)
+            u.omega_en_n = np.zeros(3)
+        return u
+
+    def predict(self, f_ib_b, omega_ib_b, dt):
+        u = self._input(f_ib_b, omega_ib_b, dt)
+        x, P = self.x, self.P
+        if self.time_update == "ukf":
+            xn, Pn = self._ukf(x, P, u)
+        else:
+            xn = f_d(x, u)
+            if self.time_update == "second_order":
+                xn = xn + second_order_term(x, P, u)          # (16)-(17)
+            F = jacobian(x, u)
+            Pn = F @ P @ F.T + process_noise(x[QI], u.dt, self.params)  # (19)-(20)
+            Pn = 0.5 * (Pn + Pn.T)
+            xn, Pn = normalize(xn, Pn)
+        v_mid = 0.5 * (x[V] + xn[V])
+        rl, rlon, rh = earth.geodetic_rates(self.lat, self.h, v_mid)
+        self.x, self.P = xn, Pn
+        self.lat += rl * u.dt
+        self.lon += rlon * u.dt
+        self.h += rh * u.dt
+        return "ok"
+
+    def _ukf(self, x, P, u):
+        w = self.weights
+        q0 = x[QI]
+        T = to_error(q0)
+        P12 = T @ P @ T.T
+        P12 = 0.5 * (P12 + P12.T)
+        L = w.gamma * np.linalg.cholesky(P12)
+        off = np.hstack([np.zeros((12, 1)), L, -L])
+        Y = np.zeros((13, 25))
+        for i in range(25):
+            d = off[:, i]
+            xi = x.copy()
+            xi[V] += d[0:3]
+            xi[QI] = Q.mul(q0, Q.from_rotvec(d[3:6]))
+            xi[BA] += d[6:9]
+            xi[BG] += d[9:12]
+            yi = f_d(xi, u)
+            yi[QI] /= np.linalg.norm(yi[QI])
+            Y[:, i] = yi
+        ysum = Y @ w.wm
+        qref = Y[QI, 0]
+        qs = Y[QI, :] * np.where(qref @ Y[QI, :] < 0, -1.0, 1.0)
+        qm = qs @ w.wm
+        qm /= np.linalg.norm(qm)
+        D = np.zeros((12, 25))
+        D[0:3] = Y[V] - ysum[V, None]
+        for i in range(25):
+            D[3:6, i] = Q.to_rotvec(Q.mul(Q.conj(qm), Y[QI, i]))
+        D[6:9] = Y[BA] - ysum[BA, None]
+        D[9:12] = Y[BG] - ysum[BG, None]
+        dmean = D[3:6] @ w.wm
+        qm = Q.mul(qm, Q.from_rotvec(dmean))
+        qm /= np.linalg.norm(qm)
+        D[3:6] -= dmean[:, None]
+        P12n = (D * w.wc) @ D.T + T @ process_noise(q0, u.dt, self.params) @ T.T
+        P12n = 0.5 * (P12n + P12n.T)
+        xn = ysum.copy()
+        xn[QI] = qm
+        Tb = from_error(qm)
+        Pn = Tb @ P12n @ Tb.T
+        return xn, 0.5 * (Pn + Pn.T)
+
+    # -- measurement updates -----------------------------------------------------------------
+    def _correct(self, H, R, y, gate):
+        status, dx, Pn, S, nis = kalman_correct(self.P, H, R, y, gate)
+        res = SimpleNamespace(status=status, innovation=y, innovation_cov=S, nis=nis)
+        if status == "ok":
+            self.x, self.P = normalize(self.x + dx, Pn)   # (23)
+        return res
+
+    def update_velocity(self, v_meas, gate=0.0):
+        H = np.zeros((3, 13))
+        H[:, V] = np.eye(3)
+        R = np.eye(3) * self.params.vel_noise**2
+        return self._correct(H, R, np.asarray(v_meas, float) - self.x[V], gate)
+
+    def update_yaw(self, yaw, gate=0.0):
+        H = np.zeros((1, 13))
+        H[0, QI] = yaw_jacobian(self.x[QI])
+        R = np.array([[self.params.yaw_noise**2]])
+        y = np.array([Q.wrap_pi(float(yaw) - yaw_of(self.x[QI]))])
+        return self._correct(H, R, y, gate)
+
+    def update_velocity_yaw(self, v_meas, yaw, gate=0.0):
+        H = np.zeros((4, 13))
+        H[0:3, V] = np.eye(3)
+        H[3, QI] = yaw_jacobian(self.x[QI])
+        R = np.diag([self.params.vel_noise**2] * 3 + [self.params.yaw_noise**2])
+        y = np.concatenate([np.asarray(v_meas, float) - self.x[V], [Q.wrap_pi(float(yaw) - yaw_of(self.x[QI]))]])
+        return self._correct(H, R, y, gate)

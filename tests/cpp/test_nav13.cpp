@@ -1,0 +1,430 @@
+// NavFilter13 (paper 002): first and second derivatives against finite differences, the sparse
+// second-order term against the dense Hessian, the unscented machinery, no heap in any step,
+// bad input leaving the state untouched, state round trips, and the batch loop.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <quatnav/nav_filter13.hpp>
+#include <random>
+#include <vector>
+
+using namespace quatnav;
+using detail::Mat13;
+using detail::Vec13;
+
+namespace {
+
+template <class S> Nav13Input<S> random_input(std::mt19937& g, S dt = S(0.01)) {
+  std::normal_distribution<double> n;
+  Nav13Input<S> u;
+  u.f_ib_b = Vec3<S>(S(0.3 * n(g)), S(0.3 * n(g)), S(-9.8 + 0.3 * n(g)));
+  u.omega_ib_b = Vec3<S>(S(0.2 * n(g)), S(0.2 * n(g)), S(0.2 * n(g)));
+  u.dt = dt;
+  // Exaggerated Earth terms so that their derivatives are visible to finite differences.
+  u.omega_ie_n = Vec3<S>(S(0.05 * n(g)), S(0.05 * n(g)), S(0.05 * n(g)));
+  u.omega_en_n = Vec3<S>(S(0.05 * n(g)), S(0.05 * n(g)), S(0.05 * n(g)));
+  u.g_n = Vec3<S>(S(0), S(0), S(9.8));
+  return u;
+}
+
+Vec13<double> random_x(std::mt19937& g, bool unit = false) {
+  std::normal_distribution<double> n;
+  Vec13<double> x;
+  for (int i = 0; i < 13; ++i) x[i] = n(g);
+  x.segment<3>(0) *= 3.0;
+  x.segment<3>(7) *= 0.1;
+  x.segment<3>(10) *= 0.05;
+  if (unit) x.segment<4>(3).normalize();
+  return x;
+}
+
+Mat13<double> random_spd(std::mt19937& g) {
+  std::normal_distribution<double> n;
+  Mat13<double> A;
+  for (int i = 0; i < 13; ++i)
+    for (int j = 0; j < 13; ++j) A(i, j) = 0.1 * n(g);
+  return A * A.transpose() + 0.01 * Mat13<double>::Identity();
+}
+
+template <class F> Mat13<double> initial_cov(const Quat<double>& q) {
+  Mat13<double> P = Mat13<double>::Zero();
+  P.block<3, 3>(0, 0) = 0.09 * Mat3<double>::Identity();
+  const Mat43<double> X = quat::xi(q);
+  P.block<4, 4>(3, 3) = 0.25 * 0.03 * X * X.transpose();
+  P.block<3, 3>(7, 7) = 4e-4 * Mat3<double>::Identity();
+  P.block<3, 3>(10, 10) = 1e-9 * Mat3<double>::Identity();
+  return P;
+}
+
+}  // namespace
+
+TEST(Nav13Algebra, QuadraticRotmatIsRotationForUnitQuaternion) {
+  std::mt19937 g(1);
+  for (int i = 0; i < 50; ++i) {
+    const Quat<double> q = random_x(g, true).segment<4>(3);
+    EXPECT_LT((detail::rotmat_hom(q) - quat::to_rotmat(q)).norm(), 1e-14);
+    // Homogeneous of degree 2: C(s q) = s^2 C(q).
+    EXPECT_LT((detail::rotmat_hom(Quat<double>(2.0 * q)) - 4.0 * quat::to_rotmat(q)).norm(), 1e-13);
+  }
+}
+
+TEST(Nav13Algebra, RhsMatchesStrapdownKinematics) {
+  // For a unit q, the bilinear eq. (3) equals 1/2 q * [0, w_b - C_bn w_in].
+  std::mt19937 g(2);
+  for (int i = 0; i < 20; ++i) {
+    const Vec13<double> x = random_x(g, true);
+    const Nav13Input<double> u = random_input<double>(g);
+    const Quat<double> q = x.segment<4>(3);
+    const Vec3<double> w_in = u.omega_ie_n + u.omega_en_n;
+    const Vec3<double> w_b = u.omega_ib_b - x.segment<3>(10) - quat::rotate_inv(q, w_in);
+    const Quat<double> ref = 0.5 * quat::mul(q, Quat<double>(0, w_b[0], w_b[1], w_b[2]));
+    EXPECT_LT((detail::nav13_rhs(x, u).segment<4>(3) - ref).norm(), 1e-14);
+    const Vec3<double> vdot = quat::rotate(q, Vec3<double>(u.f_ib_b - x.segment<3>(7))) -
+                              (2.0 * u.omega_ie_n + u.omega_en_n).cross(Vec3<double>(x.segment<3>(0))) + u.g_n;
+    EXPECT_LT((detail::nav13_rhs(x, u).segment<3>(0) - vdot).norm(), 1e-12);
+  }
+}
+
+TEST(Nav13Algebra, JacobianMatchesFiniteDifferences) {
+  std::mt19937 g(3);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Vec13<double> x = random_x(g, trial % 2 == 0);
+    const Nav13Input<double> u = random_input<double>(g, 0.1);
+    const Mat13<double> F = detail::nav13_jacobian(x, u);
+    const double h = 1e-6;
+    for (int j = 0; j < 13; ++j) {
+      Vec13<double> xp = x, xm = x;
+      xp[j] += h;
+      xm[j] -= h;
+      const Vec13<double> col = (detail::nav13_f(xp, u) - detail::nav13_f(xm, u)) / (2 * h);
+      EXPECT_LT((F.col(j) - col).norm(), 1e-8) << "column " << j;
+    }
+  }
+}
+
+TEST(Nav13Algebra, EverySecondDerivativeMatchesFiniteDifferences) {
+  std::mt19937 g(4);
+  for (int trial = 0; trial < 10; ++trial) {
+    const Vec13<double> x = random_x(g, trial % 2 == 1);
+    const Nav13Input<double> u = random_input<double>(g, 0.1);
+    Mat13<double> H[13];
+    detail::nav13_hessian(x, u, H);
+    // (a) d/dx_j of the analytic Jacobian; (b) second central differences of f_d itself.
+    const double h = 1e-5;
+    for (int j = 0; j < 13; ++j) {
+      Vec13<double> xp = x, xm = x;
+      xp[j] += h;
+      xm[j] -= h;
+      const Mat13<double> dF = (detail::nav13_jacobian(xp, u) - detail::nav13_jacobian(xm, u)) / (2 * h);
+      for (int c = 0; c < 13; ++c)
+        for (int i = 0; i < 13; ++i) EXPECT_NEAR(H[c](i, j), dF(c, i), 1e-8) << c << " " << i << " " << j;
+    }
+    const double e = 1e-3;  // f_d is a cubic polynomial: the 4-point formula is exact up to O(e^2) third terms
+    for (int i = 0; i < 13; ++i)
+      for (int j = 0; j < 13; ++j) {
+        Vec13<double> pp = x, pm = x, mp = x, mm = x;
+        pp[i] += e; pp[j] += e;
+        pm[i] += e; pm[j] -= e;
+        mp[i] -= e; mp[j] += e;
+        mm[i] -= e; mm[j] -= e;
+        const Vec13<double> d2 = (detail::nav13_f(pp, u) - detail::nav13_f(pm, u) - detail::nav13_f(mp, u) +
+                                  detail::nav13_f(mm, u)) / (4 * e * e);
+        for (int c = 0; c < 13; ++c) EXPECT_NEAR(H[c](i, j), d2[c], 1e-6) << c << " " << i << " " << j;
+      }
+    // Symmetry.
+    for (int c = 0; c < 13; ++c) EXPECT_LT((H[c] - H[c].transpose()).norm(), 1e-15);
+  }
+}
+
+TEST(Nav13Algebra, SparseSecondOrderTermEqualsDenseContraction) {
+  std::mt19937 g(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Vec13<double> x = random_x(g, true);
+    const Nav13Input<double> u = random_input<double>(g, 0.1);
+    const Mat13<double> P = random_spd(g);
+    Mat13<double> H[13];
+    detail::nav13_hessian(x, u, H);
+    Vec13<double> dense;
+    for (int c = 0; c < 13; ++c) dense[c] = 0.5 * (P.cwiseProduct(H[c])).sum();
+    EXPECT_LT((detail::nav13_second_order_term(x, P, u) - dense).norm(), 1e-13 * (1 + dense.norm()));
+  }
+}
+
+TEST(Nav13Algebra, SecondOrderMeanIsExactForTheCubicStep) {
+  // f_d is a cubic polynomial of x; for a Gaussian x its exact mean is f_d(m) + 1/2 sum P_ij H_ij
+  // (odd central moments vanish). Check against a large Monte Carlo sample.
+  std::mt19937 g(6);
+  const Vec13<double> m = random_x(g, true);
+  const Nav13Input<double> u = random_input<double>(g, 0.5);
+  const Mat13<double> P = 0.5 * random_spd(g);
+  const Eigen::LLT<Mat13<double>> llt(P);
+  const Mat13<double> L = llt.matrixL();
+  std::normal_distribution<double> n;
+  const int K = 200000;
+  Vec13<double> acc = Vec13<double>::Zero();
+  for (int k = 0; k < K; ++k) {
+    Vec13<double> z;
+    for (int i = 0; i < 13; ++i) z[i] = n(g);
+    // Antithetic pairs remove the odd moments of the sample.
+    acc += detail::nav13_f(Vec13<double>(m + L * z), u) + detail::nav13_f(Vec13<double>(m - L * z), u);
+  }
+  const Vec13<double> mc = acc / (2.0 * K);
+  const Vec13<double> so = detail::nav13_f(m, u) + detail::nav13_second_order_term(m, P, u);
+  const Vec13<double> first = detail::nav13_f(m, u);
+  // The second-order mean is within Monte Carlo error; the first-order mean is not.
+  EXPECT_LT((mc - so).norm(), 0.2 * (mc - first).norm());
+}
+
+TEST(Nav13Algebra, YawAndItsJacobian) {
+  std::mt19937 g(7);
+  for (int i = 0; i < 30; ++i) {
+    const Quat<double> q = random_x(g, true).segment<4>(3);
+    EXPECT_NEAR(quat::wrap_pi(detail::nav13_yaw(q) - quat::to_euler(q)[2]), 0.0, 1e-12);
+    const auto J = detail::nav13_yaw_jacobian(q);
+    for (int j = 0; j < 4; ++j) {
+      Quat<double> qp = q, qm = q;
+      qp[j] += 1e-7;
+      qm[j] -= 1e-7;
+      EXPECT_NEAR(J(0, j), quat::wrap_pi(detail::nav13_yaw(qp) - detail::nav13_yaw(qm)) / 2e-7, 1e-6);
+    }
+  }
+}
+
+TEST(Nav13Algebra, ErrorStateMapsRoundTrip) {
+  std::mt19937 g(8);
+  const Quat<double> q = random_x(g, true).segment<4>(3);
+  const Mat<double, 12, 13> T = detail::nav13_to_error(q);
+  const Mat<double, 13, 12> Tb = detail::nav13_from_error(q);
+  EXPECT_LT((T * Tb - Mat<double, 12, 12>::Identity()).norm(), 1e-14);
+  // dtheta -> q * exp(dtheta) agrees with the linear map to first order.
+  const Vec3<double> dth(1e-6, -2e-6, 3e-6);
+  const Quat<double> qp = quat::mul(q, quat::from_rotvec(dth));
+  Vec<double, 12> e = Vec<double, 12>::Zero();
+  e.segment<3>(3) = dth;
+  EXPECT_LT(((qp - q) - (Tb * e).segment<4>(3)).norm(), 1e-11);
+}
+
+TEST(Unscented, WeightsAndSigmaPointsReproduceMeanAndCovariance) {
+  UnscentedWeights<double, 5> w;
+  ASSERT_TRUE(w.compute({0.5, 2.0, 1.0}));
+  EXPECT_NEAR(w.wm0 + 10 * w.wi, 1.0, 1e-14);
+  Mat<double, 5, 5> A = Mat<double, 5, 5>::Random();
+  const Mat<double, 5, 5> P = A * A.transpose() + Mat<double, 5, 5>::Identity();
+  Mat<double, 5, 11> off;
+  ASSERT_TRUE((sigma_offsets<double, 5>(P, w.gamma, off)));
+  EXPECT_LT((sigma_mean<double, 5, 5>(off, w)).norm(), 1e-13);
+  // With the central deviation zero, the covariance of the offsets is P.
+  EXPECT_LT((sigma_covariance<double, 5, 5>(off, w) - P).norm(), 1e-12);
+  // A non-positive-definite matrix is refused.
+  Mat<double, 5, 11> keep = off;
+  EXPECT_FALSE((sigma_offsets<double, 5>(Mat<double, 5, 5>(-P), w.gamma, off)));
+  EXPECT_EQ(keep, off);
+  UnscentedWeights<double, 5> bad;
+  EXPECT_FALSE(bad.compute({1.0, 2.0, -6.0}));
+}
+
+// ------------------------------------------------------------------------------------------
+// The filter, for every policy and both scalars.
+// ------------------------------------------------------------------------------------------
+template <class F> class Nav13Filter : public ::testing::Test {};
+using Policies =
+    ::testing::Types<NavFilter13<double, TimeUpdate::Ekf>, NavFilter13<double, TimeUpdate::SecondOrder>,
+                     NavFilter13<double, TimeUpdate::Ukf>, NavFilter13<float, TimeUpdate::Ekf>,
+                     NavFilter13<float, TimeUpdate::SecondOrder>, NavFilter13<float, TimeUpdate::Ukf>>;
+TYPED_TEST_SUITE(Nav13Filter, Policies);
+
+namespace {
+template <class F> F make_filter() {
+  using S = typename F::Scalar;
+  F f;
+  const Quat<double> q = quat::from_euler(0.1, -0.05, 0.5);
+  const Mat13<double> P = initial_cov<F>(q);
+  EXPECT_EQ(f.reset(Vec3<S>(1, 2, 0), Quat<S>(q.cast<S>()), Vec3<S>::Zero(), Vec3<S>::Zero(), P.cast<S>(),
+                    S(0.63), S(2.2), S(50)),
+            Status::Ok);
+  return f;
+}
+
+template <class S> bool same_state(const NavFilter13State<S>& a, const NavFilter13State<S>& b) {
+  return a.v_n == b.v_n && a.q_nb == b.q_nb && a.accel_bias == b.accel_bias && a.gyro_bias == b.gyro_bias &&
+         a.P == b.P && a.lat == b.lat && a.lon == b.lon && a.h == b.h && a.initialized == b.initialized;
+}
+}  // namespace
+
+TYPED_TEST(Nav13Filter, StepsAllocateNothing) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  F f = make_filter<F>();
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int k = 0; k < 20; ++k) {
+    EXPECT_EQ(f.predict(Vec3<S>(S(0.1), S(0), S(-9.8)), Vec3<S>(S(0.01), S(0), S(0.1)), S(0.01)), Status::Ok);
+    if (k % 5 == 0) {
+      EXPECT_TRUE(f.update_velocity(Vec3<S>(1, 2, 0)).accepted());
+      EXPECT_TRUE(f.update_yaw(S(0.5)).accepted());
+      EXPECT_TRUE(f.update_velocity_yaw(Vec3<S>(1, 2, 0), S(0.5)).accepted());
+    }
+  }
+  Eigen::internal::set_is_malloc_allowed(true);
+}
+
+TYPED_TEST(Nav13Filter, BadInputLeavesStateUntouched) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  F f = make_filter<F>();
+  f.predict(Vec3<S>(S(0.1), S(0), S(-9.8)), Vec3<S>(S(0.01), S(0), S(0.1)), S(0.01));
+  const NavFilter13State<S> before = f.state();
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  EXPECT_EQ(f.predict(Vec3<S>(nan, 0, 0), Vec3<S>::Zero(), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>(0, std::numeric_limits<S>::infinity(), 0), S(0.01)),
+            Status::NonFinite);
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>::Zero(), S(0)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>::Zero(), S(-0.01)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>::Zero(), S(5)), Status::InvalidDt);
+  EXPECT_EQ(f.update_velocity(Vec3<S>(nan, 0, 0)).status, Status::NonFinite);
+  EXPECT_EQ(f.update_yaw(nan).status, Status::NonFinite);
+  EXPECT_EQ(f.update_velocity_yaw(Vec3<S>::Zero(), nan).status, Status::NonFinite);
+  // Gate: a wild velocity is rejected.
+  EXPECT_EQ(f.update_velocity(Vec3<S>(100, 0, 0), S(16)).status, Status::Rejected);
+  // A covariance that is not positive definite: the update fails, nothing changes.
+  EXPECT_TRUE(same_state(before, f.state()));
+  NavFilter13State<S> s = f.state();
+  s.q_nb *= S(2);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  EXPECT_TRUE(same_state(before, f.state()));
+  F g;  // not initialized
+  EXPECT_EQ(g.predict(Vec3<S>::Zero(), Vec3<S>::Zero(), S(0.01)), Status::NotInitialized);
+  EXPECT_EQ(g.update_yaw(S(0)).status, Status::NotInitialized);
+}
+
+TYPED_TEST(Nav13Filter, NonPositiveCovarianceIsReported) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  F f = make_filter<F>();
+  NavFilter13State<S> s = f.state();
+  s.P.template block<3, 3>(0, 0) = -Mat3<S>::Identity();
+  ASSERT_EQ(f.set_state(s), Status::Ok);
+  const NavFilter13State<S> before = f.state();
+  EXPECT_EQ(f.update_velocity(Vec3<S>(1, 2, 0)).status, Status::SolveFailed);
+  if (F::kTimeUpdate == TimeUpdate::Ukf) {
+    EXPECT_EQ(f.predict(Vec3<S>(0, 0, S(-9.8)), Vec3<S>::Zero(), S(0.01)), Status::SolveFailed);
+  }
+  EXPECT_TRUE(same_state(before, f.state()));
+}
+
+TYPED_TEST(Nav13Filter, SplitRunIsIdentical) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  F a = make_filter<F>();
+  auto step = [](F& f, int k) {
+    f.predict(Vec3<S>(S(0.1 * std::sin(0.1 * k)), S(0), S(-9.8)), Vec3<S>(S(0.01), S(0), S(0.1)), S(0.01));
+    if (k % 10 == 0) {
+      f.update_velocity(Vec3<S>(1, 2, 0));
+      f.update_yaw(S(0.5));
+    }
+  };
+  for (int k = 0; k < 50; ++k) step(a, k);
+  F b;
+  ASSERT_EQ(b.set_state(a.state()), Status::Ok);
+  for (int k = 50; k < 100; ++k) {
+    step(a, k);
+    step(b, k);
+  }
+  EXPECT_TRUE(same_state(a.state(), b.state()));
+}
+
+TYPED_TEST(Nav13Filter, BatchEqualsSteps) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  const int n = 60;
+  std::vector<S> fb(3 * n), wb(3 * n), t(n), dt(n, S(0.01)), vt, vel, yt, yaw;
+  for (int k = 0; k < n; ++k) {
+    fb[3 * k] = S(0.1 * std::sin(0.1 * k));
+    fb[3 * k + 1] = S(0);
+    fb[3 * k + 2] = S(-9.8);
+    wb[3 * k] = S(0.01);
+    wb[3 * k + 1] = S(0);
+    wb[3 * k + 2] = S(0.1);
+    t[k] = S(0.01 * (k + 1));
+    if (k % 10 == 4) {
+      vt.push_back(t[k]);
+      vel.insert(vel.end(), {S(1), S(2), S(0)});
+      yt.push_back(t[k]);
+      yaw.push_back(S(0.5));
+    }
+  }
+  F a = make_filter<F>(), b = make_filter<F>();
+  std::vector<S> x(13 * n), vi(3 * vt.size()), vn(vt.size()), yi(yt.size()), yn(yt.size());
+  std::vector<std::uint32_t> fl(n);
+  run_nav13_batch(a, fb.data(), wb.data(), t.data(), dt.data(), n, vt.data(), vel.data(), vt.size(), yt.data(),
+                  yaw.data(), yt.size(), S(0), S(0), x.data(), static_cast<S*>(nullptr), static_cast<S*>(nullptr),
+                  static_cast<S*>(nullptr), fl.data(), vi.data(), vn.data(), static_cast<std::uint8_t*>(nullptr),
+                  yi.data(), yn.data(), static_cast<std::uint8_t*>(nullptr));
+  std::size_t m = 0;
+  for (int k = 0; k < n; ++k) {
+    b.predict(Vec3<S>(fb[3 * k], fb[3 * k + 1], fb[3 * k + 2]), Vec3<S>(wb[3 * k], wb[3 * k + 1], wb[3 * k + 2]),
+              dt[k]);
+    if (k % 10 == 4) {
+      const auto rv = b.update_velocity(Vec3<S>(1, 2, 0));
+      const auto ry = b.update_yaw(S(0.5));
+      EXPECT_EQ(rv.nis, vn[m]);
+      EXPECT_EQ(ry.nis, yn[m]);
+      EXPECT_NE(fl[k] & nav13_flags::kVelUpdated, 0u);
+      ++m;
+    }
+    for (int i = 0; i < 13; ++i) EXPECT_EQ(b.x()[i], x[13 * k + i]);
+  }
+  EXPECT_EQ(m, vt.size());
+}
+
+TYPED_TEST(Nav13Filter, StaysUnitAndSymmetric) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  F f = make_filter<F>();
+  for (int k = 0; k < 300; ++k) {
+    ASSERT_EQ(f.predict(Vec3<S>(S(0.1), S(0.2), S(-9.8)), Vec3<S>(S(0.2), S(-0.1), S(0.3)), S(0.01)), Status::Ok);
+    if (k % 10 == 0) f.update_velocity_yaw(Vec3<S>(1, 2, 0), S(0.5));
+  }
+  const S tol = sizeof(S) == 4 ? S(1e-5) : S(1e-12);
+  EXPECT_NEAR(f.state().q_nb.norm(), S(1), tol);
+  EXPECT_LT((f.covariance() - f.covariance().transpose()).norm(), tol);
+  // The quaternion block has no component along q (tangent covariance).
+  const Mat4<S> Pqq = f.covariance().template block<4, 4>(3, 3);
+  EXPECT_LT((Pqq * f.state().q_nb).norm(), S(100) * tol * Pqq.norm() + tol);
+}
+
+TEST(Nav13Policies, UkfAndSecondOrderAgreeWithEkfForSmallUncertainty) {
+  // With a tiny covariance the three time updates coincide to first order.
+  using E = NavFilter13<double, TimeUpdate::Ekf>;
+  using SO = NavFilter13<double, TimeUpdate::SecondOrder>;
+  using U = NavFilter13<double, TimeUpdate::Ukf>;
+  E e = make_filter<E>();
+  SO s = make_filter<SO>();
+  U u = make_filter<U>();
+  NavFilter13State<double> st = e.state();
+  st.P *= 1e-8;
+  e.set_state(st);
+  s.set_state(st);
+  u.set_state(st);
+  const Vec3<double> fb(0.3, -0.2, -9.7), wb(0.05, -0.02, 0.3);
+  e.predict(fb, wb, 0.01);
+  s.predict(fb, wb, 0.01);
+  u.predict(fb, wb, 0.01);
+  EXPECT_LT((e.x() - s.x()).norm(), 1e-9);
+  EXPECT_LT((e.x() - u.x()).norm(), 1e-9);
+  EXPECT_LT((e.covariance() - u.covariance()).norm(), 1e-6 * e.covariance().norm());
+  EXPECT_EQ(e.covariance(), s.covariance());
+}
+
+TEST(Nav13Policies, UkfCovarianceIsCloseToEkfForModerateUncertainty) {
+  using E = NavFilter13<double, TimeUpdate::Ekf>;
+  using U = NavFilter13<double, TimeUpdate::Ukf>;
+  E e = make_filter<E>();
+  U u = make_filter<U>();
+  const Vec3<double> fb(0.3, -0.2, -9.7), wb(0.05, -0.02, 0.3);
+  e.predict(fb, wb, 0.01);
+  u.predict(fb, wb, 0.01);
+  const Mat<double, 12, 12> Pe = e.error_covariance(), Pu = u.error_covariance();
+  EXPECT_LT((Pe - Pu).norm(), 0.02 * Pe.norm());
+  EXPECT_NEAR(u.error_covariance().trace(), e.error_covariance().trace(), 0.02 * e.error_covariance().trace());
+}

@@ -1,0 +1,246 @@
+"""NavFilter13 (paper 002): C++ against the numpy reference for every time update, derivatives
+against finite differences, float32 against float64, state round trips, input validation."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import quatnav
+from quatnav import quaternion as Q
+from quatnav.nav13 import initial_covariance, euler_rate_matrix
+from quatnav.reference import nav13 as R
+
+LAT, LON, H = np.radians(36.37), np.radians(127.36), 50.0
+POLICIES = ("ekf", "second_order", "ukf")
+
+
+def _start(rng):
+    q0 = Q.from_euler(np.radians([8.0, -6.0, 50.0]))
+    P = initial_covariance(q0, 0.3, np.radians([10.0, 10.0, 20.0]), 0.02, np.radians(2.0) / 3600)
+    v0 = np.array([1.7, 1.0, 0.05])
+    return v0, q0, np.zeros(3), np.zeros(3), P
+
+
+def _imu(rng, n):
+    """A turning, accelerating vehicle: specific force near -g with manoeuvres, rates up to 0.3 rad/s."""
+    t = np.arange(1, n + 1) * 0.01
+    f = np.column_stack([0.3 * np.sin(0.7 * t), 0.2 * np.cos(0.5 * t), -9.80 + 0.1 * np.sin(t)])
+    w = np.column_stack([0.05 * np.sin(0.3 * t), 0.04 * np.cos(0.2 * t), 0.3 * np.ones(n)])
+    return t, f + 1e-3 * rng.standard_normal((n, 3)), w + 1e-4 * rng.standard_normal((n, 3))
+
+
+@pytest.mark.parametrize("tu", POLICIES)
+def test_cpp_matches_reference_step_by_step(tu):
+    rng = np.random.default_rng(1)
+    start = _start(rng)
+    cpp = quatnav.NavFilter13(tu)
+    ref = R.NavFilter13(tu)
+    cpp.reset(*start, lat=LAT, lon=LON, h=H)
+    ref.reset(*start, LAT, LON, H)
+    t, f, w = _imu(rng, 40)
+    for k in range(len(t)):
+        assert cpp.predict(f[k], w[k], 0.01) == "ok"
+        ref.predict(f[k], w[k], 0.01)
+        if k % 5 == 4:
+            v_meas = np.array([1.8, 0.9, 0.0]) + 0.03 * rng.standard_normal(3)
+            yaw = np.radians(45.0) + 0.03 * rng.standard_normal()
+            if k % 10 == 4:
+                rc, rr = cpp.update_velocity(v_meas), ref.update_velocity(v_meas)
+                assert rc.nis == pytest.approx(rr.nis, rel=1e-9)
+                rc, rr = cpp.update_yaw(yaw), ref.update_yaw(yaw)
+            else:
+                rc, rr = cpp.update_velocity_yaw(v_meas, yaw), ref.update_velocity_yaw(v_meas, yaw)
+            assert rc.status == rr.status == "ok"
+            assert rc.nis == pytest.approx(rr.nis, rel=1e-9)
+            np.testing.assert_allclose(rc.innovation, rr.innovation, atol=1e-10)
+        np.testing.assert_allclose(cpp.x, ref.x, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(cpp.covariance, ref.P, atol=1e-9 * np.abs(ref.P).max(), rtol=0)
+        s = cpp.get_state()
+        assert s["lat"] == pytest.approx(ref.lat, abs=1e-12)
+        assert s["h"] == pytest.approx(ref.h, abs=1e-9)
+
+
+def test_policies_differ_where_they_should():
+    rng = np.random.default_rng(2)
+    start = _start(rng)
+    t, f, w = _imu(rng, 20)
+    xs = {}
+    for tu in POLICIES:
+        flt = quatnav.NavFilter13(tu)
+        flt.reset(*start, lat=LAT, lon=LON, h=H)
+        for k in range(len(t)):
+            flt.predict(f[k], w[k], 0.01)
+        xs[tu] = flt.x
+    # With a 10-20 deg attitude uncertainty the mean corrections are visible in the velocity.
+    assert np.linalg.norm(xs["ekf"][:3] - xs["second_order"][:3]) > 1e-4
+    assert np.linalg.norm(xs["ekf"][:3] - xs["ukf"][:3]) > 1e-4
+
+
+def _rand_input(rng, dt=0.1):
+    return SimpleNamespace(f_ib_b=np.array([0.3, -0.2, -9.7]) + 0.3 * rng.standard_normal(3),
+                             omega_ib_b=0.2 * rng.standard_normal(3), dt=dt,
+                             omega_ie_n=0.05 * rng.standard_normal(3), omega_en_n=0.05 * rng.standard_normal(3),
+                             g_n=np.array([0.0, 0.0, 9.8]))
+
+
+def test_reference_jacobian_and_second_derivatives_by_finite_differences():
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        x = rng.standard_normal(13)
+        u = _rand_input(rng)
+        F = R.jacobian(x, u)
+        h = 1e-6
+        Fn = np.column_stack([(R.f_d(x + h * e, u) - R.f_d(x - h * e, u)) / (2 * h) for e in np.eye(13)])
+        np.testing.assert_allclose(F, Fn, atol=1e-8)
+        # d2 f_c / dx_i dx_j from differences of the analytic Jacobian, contracted with P.
+        Hs = np.stack([(R.jacobian(x + h * e, u) - R.jacobian(x - h * e, u)) / (2 * h) for e in np.eye(13)], axis=2)
+        A = rng.standard_normal((13, 13))
+        P = A @ A.T
+        dense = 0.5 * np.einsum("cij,ij->c", Hs, P)
+        np.testing.assert_allclose(R.second_order_term(x, P, u), dense, atol=1e-7 * (1 + np.abs(dense).max()))
+
+
+def test_initial_covariance_matches_euler_perturbation():
+    q = Q.from_euler(np.radians([5.0, -3.0, 40.0]))
+    rpy = Q.to_euler(q)
+    J = 0.5 * Q.xi(q) @ euler_rate_matrix(rpy)
+    h = 1e-6
+    Jn = np.column_stack([(Q.from_euler(rpy + h * e) - Q.from_euler(rpy - h * e)) / (2 * h) for e in np.eye(3)])
+    np.testing.assert_allclose(J, Jn, atol=1e-9)
+    P = initial_covariance(q, 0.3, [0.1, 0.2, 0.3], 0.01, 1e-5)
+    assert np.allclose(P, P.T) and np.all(np.linalg.eigvalsh(P) > -1e-15)
+
+
+@pytest.mark.parametrize("tu", POLICIES)
+def test_batch_run_matches_steps_and_split_state(tu):
+    rng = np.random.default_rng(4)
+    start = _start(rng)
+    t, f, w = _imu(rng, 120)
+    vel_t = t[9::10]
+    vel = np.tile([1.8, 0.9, 0.0], (len(vel_t), 1)) + 0.03 * rng.standard_normal((len(vel_t), 3))
+    yaw_t = t[4::10]
+    yaw = np.radians(45.0) + 0.03 * rng.standard_normal(len(yaw_t))
+    a = quatnav.NavFilter13(tu)
+    a.reset(*start, lat=LAT, lon=LON, h=H)
+    s0 = a.get_state()
+    res = a.run(f, w, t=t, vel_t=vel_t, vel=vel, yaw_t=yaw_t, yaw=yaw, return_covariance=True)
+    assert res.x.shape == (120, 13) and res.P.shape == (120, 13, 13)
+    assert np.all(res.vel_status == 0) and np.all(res.yaw_status == 0)
+    assert res.flag("vel_updated").sum() == len(vel_t)
+    # The same by steps.
+    b = quatnav.NavFilter13(tu)
+    b.set_state(s0)
+    iv = iy = 0
+    for k in range(len(t)):
+        b.predict(f[k], w[k], 0.01)
+        while iv < len(vel_t) and vel_t[iv] <= t[k] + 1e-6:
+            assert b.update_velocity(vel[iv]).nis == res.vel_nis[iv]
+            iv += 1
+        while iy < len(yaw_t) and yaw_t[iy] <= t[k] + 1e-6:
+            assert b.update_yaw(yaw[iy]).nis == res.yaw_nis[iy]
+            iy += 1
+        np.testing.assert_array_equal(b.x, res.x[k])
+    # Split run: first half, save, restore into a new filter, second half.
+    c = quatnav.NavFilter13(tu)
+    c.set_state(s0)
+    m = 60
+    r1 = c.run(f[:m], w[:m], t=t[:m], vel_t=vel_t[vel_t <= t[m - 1]], vel=vel[vel_t <= t[m - 1]],
+               yaw_t=yaw_t[yaw_t <= t[m - 1]], yaw=yaw[yaw_t <= t[m - 1]])
+    d = quatnav.NavFilter13(tu)
+    d.set_state(c.get_state())
+    r2 = d.run(f[m:], w[m:], t=t[m:], vel_t=vel_t[vel_t > t[m - 1]], vel=vel[vel_t > t[m - 1]],
+               yaw_t=yaw_t[yaw_t > t[m - 1]], yaw=yaw[yaw_t > t[m - 1]])
+    np.testing.assert_array_equal(np.vstack([r1.x, r2.x]), res.x)
+
+
+@pytest.mark.parametrize("tu", POLICIES)
+def test_float32_tracks_float64(tu):
+    rng = np.random.default_rng(5)
+    start = _start(rng)
+    t, f, w = _imu(rng, 1000)
+    vel_t = t[9::10]
+    vel = np.tile([1.8, 0.9, 0.0], (len(vel_t), 1))
+    out = {}
+    for dt in (np.float64, np.float32):
+        flt = quatnav.NavFilter13(tu, dtype=dt)
+        flt.reset(*start, lat=LAT, lon=LON, h=H)
+        out[dt] = flt.run(f, w, t=t, vel_t=vel_t, vel=vel, yaw_t=vel_t, yaw=np.full(len(vel_t), 0.8))
+    assert out[np.float32].x.dtype == np.float32
+    assert np.abs(out[np.float32].x[:, :3] - out[np.float64].x[:, :3]).max() < 1e-3
+    ang = Q.angle_between(out[np.float32].quat.astype(float), out[np.float64].quat)
+    assert np.max(ang) < 1e-3
+
+
+def test_validation_names_argument_and_row():
+    with pytest.raises(ValueError, match="time_update"):
+        quatnav.NavFilter13("particle")
+    with pytest.raises(TypeError, match="dtype"):
+        quatnav.NavFilter13("ekf", dtype=np.int32)
+    with pytest.raises(TypeError, match="unknown parameter"):
+        quatnav.NavFilter13("ekf", gyro_nois=1.0)
+    with pytest.raises(ValueError, match="vel_noise"):
+        quatnav.NavFilter13("ekf", vel_noise=-1.0)
+    with pytest.raises(ValueError, match="ukf_alpha"):
+        quatnav.NavFilter13("ukf", ukf_alpha=1.0, ukf_kappa=-12.0)
+    flt = quatnav.NavFilter13("ekf")
+    with pytest.raises(ValueError, match="not initialized"):
+        flt.predict([0, 0, -9.8], [0, 0, 0], 0.01)
+    rng = np.random.default_rng(6)
+    flt.reset(*_start(rng), lat=LAT, lon=LON, h=H)
+    before = flt.get_state()
+    t, f, w = _imu(rng, 10)
+    f[3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"f_ib_b: non-finite value in row 3"):
+        flt.run(f, w, t=t)
+    with pytest.raises(ValueError, match=r"omega_ib_b: expected 10 rows"):
+        flt.run(w, w[:5], t=t)
+    with pytest.raises(ValueError, match=r"vel: non-finite value in row 1"):
+        flt.run(w, w, t=t, vel_t=t[:2], vel=[[1, 2, 3], [np.inf, 0, 0]])
+    with pytest.raises(ValueError, match="vel_t: times must be non-decreasing"):
+        flt.run(w, w, t=t, vel_t=t[[3, 1]], vel=[[1, 2, 3], [1, 2, 3]])
+    with pytest.raises(ValueError, match="yaw_t, yaw"):
+        flt.run(w, w, t=t, yaw_t=t[:2])
+    with pytest.raises(ValueError, match="dt"):
+        flt.predict([0, 0, -9.8], [0, 0, 0], 0.0)
+    with pytest.raises(ValueError, match="yaw"):
+        flt.update_yaw(np.nan)
+    with pytest.raises(ValueError, match="state"):
+        flt.set_state({"v_n": [0, 0, 0]})
+    after = flt.get_state()
+    for k in before:
+        np.testing.assert_array_equal(before[k], after[k])
+
+
+def test_yaw_innovation_wraps():
+    flt = quatnav.NavFilter13("ekf")
+    q = Q.from_euler([0.0, 0.0, np.radians(179.0)])
+    flt.reset([0, 0, 0], q, lat=LAT, lon=LON, h=H)
+    r = flt.update_yaw(np.radians(-179.0))
+    assert r.innovation[0] == pytest.approx(np.radians(2.0), abs=1e-9)
+
+
+def test_time_update_cost_helper_reports_all_policies():
+    d = quatnav._core.nav13_time_update_cost_ns(repeats=3, iterations=50)
+    assert set(POLICIES) <= set(d) and all(d[k] > 0 for k in POLICIES)
+
+
+@pytest.mark.slow
+def test_nees_within_chi_square_bounds_on_paper002_scenario():
+    """Monte Carlo of paper002_straight_then_circle with initial errors drawn from P0: the average
+    NEES of the 12-dimensional error state lies within the two-sided 99% chi-square bounds at
+    (nearly) every checked time, for every time update."""
+    chi2 = pytest.importorskip("scipy.stats").chi2
+    pytest.importorskip("quatnav.sim")
+    from quatnav.experiments import nav13 as X
+    runs = 8
+    mc = X.monte_carlo(runs, seed=100, mode="gaussian", with_nees=True, decimate=500)
+    t = mc["t"]
+    check = t >= 10.0
+    lo, hi = chi2.ppf([0.005, 0.995], 12 * runs) / runs
+    for tu in POLICIES:
+        anees = mc[tu]["nees"].mean(axis=0)[check]
+        inside = np.mean((anees > lo) & (anees < hi))
+        assert inside >= 0.8, f"{tu}: ANEES {np.round(anees, 2)} outside [{lo:.1f}, {hi:.1f}] too often"
+        assert 0.5 * 12 < anees.mean() < 1.5 * 12, f"{tu}: mean ANEES {anees.mean():.2f}"
