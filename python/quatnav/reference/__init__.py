@@ -6,10 +6,8 @@ so tests run both on the same inputs and compare them (to ~1e-9 in double precis
 from .kalman import kalman_correct
 from .attitude import EulerEKF, QuaternionEKF
 from .marg import MargFilter
-
-__all__ = ["kalman_correct", "QuaternionEKF", "EulerEKF"]
-__all__ += ["MargFilter"]
 from .nav13 import NavFilter13
 
 __all__ = ["kalman_correct", "QuaternionEKF", "EulerEKF"]
+__all__ += ["MargFilter"]
 __all__ += ["NavFilter13"]
