@@ -39,7 +39,7 @@ NAV13_FLAGS = {
 
 _PARAMS = ("accel_noise", "gyro_noise", "accel_bias_noise", "gyro_bias_noise", "vel_noise", "yaw_noise",
            "ukf_alpha", "ukf_beta", "ukf_kappa", "max_dt", "earth_rotation")
-_ZERO_OK = ("accel_bias_noise", "gyro_bias_noise", "accel_noise", "gyro_noise", "ukf_kappa", "ukf_beta")
+_ZERO_OK = ("accel_bias_noise", "gyro_bias_noise", "accel_noise", "gyro_noise", "ukf_beta")
 
 
 def euler_rate_matrix(rpy) -> np.ndarray:
@@ -194,6 +194,11 @@ class NavFilter13:
                 if not isinstance(value, (bool, np.bool_)):
                     raise TypeError(f"earth_rotation: expected a bool, got {type(value).__name__}")
                 setattr(p, name, bool(value))
+            elif name == "ukf_kappa":  # may be negative; checked with alpha below
+                k = V._numeric(value, name)
+                if k.ndim != 0 or not np.isfinite(k):
+                    raise ValueError(f"{name}: expected a finite number, got {value!r}")
+                setattr(p, name, float(k))
             else:
                 setattr(p, name, V.positive(value, name, allow_zero=name in _ZERO_OK))
         self._f = getattr(_core, _CORE[time_update] + suffix)(p)
