@@ -38,7 +38,10 @@ template <class S> void bind_qekf(py::module_& m) {
       .def_readwrite("init_att_sigma", &P::init_att_sigma)
       .def_readwrite("init_bias_sigma", &P::init_bias_sigma)
       .def_readwrite("mag_ref_samples", &P::mag_ref_samples)
-      .def_readwrite("max_dt", &P::max_dt);
+      .def_readwrite("max_dt", &P::max_dt)
+      .def_readwrite("gyro_range", &P::gyro_range)
+      .def_readwrite("acc_range", &P::acc_range)
+      .def_readwrite("cov_floor", &P::cov_floor);
   py::class_<F> cls(m, cls_name<S>("QuaternionEKF").c_str());
   cls.def(py::init<const P&>(), py::arg("params"));
   def_attitude_common<F>(cls);
@@ -83,7 +86,10 @@ template <class S> void bind_euler(py::module_& m) {
       .def_readwrite("init_bias_sigma", &P::init_bias_sigma)
       .def_readwrite("mag_ref_samples", &P::mag_ref_samples)
       .def_readwrite("max_dt", &P::max_dt)
-      .def_readwrite("singular_cos", &P::singular_cos);
+      .def_readwrite("singular_cos", &P::singular_cos)
+      .def_readwrite("gyro_range", &P::gyro_range)
+      .def_readwrite("acc_range", &P::acc_range)
+      .def_readwrite("cov_floor", &P::cov_floor);
   py::class_<F> cls(m, cls_name<S>("EulerEKF").c_str());
   cls.def(py::init<const P&>(), py::arg("params"));
   def_attitude_common<F>(cls);

@@ -6,6 +6,7 @@ batch runs execute in C++ with the GIL released. Plain numpy twins live in
 """
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,6 +28,7 @@ FLAGS = {
     "singular": 1 << 7,
     "at_rest": 1 << 8,
     "no_mag": 1 << 9,
+    "saturated": 1 << 10,
 }
 
 
@@ -69,6 +71,8 @@ class _AttitudeFilter:
     _core_name: str = ""
     _param_names: tuple = ()
     _int_params: tuple = ("mag_ref_samples",)
+    #: Parameters where 0 means "off" (unlimited range, no covariance floor).
+    _zero_ok_params: tuple = ("gyro_range", "acc_range", "cov_floor")
     n_states: int = 0
 
     def __init__(self, dtype=np.float64, **params):
@@ -84,7 +88,7 @@ class _AttitudeFilter:
                     raise ValueError(f"{name}: expected a positive integer, got {value!r}")
                 setattr(p, name, int(value))
             else:
-                setattr(p, name, V.positive(value, name))
+                setattr(p, name, V.positive(value, name, allow_zero=name in self._zero_ok_params))
         self._f = getattr(_core, self._core_name + suffix)(p)
 
     # -- parameters and state -------------------------------------------------------------
@@ -123,10 +127,33 @@ class _AttitudeFilter:
     def set_state(self, state: dict) -> None:
         if not isinstance(state, dict):
             raise TypeError(f"state: expected a dict from get_state(), got {type(state).__name__}")
-        missing = [k for k in self._f.get_state() if k not in state]
+        current = self._f.get_state()
+        missing = [k for k in current if k not in state]
         if missing:
             raise ValueError(f"state: missing keys {missing}")
-        status = self._f.set_state(state)
+        clean = {}
+        for key, ref in current.items():
+            name, value = f"state[{key!r}]", state[key]
+            if isinstance(ref, np.ndarray):
+                a = V._numeric(value, name)
+                if a.shape != ref.shape:
+                    raise ValueError(f"{name}: expected shape {ref.shape}, got {a.shape}")
+                clean[key] = np.ascontiguousarray(a, dtype=self.dtype)
+            elif isinstance(ref, (bool, np.bool_)):
+                if not isinstance(value, (bool, np.bool_)):
+                    raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
+                clean[key] = bool(value)
+            elif isinstance(ref, (int, np.integer)):
+                if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+                    raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
+                if not 0 <= int(value) < 2**32:
+                    raise ValueError(f"{name}: expected an integer in [0, 2**32), got {value!r}")
+                clean[key] = int(value)
+            else:
+                if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+                    raise TypeError(f"{name}: expected a real number, got {type(value).__name__}")
+                clean[key] = float(value)
+        status = self._f.set_state(clean)
         if status != "ok":
             raise ValueError(f"state: refused ({status})")
 
@@ -154,18 +181,27 @@ class _AttitudeFilter:
         if status == "not_initialized":
             raise ValueError("predict: the filter is not initialized (call initialize or reset first)")
         if status == "invalid_dt":
-            raise ValueError(f"dt: {d} s exceeds max_dt={self._f.params.max_dt} s")
+            if d > self._f.params.max_dt:
+                raise ValueError(f"dt: {d} s exceeds max_dt={self._f.params.max_dt} s")
+            raise ValueError(f"dt: {d} s is not a positive {self.dtype} number")
         return status
 
     def update_acc(self, acc, gate: float = 0.0):
         """Accelerometer update; returns an UpdateResult (status, innovation, innovation_cov, nis)."""
         self._require_init("update_acc")
-        return self._f.update_acc(V.vector(acc, "acc", dtype=self.dtype, nonzero=True), float(gate))
+        return self._f.update_acc(V.vector(acc, "acc", dtype=self.dtype, nonzero=True),
+                                  V.positive(gate, "gate", allow_zero=True))
 
     def update_mag(self, mag, gate: float = 0.0):
         """Magnetometer update; returns an UpdateResult."""
         self._require_init("update_mag")
-        return self._f.update_mag(V.vector(mag, "mag", dtype=self.dtype, nonzero=True), float(gate))
+        return self._f.update_mag(V.vector(mag, "mag", dtype=self.dtype, nonzero=True),
+                                  V.positive(gate, "gate", allow_zero=True))
+
+    @staticmethod
+    def _check_reset(status: str) -> None:
+        if status != "ok":
+            raise ValueError(f"quat, bias, P: reset refused ({status}; P needs a non-negative diagonal)")
 
     def _require_init(self, what: str) -> None:
         if not self._f.initialized:
@@ -192,7 +228,9 @@ class _AttitudeFilter:
         on_invalid : {"raise", "skip"}
             "raise": the first non-finite or zero-norm row raises ``ValueError`` naming the
             argument and row. "skip": such samples skip the affected update; the result's
-            ``flags`` and ``skipped_rows`` report them.
+            ``flags`` and ``skipped_rows`` report them. In both modes a reading at or above
+            ``gyro_range`` / ``acc_range`` (when set) skips its step and is reported under
+            ``"saturated"`` (with ``"predict_skipped"`` or ``"acc_skipped"``).
 
         Returns
         -------
@@ -214,7 +252,7 @@ class _AttitudeFilter:
                              max_dt=float(self._f.params.max_dt) if strict else None)
         quat, bias, sigma, att_sigma, flags = self._f.run(g, a, m, steps)
         skipped = {}
-        for name in ("predict_skipped", "acc_skipped", "mag_skipped"):
+        for name in ("predict_skipped", "acc_skipped", "mag_skipped", "saturated"):
             rows = np.flatnonzero(flags & FLAGS[name])
             if rows.size:
                 skipped[name] = rows
@@ -249,13 +287,22 @@ class QuaternionEKF(_AttitudeFilter):
         :meth:`set_mag_dip` fixes it).
     max_dt : float, default 1.0
         Longest accepted time step, s.
+    gyro_range : float, default 0
+        Gyro range per axis, rad/s: a sample with any ``|w_i| >= gyro_range`` is saturated and
+        its predict is skipped (status ``"saturated"``). 0: unlimited.
+    acc_range : float, default 0
+        Accelerometer range per axis, in the unit of ``acc`` (m/s^2): a saturated sample skips
+        its update. 0: unlimited.
+    cov_floor : float, default 1e-12
+        Eigenvalue floor of the error-state covariance (rad^2 and (rad/s)^2): after every step
+        an eigenvalue below it is raised to it (a healthy covariance is left untouched). 0: off.
     dtype : float64 or float32
         Precision of the C++ filter.
     """
 
     _core_name = "QuaternionEKF"
     _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "mag_ref_samples", "max_dt")
+                    "init_bias_sigma", "mag_ref_samples", "max_dt", "gyro_range", "acc_range", "cov_floor")
     n_states = 7
 
     def reset(self, quat, bias=None, P=None) -> None:
@@ -271,13 +318,14 @@ class QuaternionEKF(_AttitudeFilter):
         P = np.asarray(P, dtype=self.dtype)
         if P.shape != (7, 7) or not np.all(np.isfinite(P)):
             raise ValueError(f"P: expected a finite 7x7 matrix, got shape {P.shape}")
-        self._f.reset(q, b, P)
+        self._check_reset(self._f.reset(q, b, P))
 
     def update_acc_mag(self, acc, mag, gate: float = 0.0):
         """Joint accelerometer + magnetometer update, paper 000 eq. (11)-(12)."""
         self._require_init("update_acc_mag")
         return self._f.update_acc_mag(V.vector(acc, "acc", dtype=self.dtype, nonzero=True),
-                                      V.vector(mag, "mag", dtype=self.dtype, nonzero=True), float(gate))
+                                      V.vector(mag, "mag", dtype=self.dtype, nonzero=True),
+                                      V.positive(gate, "gate", allow_zero=True))
 
 
 class EulerEKF(_AttitudeFilter):
@@ -286,13 +334,15 @@ class EulerEKF(_AttitudeFilter):
     State ``[roll, pitch, yaw, bx, by, bz]``; Euler-rate kinematics (paper 004 eq. 1); the same
     measurements as :class:`QuaternionEKF`. Near pitch = +/-90 deg the parametrization is
     singular: the ``"singular"`` flag reports it (``singular_cos``: the |cos(pitch)| threshold).
-    Parameters as :class:`QuaternionEKF` plus ``singular_cos`` (default 0.02);
+    Parameters as :class:`QuaternionEKF` (including ``gyro_range``, ``acc_range`` and
+    ``cov_floor``, here a floor on the eigenvalues of P itself) plus ``singular_cos`` (default 0.02);
     ``init_att_sigma`` is the one-sigma of each Euler angle.
     """
 
     _core_name = "EulerEKF"
     _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "mag_ref_samples", "max_dt", "singular_cos")
+                    "init_bias_sigma", "mag_ref_samples", "max_dt", "singular_cos", "gyro_range",
+                    "acc_range", "cov_floor")
     n_states = 6
 
     @property
@@ -312,4 +362,4 @@ class EulerEKF(_AttitudeFilter):
         P = np.asarray(P, dtype=self.dtype)
         if P.shape != (6, 6) or not np.all(np.isfinite(P)):
             raise ValueError(f"P: expected a finite 6x6 matrix, got shape {P.shape}")
-        self._f.reset(e, b, P)
+        self._check_reset(self._f.reset(e, b, P))

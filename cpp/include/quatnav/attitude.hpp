@@ -66,6 +66,12 @@ bool attitude_from_acc_mag(const Vec3<S>& acc, const Vec3<S>* mag, Quat<S>& q, V
   return true;
 }
 
+/// True when a finite reading reaches the sensor's range on any axis (|v_i| >= range); a
+/// range <= 0 means unlimited. Non-finite readings are not "saturated" (they are NonFinite).
+template <class S> bool saturated(const Vec3<S>& v, S range) {
+  return range > S(0) && v.allFinite() && v.cwiseAbs().maxCoeff() >= range;
+}
+
 /// Normalize a vector that must not be zero; false on non-finite or (near) zero input.
 template <class S> Status unit_vector(const Vec3<S>& v, Vec3<S>& u) {
   if (!v.allFinite()) return Status::NonFinite;

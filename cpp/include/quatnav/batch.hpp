@@ -3,8 +3,9 @@
 // Inputs are row-major arrays of n samples: gyr (n x 3, rad/s), acc (n x 3), mag (n x 3 or
 // null), dt (n, seconds since the previous sample). At each sample: if the filter has no
 // attitude yet it is initialized from acc (and mag); otherwise predict(gyr, dt), then
-// update_acc(acc), then update_mag(mag). A magnetometer row that is entirely NaN means "no
-// sample" (kNoMag). Outputs (any may be null): quat (n x 4), bias (n x 3), sigma
+// update_acc(acc), then update_mag(mag). A saturated gyro or accelerometer reading skips its
+// step and sets kSaturated (with kPredictSkipped or kAccSkipped). A magnetometer row that is
+// entirely NaN means "no sample" (kNoMag). Outputs (any may be null): quat (n x 4), bias (n x 3), sigma
 // (n x kStates, sqrt of the covariance diagonal), att_sigma (n x 3, rad, body-frame
 // rotation-vector one-sigma), flags (n, quatnav::flags bits). Allocates nothing.
 #pragma once
@@ -22,6 +23,7 @@ std::uint32_t update_flags(const UpdateResult<S, M>& r, std::uint32_t skipped, s
   switch (r.status) {
     case Status::Ok: return 0;
     case Status::Rejected: return rejected;
+    case Status::Saturated: return flags::kSaturated | skipped;
     case Status::SolveFailed:
     case Status::NumericalFailure: return flags::kSolveFailed | skipped;
     default: return skipped;
@@ -45,7 +47,8 @@ void run_attitude_batch(Filter& f, const S* gyr, const S* acc, const S* mag, con
                                 : f.initialize(Vec3<S>(a));
       fl |= (s == Status::Ok) ? flags::kInitialized : (flags::kAccSkipped | flags::kPredictSkipped);
     } else {
-      if (f.predict(Vec3<S>(g), dt[k]) != Status::Ok) fl |= flags::kPredictSkipped;
+      const Status sp = f.predict(Vec3<S>(g), dt[k]);
+      if (sp != Status::Ok) fl |= flags::kPredictSkipped | (sp == Status::Saturated ? flags::kSaturated : 0u);
       fl |= update_flags(f.update_acc(Vec3<S>(a)), flags::kAccSkipped, flags::kAccRejected);
       if (have_mag)
         fl |= update_flags(f.update_mag(Vec3<S>(Eigen::Map<const Vec3<S>>(mag + 3 * k))), flags::kMagSkipped,

@@ -19,6 +19,7 @@
 #include <cstdint>
 
 #include "attitude.hpp"
+#include "covariance.hpp"
 #include "kalman.hpp"
 #include "quaternion.hpp"
 #include "types.hpp"
@@ -35,6 +36,9 @@ template <class S> struct EulerEKFParams {
   std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
   S max_dt = S(1);              ///< a predict with dt above this is refused [s]
   S singular_cos = S(0.02);     ///< |cos(pitch)| below this is reported as singular [-]
+  S gyro_range = S(0);          ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
+  S acc_range = S(0);           ///< accelerometer range per axis, unit of acc [m/s^2]; 0: unlimited
+  S cov_floor = S(1e-12);       ///< eigenvalue floor of P (covariance.hpp) [rad^2, (rad/s)^2]; 0: off
 };
 
 template <class S> struct EulerEKFState {
@@ -142,6 +146,7 @@ template <class S> class EulerEKF {
   Status set_state(const State& s) {
     if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite())
       return Status::NonFinite;
+    if (!detail::acceptable_covariance<S, 6>(s.P)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
   }
@@ -165,6 +170,7 @@ template <class S> class EulerEKF {
 
   Status reset(const Vec3<S>& euler, const Vec3<S>& bias, const Mat6& P) {
     if (!euler.allFinite() || !bias.allFinite() || !P.allFinite()) return Status::NonFinite;
+    if (!(P.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
     st_.euler = euler;
     st_.bias = bias;
     st_.P = P;
@@ -177,6 +183,7 @@ template <class S> class EulerEKF {
     if (!st_.initialized) return Status::NotInitialized;
     if (!gyr.allFinite()) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
+    if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Vec3<S> e;
     Mat6 F;
     Mat3<S> E;
@@ -189,6 +196,7 @@ template <class S> class EulerEKF {
     Mat6 P = F * st_.P * F.transpose() + Q;
     symmetrize(P);
     if (!P.allFinite() || !e.allFinite()) return Status::NumericalFailure;
+    floor_covariance<S, 6>(P, params_.cov_floor);
     e[0] = quat::wrap_pi(e[0]);
     e[2] = quat::wrap_pi(e[2]);
     st_.euler = e;
@@ -198,6 +206,11 @@ template <class S> class EulerEKF {
   }
 
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
+    if (st_.initialized && detail::saturated(acc, params_.acc_range)) {
+      UpdateResult<S, 3> r;
+      r.status = Status::Saturated;
+      return r;
+    }
     return update3(acc, S(0), S(-1), params_.acc_noise, gate);
   }
 
@@ -207,8 +220,11 @@ template <class S> class EulerEKF {
     Vec3<S> m;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
+    const MagRef<S> mag_before = st_.mag;
     st_.mag.learn(quat::rotate(quat(), m), params_.mag_ref_samples);
-    return update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
+    res = update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
+    if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
+    return res;
   }
 
  private:
@@ -245,6 +261,7 @@ template <class S> class EulerEKF {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
     if (kalman_correct<S, 6, 3>(P, H, R, Vec3<S>(u - h), dx, res, gate) != Status::Ok) return res;
+    floor_covariance<S, 6>(P, params_.cov_floor);
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);
     st_.euler[2] = quat::wrap_pi(st_.euler[2]);

@@ -25,6 +25,7 @@
 #include <limits>
 
 #include "attitude.hpp"
+#include "covariance.hpp"
 #include "kalman.hpp"
 #include "quaternion.hpp"
 #include "types.hpp"
@@ -41,6 +42,9 @@ template <class S> struct QuaternionEKFParams {
   S init_bias_sigma = S(0.01);    ///< initial gyro-bias one-sigma [rad/s]
   std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
   S max_dt = S(1);                ///< a predict with dt above this is refused [s]
+  S gyro_range = S(0);            ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
+  S acc_range = S(0);             ///< accelerometer range per axis, unit of acc [m/s^2]; 0: unlimited
+  S cov_floor = S(1e-12);         ///< eigenvalue floor of the error-state covariance (covariance.hpp) [rad^2, (rad/s)^2]; 0: off
 };
 
 /// The complete filter state; get_state()/set_state() round-trip exactly.
@@ -133,6 +137,7 @@ template <class S> class QuaternionEKF {
     if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite())
       return Status::NonFinite;
     if (std::abs(s.q.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
+    if (!detail::acceptable_covariance<S, 7>(s.P)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
   }
@@ -157,7 +162,8 @@ template <class S> class QuaternionEKF {
   Status reset(const Quat<S>& q, const Vec3<S>& bias, const Mat7& P) {
     if (!q.allFinite() || !bias.allFinite() || !P.allFinite()) return Status::NonFinite;
     const S n = q.norm();
-    if (!(n > S(0.5))) return Status::InvalidArgument;
+    if (!(n > S(0.5)) || !std::isfinite(n)) return Status::InvalidArgument;
+    if (!(P.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
     st_.q = q / n;
     st_.bias = bias;
     st_.P = P;
@@ -171,6 +177,7 @@ template <class S> class QuaternionEKF {
     if (!st_.initialized) return Status::NotInitialized;
     if (!gyr.allFinite()) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
+    if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
     Mat7 Phi;
     detail::qekf_propagate(st_.q, st_.bias, gyr, dt, q_new, Phi);
@@ -184,12 +191,14 @@ template <class S> class QuaternionEKF {
     symmetrize(P_new);
     if (!P_new.allFinite() || !q_new.allFinite()) return Status::NumericalFailure;
     st_.q = q_new / q_new.norm();
+    detail::qekf_floor_covariance(st_.q, P_new, params_.cov_floor);
     st_.P = P_new;
     return Status::Ok;
   }
 
   /// Accelerometer update (rows 1-3 of eq. 12); acc in any unit, normalized here.
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
+    if (st_.initialized && detail::saturated(acc, params_.acc_range)) return saturated_result<3>();
     return update3(acc, S(0), S(-1), params_.acc_noise, gate);
   }
 
@@ -200,19 +209,24 @@ template <class S> class QuaternionEKF {
     Vec3<S> m;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
+    const MagRef<S> mag_before = st_.mag;
     st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
-    return update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
+    res = update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
+    if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
+    return res;
   }
 
   /// Joint accelerometer + magnetometer update, eq. (11)-(12) as one 6-vector.
   UpdateResult<S, 6> update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 6> res;
     if (!st_.initialized) return res;
+    if (detail::saturated(acc, params_.acc_range)) return saturated_result<6>();
     Vec3<S> a, m;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
+    const MagRef<S> mag_before = st_.mag;
     st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
     Vec<S, 6> z, h;
     z << a, m;
@@ -224,6 +238,7 @@ template <class S> class QuaternionEKF {
     R.diagonal() << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
         Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
     apply_correction<6>(H, R, Vec<S, 6>(z - h), res, gate);
+    if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
     return res;
   }
 
@@ -245,6 +260,7 @@ template <class S> class QuaternionEKF {
     const Mat43<S> X = quat::xi(st_.q);
     const S sa = params_.init_att_sigma / S(2);
     st_.P.template topLeftCorner<4, 4>() = sa * sa * X * X.transpose();
+    symmetrize(st_.P);  // X X^T is symmetric only up to rounding
     st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_bias_sigma *
                                                                     params_.init_bias_sigma);
     st_.initialized = true;
@@ -264,6 +280,12 @@ template <class S> class QuaternionEKF {
     return res;
   }
 
+  template <int M> static UpdateResult<S, M> saturated_result() {
+    UpdateResult<S, M> r;
+    r.status = Status::Saturated;
+    return r;
+  }
+
   template <int M>
   void apply_correction(const Mat<S, M, 7>& H, const Mat<S, M, M>& R, const Vec<S, M>& y,
                         UpdateResult<S, M>& res, S gate) {
@@ -276,6 +298,7 @@ template <class S> class QuaternionEKF {
       return;
     }
     detail::qekf_normalize(q, P);
+    detail::qekf_floor_covariance(q, P, params_.cov_floor);
     st_.q = q;
     st_.bias += dx.template tail<3>();
     st_.P = P;

@@ -4,6 +4,7 @@
 #include "types.hpp"
 #include "quaternion.hpp"
 #include "kalman.hpp"
+#include "covariance.hpp"
 #include "attitude.hpp"
 #include "quaternion_ekf.hpp"
 #include "euler_ekf.hpp"

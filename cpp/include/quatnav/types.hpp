@@ -68,6 +68,7 @@ constexpr std::uint32_t kSolveFailed = 1u << 6;      ///< a Kalman correction fa
 constexpr std::uint32_t kSingular = 1u << 7;         ///< near a parametrization singularity (Euler filter)
 constexpr std::uint32_t kAtRest = 1u << 8;           ///< rest detected
 constexpr std::uint32_t kNoMag = 1u << 9;            ///< no magnetometer sample at this step
+constexpr std::uint32_t kSaturated = 1u << 10;       ///< a reading was saturated (its step skipped)
 }  // namespace flags
 
 /// The outcome of one measurement update with M rows.

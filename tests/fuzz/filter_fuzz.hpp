@@ -1,0 +1,272 @@
+// quatnav: the generic fault-injection driver shared by the libFuzzer targets (tests/fuzz/) and
+// the GoogleTest that replays random inputs under ctest (tests/cpp/test_robustness.cpp).
+//
+// A byte string is read as: filter parameters (valid, spread over decades), then a sequence of
+// operations (initialize, predict, updates, reset, set_state with arbitrary content), each with
+// arbitrary scalars: NaN, +-inf, +-0, huge, denormal, epsilon, raw bit patterns and ordinary
+// values. After every operation the driver checks the contract of every filter:
+//   * a status other than Ok or Rejected left the state bit for bit as it was;
+//   * after Ok, the whole state is finite, the quaternion has unit norm and P is symmetric;
+//   * an accepted update reports a finite innovation, innovation covariance and NIS.
+// A violation calls `fail(message)` (abort in the fuzzer, a test failure under GoogleTest).
+//
+// Adding a filter: one `FuzzAdapter<Filter<S>>` specialization with `params`, `same`, `healthy`
+// and `step` (its operations), then one line in each fuzz target / test.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include <quatnav/quatnav.hpp>
+
+namespace quatnav_fuzz {
+using namespace quatnav;
+
+/// Reads typed values from the fuzzer's bytes; past the end everything reads as zero bytes.
+struct Reader {
+  const std::uint8_t* p;
+  std::size_t n;
+  Reader(const std::uint8_t* data, std::size_t size) : p(data), n(size) {}
+  bool empty() const { return n == 0; }
+  std::uint8_t byte() {
+    if (n == 0) return 0;
+    --n;
+    return *p++;
+  }
+  template <class T> T raw() {
+    unsigned char b[sizeof(T)] = {};
+    for (auto& c : b) c = byte();
+    T v;
+    std::memcpy(&v, b, sizeof(T));
+    return v;
+  }
+  /// An arbitrary scalar, with the values that break numerical code over-represented.
+  template <class S> S scalar() {
+    using L = std::numeric_limits<S>;
+    switch (byte() % 20) {
+      case 0: return S(0);
+      case 1: return -S(0);
+      case 2: return L::quiet_NaN();
+      case 3: return L::infinity();
+      case 4: return -L::infinity();
+      case 5: return L::max();
+      case 6: return -L::max();
+      case 7: return L::denorm_min();
+      case 8: return L::min();
+      case 9: return L::epsilon();
+      case 10: return S(1e30f);
+      case 11: return raw<S>();  // any bit pattern (signalling NaNs included)
+      case 12: return S(raw<std::int8_t>()) / S(1000);
+      default: return S(raw<std::int16_t>()) / S(256);  // ordinary values in [-128, 128)
+    }
+  }
+  /// A positive finite parameter spread over decades around `typical`.
+  template <class S> S positive(S typical) {
+    const int e = int(byte() % 9) - 4;  // 1e-4 .. 1e4 times typical
+    return typical * S(std::pow(10.0, e));
+  }
+  template <class S> Vec3<S> vec3() { return Vec3<S>(scalar<S>(), scalar<S>(), scalar<S>()); }
+  /// A measurement: mostly a plausible sensor vector (so the filter gets deep), else arbitrary.
+  template <class S> Vec3<S> reading(const Vec3<S>& typical) {
+    const std::uint8_t k = byte() % 4;
+    if (k == 0) return vec3<S>();
+    const Vec3<S> noise(S(raw<std::int8_t>()), S(raw<std::int8_t>()), S(raw<std::int8_t>()));
+    return typical + noise * (k == 1 ? S(0.001) : k == 2 ? S(0.05) : S(1)) * typical.norm() / S(128);
+  }
+};
+
+template <class T> bool bits_equal(const T& a, const T& b) {
+  return std::memcmp(static_cast<const void*>(&a), static_cast<const void*>(&b), sizeof(T)) == 0;
+}
+
+template <class S, int N> bool symmetric(const Mat<S, N, N>& P) { return P == P.transpose(); }
+
+template <class S> bool same_mag(const MagRef<S>& a, const MagRef<S>& b) {
+  return bits_equal(a.ref, b.ref) && bits_equal(a.sin_dip_sum, b.sin_dip_sum) && a.count == b.count &&
+         a.fixed == b.fixed;
+}
+
+template <class F> struct FuzzAdapter;  // one specialization per filter
+
+/// What a step reported: its status and, for updates, whether the outputs are finite.
+struct StepOutcome {
+  Status status = Status::Ok;
+  bool outputs_finite = true;
+  const char* op = "";
+};
+
+template <class S, int M> StepOutcome outcome(const UpdateResult<S, M>& r, const char* op) {
+  StepOutcome o{r.status, true, op};
+  if (r.status == Status::Ok)
+    o.outputs_finite = r.innovation.allFinite() && r.innovation_cov.allFinite() && std::isfinite(r.nis);
+  return o;
+}
+
+/// The attitude filters (QuaternionEKF, EulerEKF) share their operations.
+template <class F> struct AttitudeOps {
+  using S = typename F::Scalar;
+  static typename F::Params params(Reader& r) {
+    typename F::Params p;
+    p.gyro_noise = r.positive<S>(p.gyro_noise);
+    p.gyro_bias_noise = r.positive<S>(p.gyro_bias_noise);
+    p.acc_noise = r.positive<S>(p.acc_noise);
+    p.mag_noise = r.positive<S>(p.mag_noise);
+    p.init_att_sigma = r.positive<S>(p.init_att_sigma);
+    p.init_bias_sigma = r.positive<S>(p.init_bias_sigma);
+    p.mag_ref_samples = 1u + r.byte();
+    p.max_dt = r.positive<S>(p.max_dt);
+    p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
+    p.acc_range = (r.byte() & 1) ? r.positive<S>(S(160)) : S(0);
+    p.cov_floor = (r.byte() & 1) ? r.positive<S>(S(1e-12)) : S(0);
+    return p;
+  }
+  /// Operations 0..6 common to both filters.
+  static StepOutcome common_step(F& f, Reader& r, int op) {
+    const Vec3<S> g_b(S(0.3), S(-0.2), S(-9.8)), m_b(S(20), S(2), S(43)), w_b(S(0.1), S(-0.05), S(0.2));
+    switch (op) {
+      case 0: return {f.initialize(r.reading<S>(g_b)), true, "initialize(acc)"};
+      case 1: {
+        const Vec3<S> a = r.reading<S>(g_b), m = r.reading<S>(m_b);
+        return {f.initialize(a, m), true, "initialize(acc, mag)"};
+      }
+      case 2: case 3: {
+        const Vec3<S> w = r.reading<S>(w_b);
+        const S dt = (r.byte() & 1) ? S(0.01) : r.scalar<S>();
+        return {f.predict(w, dt), true, "predict"};
+      }
+      case 4: {
+        const Vec3<S> a = r.reading<S>(g_b);
+        return outcome(f.update_acc(a, (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)), "update_acc");
+      }
+      case 5: {
+        const Vec3<S> m = r.reading<S>(m_b);
+        return outcome(f.update_mag(m, (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)), "update_mag");
+      }
+      default: f.set_mag_dip(S(0.5) + S(r.raw<std::int8_t>()) / S(256)); return {Status::Ok, true, "set_mag_dip"};
+    }
+  }
+};
+
+template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<QuaternionEKF<S>> {
+  using F = QuaternionEKF<S>;
+  using State = typename F::State;
+  static constexpr const char* name = "QuaternionEKF";
+  static bool same(const State& a, const State& b) {
+    return bits_equal(a.q, b.q) && bits_equal(a.bias, b.bias) && bits_equal(a.P, b.P) && same_mag(a.mag, b.mag) &&
+           a.initialized == b.initialized;
+  }
+  static bool healthy(const F& f, std::string& why) {
+    const State& s = f.state();
+    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite()) return why = "non-finite state", false;
+    if (s.initialized && std::abs(s.q.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
+      return why = "quaternion norm off 1", false;
+    if (!symmetric<S, 7>(s.P)) return why = "P not symmetric", false;
+    return true;
+  }
+  static State random_state(Reader& r) {
+    State s;
+    for (int i = 0; i < 4; ++i) s.q[i] = r.scalar<S>();
+    if (r.byte() & 1) s.q = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
+    s.bias = r.vec3<S>();
+    for (int i = 0; i < 7; ++i)
+      for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
+    s.mag.ref = r.vec3<S>();
+    s.mag.count = r.byte();
+    s.initialized = r.byte() & 1;
+    return s;
+  }
+  static StepOutcome step(F& f, Reader& r) {
+    const int op = r.byte() % 10;
+    switch (op) {
+      case 7: {
+        const Vec3<S> a = r.reading<S>(Vec3<S>(S(0.3), S(-0.2), S(-9.8))), m = r.reading<S>(Vec3<S>(S(20), S(2), S(43)));
+        return outcome(f.update_acc_mag(a, m), "update_acc_mag");
+      }
+      case 8: return {f.set_state(random_state(r)), true, "set_state"};
+      case 9: {
+        const State s = random_state(r);
+        return {f.reset(s.q, s.bias, s.P), true, "reset"};
+      }
+      default: return AttitudeOps<F>::common_step(f, r, op);
+    }
+  }
+};
+
+template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
+  using F = EulerEKF<S>;
+  using State = typename F::State;
+  static constexpr const char* name = "EulerEKF";
+  static bool same(const State& a, const State& b) {
+    return bits_equal(a.euler, b.euler) && bits_equal(a.bias, b.bias) && bits_equal(a.P, b.P) &&
+           same_mag(a.mag, b.mag) && a.initialized == b.initialized;
+  }
+  static bool healthy(const F& f, std::string& why) {
+    const State& s = f.state();
+    if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite()) return why = "non-finite state", false;
+    if (!f.quat().allFinite()) return why = "non-finite quaternion", false;
+    if (!symmetric<S, 6>(s.P)) return why = "P not symmetric", false;
+    return true;
+  }
+  static State random_state(Reader& r) {
+    State s;
+    s.euler = r.vec3<S>();
+    s.bias = r.vec3<S>();
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
+    s.mag.ref = r.vec3<S>();
+    s.mag.count = r.byte();
+    s.initialized = r.byte() & 1;
+    return s;
+  }
+  static StepOutcome step(F& f, Reader& r) {
+    const int op = r.byte() % 9;
+    switch (op) {
+      case 7: return {f.set_state(random_state(r)), true, "set_state"};
+      case 8: {
+        const State s = random_state(r);
+        return {f.reset(s.euler, s.bias, s.P), true, "reset"};
+      }
+      default: return AttitudeOps<F>::common_step(f, r, op);
+    }
+  }
+};
+
+/// Run one input through filter F; returns false (after calling fail) on a contract violation.
+template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
+  using A = FuzzAdapter<F>;
+  F f(A::params(r));
+  for (int k = 0; k < 4096 && !r.empty(); ++k) {
+    const typename F::State before = f.state();
+    const StepOutcome o = A::step(f, r);
+    std::string why;
+    if (o.status != Status::Ok && o.status != Status::Rejected && !A::same(before, f.state())) {
+      fail(std::string(A::name) + ": " + o.op + " returned " + to_string(o.status) + " but changed the state");
+      return false;
+    }
+    if (o.status == Status::Ok && !o.outputs_finite) {
+      fail(std::string(A::name) + ": " + o.op + " accepted with non-finite outputs");
+      return false;
+    }
+    if (o.status == Status::Ok && !A::healthy(f, why)) {
+      fail(std::string(A::name) + ": after " + o.op + ": " + why);
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The fuzz entry: the first byte picks the filter and the precision.
+template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
+  Reader r(data, size);
+  switch (r.byte() % 4) {
+    case 0: return run_one<QuaternionEKF<double>>(r, fail);
+    case 1: return run_one<QuaternionEKF<float>>(r, fail);
+    case 2: return run_one<EulerEKF<double>>(r, fail);
+    default: return run_one<EulerEKF<float>>(r, fail);
+  }
+}
+
+}  // namespace quatnav_fuzz
