@@ -7,7 +7,8 @@
 #      does find_package(quatnav) (cpp/examples/consumer),
 #   5. runs pytest on tests/python against the installed package.
 # Environment: PYTHON (default python3), QUATNAV_JOBS (default 2),
-#              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan.
+#              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan,
+#              QUATNAV_FUZZ_SECONDS=N (with clang) also fuzzes the filters for N s (tests/fuzz/run.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
@@ -49,6 +50,14 @@ if [ "${QUATNAV_SANITIZE:-0}" = 1 ]; then
         -DCMAKE_PREFIX_PATH="$EIGEN_PREFIX" >/dev/null
   cmake --build build/tests-asan -j "$JOBS"
   ctest --test-dir build/tests-asan --output-on-failure -j "$JOBS"
+fi
+
+if [ "${QUATNAV_FUZZ_SECONDS:-0}" -gt 0 ]; then
+  if command -v "${CXX_FUZZ:-clang++}" >/dev/null; then
+    PYTHON="$PY" bash tests/fuzz/run.sh "$QUATNAV_FUZZ_SECONDS"
+  else
+    echo "== fuzzing skipped: ${CXX_FUZZ:-clang++} not found (libFuzzer needs clang)"
+  fi
 fi
 
 # --- the installed package as a C++ dependency -----------------------------------------------

@@ -171,10 +171,12 @@ template <class S> class EulerEKF {
   Status reset(const Vec3<S>& euler, const Vec3<S>& bias, const Mat6& P) {
     if (!euler.allFinite() || !bias.allFinite() || !P.allFinite()) return Status::NonFinite;
     if (!(P.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
+    Mat6 P_sym = P;
+    symmetrize(P_sym);  // may overflow for huge finite entries: refuse those
+    if (!P_sym.allFinite()) return Status::InvalidArgument;
     st_.euler = euler;
     st_.bias = bias;
-    st_.P = P;
-    symmetrize(st_.P);
+    st_.P = P_sym;
     st_.initialized = true;
     return Status::Ok;
   }

@@ -164,10 +164,12 @@ template <class S> class QuaternionEKF {
     const S n = q.norm();
     if (!(n > S(0.5)) || !std::isfinite(n)) return Status::InvalidArgument;
     if (!(P.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
+    Mat7 P_sym = P;
+    symmetrize(P_sym);  // may overflow for huge finite entries: refuse those
+    if (!P_sym.allFinite()) return Status::InvalidArgument;
     st_.q = q / n;
     st_.bias = bias;
-    st_.P = P;
-    symmetrize(st_.P);
+    st_.P = P_sym;
     st_.initialized = true;
     return Status::Ok;
   }
