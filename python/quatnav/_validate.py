@@ -40,7 +40,7 @@ def first_bad_row(a: np.ndarray) -> int | None:
     """Index of the first row of ``a`` with a non-finite value, or None."""
     bad = ~np.isfinite(a)
     if a.ndim > 1:
-        bad = bad.reshape(a.shape[0], -1).any(axis=1)
+        bad = bad.reshape(a.shape[0], int(np.prod(a.shape[1:]))).any(axis=1)  # also for 0 rows
     idx = np.flatnonzero(bad)
     return int(idx[0]) if idx.size else None
 
