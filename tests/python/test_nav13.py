@@ -250,3 +250,27 @@ def test_nees_within_chi_square_bounds_on_paper002_scenario():
         inside = np.mean((anees > lo) & (anees < hi))
         assert inside >= 0.8, f"{tu}: ANEES {np.round(anees, 2)} outside [{lo:.1f}, {hi:.1f}] too often"
         assert 0.5 * 12 < anees.mean() < 1.5 * 12, f"{tu}: mean ANEES {anees.mean():.2f}"
+
+
+def test_experiment_cli_writes_table_and_claims(tmp_path):
+    """``quatnav experiment nav13`` on one run: the JSON holds every policy's RMSE per window, the
+    cost of each time update and the evaluated claims; the figure is written."""
+    pytest.importorskip("quatnav.sim")
+    pytest.importorskip("matplotlib")
+    from quatnav import cli
+    out, png = tmp_path / "nav13.json", tmp_path / "nav13.png"
+    assert cli.main(["experiment", "nav13", "--runs", "1", "--cost-repeats", "3", "--json", str(out),
+                     "--plot", str(png)]) == 0
+    import json
+    d = json.loads(out.read_text())
+    assert d["runs"] == 1 and png.stat().st_size > 10_000
+    for tu in POLICIES:
+        s = d["policies"][tu]
+        assert s["time_update_ns"] > 0
+        for w in ("0-100s", "100-200s", "0-5s"):
+            assert set(s[w]) >= {"roll_deg", "pitch_deg", "yaw_deg", "gyro_bias_x_deg_h", "gyro_bias_y_deg_h",
+                                 "gyro_bias_z_deg_h"}
+        # The filter converges: the attitude error after the turn is far below the initial 10-20 deg.
+        assert s["100-200s"]["attitude_deg"] < 1.0 < s["0-5s"]["attitude_deg"]
+    assert set(d["claims"]) == {"before_100s_attitude_ukf_lt_second_order_lt_ekf", "after_100s_second_order_best_yaw",
+                                "after_100s_second_order_best_gyro_bias_z", "second_order_cheaper_than_ukf"}
