@@ -81,7 +81,7 @@ def run_filter(scn, time_update: str, start, dtype=np.float64, return_covariance
     """Run one filter over a scenario from ``start`` (see :func:`initial_state`).
 
     ``accel_noise_scale`` multiplies the filter's accelerometer noise density (1: the paper's
-    value, which the Euler step's own error exceeds; see docs/NAV13.md)."""
+    value, with which the NEES exceeds its bounds in the vertical channel; see docs/NAV13.md)."""
     tr, imu = scn.truth, scn.imu
     flt = NavFilter13(time_update, dtype=dtype, accel_noise=accel_noise_scale * _density(scn, "accel"),
                       gyro_noise=_density(scn, "gyro"), vel_noise=scn.params["gps"]["vel_sigma_m_s"],
