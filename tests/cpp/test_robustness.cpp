@@ -38,6 +38,11 @@ TEST(FaultSequences, EulerEKF) {
   random_fault_sequences<EulerEKF<float>>(4, 300);
 }
 
+TEST(FaultSequences, MargFilter) {
+  random_fault_sequences<MargFilter<double>>(5, 300);
+  random_fault_sequences<MargFilter<float>>(6, 300);
+}
+
 // --- saturation ------------------------------------------------------------------------------
 template <class F> void expect_saturation_reported() {
   using S = typename F::Scalar;

@@ -105,7 +105,7 @@ template <class S, int M> StepOutcome outcome(const UpdateResult<S, M>& r, const
   return o;
 }
 
-/// The attitude filters (QuaternionEKF, EulerEKF) share their operations.
+/// The EKF attitude filters (QuaternionEKF, EulerEKF) share their operations.
 template <class F> struct AttitudeOps {
   using S = typename F::Scalar;
   static typename F::Params params(Reader& r) {
@@ -234,6 +234,92 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
   }
 };
 
+template <class S> StepOutcome marg_outcome(const MargUpdateResult<S>& r, const char* op) {
+  StepOutcome o{r.status, true, op};
+  if (r.status == Status::Ok) o.outputs_finite = std::isfinite(r.residual) && std::isfinite(r.residual_final);
+  return o;
+}
+
+template <class S> struct FuzzAdapter<MargFilter<S>> {
+  using F = MargFilter<S>;
+  using State = typename F::State;
+  static constexpr const char* name = "MargFilter";
+  static typename F::Params params(Reader& r) {
+    typename F::Params p;
+    p.gain = (r.byte() & 1) ? r.positive<S>(S(1)) : S(0);
+    p.bias_gain = (r.byte() & 1) ? r.positive<S>(S(0.01)) : S(0);
+    p.gn_max_iter = 1 + r.byte() % 8;
+    p.gn_tol = r.positive<S>(p.gn_tol);
+    p.gps_correction = r.byte() & 1;
+    p.gps_acc_tau = (r.byte() & 1) ? r.positive<S>(p.gps_acc_tau) : S(0);
+    p.omega_dot_tau = (r.byte() & 1) ? r.positive<S>(p.omega_dot_tau) : S(0);
+    p.gps_timeout = r.positive<S>(p.gps_timeout);
+    p.lever_arm_b = Vec3<S>(S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>())) / S(64);
+    p.max_dt = r.positive<S>(p.max_dt);
+    p.mag_ref_samples = 1u + r.byte();
+    return p;
+  }
+  static bool same(const State& a, const State& b) {
+    return bits_equal(a.q, b.q) && bits_equal(a.bias, b.bias) && same_mag(a.mag, b.mag) &&
+           bits_equal(a.omega_b, b.omega_b) && bits_equal(a.omega_dot_b, b.omega_dot_b) &&
+           bits_equal(a.gps_vel_n, b.gps_vel_n) && bits_equal(a.gps_acc_n, b.gps_acc_n) &&
+           bits_equal(a.gps_t, b.gps_t) && bits_equal(a.time_since_gps, b.time_since_gps) &&
+           bits_equal(a.time_since_update, b.time_since_update) && a.gps_fixes == b.gps_fixes &&
+           a.omega_set == b.omega_set && a.initialized == b.initialized;
+  }
+  static bool healthy(const F& f, std::string& why) {
+    const State& s = f.state();
+    if (!s.q.allFinite() || !s.bias.allFinite() || !s.mag.finite() || !s.omega_b.allFinite() ||
+        !s.omega_dot_b.allFinite() || !s.gps_vel_n.allFinite() || !s.gps_acc_n.allFinite() ||
+        !std::isfinite(s.gps_t) || !std::isfinite(s.time_since_gps) || !std::isfinite(s.time_since_update))
+      return why = "non-finite state", false;
+    if (s.initialized && std::abs(s.q.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
+    return true;
+  }
+  static StepOutcome step(F& f, Reader& r) {
+    const Vec3<S> g_b(S(0.3), S(-0.2), S(-9.8)), m_b(S(20), S(2), S(43)), w_b(S(0.1), S(-0.05), S(0.2));
+    const int op = r.byte() % 9;
+    switch (op) {
+      case 0: return {f.initialize(r.reading<S>(g_b)), true, "initialize(acc)"};
+      case 1: {
+        const Vec3<S> a = r.reading<S>(g_b), m = r.reading<S>(m_b);
+        return {f.initialize(a, m), true, "initialize(acc, mag)"};
+      }
+      case 2: case 3: {
+        const Vec3<S> w = r.reading<S>(w_b);
+        const S dt = (r.byte() & 1) ? S(0.01) : r.scalar<S>();
+        return {f.predict(w, dt), true, "predict"};
+      }
+      case 4: return marg_outcome(f.update_acc(r.reading<S>(g_b)), "update_acc");
+      case 5: {
+        const Vec3<S> a = r.reading<S>(g_b), m = r.reading<S>(m_b);
+        return marg_outcome(f.update_acc_mag(a, m), "update_acc_mag");
+      }
+      case 6: {
+        const Vec3<S> v = r.reading<S>(Vec3<S>(S(10), S(-3), S(0.5)));
+        const S t = (r.byte() & 1) ? S(0.1) * S(r.byte()) : r.scalar<S>();
+        return {f.update_gps_velocity(v, t), true, "update_gps_velocity"};
+      }
+      case 7: {
+        Quat<S> q;
+        for (int i = 0; i < 4; ++i) q[i] = r.scalar<S>();
+        if (r.byte() & 1) q = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
+        return {f.reset(q, r.vec3<S>()), true, "reset"};
+      }
+      default: {
+        State s = f.state();
+        switch (r.byte() % 4) {
+          case 0: for (int i = 0; i < 4; ++i) s.q[i] = r.scalar<S>(); break;
+          case 1: s.bias = r.vec3<S>(); s.omega_dot_b = r.vec3<S>(); break;
+          case 2: s.gps_t = r.scalar<S>(); s.time_since_gps = r.scalar<S>(); s.gps_fixes = int(r.byte() % 5) - 1; break;
+          default: s.mag.ref = r.vec3<S>(); s.initialized = r.byte() & 1; break;
+        }
+        return {f.set_state(s), true, "set_state"};
+      }
+    }
+  }
+};
+
 /// Run one input through filter F; returns false (after calling fail) on a contract violation.
 template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
   using A = FuzzAdapter<F>;
@@ -261,11 +347,13 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
 /// The fuzz entry: the first byte picks the filter and the precision.
 template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
   Reader r(data, size);
-  switch (r.byte() % 4) {
+  switch (r.byte() % 6) {
     case 0: return run_one<QuaternionEKF<double>>(r, fail);
     case 1: return run_one<QuaternionEKF<float>>(r, fail);
     case 2: return run_one<EulerEKF<double>>(r, fail);
-    default: return run_one<EulerEKF<float>>(r, fail);
+    case 3: return run_one<EulerEKF<float>>(r, fail);
+    case 4: return run_one<MargFilter<double>>(r, fail);
+    default: return run_one<MargFilter<float>>(r, fail);
   }
 }
 

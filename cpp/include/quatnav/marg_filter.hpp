@@ -257,8 +257,8 @@ template <class S> class MargFilter {
   /// Start from a given attitude and gyro bias.
   Status reset(const Quat<S>& q, const Vec3<S>& bias) {
     if (!q.allFinite() || !bias.allFinite()) return Status::NonFinite;
-    const S n = q.norm();
-    if (!(n > S(0.5))) return Status::InvalidArgument;
+    const S n = q.norm();  // overflows to inf for huge finite components: refused
+    if (!(n > S(0.5)) || !std::isfinite(n)) return Status::InvalidArgument;
     st_.q = q / n;
     st_.bias = bias;
     st_.time_since_update = S(0);
@@ -298,23 +298,30 @@ template <class S> class MargFilter {
     // True NED -> the filter's magnetic NED: rotate by -declination about down.
     const S cd = std::cos(params_.declination), sd = std::sin(params_.declination);
     const Vec3<S> v_n(cd * v_true_n[0] + sd * v_true_n[1], -sd * v_true_n[0] + cd * v_true_n[1], v_true_n[2]);
-    if (st_.gps_fixes == 0) {
-      st_.gps_fixes = 1;
+    // Work on copies: a result that overflows (a huge velocity step over a tiny dt) is refused
+    // and leaves the state as it was.
+    int fixes = st_.gps_fixes;
+    Vec3<S> acc_n = st_.gps_acc_n;
+    if (fixes == 0) {
+      fixes = 1;
     } else {
       const S dt = t - st_.gps_t;
       if (!(dt > S(0))) return Status::InvalidDt;
       if (dt > params_.gps_timeout) {
-        st_.gps_fixes = 1;
+        fixes = 1;
       } else {
         const Vec3<S> raw = (v_n - st_.gps_vel_n) / dt;
-        if (st_.gps_fixes == 1) {
-          st_.gps_acc_n = raw;
+        if (fixes == 1) {
+          acc_n = raw;
         } else {
-          st_.gps_acc_n += detail::lowpass_weight(dt, params_.gps_acc_tau) * (raw - st_.gps_acc_n);
+          acc_n += detail::lowpass_weight(dt, params_.gps_acc_tau) * (raw - acc_n);
         }
-        st_.gps_fixes = 2;
+        fixes = 2;
       }
     }
+    if (!v_n.allFinite() || !acc_n.allFinite()) return Status::NumericalFailure;
+    st_.gps_fixes = fixes;
+    st_.gps_acc_n = acc_n;
     st_.gps_vel_n = v_n;
     st_.gps_t = t;
     st_.time_since_gps = S(0);
