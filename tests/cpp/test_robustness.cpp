@@ -4,6 +4,8 @@
 // that every ctest run, also under ASan + UBSan, exercises them).
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 
 #include <random>
 #include <vector>
@@ -107,6 +109,43 @@ TEST(Saturation, BatchFlagsAndSkips) {
 }
 
 // --- covariance floor ------------------------------------------------------------------------
+// The fixed-size Jacobi eigen-decomposition against Eigen's solver, on random symmetric matrices
+// (including a repeated eigenvalue), in double and float.
+template <class S, int N> void check_symmetric_eigen(std::mt19937& rng, S tol) {
+  std::normal_distribution<double> nd;
+  for (int trial = 0; trial < 50; ++trial) {
+    Eigen::Matrix<double, N, N> B;
+    for (int i = 0; i < N * N; ++i) B(i) = nd(rng);
+    Eigen::Matrix<double, N, N> A = B + B.transpose();
+    if (trial % 5 == 0) {  // repeated eigenvalue
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(A);
+      Eigen::Matrix<double, N, 1> lam = es.eigenvalues();
+      lam(1) = lam(0);
+      A = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+      A = (A + A.transpose()).eval() * 0.5;
+    }
+    const Mat<S, N, N> As = A.template cast<S>();
+    Vec<S, N> lam;
+    Mat<S, N, N> V;
+    ASSERT_TRUE((detail::symmetric_eigen<S, N>(As, lam, &V)));
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> ref(As.template cast<double>());
+    Eigen::Matrix<double, N, 1> sorted = lam.template cast<double>();
+    std::sort(sorted.data(), sorted.data() + N);
+    const double scale = A.cwiseAbs().maxCoeff();
+    EXPECT_LT((sorted - ref.eigenvalues()).cwiseAbs().maxCoeff(), tol * scale);
+    EXPECT_LT((V.transpose() * V - Mat<S, N, N>::Identity()).cwiseAbs().maxCoeff(), tol);
+    EXPECT_LT((V * lam.asDiagonal() * V.transpose() - As).cwiseAbs().maxCoeff(), tol * scale);
+  }
+}
+
+TEST(CovarianceFloor, JacobiEigenMatchesEigenSolver) {
+  std::mt19937 rng(7);
+  check_symmetric_eigen<double, 6>(rng, 1e-12);
+  check_symmetric_eigen<double, 15>(rng, 1e-11);
+  check_symmetric_eigen<float, 6>(rng, 2e-5f);
+  check_symmetric_eigen<float, 15>(rng, 5e-5f);
+}
+
 TEST(CovarianceFloor, RepairsIndefiniteAndLeavesHealthyBitForBit) {
   Mat<double, 4, 4> A;
   A << 4, 1, 0.5, 0, 1, 3, 0.2, 0.1, 0.5, 0.2, 2, 0.3, 0, 0.1, 0.3, 1;

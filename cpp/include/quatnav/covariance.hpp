@@ -13,16 +13,80 @@
 // Filters whose state has a constraint (the unit quaternion of QuaternionEKF) apply the floor
 // to the covariance of their error state (the tangent space), not to P itself, whose null
 // direction along the constraint is structural (see detail::qekf_floor_covariance).
+//
+// The eigen-decomposition is a cyclic Jacobi iteration on fixed-size matrices
+// (detail::symmetric_eigen) rather than Eigen::SelfAdjointEigenSolver, whose Householder
+// tridiagonalization instantiates dynamic-size temporaries: harmless on a host, but on a
+// bare-metal target it links malloc into the image even though fixed sizes never reach it.
 #pragma once
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 
 #include "quaternion.hpp"
 #include "types.hpp"
 
 namespace quatnav {
+namespace detail {
+
+/// Eigen-decomposition of a symmetric fixed-size matrix by cyclic Jacobi rotations:
+/// A = V diag(lam) V^T with orthonormal V. Only the upper triangle's mirror is assumed (A is
+/// symmetrized first). At most `max_sweeps` sweeps over all (p, q) pairs; stops when the
+/// off-diagonal mass is below machine precision relative to the diagonal. No heap, no
+/// exceptions; returns false if it did not converge (lam and V then hold the last iterate).
+template <class S, int N>
+bool symmetric_eigen(const Mat<S, N, N>& A_in, Vec<S, N>& lam, Mat<S, N, N>* V_out = nullptr,
+                     int max_sweeps = 50) {
+  Mat<S, N, N> A = (A_in + A_in.transpose()) * S(0.5);
+  Mat<S, N, N> V = Mat<S, N, N>::Identity();
+  const S eps = std::numeric_limits<S>::epsilon();
+  bool converged = false;
+  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+    S off = S(0), diag = S(0);
+    for (int p = 0; p < N; ++p) {
+      diag += A(p, p) * A(p, p);
+      for (int q = p + 1; q < N; ++q) off += A(p, q) * A(p, q);
+    }
+    if (off <= eps * eps * diag || off == S(0)) {
+      converged = true;
+      break;
+    }
+    for (int p = 0; p < N - 1; ++p) {
+      for (int q = p + 1; q < N; ++q) {
+        const S apq = A(p, q);
+        if (apq == S(0)) continue;
+        // Rotation J (J_pp = J_qq = c, J_pq = s, J_qp = -s) with (J^T A J)_pq = 0:
+        // cot(2 phi) = (a_qq - a_pp) / (2 a_pq), t = tan(phi) the smaller root.
+        const S theta = (A(q, q) - A(p, p)) / (S(2) * apq);
+        const S t = (theta >= S(0) ? S(1) : S(-1)) / (std::abs(theta) + std::sqrt(theta * theta + S(1)));
+        const S c = S(1) / std::sqrt(t * t + S(1));
+        const S s = t * c;
+        for (int k = 0; k < N; ++k) {  // A <- A J
+          const S akp = A(k, p), akq = A(k, q);
+          A(k, p) = c * akp - s * akq;
+          A(k, q) = s * akp + c * akq;
+        }
+        for (int k = 0; k < N; ++k) {  // A <- J^T A
+          const S apk = A(p, k), aqk = A(q, k);
+          A(p, k) = c * apk - s * aqk;
+          A(q, k) = s * apk + c * aqk;
+        }
+        A(p, q) = A(q, p) = S(0);
+        for (int k = 0; k < N; ++k) {  // V <- V J
+          const S vkp = V(k, p), vkq = V(k, q);
+          V(k, p) = c * vkp - s * vkq;
+          V(k, q) = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+  lam = A.diagonal();
+  if (V_out) *V_out = V;
+  return converged;
+}
+
+}  // namespace detail
 
 /// Health figures of a covariance matrix.
 template <class S> struct CovarianceHealth {
@@ -42,9 +106,10 @@ template <class S, int N> CovarianceHealth<S> covariance_health(const Mat<S, N, 
   const S scale = P.cwiseAbs().maxCoeff();
   h.asymmetry = scale > S(0) ? (P - P.transpose()).cwiseAbs().maxCoeff() / scale : S(0);
   const Mat<S, N, N> Ps = (P + P.transpose()) * S(0.5);
-  const Eigen::SelfAdjointEigenSolver<Mat<S, N, N>> es(Ps, Eigen::EigenvaluesOnly);
-  h.min_eig = es.eigenvalues().minCoeff();
-  h.max_eig = es.eigenvalues().maxCoeff();
+  Vec<S, N> lam;
+  detail::symmetric_eigen<S, N>(Ps, lam);
+  h.min_eig = lam.minCoeff();
+  h.max_eig = lam.maxCoeff();
   return h;
 }
 
@@ -59,10 +124,14 @@ template <class S, int N> bool floor_covariance(Mat<S, N, N>& P, S floor) {
   const Eigen::LLT<Mat<S, N, N>> llt(shifted);
   if (llt.info() == Eigen::Success) return false;
   const Mat<S, N, N> Ps = (P + P.transpose()) * S(0.5);
-  const Eigen::SelfAdjointEigenSolver<Mat<S, N, N>> es(Ps);
-  if (es.info() != Eigen::Success) return false;
-  const Vec<S, N> lam = es.eigenvalues().cwiseMax(floor);
-  P = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+  Vec<S, N> lam;
+  Mat<S, N, N> V;
+  if (!detail::symmetric_eigen<S, N>(Ps, lam, &V)) return false;
+  // Raise to the floor plus a rounding margin (a few ulps of the largest eigenvalue), so the
+  // rebuilt P passes the Cholesky test above instead of sitting exactly on its edge.
+  const S margin = S(8 * N) * std::numeric_limits<S>::epsilon() * lam.cwiseAbs().maxCoeff();
+  lam = lam.cwiseMax(floor + margin);
+  P = V * lam.asDiagonal() * V.transpose();
   P = (P + P.transpose()).eval() * S(0.5);
   return true;
 }
