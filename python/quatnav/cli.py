@@ -15,6 +15,8 @@ def build_parser() -> argparse.ArgumentParser:
     sim_cli.add_parser(sub)
     from . import experiments
     experiments.add_parser(sub)
+    from . import bench
+    bench.add_parser(sub)
     return parser
 
 

@@ -1,0 +1,257 @@
+// Cost of one filter step (predict + every update that applies) for each filter and time-update
+// policy, float and double: ns per step (median of repeats after a warm-up), the number of
+// floating-point operations of one step (counted by running the same code on a counting
+// scalar, flop_counter.hpp), the resulting GFLOP/s, and the heap allocations seen during the
+// timed steps (must be 0).
+//
+//   cmake -S . -B build/bench -DQUATNAV_BUILD_BENCH=ON && cmake --build build/bench -j2
+//   build/bench/bench/cpp/quatnav_bench_filters [--reps R] [--steps N] [--filter SUBSTR] [--csv]
+//
+// Instruction counts that do not depend on the machine's load: bench/cpp/callgrind.sh.
+//
+// Adding a filter: write a case struct like QEKFCase below (name, policy, init, step) and add
+// one line `run_case<XCase>(opt);` in main().
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "flop_counter.hpp"
+
+#include <quatnav/quatnav.hpp>
+
+// ------------------------------------------------------------------------------------------
+// Heap allocations during the timed loop (global operator new counter).
+// ------------------------------------------------------------------------------------------
+static std::atomic<std::uint64_t> g_allocs{0};
+void* operator new(std::size_t n) {
+  ++g_allocs;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace qb {
+
+using quatnav::Quat;
+using quatnav::Vec3;
+using quatnav_bench::Counted;
+
+// ------------------------------------------------------------------------------------------
+// Simulated MARG samples: smooth rotation (rates up to ~1 rad/s), gravity and an Earth field
+// seen in the body frame, white noise and a constant gyro bias. Deterministic (fixed seed).
+// ------------------------------------------------------------------------------------------
+template <class S> struct Sample {
+  Vec3<S> gyr, acc, mag;
+  S dt;
+};
+
+struct SampleD {
+  Vec3<double> gyr, acc, mag;
+  double dt;
+};
+
+inline const std::vector<SampleD>& marg_samples() {
+  static const std::vector<SampleD> data = [] {
+    const std::size_t n = 4000;
+    const double dt = 0.005;  // 200 Hz
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> N01(0.0, 1.0);
+    const Vec3<double> g_n(0, 0, 9.80665), m_n(20e-6, 0.0, 45e-6), bias(0.01, -0.02, 0.005);
+    Quat<double> q = quatnav::quat::from_euler(0.1, -0.2, 0.5);
+    std::vector<SampleD> out(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double t = k * dt;
+      const Vec3<double> w(0.8 * std::sin(0.9 * t), 0.6 * std::cos(0.7 * t), 1.0 * std::sin(0.3 * t + 1));
+      q = quatnav::quat::normalized(quatnav::quat::mul(q, quatnav::quat::from_rotvec<double>(w * dt)));
+      SampleD s;
+      s.dt = dt;
+      for (int i = 0; i < 3; ++i) {
+        s.gyr[i] = w[i] + bias[i] + 0.002 * N01(rng);
+      }
+      s.acc = quatnav::quat::rotate_inv(q, Vec3<double>(-g_n));
+      s.mag = quatnav::quat::rotate_inv(q, m_n);
+      for (int i = 0; i < 3; ++i) {
+        s.acc[i] += 0.02 * N01(rng);
+        s.mag[i] += 0.3e-6 * N01(rng);
+      }
+      out[k] = s;
+    }
+    return out;
+  }();
+  return data;
+}
+
+template <class S> std::vector<Sample<S>> samples_as() {
+  std::vector<Sample<S>> out;
+  for (const SampleD& d : marg_samples())
+    out.push_back({d.gyr.cast<S>(), d.acc.cast<S>(), d.mag.cast<S>(), S(d.dt)});
+  return out;
+}
+
+// ------------------------------------------------------------------------------------------
+// Cases: one struct per filter (and time-update policy).
+// ------------------------------------------------------------------------------------------
+template <class S> struct QEKFCase {
+  static constexpr const char* name = "QuaternionEKF";
+  static constexpr const char* policy = "ekf";
+  static constexpr const char* step_desc = "predict+acc+mag";
+  quatnav::QuaternionEKF<S> f;
+  void init(const Sample<S>& s) { f.initialize(s.acc, s.mag); }
+  void step(const Sample<S>& s) {
+    f.predict(s.gyr, s.dt);
+    f.update_acc(s.acc);
+    f.update_mag(s.mag);
+  }
+};
+
+template <class S> struct QEKFJointCase : QEKFCase<S> {
+  static constexpr const char* policy = "ekf, joint 6-row update";
+  static constexpr const char* step_desc = "predict+acc_mag";
+  void step(const Sample<S>& s) {
+    this->f.predict(s.gyr, s.dt);
+    this->f.update_acc_mag(s.acc, s.mag);
+  }
+};
+
+template <class S> struct EulerEKFCase {
+  static constexpr const char* name = "EulerEKF";
+  static constexpr const char* policy = "ekf";
+  static constexpr const char* step_desc = "predict+acc+mag";
+  quatnav::EulerEKF<S> f;
+  void init(const Sample<S>& s) { f.initialize(s.acc, s.mag); }
+  void step(const Sample<S>& s) {
+    f.predict(s.gyr, s.dt);
+    f.update_acc(s.acc);
+    f.update_mag(s.mag);
+  }
+};
+
+// ------------------------------------------------------------------------------------------
+// Harness
+// ------------------------------------------------------------------------------------------
+struct Options {
+  int reps = 21;
+  std::size_t steps = 4000;  // steps per repeat
+  std::string filter;
+  bool csv = false;
+  bool list = false;     // --list: print the case labels and exit
+  bool flops = true;     // --no-flops: skip the counting run (callgrind.sh)
+  std::string scalar;    // --scalar float|double: time only that one
+};
+
+// Not inlined, so that `valgrind --tool=callgrind --toggle-collect='*timed_steps*'` counts
+// exactly the steps (bench/cpp/callgrind.sh).
+template <class C, class S>
+__attribute__((noinline)) void timed_steps(C& c, const std::vector<Sample<S>>& data, std::size_t& k,
+                                           std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    c.step(data[k]);
+    if (++k == data.size()) k = 1;
+  }
+}
+
+template <class C, class S> C* make_case(const std::vector<Sample<S>>& data) {
+  C* c = new C();
+  c->init(data[0]);
+  return c;
+}
+
+template <class S> const char* scalar_name() { return sizeof(S) == 4 ? "float" : "double"; }
+
+template <class S, template <class> class CaseT>
+double time_case(const Options& opt, std::uint64_t& allocs) {
+  const std::vector<Sample<S>> data = samples_as<S>();
+  CaseT<S>* c = make_case<CaseT<S>>(data);
+  std::size_t k = 1;
+  timed_steps(*c, data, k, opt.steps);  // warm-up
+  std::vector<double> ns;
+  ns.reserve(std::size_t(opt.reps));
+  const std::uint64_t a0 = g_allocs.load();
+  for (int r = 0; r < opt.reps; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    timed_steps(*c, data, k, opt.steps);
+    const auto t1 = std::chrono::steady_clock::now();
+    ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / double(opt.steps));
+  }
+  allocs = g_allocs.load() - a0;
+  delete c;
+  std::nth_element(ns.begin(), ns.begin() + ns.size() / 2, ns.end());
+  return ns[ns.size() / 2];
+}
+
+template <template <class> class CaseT> double count_flops() {
+  const std::vector<Sample<Counted>> data = samples_as<Counted>();
+  CaseT<Counted>* c = make_case<CaseT<Counted>>(data);
+  std::size_t k = 1;
+  const std::size_t n = 1000;
+  timed_steps(*c, data, k, n);
+  const std::uint64_t f0 = quatnav_bench::flop_count();
+  timed_steps(*c, data, k, n);
+  const double per_step = double(quatnav_bench::flop_count() - f0) / double(n);
+  delete c;
+  return per_step;
+}
+
+template <template <class> class CaseT> void run_case(const Options& opt) {
+  const std::string label = std::string(CaseT<double>::name) + " [" + CaseT<double>::policy + "]";
+  if (!opt.filter.empty() && label != opt.filter && label.find(opt.filter) == std::string::npos) return;
+  if (opt.list) {
+    std::printf("%s\t%s\n", label.c_str(), CaseT<double>::name);
+    return;
+  }
+  const double flops = opt.flops ? count_flops<CaseT>() : 0.0;
+  std::uint64_t alloc_d = 0, alloc_f = 0;
+  const double ns_d = opt.scalar != "float" ? time_case<double, CaseT>(opt, alloc_d) : 0.0;
+  const double ns_f = opt.scalar != "double" ? time_case<float, CaseT>(opt, alloc_f) : 0.0;
+  if (opt.csv) {
+    std::printf("%s,%s,%s,%.0f,%.1f,%.1f,%llu\n", CaseT<double>::name, CaseT<double>::policy,
+                CaseT<double>::step_desc, flops, ns_d, ns_f, (unsigned long long)(alloc_d + alloc_f));
+  } else {
+    std::printf("%-42s %-18s %8.0f %9.1f %7.2f %9.1f %7.2f %6llu\n", label.c_str(), CaseT<double>::step_desc,
+                flops, ns_d, flops / ns_d, ns_f, flops / ns_f, (unsigned long long)(alloc_d + alloc_f));
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace qb
+
+int main(int argc, char** argv) {
+  qb::Options opt;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--reps" && i + 1 < argc) opt.reps = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--steps" && i + 1 < argc) opt.steps = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--filter" && i + 1 < argc) opt.filter = argv[++i];
+    else if (a == "--csv") opt.csv = true;
+    else if (a == "--no-flops") opt.flops = false;
+    else if (a == "--list") opt.list = true;
+    else if (a == "--scalar" && i + 1 < argc) opt.scalar = argv[++i];
+    else {
+      std::printf("usage: %s [--reps R] [--steps N] [--filter SUBSTR] [--csv] [--no-flops] [--scalar float|double]\n", argv[0]);
+      return a == "--help" || a == "-h" ? 0 : 2;
+    }
+  }
+  if (opt.list) {
+  } else if (opt.csv) {
+    std::printf("filter,policy,step,flops_per_step,ns_double,ns_float,heap_allocs\n");
+  } else {
+    std::printf("ns per step: median of %d repeats of %zu steps after a warm-up; flops counted on a "
+                "counting scalar\n", opt.reps, opt.steps);
+    std::printf("%-42s %-18s %8s %9s %7s %9s %7s %6s\n", "filter [policy]", "step", "flops", "ns f64",
+                "GF/s", "ns f32", "GF/s", "allocs");
+  }
+  qb::run_case<qb::QEKFCase>(opt);
+  qb::run_case<qb::QEKFJointCase>(opt);
+  qb::run_case<qb::EulerEKFCase>(opt);
+  return 0;
+}
