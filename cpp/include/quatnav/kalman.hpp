@@ -55,8 +55,12 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
     res.status = Status::Rejected;
     return res.status;
   }
-  // K^T = S^-1 H P  (S symmetric), K = P H^T S^-1.
-  const Mat<S, N, M> K = llt.solve(PHt.transpose()).transpose();
+  // K^T = S^-1 H P  (S symmetric), K = P H^T S^-1, solved one row of K at a time: Eigen solves
+  // a fixed-size vector right-hand side fully inline, whereas a matrix right-hand side goes
+  // through its blocked solver, whose heap fallback (never taken for fixed sizes) would still
+  // link malloc into a microcontroller image (see docs/PORTING.md).
+  Mat<S, N, M> K;
+  for (int j = 0; j < N; ++j) K.row(j) = llt.solve(Vec<S, M>(PHt.row(j).transpose())).transpose();
   const Vec<S, N> dx_new = K * y;
   Mat<S, N, N> IKH = Mat<S, N, N>::Identity() - K * H;
   Mat<S, N, N> P_new = IKH * P * IKH.transpose() + K * R * K.transpose();
