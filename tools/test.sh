@@ -5,7 +5,9 @@
 #   3. builds and runs the GoogleTest suite with ctest,
 #   4. installs the headers with `cmake --install` and builds a separate CMake project that
 #      does find_package(quatnav) (cpp/examples/consumer),
-#   5. runs pytest on tests/python against the installed package.
+#   5. cross-compiles every filter in float32 for a Cortex-M4F and compares it in QEMU with the
+#      host double run (cpp/examples/embedded/run.py; apt gcc-arm-none-eabi, qemu-system-arm),
+#   6. runs pytest on tests/python against the installed package.
 # Environment: PYTHON (default python3), QUATNAV_JOBS (default 2),
 #              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan,
 #              QUATNAV_FUZZ_SECONDS=N (with clang) also fuzzes the filters for N s (tests/fuzz/run.sh).
@@ -67,6 +69,19 @@ cmake -S cpp/examples/consumer -B build/consumer -DCMAKE_BUILD_TYPE=Release \
       -DCMAKE_PREFIX_PATH="$ROOT/build/install;$EIGEN_PREFIX" >/dev/null
 cmake --build build/consumer -j "$JOBS" >/dev/null
 ./build/consumer/quatnav_consumer
+
+# --- embedded baseline: float32 on a Cortex-M4F in QEMU (cpp/examples/embedded/run.py) ------
+emb=()
+command -v arm-none-eabi-g++ >/dev/null || emb+=(gcc-arm-none-eabi)
+dpkg -s libnewlib-arm-none-eabi >/dev/null 2>&1 || emb+=(libnewlib-arm-none-eabi)
+command -v qemu-system-arm >/dev/null || emb+=(qemu-system-arm)
+if [ ${#emb[@]} -gt 0 ]; then
+  echo "== installing Debian packages: ${emb[*]}"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${emb[@]}" >/dev/null
+fi
+echo "== embedded: cross-compile every filter for a Cortex-M4F, run it in QEMU, compare with the host"
+QUATNAV_JOBS="$JOBS" timeout 1200 "$PY" cpp/examples/embedded/run.py --check --report-dir build/embedded/report
 
 # --- Python tests ---------------------------------------------------------------------------
 echo "== pytest"

@@ -1,0 +1,87 @@
+"""The embedded baseline: every filter built in float32 for a Cortex-M4F (no heap, no exceptions),
+run in QEMU's mps2-an386, agrees with the host double-precision run of the same source.
+
+Runs cpp/examples/embedded/run.py (cached in build/embedded, so after `tools/test.sh`'s embedded
+step this only replays); skips when the cross toolchain or QEMU is absent.
+"""
+
+import importlib.util
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "cpp" / "examples" / "embedded" / "run.py"
+TOOLS = ("arm-none-eabi-g++", "arm-none-eabi-size", "arm-none-eabi-nm", "qemu-system-arm")
+MISSING = [t for t in TOOLS if shutil.which(t) is None]
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(bool(MISSING), reason=f"embedded toolchain absent: {', '.join(MISSING)} "
+                       "(apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)"),
+]
+
+
+def _script():
+    spec = importlib.util.spec_from_file_location("quatnav_embedded_run", SCRIPT)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_attitude_difference_measure():
+    run = _script()
+    import numpy as np
+    from quatnav import quaternion as quat
+
+    q = quat.from_rotvec(np.array([[0.0, 0.0, 0.0], [0.1, -0.2, 0.3]]))
+    dq = quat.from_rotvec(np.array([[1e-6, 0.0, 0.0], [0.0, 0.02, 0.0]]))
+    d = run.att_diff_deg(q, quat.mul(q, dq))
+    np.testing.assert_allclose(d, np.degrees([1e-6, 0.02]), rtol=1e-6)
+    np.testing.assert_allclose(run.att_diff_deg(q, -q), 0.0, atol=1e-12)  # q and -q: same attitude
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("embedded")
+    r = subprocess.run([sys.executable, str(SCRIPT), "--check", "--opt", "Os", "--report-dir", str(out)],
+                       capture_output=True, text=True, timeout=1500, cwd=ROOT)
+    assert r.returncode == 0, r.stdout[-4000:] + r.stderr[-4000:]
+    return json.loads((out / "report.json").read_text())
+
+
+def test_every_filter_runs_on_the_target(report):
+    run = _script()
+    assert report["failures"] == []
+    assert {row["filter"] for row in report["rows"]} == {f[0] for f in run.FILTERS}
+    for row in report["rows"]:
+        assert "error" not in row, row["filter"]
+        assert row["forbidden_symbols"] == [], row["filter"]
+        assert row["flags_differ_vs_host_double"] == 0, row["filter"]
+
+
+def test_float32_target_matches_host_double(report):
+    for row in report["rows"]:
+        # float32 rounding only: far below any filter's own error
+        assert row["max_att_diff_vs_host_double_deg"] < 0.05, row["filter"]
+        assert row["max_att_diff_vs_host_double_deg"] > 0.0, row["filter"]  # it really ran in float32
+
+
+def test_resources_are_measured(report):
+    for row in report["rows"]:
+        assert row["text"] > 0 and row["state_bytes"] > 0 and row["object_bytes"] >= row["state_bytes"]
+        assert 0 < row["stack_measured"] < 0x8000, row["filter"]  # within the reserved stack region
+        assert row["stack_static"] > 0 and row["stack_depth"] >= 2
+        assert row["insn_per_step_min"] > 0 and row["insn_per_step_max"] >= row["insn_per_step_mean"]
+
+
+def test_host_double_reference_is_the_library(report):
+    # the host double run of the firmware source is what quatnav.<Filter>().run gives
+    rows = [r for r in report["rows"] if "host_double_vs_python_deg" in r]
+    assert rows
+    for row in rows:
+        assert row["host_double_vs_python_deg"] < 1e-9, row["filter"]
