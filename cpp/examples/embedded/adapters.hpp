@@ -43,6 +43,32 @@ template <class Filter> struct AttitudeAdapter {
   Quat<S> attitude() const { return f.quat(); }
 };
 
+/// MargFilter (paper 001) on the "marg" recording, fed like quatnav::run_marg_batch without GPS
+/// fixes (sample k at time dt[1] + ... + dt[k]).
+template <class S> struct MargAdapter {
+  using Filter = quatnav::MargFilter<S>;
+  using State = typename Filter::State;
+  Filter f;
+  S t = S(0);
+
+  std::uint32_t step(std::uint32_t k) {
+    S g[3], a[3], m[3];
+    for (int i = 0; i < 3; ++i) {
+      g[i] = S(qn_input::gyr[k][i]);
+      a[i] = S(qn_input::acc[k][i]);
+      m[i] = S(qn_input::mag[k][i]);
+    }
+    const S dt = S(qn_input::dt[k]);
+    if (k > 0) t += dt;
+    std::uint32_t fl = 0;
+    quatnav::run_marg_batch(f, &t, &dt, g, a, m, 1, static_cast<const S*>(nullptr), static_cast<const S*>(nullptr),
+                            0, static_cast<S*>(nullptr), static_cast<S*>(nullptr), static_cast<S*>(nullptr),
+                            static_cast<S*>(nullptr), &fl);
+    return fl;
+  }
+  Quat<S> attitude() const { return f.quat(); }
+};
+
 /// The strapdown mechanization on the "nav" recording, started from the true initial state.
 template <class S> struct StrapdownAdapter {
   using State = quatnav::StrapdownState<S>;

@@ -62,6 +62,7 @@ INCLUDE = ROOT / "cpp" / "include"
 FILTERS = [
     ("QuaternionEKF", "marg", "qn_fw::AttitudeAdapter<quatnav::QuaternionEKF<QN_SCALAR>>"),
     ("EulerEKF", "marg", "qn_fw::AttitudeAdapter<quatnav::EulerEKF<QN_SCALAR>>"),
+    ("MargFilter", "marg", "qn_fw::MargAdapter<QN_SCALAR>"),
     ("Strapdown", "nav", "qn_fw::StrapdownAdapter<QN_SCALAR>"),
 ]
 NULL_ADAPTER = "qn_fw::NullAdapter<QN_SCALAR>"
