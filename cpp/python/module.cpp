@@ -7,6 +7,7 @@ void bind_attitude(py::module_& m);
 void bind_strapdown(py::module_& m);
 void bind_marg(py::module_& m);
 void bind_nav13(py::module_& m);
+void bind_gpsins(py::module_& m);
 }  // namespace quatnav_py
 
 PYBIND11_MODULE(_core, m) {
@@ -17,4 +18,5 @@ PYBIND11_MODULE(_core, m) {
   quatnav_py::bind_strapdown(m);
   quatnav_py::bind_marg(m);
   quatnav_py::bind_nav13(m);
+  quatnav_py::bind_gpsins(m);
 }

@@ -10,9 +10,11 @@ from . import earth, strapdown
 from .attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 from .marg import MARG_FLAGS, MargFilter, MargResult
 from .nav13 import NavFilter13, NavResult
+from .gpsins import GpsInsFilter, GpsInsResult
 
 __version__ = _core.__version__
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
 __all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]
 __all__ += ["NavFilter13", "NavResult"]
+__all__ += ["GpsInsFilter", "GpsInsResult"]

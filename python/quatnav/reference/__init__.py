@@ -7,7 +7,9 @@ from .kalman import kalman_correct
 from .attitude import EulerEKF, QuaternionEKF
 from .marg import MargFilter
 from .nav13 import NavFilter13
+from .gpsins import GpsInsFilter
 
 __all__ = ["kalman_correct", "QuaternionEKF", "EulerEKF"]
 __all__ += ["MargFilter"]
 __all__ += ["NavFilter13"]
+__all__ += ["GpsInsFilter"]

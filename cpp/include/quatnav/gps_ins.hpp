@@ -1,0 +1,881 @@
+// quatnav: loosely coupled GPS/INS feedback Kalman filter with altimeter and compass (paper 004,
+// Lee & Jeong, "Design and Implementation of UAV Navigation System Using Kalman Filter").
+//
+// Nominal state: the strapdown mechanization of strapdown.hpp (quaternion attitude q_nb, NED
+// velocity with Coriolis and transport terms, geodetic position kept in double), fed with the
+// IMU corrected by the current bias estimates. Paper 004 integrates Euler angles (eq. 1); the
+// quaternion is used instead, so there is no gimbal lock; Euler angles are an output only.
+//
+// Error state (15), eq. (3)-(7), every error defined as estimate minus truth:
+//   dx = [dp_n (N, E, D position error, m), dv_n (m/s), psi (rad), db_a (m/s^2), db_g (rad/s)]
+// The attitude error is the phi-angle (nav-frame small rotation): C_nb_est = (I + [psi x]) C_nb.
+// Paper 004's state list (eq. 5) repeats V_E and psi_N: the intended states are the 15 above.
+//
+// Continuous error dynamics (detail::error_dynamics; verified against finite differences of the
+// mechanization in tests/python/test_gpsins.py):
+//   dp' = F_pp dp + dv                                           (eq. 9: in metres, the exact
+//         linearization of lat' = v_N/(R_M+h), lon' = v_E/((R_N+h) cos L), h' = -v_D)
+//   dv' = -[f_n x] psi - C_nb db_a - [(2 w_ie + w_en) x] dv + [v x](2 dw_ie + dw_en) + dg   (eq. 8)
+//   psi' = -[w_in x] psi - C_nb db_g - dw_in                     (eq. 10)
+//   db' = -db / tau (first-order Gauss-Markov; tau <= 0: random walk)
+// Paper slips fixed here: eq. (10) writes only w_ie x Psi; the nav frame turns at
+// w_in = w_ie + w_en, and the errors of w_ie (latitude) and w_en (velocity, position) drive psi.
+// Eq. (8)'s "f^n Psi" is -[f_n x] psi with the sign of this error definition. Eq. (2)'s V^n lists
+// V_E twice (it is [V_N V_E V_D]), its R_m lost the power 3/2 (R_M = R0 (1-e^2) /
+// (1 - e^2 sin^2 L)^{3/2}), w_ie lost cos L ([W cos L, 0, -W sin L]) and g^n = [0 0 -g_e] has the
+// wrong sign for NED (g_n = [0, 0, +g]): earth.hpp has the corrected forms.
+//
+// Discretization over one IMU interval dt, with F evaluated before the step:
+//   Phi = I + F dt + (F dt)^2 / 2,  Qd = (Phi Qc Phi^T + Qc) dt / 2  (trapezoidal),
+//   P <- Phi P Phi^T + Qd.
+// Qc: accelerometer white noise on dv, gyro white noise on psi, bias driving noise on db.
+//
+// Measurements (eq. 11: z = INS minus aid = H dx + noise; the innovation reported is INS minus
+// aid), each at its own rate and each gated by a chi-square threshold (0 switches a gate off):
+//   GPS position of the antenna (3): the INS antenna position p + C_nb l_b minus the fix,
+//     expressed in NED metres; H = [I, 0, -[(C_nb l_b) x], 0, 0].
+//   GPS velocity of the antenna (3): v + C_nb (w_ib_b x l_b) minus the fix (Earth rate in the
+//     lever-arm term neglected); H = [0, I, -[(C_nb (w x l_b)) x], 0, C_nb [l_b x]].
+//   Altimeter height (1): h_INS - (h_baro + offset); the offset ties the altimeter to the GPS
+//     height: a running mean of (GPS height - altimeter) over the last baro_offset_fixes fixes,
+//     kept outside the Kalman filter (the paper zeroes the altimeter on the ground);
+//     R = baro_sigma^2 + gps_pos_sigma_v^2 / n for an offset averaged over n fixes.
+//   Altimeter vertical velocity (1), as the paper does: v_D,INS - v_D,baro, where v_D,baro is the
+//     derivative of the altimeter over a baseline of at least baro_rate_baseline seconds,
+//     R = 2 sigma_h^2 / T^2 + baro_vd_sigma^2 (successive derivatives share an end point, so
+//     their noise is correlated by -1/2; the extra term covers that and the lag of a mean rate).
+//   Compass heading (1): wrap(yaw_INS - (psi_mag + declination)),
+//     H = [0, 0, tan(theta) cos(yaw), tan(theta) sin(yaw), 1, 0...].
+// Feedback (paper Fig. 2): after each accepted correction dx is injected into the nominal state
+// (lat -= dp_N / (R_M + h), lon -= dp_E / ((R_N + h) cos L), h += dp_D, v -= dv,
+// q_nb <- exp(-psi) * q_nb, b -= db) and dx is reset to zero (the covariance is kept: the reset
+// Jacobian I - [psi/2 x] is taken as I, a second-order effect).
+//
+// Initial alignment (phase machine, also run by gpsins_batch):
+//   Aligning: the IMU is assumed at rest; the accelerometer is averaged for align_time seconds.
+//   Levelled: roll and pitch from the mean specific force; the attitude is then integrated with
+//     the gyro alone while waiting for a heading (compass, or the course of a GPS velocity of at
+//     least min_speed_for_heading, assuming the body x axis points along the motion) and a fix.
+//   Navigating: position from the first fix (less the lever arm), velocity from its velocity
+//     (zero when absent), covariance from the parameters; then the full filter runs.
+//
+// No heap, no exceptions from any step; a step whose status is not Ok (or Rejected, for an
+// update) leaves the state bit-for-bit untouched, with one documented exception: before
+// navigation starts an aid that is used for initialization (a compass heading, a GPS course, an
+// altimeter height kept for its offset) returns NotInitialized after being recorded.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "earth.hpp"
+#include "kalman.hpp"
+#include "quaternion.hpp"
+#include "strapdown.hpp"
+#include "types.hpp"
+
+namespace quatnav {
+
+/// Per-IMU-sample flags written by gpsins_batch (uint32 bit mask).
+namespace gpsins_flags {
+constexpr std::uint32_t kAligning = 1u << 0;          ///< still averaging the accelerometer
+constexpr std::uint32_t kLevelled = 1u << 1;          ///< levelled, waiting for heading and fix
+constexpr std::uint32_t kNavigating = 1u << 2;        ///< the full filter runs
+constexpr std::uint32_t kInitialized = 1u << 3;       ///< navigation started at this sample
+constexpr std::uint32_t kPredictSkipped = 1u << 4;    ///< invalid IMU sample or dt: not used
+constexpr std::uint32_t kGpsPosUsed = 1u << 5;
+constexpr std::uint32_t kGpsPosRejected = 1u << 6;
+constexpr std::uint32_t kGpsVelUsed = 1u << 7;
+constexpr std::uint32_t kGpsVelRejected = 1u << 8;
+constexpr std::uint32_t kBaroUsed = 1u << 9;
+constexpr std::uint32_t kBaroRejected = 1u << 10;
+constexpr std::uint32_t kBaroVdUsed = 1u << 11;
+constexpr std::uint32_t kBaroVdRejected = 1u << 12;
+constexpr std::uint32_t kCompassUsed = 1u << 13;
+constexpr std::uint32_t kCompassRejected = 1u << 14;
+constexpr std::uint32_t kAidSkipped = 1u << 15;       ///< an aiding sample was invalid or failed
+}  // namespace gpsins_flags
+
+/// Parameters (units beside each field; defaults fit a MEMS IMU and a standalone GPS).
+template <class S> struct GpsInsParams {
+  S gyro_noise = S(8.7e-4);          ///< gyro white noise density (rad/s/sqrt(Hz)); 0.05 deg/s/sqrt(Hz)
+  S accel_noise = S(2.0e-3);         ///< accelerometer white noise density (m/s^2/sqrt(Hz))
+  S gyro_bias_rw = S(1.0e-5);        ///< gyro bias driving noise (rad/s/sqrt(s))
+  S accel_bias_rw = S(1.0e-4);       ///< accelerometer bias driving noise (m/s^2/sqrt(s))
+  S gyro_bias_tau = S(0);            ///< gyro bias correlation time (s); <= 0: random walk
+  S accel_bias_tau = S(0);           ///< accelerometer bias correlation time (s); <= 0: random walk
+  S init_gyro_bias_sigma = S(5.0e-3);   ///< initial gyro bias one-sigma (rad/s)
+  S init_accel_bias_sigma = S(0.1);     ///< initial accelerometer bias one-sigma (m/s^2)
+  S init_level_sigma = S(0.035);     ///< initial roll/pitch one-sigma (rad)
+  S init_yaw_sigma = S(0.175);       ///< initial yaw one-sigma (rad)
+  S init_vel_sigma = S(0.5);         ///< initial velocity one-sigma (m/s)
+  S gps_pos_sigma_h = S(2.5);        ///< GPS horizontal position one-sigma (m), when a fix gives none
+  S gps_pos_sigma_v = S(5.0);        ///< GPS vertical position one-sigma (m), when a fix gives none
+  S gps_vel_sigma = S(0.1);          ///< GPS velocity one-sigma per axis (m/s), when a fix gives none
+  Vec3<S> lever_arm_b = Vec3<S>::Zero();  ///< GPS antenna position in the body frame from the IMU (m)
+  S baro_sigma = S(0.5);             ///< altimeter height one-sigma (m)
+  S baro_rate_baseline = S(1.0);     ///< baseline of the altimeter derivative (s); <= 0: no v_D update
+  S baro_vd_sigma = S(0.1);          ///< extra one-sigma of the altimeter vertical velocity (m/s)
+  S baro_offset_fixes = S(100);      ///< GPS fixes averaged into the altimeter offset (window); 0: fixed at start
+  S compass_sigma = S(0.035);        ///< compass heading one-sigma (rad)
+  S declination = S(0);              ///< magnetic declination added to the compass (rad)
+  S gate_gps_pos = S(21.108);        ///< chi-square gate, 3 dof (0.9999); 0: off
+  S gate_gps_vel = S(21.108);        ///< chi-square gate, 3 dof (0.9999); 0: off
+  S gate_baro = S(15.137);           ///< chi-square gate, 1 dof (0.9999); 0: off
+  S gate_compass = S(15.137);        ///< chi-square gate, 1 dof (0.9999); 0: off
+  S align_time = S(2.0);             ///< accelerometer averaging at rest before levelling (s)
+  S min_speed_for_heading = S(1.0);  ///< GPS speed above which its course gives the heading (m/s)
+  bool heading_from_gps = true;      ///< take the heading from GPS course when no compass has come
+  bool earth_rotation = true;        ///< Earth rate, Coriolis and transport terms
+  S max_dt = S(1.0);                 ///< longest accepted IMU interval (s)
+};
+
+/// Alignment phase.
+enum class GpsInsPhase : std::uint8_t { Aligning = 0, Levelled = 1, Navigating = 2 };
+
+/// Counts of measurement outcomes (accepted, rejected by the gate, skipped as invalid).
+struct GpsInsCounters {
+  std::uint32_t accepted[5] = {0, 0, 0, 0, 0};  ///< gps_pos, gps_vel, baro, baro_vd, compass
+  std::uint32_t rejected[5] = {0, 0, 0, 0, 0};
+  std::uint32_t skipped[5] = {0, 0, 0, 0, 0};
+};
+
+/// Everything the filter holds (plain data; state()/set_state() round-trip exactly).
+template <class S> struct GpsInsState {
+  StrapdownState<S> nav;                 ///< nominal navigation state
+  Vec3<S> b_a = Vec3<S>::Zero();         ///< accelerometer bias estimate (m/s^2)
+  Vec3<S> b_g = Vec3<S>::Zero();         ///< gyro bias estimate (rad/s)
+  Mat<S, 15, 15> P = Mat<S, 15, 15>::Zero();  ///< error-state covariance
+  double t = 0.0;                        ///< filter time: sum of the accepted IMU intervals (s)
+  Vec3<S> omega_b = Vec3<S>::Zero();     ///< last bias-corrected body rate (rad/s)
+  Vec3<S> f_b = Vec3<S>::Zero();         ///< last bias-corrected specific force (m/s^2)
+  GpsInsPhase phase = GpsInsPhase::Aligning;
+  Vec3<double> align_sum = Vec3<double>::Zero();  ///< sum of f_ib_b * dt while aligning
+  double align_time = 0.0;               ///< time accumulated while aligning (s)
+  bool heading_known = false;            ///< Levelled: the yaw has been set
+  bool baro_offset_valid = false;
+  double baro_offset = 0.0;              ///< added to the altimeter height (m)
+  double baro_last = 0.0;                ///< latest altimeter height seen before navigation (m)
+  bool baro_last_valid = false;
+  bool baro_ref_valid = false;
+  double baro_ref_h = 0.0;               ///< start of the current derivative baseline (m)
+  double baro_ref_t = 0.0;               ///< its time (s)
+  double baro_offset_n = 0.0;            ///< fixes averaged into baro_offset so far
+  GpsInsCounters counters;
+};
+
+/// Outcome of an altimeter sample: its height update and (when a baseline was complete) its
+/// vertical-velocity update (status NotInitialized when none was made).
+template <class S> struct BaroResult {
+  UpdateResult<S, 1> height;
+  UpdateResult<S, 1> vd;
+};
+
+/// Outcome of a GPS fix: position and velocity updates (velocity NotInitialized when absent).
+template <class S> struct GpsResult {
+  UpdateResult<S, 3> pos;
+  UpdateResult<S, 3> vel;
+};
+
+namespace detail {
+
+template <class S> using Mat15 = Mat<S, 15, 15>;
+
+/// Continuous-time error dynamics matrix F (15 x 15) at a nominal state, for the bias-corrected
+/// specific force f_b (m/s^2). Block layout and equations: see the file comment.
+template <class S>
+Mat15<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
+  using std::cos;
+  using std::sin;
+  using std::tan;
+  Mat15<S> F = Mat15<S>::Zero();
+  const double L = nav.lat, h = nav.h;
+  const earth::Radii<double> r = earth::radii<double>(L);
+  const double Rm = r.R_M + h, Rn = r.R_N + h;
+  const Vec3<double> v = nav.v_n.template cast<double>();
+  const double tL = tan(L), sL = sin(L), cL = cos(L);
+  const Mat3<S> C = quat::to_rotmat(nav.q_nb);
+  const Vec3<S> f_n = C * f_b;
+
+  // eq. (9): position error (m) from the exact linearization of the geodetic rates.
+  Mat3<double> Fpp = Mat3<double>::Zero();
+  Fpp(0, 0) = -v[2] / Rm;
+  Fpp(0, 2) = v[0] / Rm;
+  Fpp(1, 0) = v[1] * tL / Rm;
+  Fpp(1, 1) = -v[2] / Rn - v[0] * tL / Rm;
+  Fpp(1, 2) = v[1] / Rn;
+  F.template block<3, 3>(0, 0) = Fpp.template cast<S>();
+  F.template block<3, 3>(0, 3).setIdentity();
+
+  // Gravity error: dg_D = dg/dh dh + dg/dL dL with dh = -dp_D, dL = dp_N / Rm.
+  const double s2 = sL * sL;
+  const double dg_dh = earth::kG2 + earth::kG3 * s2;
+  const double dg_dL = (earth::kG1 + earth::kG3 * h) * 2.0 * sL * cL;
+  Mat3<double> Fvp = Mat3<double>::Zero();
+  Fvp(2, 2) = -dg_dh;
+  Fvp(2, 0) = dg_dL / Rm;
+
+  Mat3<double> Fvv = Mat3<double>::Zero();
+  Mat3<double> Fpsi_p = Mat3<double>::Zero();
+  Mat3<double> Fpsi_v = Mat3<double>::Zero();
+  Vec3<double> w_in = Vec3<double>::Zero();
+  if (p.earth_rotation) {
+    const Vec3<double> w_ie = earth::earth_rate_n<double>(L);
+    const Vec3<double> w_en = earth::transport_rate_n<double>(L, h, v);
+    w_in = w_ie + w_en;
+    // d w_en / d v
+    Mat3<double> Wv = Mat3<double>::Zero();
+    Wv(0, 1) = 1.0 / Rn;
+    Wv(1, 0) = -1.0 / Rm;
+    Wv(2, 1) = -tL / Rn;
+    // d w_ie / d p and d w_en / d p (columns N and D; radii taken constant in latitude)
+    Mat3<double> Wie_p = Mat3<double>::Zero();
+    Wie_p(0, 0) = -earth::kOmegaIe * sL / Rm;
+    Wie_p(2, 0) = -earth::kOmegaIe * cL / Rm;
+    Mat3<double> Wen_p = Mat3<double>::Zero();
+    Wen_p(2, 0) = -v[1] / (Rn * cL * cL * Rm);
+    Wen_p(0, 2) = v[1] / (Rn * Rn);
+    Wen_p(1, 2) = -v[0] / (Rm * Rm);
+    Wen_p(2, 2) = -v[1] * tL / (Rn * Rn);
+    const Mat3<double> Vx = quat::skew<double>(v);
+    // eq. (8): Coriolis and transport terms.
+    Fvv = -quat::skew<double>(2.0 * w_ie + w_en) + Vx * Wv;
+    Fvp += Vx * (2.0 * Wie_p + Wen_p);
+    // eq. (10) (corrected): -[w_in x] psi - dw_in.
+    Fpsi_v = -Wv;
+    Fpsi_p = -(Wie_p + Wen_p);
+  }
+  F.template block<3, 3>(3, 0) = Fvp.template cast<S>();
+  F.template block<3, 3>(3, 3) = Fvv.template cast<S>();
+  F.template block<3, 3>(3, 6) = -quat::skew<S>(f_n);
+  F.template block<3, 3>(3, 9) = -C;
+  F.template block<3, 3>(6, 0) = Fpsi_p.template cast<S>();
+  F.template block<3, 3>(6, 3) = Fpsi_v.template cast<S>();
+  F.template block<3, 3>(6, 6) = -quat::skew<S>(w_in.template cast<S>());
+  F.template block<3, 3>(6, 12) = -C;
+  if (p.accel_bias_tau > S(0)) F.template block<3, 3>(9, 9) = -Mat3<S>::Identity() / p.accel_bias_tau;
+  if (p.gyro_bias_tau > S(0)) F.template block<3, 3>(12, 12) = -Mat3<S>::Identity() / p.gyro_bias_tau;
+  return F;
+}
+
+/// Continuous process noise spectral density Qc (diagonal, 15 x 15).
+template <class S> Vec<S, 15> gpsins_Qc_diag(const GpsInsParams<S>& p) {
+  Vec<S, 15> q = Vec<S, 15>::Zero();
+  q.template segment<3>(3).setConstant(p.accel_noise * p.accel_noise);
+  q.template segment<3>(6).setConstant(p.gyro_noise * p.gyro_noise);
+  q.template segment<3>(9).setConstant(p.accel_bias_rw * p.accel_bias_rw);
+  q.template segment<3>(12).setConstant(p.gyro_bias_rw * p.gyro_bias_rw);
+  return q;
+}
+
+/// NED displacement (m) from geodetic point b to point a: a - b, about b.
+template <class S>
+Vec3<S> geodetic_diff(double lat_a, double lon_a, double h_a, double lat_b, double lon_b, double h_b) {
+  const earth::Radii<double> r = earth::radii<double>(lat_b);
+  return Vec3<double>((lat_a - lat_b) * (r.R_M + h_b), quat::wrap_pi(lon_a - lon_b) * (r.R_N + h_b) * std::cos(lat_b),
+                      -(h_a - h_b))
+      .template cast<S>();
+}
+
+/// Geodetic point b moved by the NED displacement d (m), about b.
+inline void geodetic_add(double& lat, double& lon, double& h, const Vec3<double>& d) {
+  const earth::Radii<double> r = earth::radii<double>(lat);
+  const double lat0 = lat;
+  lat += d[0] / (r.R_M + h);
+  lon += d[1] / ((r.R_N + h) * std::cos(lat0));
+  h -= d[2];
+}
+
+/// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).
+template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, 15>& dx) {
+  const Vec3<double> dp = dx.template segment<3>(0).template cast<double>();
+  geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, Vec3<double>(-dp));
+  s.nav.v_n -= dx.template segment<3>(3);
+  Quat<S> q = quat::mul(quat::from_rotvec(Vec3<S>(-dx.template segment<3>(6))), s.nav.q_nb);
+  s.nav.q_nb = q / q.norm();
+  s.b_a -= dx.template segment<3>(9);
+  s.b_g -= dx.template segment<3>(12);
+}
+
+/// Yaw-error row of the compass: d yaw / d psi = [tan(theta) cos(yaw), tan(theta) sin(yaw), 1].
+template <class S> Vec3<S> compass_row(const Quat<S>& q_nb) {
+  const Vec3<S> e = quat::to_euler(q_nb);
+  const S tp = std::tan(e[1]);
+  return Vec3<S>(tp * std::cos(e[2]), tp * std::sin(e[2]), S(1));
+}
+
+}  // namespace detail
+
+/// The 15-state feedback GPS/INS filter.
+template <class S_> class GpsInsFilter {
+ public:
+  using Scalar = S_;
+  using S = S_;
+  using Params = GpsInsParams<S>;
+  using State = GpsInsState<S>;
+  using Mat15 = Mat<S, 15, 15>;
+  using Vec15 = Vec<S, 15>;
+  static constexpr int kStates = 15;
+  enum Kind { kGpsPos = 0, kGpsVel = 1, kBaro = 2, kBaroVd = 3, kCompass = 4 };
+
+  explicit GpsInsFilter(const Params& params = Params()) : p_(params) {}
+
+  const Params& params() const { return p_; }
+  /// Replace the parameters (the state is kept).
+  void set_params(const Params& params) { p_ = params; }
+  const State& state() const { return s_; }
+  /// Restore a state; InvalidArgument (nothing changed) when it is not finite.
+  Status set_state(const State& s) {
+    if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !s.P.allFinite() || !s.b_a.allFinite() ||
+        !s.b_g.allFinite())
+      return Status::InvalidArgument;
+    s_ = s;
+    return Status::Ok;
+  }
+  /// Back to the start of alignment (parameters kept).
+  void reset() { s_ = State(); }
+
+  GpsInsPhase phase() const { return s_.phase; }
+  bool navigating() const { return s_.phase == GpsInsPhase::Navigating; }
+  bool levelled() const { return s_.phase != GpsInsPhase::Aligning; }
+  const Quat<S>& q_nb() const { return s_.nav.q_nb; }
+  Vec3<S> euler() const { return quat::to_euler(s_.nav.q_nb); }
+  const Vec3<S>& v_n() const { return s_.nav.v_n; }
+  Vec3<double> llh() const { return Vec3<double>(s_.nav.lat, s_.nav.lon, s_.nav.h); }
+  const Vec3<S>& accel_bias() const { return s_.b_a; }
+  const Vec3<S>& gyro_bias() const { return s_.b_g; }
+  const Mat15& covariance() const { return s_.P; }
+  double time() const { return s_.t; }
+
+  /// Start navigation directly (skipping alignment): attitude, velocity, position, biases and the
+  /// covariance. InvalidArgument when anything is non-finite or P is not symmetric.
+  Status initialize(const Quat<S>& q_nb, const Vec3<S>& v_n, double lat, double lon, double h,
+                    const Vec3<S>& b_a, const Vec3<S>& b_g, const Mat15& P) {
+    if (!q_nb.allFinite() || !v_n.allFinite() || !std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) ||
+        !b_a.allFinite() || !b_g.allFinite() || !P.allFinite() || !(q_nb.norm() > S(0.5)))
+      return Status::InvalidArgument;
+    if (!((P - P.transpose()).cwiseAbs().maxCoeff() <= S(1e-6) * (S(1) + P.cwiseAbs().maxCoeff())))
+      return Status::InvalidArgument;
+    State s = s_;
+    s.nav = StrapdownState<S>();
+    s.nav.q_nb = q_nb / q_nb.norm();
+    s.nav.v_n = v_n;
+    s.nav.lat = lat;
+    s.nav.lon = lon;
+    s.nav.h = h;
+    s.b_a = b_a;
+    s.b_g = b_g;
+    s.P = P;
+    s.phase = GpsInsPhase::Navigating;
+    s.heading_known = true;
+    s_ = s;
+    return Status::Ok;
+  }
+
+  /// The covariance that initialization uses for a fix with NED position sigmas pos_sigma (m).
+  Mat15 initial_covariance(const Vec3<S>& pos_sigma, S vel_sigma) const {
+    Vec15 d;
+    d << pos_sigma, Vec3<S>::Constant(vel_sigma), p_.init_level_sigma, p_.init_level_sigma, p_.init_yaw_sigma,
+        Vec3<S>::Constant(p_.init_accel_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma);
+    return d.cwiseAbs2().asDiagonal();
+  }
+
+  /// Time update over one IMU interval: mean body rate omega_ib_b (rad/s) and specific force
+  /// f_ib_b (m/s^2) over dt (s). Aligning: averages f; Levelled: integrates the attitude only;
+  /// Navigating: strapdown (eq. 1-2) with bias-corrected inputs and covariance propagation.
+  Status predict(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) {
+    if (!(std::isfinite(dt) && dt > S(0) && dt <= p_.max_dt)) return Status::InvalidDt;
+    if (!omega_ib_b.allFinite() || !f_ib_b.allFinite()) return Status::NonFinite;
+    State s = s_;
+    const Vec3<S> w = omega_ib_b - s.b_g;
+    const Vec3<S> f = f_ib_b - s.b_a;
+    if (s.phase == GpsInsPhase::Aligning) {
+      s.align_sum += f_ib_b.template cast<double>() * double(dt);
+      s.align_time += double(dt);
+      if (s.align_time >= double(p_.align_time)) {
+        const Vec3<S> fm = (s.align_sum / s.align_time).template cast<S>();
+        const S fn = fm.norm();
+        if (!(fn > S(1))) {
+          // No gravity in the mean (free fall or a broken sensor): start the average again.
+          s.align_sum.setZero();
+          s.align_time = 0.0;
+          s.t += double(dt);
+          s_ = s;
+          return Status::Ok;
+        }
+        // Level: the specific force at rest is -g in NED, f_b = C_nb^T [0, 0, -g].
+        const S roll = std::atan2(-fm[1], -fm[2]);
+        const S pitch = std::atan2(fm[0], std::sqrt(fm[1] * fm[1] + fm[2] * fm[2]));
+        s.nav.q_nb = quat::from_euler(roll, pitch, S(0));
+        s.phase = GpsInsPhase::Levelled;
+      }
+    } else if (s.phase == GpsInsPhase::Levelled) {
+      Quat<S> q = quat::mul(s.nav.q_nb, quat::from_rotvec(Vec3<S>(w * dt)));
+      s.nav.q_nb = q / q.norm();
+    } else {
+      StrapdownParams sp;
+      sp.earth_rotation = p_.earth_rotation;
+      const Mat15 F = detail::gpsins_F<S>(s.nav, f, p_);
+      const Status st = strapdown_step(s.nav, w, f, dt, sp);
+      if (st != Status::Ok) return st;
+      const Mat15 Fdt = F * dt;
+      const Mat15 Phi = Mat15::Identity() + Fdt + S(0.5) * Fdt * Fdt;
+      const Vec15 qc = detail::gpsins_Qc_diag(p_);
+      const Mat15 PhiQ = Phi * qc.asDiagonal();
+      Mat15 Qd = S(0.5) * dt * (PhiQ * Phi.transpose());
+      Qd.diagonal() += S(0.5) * dt * qc;
+      Mat15 P = Phi * s.P * Phi.transpose() + Qd;
+      symmetrize(P);
+      if (p_.accel_bias_tau > S(0)) s.b_a *= std::exp(-dt / p_.accel_bias_tau);
+      if (p_.gyro_bias_tau > S(0)) s.b_g *= std::exp(-dt / p_.gyro_bias_tau);
+      if (!P.allFinite()) return Status::NumericalFailure;
+      s.P = P;
+    }
+    if (!s.nav.q_nb.allFinite()) return Status::NumericalFailure;
+    s.omega_b = w;
+    s.f_b = f;
+    s.t += double(dt);
+    s_ = s;
+    return Status::Ok;
+  }
+
+  /// GPS antenna position: lat, lon (rad), h (m), one-sigma NED (m; NaN entries: parameters).
+  /// While Levelled with a heading known, the first fix starts navigation (velocity v0_n, or
+  /// zero when non-finite).
+  UpdateResult<S, 3> update_gps_position(double lat, double lon, double h, const Vec3<S>& sigma,
+                                         const Vec3<S>& v0_n = Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN())) {
+    UpdateResult<S, 3> res;
+    if (!std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) || std::abs(lat) > 1.5707963267948966) {
+      res.status = Status::NonFinite;
+      return count(kGpsPos, res);
+    }
+    const Vec3<S> sig = gps_pos_sigma(sigma);
+    if (!(sig.minCoeff() > S(0)) || !sig.allFinite()) {
+      res.status = Status::InvalidArgument;
+      return count(kGpsPos, res);
+    }
+    if (s_.phase == GpsInsPhase::Aligning) {
+      res.status = Status::NotInitialized;
+      return res;
+    }
+    if (s_.phase == GpsInsPhase::Levelled) {
+      if (!s_.heading_known) {
+        res.status = Status::NotInitialized;
+        return res;
+      }
+      res.status = start(lat, lon, h, sig, v0_n);
+      return res;
+    }
+    const Mat3<S> C = quat::to_rotmat(s_.nav.q_nb);
+    const Vec3<S> l_n = C * p_.lever_arm_b;
+    track_baro_offset(h + double(l_n[2]));  // IMU height from the antenna fix
+    // INS antenna position minus the fix, in NED metres about the fix.
+    double la = s_.nav.lat, lo = s_.nav.lon, hh = s_.nav.h;
+    detail::geodetic_add(la, lo, hh, l_n.template cast<double>());
+    const Vec3<S> y = detail::geodetic_diff<S>(la, lo, hh, lat, lon, h);
+    Mat<S, 3, 15> H = Mat<S, 3, 15>::Zero();
+    H.template block<3, 3>(0, 0).setIdentity();
+    H.template block<3, 3>(0, 6) = -quat::skew<S>(l_n);
+    const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
+    return correct<3>(kGpsPos, H, R, y, p_.gate_gps_pos);
+  }
+
+  /// GPS antenna velocity (NED, m/s) with per-axis one-sigma (m/s; NaN: parameters). While
+  /// Levelled without a heading, a speed of at least min_speed_for_heading sets the yaw.
+  UpdateResult<S, 3> update_gps_velocity(const Vec3<S>& v_n, const Vec3<S>& sigma) {
+    UpdateResult<S, 3> res;
+    if (!v_n.allFinite()) {
+      res.status = Status::NonFinite;
+      return count(kGpsVel, res);
+    }
+    const Vec3<S> sig = gps_vel_sigma(sigma);
+    if (!(sig.minCoeff() > S(0)) || !sig.allFinite()) {
+      res.status = Status::InvalidArgument;
+      return count(kGpsVel, res);
+    }
+    if (s_.phase != GpsInsPhase::Navigating) {
+      res.status = Status::NotInitialized;
+      if (s_.phase == GpsInsPhase::Levelled && !s_.heading_known && p_.heading_from_gps) {
+        const S speed = std::sqrt(v_n[0] * v_n[0] + v_n[1] * v_n[1]);
+        if (speed >= p_.min_speed_for_heading) set_yaw(std::atan2(v_n[1], v_n[0]));
+      }
+      return res;
+    }
+    const Mat3<S> C = quat::to_rotmat(s_.nav.q_nb);
+    const Vec3<S> wl = s_.omega_b.cross(p_.lever_arm_b);
+    const Vec3<S> y = s_.nav.v_n + C * wl - v_n;
+    Mat<S, 3, 15> H = Mat<S, 3, 15>::Zero();
+    H.template block<3, 3>(0, 3).setIdentity();
+    H.template block<3, 3>(0, 6) = -quat::skew<S>(Vec3<S>(C * wl));
+    H.template block<3, 3>(0, 12) = C * quat::skew<S>(p_.lever_arm_b);
+    const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
+    return correct<3>(kGpsVel, H, R, y, p_.gate_gps_vel);
+  }
+
+  /// A GPS fix: velocity first (it may give the heading), then position (which may start
+  /// navigation), then, when navigation was already running, the velocity update. Non-finite
+  /// velocity means "no velocity in this fix".
+  GpsResult<S> update_gps(double lat, double lon, double h, const Vec3<S>& v_n, const Vec3<S>& pos_sigma,
+                          const Vec3<S>& vel_sigma) {
+    GpsResult<S> r;
+    const bool have_vel = !std::isnan(v_n[0]) || !std::isnan(v_n[1]) || !std::isnan(v_n[2]);
+    if (s_.phase != GpsInsPhase::Navigating) {
+      if (have_vel) r.vel = update_gps_velocity(v_n, vel_sigma);
+      r.pos = update_gps_position(lat, lon, h, pos_sigma, v_n);
+      return r;
+    }
+    r.pos = update_gps_position(lat, lon, h, pos_sigma);
+    if (have_vel) r.vel = update_gps_velocity(v_n, vel_sigma);
+    return r;
+  }
+
+  /// Altimeter height h_baro (m) at the filter's current time: a height update and, once a
+  /// baseline of baro_rate_baseline s is complete, a vertical-velocity update from its derivative.
+  BaroResult<S> update_baro(double h_baro) {
+    BaroResult<S> r;
+    if (!std::isfinite(h_baro)) {
+      r.height.status = Status::NonFinite;
+      count(kBaro, r.height);
+      return r;
+    }
+    s_.baro_last = h_baro;
+    s_.baro_last_valid = true;
+    if (s_.phase != GpsInsPhase::Navigating) {
+      r.height.status = Status::NotInitialized;
+      return r;
+    }
+    if (!s_.baro_offset_valid) {
+      // First altimeter sample in navigation: tie the altimeter to the INS height.
+      s_.baro_offset = s_.nav.h - h_baro;
+      s_.baro_offset_valid = true;
+      s_.baro_offset_n = 1.0;
+    }
+    {
+      const S y = S(s_.nav.h - (h_baro + s_.baro_offset));
+      Mat<S, 1, 15> H = Mat<S, 1, 15>::Zero();
+      H(0, 2) = S(-1);
+      Mat<S, 1, 1> R;
+      // The offset's own uncertainty (a mean of n GPS heights) adds to the altimeter noise.
+      R(0, 0) = p_.baro_sigma * p_.baro_sigma +
+                p_.gps_pos_sigma_v * p_.gps_pos_sigma_v / S(s_.baro_offset_n > 1.0 ? s_.baro_offset_n : 1.0);
+      r.height = correct<1>(kBaro, H, R, Vec<S, 1>(y), p_.gate_baro);
+    }
+    if (p_.baro_rate_baseline > S(0)) {
+      if (!s_.baro_ref_valid) {
+        s_.baro_ref_valid = true;
+        s_.baro_ref_h = h_baro;
+        s_.baro_ref_t = s_.t;
+      } else if (s_.t - s_.baro_ref_t >= double(p_.baro_rate_baseline)) {
+        const double T = s_.t - s_.baro_ref_t;
+        const S vd_baro = S(-(h_baro - s_.baro_ref_h) / T);
+        const S y = s_.nav.v_n[2] - vd_baro;
+        Mat<S, 1, 15> H = Mat<S, 1, 15>::Zero();
+        H(0, 5) = S(1);
+        Mat<S, 1, 1> R;
+        R(0, 0) = S(2) * p_.baro_sigma * p_.baro_sigma / S(T * T) + p_.baro_vd_sigma * p_.baro_vd_sigma;
+        r.vd = correct<1>(kBaroVd, H, R, Vec<S, 1>(y), p_.gate_baro);
+        s_.baro_ref_h = h_baro;
+        s_.baro_ref_t = s_.t;
+      }
+    }
+    return r;
+  }
+
+  /// Compass heading (rad, magnetic; the declination parameter is added). While Levelled it sets
+  /// the yaw; afterwards it is a one-row update.
+  UpdateResult<S, 1> update_compass(S heading) {
+    UpdateResult<S, 1> res;
+    if (!std::isfinite(heading)) {
+      res.status = Status::NonFinite;
+      return count(kCompass, res);
+    }
+    if (s_.phase == GpsInsPhase::Aligning) {
+      res.status = Status::NotInitialized;
+      return res;
+    }
+    const S yaw_meas = quat::wrap_pi(heading + p_.declination);
+    if (s_.phase == GpsInsPhase::Levelled) {
+      set_yaw(yaw_meas);
+      res.status = Status::NotInitialized;
+      return res;
+    }
+    const Vec3<S> e = quat::to_euler(s_.nav.q_nb);
+    const S y = quat::wrap_pi(e[2] - yaw_meas);
+    Mat<S, 1, 15> H = Mat<S, 1, 15>::Zero();
+    H.template block<1, 3>(0, 6) = detail::compass_row(s_.nav.q_nb).transpose();
+    Mat<S, 1, 1> R;
+    R(0, 0) = p_.compass_sigma * p_.compass_sigma;
+    return correct<1>(kCompass, H, R, Vec<S, 1>(y), p_.gate_compass);
+  }
+
+ private:
+  Vec3<S> gps_pos_sigma(const Vec3<S>& s) const {
+    return Vec3<S>(std::isnan(s[0]) ? p_.gps_pos_sigma_h : s[0], std::isnan(s[1]) ? p_.gps_pos_sigma_h : s[1],
+                   std::isnan(s[2]) ? p_.gps_pos_sigma_v : s[2]);
+  }
+  Vec3<S> gps_vel_sigma(const Vec3<S>& s) const {
+    return Vec3<S>(std::isnan(s[0]) ? p_.gps_vel_sigma : s[0], std::isnan(s[1]) ? p_.gps_vel_sigma : s[1],
+                   std::isnan(s[2]) ? p_.gps_vel_sigma : s[2]);
+  }
+
+  // The altimeter offset: a running mean of (GPS height of the IMU - latest altimeter height) over
+  // the last baro_offset_fixes fixes (the paper zeroes the altimeter on the ground; a fixed offset
+  // from one fix would carry that fix's vertical error, several metres, for the whole run).
+  void track_baro_offset(double h_imu_gps) {
+    if (!(p_.baro_offset_fixes > S(0)) || !s_.baro_last_valid) return;
+    const double d = h_imu_gps - s_.baro_last;
+    if (!s_.baro_offset_valid) {
+      s_.baro_offset = d;
+      s_.baro_offset_valid = true;
+      s_.baro_offset_n = 1.0;
+      return;
+    }
+    if (s_.baro_offset_n < double(p_.baro_offset_fixes)) s_.baro_offset_n += 1.0;
+    s_.baro_offset += (d - s_.baro_offset) / s_.baro_offset_n;
+  }
+
+  void set_yaw(S yaw) {
+    const Vec3<S> e = quat::to_euler(s_.nav.q_nb);
+    s_.nav.q_nb = quat::from_euler(e[0], e[1], yaw);
+    s_.heading_known = true;
+  }
+
+  Status start(double lat, double lon, double h, const Vec3<S>& sig, const Vec3<S>& v0_n) {
+    State s = s_;
+    const Vec3<S> l_n = quat::rotate(s.nav.q_nb, p_.lever_arm_b);
+    detail::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
+    const Quat<S> q = s.nav.q_nb;
+    s.nav = StrapdownState<S>();
+    s.nav.q_nb = q;
+    s.nav.v_n = v0_n.allFinite() ? v0_n : Vec3<S>::Zero();
+    s.nav.lat = lat;
+    s.nav.lon = lon;
+    s.nav.h = h;
+    s.P = initial_covariance(sig, p_.init_vel_sigma);
+    s.phase = GpsInsPhase::Navigating;
+    if (s.baro_last_valid) {
+      s.baro_offset = h - s.baro_last;
+      s.baro_offset_valid = true;
+      s.baro_offset_n = 1.0;
+    }
+    s_ = s;
+    return Status::Ok;
+  }
+
+  template <int M>
+  UpdateResult<S, M> count(Kind k, const UpdateResult<S, M>& r) {
+    if (r.status == Status::Ok)
+      ++s_.counters.accepted[k];
+    else if (r.status == Status::Rejected)
+      ++s_.counters.rejected[k];
+    else
+      ++s_.counters.skipped[k];
+    return r;
+  }
+
+  template <int M>
+  UpdateResult<S, M> correct(Kind k, const Mat<S, M, 15>& H, const Mat<S, M, M>& R, const Vec<S, M>& y, S gate) {
+    UpdateResult<S, M> res;
+    Mat15 P = s_.P;
+    Vec15 dx = Vec15::Zero();
+    kalman_correct<S, 15, M>(P, H, R, y, dx, res, gate);
+    if (res.status == Status::Ok) {
+      State s = s_;
+      s.P = P;
+      detail::gpsins_inject(s, dx);
+      if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.h))
+        res.status = Status::NumericalFailure;
+      else
+        s_ = s;
+    }
+    return count(k, res);
+  }
+
+  Params p_;
+  State s_;
+};
+
+/// Batch run over an IMU record and aiding records, each with its own times (s, strictly
+/// increasing). IMU sample k holds the mean rate and specific force over (t[k-1], t[k]]; sample 0
+/// only fixes the start time. Aiding samples with times in (t[k-1], t[k]] are applied after the
+/// time update of sample k (so an aid is used up to one IMU interval late), in the order compass,
+/// altimeter, GPS; aids before t[0] are skipped. A GPS row whose position is NaN is skipped as
+/// absent; a NaN velocity means "no velocity".
+///
+/// Inputs (row-major; aiding pointers may be null with count 0):
+///   t (n), gyro (n x 3, rad/s), accel (n x 3, m/s^2);
+///   gps_t (ng), gps_llh (ng x 3: lat, lon rad, h m; double), gps_vel (ng x 3, m/s or NaN),
+///   gps_pos_sigma (ng x 3, m, NaN: parameters), gps_vel_sigma (ng x 3, m/s, NaN: parameters);
+///   baro_t (nb), baro_h (nb, m); compass_t (nc), compass_yaw (nc, rad).
+/// Outputs (any may be null): llh (n x 3, double), v_n (n x 3), q_nb (n x 4), b_a, b_g (n x 3),
+///   sigma (n x 15), flags (n); gps_innov (ng x 6: position then velocity, INS minus GPS),
+///   gps_nis (ng x 2), gps_status (ng x 2); baro_innov (nb x 2: height, v_D), baro_nis (nb x 2),
+///   baro_status (nb x 2); compass_innov (nc), compass_nis (nc), compass_status (nc). Unused
+///   innovation entries are NaN. Statuses are quatnav::Status as uint8.
+template <class S> struct GpsInsBatchIo {
+  const double* t = nullptr;
+  const S* gyro = nullptr;
+  const S* accel = nullptr;
+  std::size_t n = 0;
+  const double* gps_t = nullptr;
+  const double* gps_llh = nullptr;
+  const S* gps_vel = nullptr;
+  const S* gps_pos_sigma = nullptr;
+  const S* gps_vel_sigma = nullptr;
+  std::size_t ng = 0;
+  const double* baro_t = nullptr;
+  const double* baro_h = nullptr;
+  std::size_t nb = 0;
+  const double* compass_t = nullptr;
+  const S* compass_yaw = nullptr;
+  std::size_t nc = 0;
+  double* llh = nullptr;
+  S* v_n = nullptr;
+  S* q_nb = nullptr;
+  S* b_a = nullptr;
+  S* b_g = nullptr;
+  S* sigma = nullptr;
+  std::uint32_t* flags = nullptr;
+  S* gps_innov = nullptr;
+  S* gps_nis = nullptr;
+  std::uint8_t* gps_status = nullptr;
+  S* baro_innov = nullptr;
+  S* baro_nis = nullptr;
+  std::uint8_t* baro_status = nullptr;
+  S* compass_innov = nullptr;
+  S* compass_nis = nullptr;
+  std::uint8_t* compass_status = nullptr;
+};
+
+namespace detail {
+template <class S, int M>
+std::uint32_t gpsins_aid_flag(const UpdateResult<S, M>& r, std::uint32_t used, std::uint32_t rejected) {
+  switch (r.status) {
+    case Status::Ok: return used;
+    case Status::Rejected: return rejected;
+    case Status::NotInitialized: return 0u;
+    default: return gpsins_flags::kAidSkipped;
+  }
+}
+}  // namespace detail
+
+/// Run the filter over the records of `io` (see GpsInsBatchIo). Allocates nothing.
+template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>& io) {
+  namespace gf = gpsins_flags;
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  std::size_t ig = 0, ib = 0, ic = 0;
+  if (io.n == 0) return;
+  const double t0 = io.t[0];
+  auto skip_before = [&](const double* tt, std::size_t nn, std::size_t& i, std::uint8_t* st, int cols) {
+    while (i < nn && tt[i] <= t0) {
+      if (st)
+        for (int c = 0; c < cols; ++c) st[cols * i + c] = std::uint8_t(Status::NotInitialized);
+      ++i;
+    }
+  };
+  // Prefill aiding outputs.
+  for (std::size_t j = 0; j < io.ng; ++j) {
+    for (int c = 0; c < 6 && io.gps_innov; ++c) io.gps_innov[6 * j + c] = nan;
+    for (int c = 0; c < 2 && io.gps_nis; ++c) io.gps_nis[2 * j + c] = nan;
+  }
+  for (std::size_t j = 0; j < io.nb; ++j) {
+    for (int c = 0; c < 2 && io.baro_innov; ++c) io.baro_innov[2 * j + c] = nan;
+    for (int c = 0; c < 2 && io.baro_nis; ++c) io.baro_nis[2 * j + c] = nan;
+  }
+  for (std::size_t j = 0; j < io.nc; ++j) {
+    if (io.compass_innov) io.compass_innov[j] = nan;
+    if (io.compass_nis) io.compass_nis[j] = nan;
+  }
+  skip_before(io.gps_t, io.ng, ig, io.gps_status, 2);
+  skip_before(io.baro_t, io.nb, ib, io.baro_status, 2);
+  skip_before(io.compass_t, io.nc, ic, io.compass_status, 1);
+
+  for (std::size_t k = 0; k < io.n; ++k) {
+    std::uint32_t fl = 0;
+    const bool was_nav = f.navigating();
+    if (k > 0) {
+      const S dt = S(io.t[k] - io.t[k - 1]);
+      const Status s = f.predict(Vec3<S>(Eigen::Map<const Vec3<S>>(io.gyro + 3 * k)),
+                                 Vec3<S>(Eigen::Map<const Vec3<S>>(io.accel + 3 * k)), dt);
+      if (s != Status::Ok) fl |= gf::kPredictSkipped;
+      const double tk = io.t[k];
+      while (ic < io.nc && io.compass_t[ic] <= tk) {
+        const UpdateResult<S, 1> r = f.update_compass(io.compass_yaw[ic]);
+        if (io.compass_innov && r.status != Status::NotInitialized) io.compass_innov[ic] = r.innovation[0];
+        if (io.compass_nis && (r.status == Status::Ok || r.status == Status::Rejected)) io.compass_nis[ic] = r.nis;
+        if (io.compass_status) io.compass_status[ic] = std::uint8_t(r.status);
+        fl |= detail::gpsins_aid_flag(r, gf::kCompassUsed, gf::kCompassRejected);
+        ++ic;
+      }
+      while (ib < io.nb && io.baro_t[ib] <= tk) {
+        const BaroResult<S> r = f.update_baro(io.baro_h[ib]);
+        const UpdateResult<S, 1>* rr[2] = {&r.height, &r.vd};
+        for (int c = 0; c < 2; ++c) {
+          const bool done = rr[c]->status == Status::Ok || rr[c]->status == Status::Rejected;
+          if (io.baro_innov && done) io.baro_innov[2 * ib + c] = rr[c]->innovation[0];
+          if (io.baro_nis && done) io.baro_nis[2 * ib + c] = rr[c]->nis;
+          if (io.baro_status) io.baro_status[2 * ib + c] = std::uint8_t(rr[c]->status);
+        }
+        fl |= detail::gpsins_aid_flag(r.height, gf::kBaroUsed, gf::kBaroRejected);
+        fl |= detail::gpsins_aid_flag(r.vd, gf::kBaroVdUsed, gf::kBaroVdRejected);
+        ++ib;
+      }
+      while (ig < io.ng && io.gps_t[ig] <= tk) {
+        const double* llh = io.gps_llh + 3 * ig;
+        GpsResult<S> r;
+        r.pos.status = Status::NonFinite;
+        if (!(std::isnan(llh[0]) && std::isnan(llh[1]) && std::isnan(llh[2]))) {
+          const Vec3<S> vel = io.gps_vel ? Vec3<S>(Eigen::Map<const Vec3<S>>(io.gps_vel + 3 * ig))
+                                         : Vec3<S>::Constant(nan);
+          const Vec3<S> ps = io.gps_pos_sigma ? Vec3<S>(Eigen::Map<const Vec3<S>>(io.gps_pos_sigma + 3 * ig))
+                                              : Vec3<S>::Constant(nan);
+          const Vec3<S> vs = io.gps_vel_sigma ? Vec3<S>(Eigen::Map<const Vec3<S>>(io.gps_vel_sigma + 3 * ig))
+                                              : Vec3<S>::Constant(nan);
+          r = f.update_gps(llh[0], llh[1], llh[2], vel, ps, vs);
+          fl |= detail::gpsins_aid_flag(r.pos, gf::kGpsPosUsed, gf::kGpsPosRejected);
+          fl |= detail::gpsins_aid_flag(r.vel, gf::kGpsVelUsed, gf::kGpsVelRejected);
+        }
+        const UpdateResult<S, 3>* rr[2] = {&r.pos, &r.vel};
+        for (int c = 0; c < 2; ++c) {
+          const bool done = rr[c]->status == Status::Ok || rr[c]->status == Status::Rejected;
+          if (io.gps_innov && done)
+            for (int j = 0; j < 3; ++j) io.gps_innov[6 * ig + 3 * c + j] = rr[c]->innovation[j];
+          if (io.gps_nis && done) io.gps_nis[2 * ig + c] = rr[c]->nis;
+          if (io.gps_status) io.gps_status[2 * ig + c] = std::uint8_t(rr[c]->status);
+        }
+        ++ig;
+      }
+    }
+    switch (f.phase()) {
+      case GpsInsPhase::Aligning: fl |= gf::kAligning; break;
+      case GpsInsPhase::Levelled: fl |= gf::kLevelled; break;
+      case GpsInsPhase::Navigating: fl |= gf::kNavigating; break;
+    }
+    if (!was_nav && f.navigating()) fl |= gf::kInitialized;
+    const bool nav = f.navigating();
+    if (io.llh) {
+      const Vec3<double> l = f.llh();
+      for (int c = 0; c < 3; ++c) io.llh[3 * k + c] = nav ? l[c] : std::numeric_limits<double>::quiet_NaN();
+    }
+    if (io.v_n) Eigen::Map<Vec3<S>>(io.v_n + 3 * k) = nav ? f.v_n() : Vec3<S>::Constant(nan);
+    if (io.q_nb)
+      Eigen::Map<Vec4<S>>(io.q_nb + 4 * k) = f.levelled() ? f.q_nb() : Vec4<S>(Vec4<S>::Constant(nan));
+    if (io.b_a) Eigen::Map<Vec3<S>>(io.b_a + 3 * k) = f.accel_bias();
+    if (io.b_g) Eigen::Map<Vec3<S>>(io.b_g + 3 * k) = f.gyro_bias();
+    if (io.sigma)
+      Eigen::Map<Vec<S, 15>>(io.sigma + 15 * k) =
+          nav ? Vec<S, 15>(f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt()) : Vec<S, 15>::Constant(nan);
+    if (io.flags) io.flags[k] = fl;
+  }
+  // Aids after the last IMU sample are not used.
+  for (; ig < io.ng; ++ig)
+    if (io.gps_status) io.gps_status[2 * ig] = io.gps_status[2 * ig + 1] = std::uint8_t(Status::NotInitialized);
+  for (; ib < io.nb; ++ib)
+    if (io.baro_status) io.baro_status[2 * ib] = io.baro_status[2 * ib + 1] = std::uint8_t(Status::NotInitialized);
+  for (; ic < io.nc; ++ic)
+    if (io.compass_status) io.compass_status[ic] = std::uint8_t(Status::NotInitialized);
+}
+
+}  // namespace quatnav

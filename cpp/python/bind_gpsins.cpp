@@ -1,0 +1,294 @@
+// GpsInsFilter (paper 004) for float32 and float64, with its batch run (GIL released).
+#include <quatnav/gps_ins.hpp>
+
+#include "common.hpp"
+
+namespace quatnav_py {
+namespace {
+
+template <class S> py::dict counters_dict(const quatnav::GpsInsCounters& c) {
+  static const char* names[5] = {"gps_pos", "gps_vel", "baro", "baro_vd", "compass"};
+  py::dict d;
+  for (int k = 0; k < 5; ++k) {
+    py::dict e;
+    e["accepted"] = c.accepted[k];
+    e["rejected"] = c.rejected[k];
+    e["skipped"] = c.skipped[k];
+    d[names[k]] = e;
+  }
+  return d;
+}
+
+template <class S> void bind_gpsins_scalar(py::module_& m) {
+  using namespace quatnav;
+  using F = GpsInsFilter<S>;
+  using P = GpsInsParams<S>;
+  using St = GpsInsState<S>;
+  using V3 = Vec3<S>;
+  bind_update_result<S, 1>(m);
+  bind_update_result<S, 3>(m);
+
+  py::class_<P> pc(m, cls_name<S>("GpsInsParams").c_str(), "Parameters of GpsInsFilter (see gps_ins.hpp).");
+  pc.def(py::init<>());
+#define QN_FIELD(name) pc.def_readwrite(#name, &P::name)
+  QN_FIELD(gyro_noise);
+  QN_FIELD(accel_noise);
+  QN_FIELD(gyro_bias_rw);
+  QN_FIELD(accel_bias_rw);
+  QN_FIELD(gyro_bias_tau);
+  QN_FIELD(accel_bias_tau);
+  QN_FIELD(init_gyro_bias_sigma);
+  QN_FIELD(init_accel_bias_sigma);
+  QN_FIELD(init_level_sigma);
+  QN_FIELD(init_yaw_sigma);
+  QN_FIELD(init_vel_sigma);
+  QN_FIELD(gps_pos_sigma_h);
+  QN_FIELD(gps_pos_sigma_v);
+  QN_FIELD(gps_vel_sigma);
+  QN_FIELD(lever_arm_b);
+  QN_FIELD(baro_sigma);
+  QN_FIELD(baro_rate_baseline);
+  QN_FIELD(baro_vd_sigma);
+  QN_FIELD(baro_offset_fixes);
+  QN_FIELD(compass_sigma);
+  QN_FIELD(declination);
+  QN_FIELD(gate_gps_pos);
+  QN_FIELD(gate_gps_vel);
+  QN_FIELD(gate_baro);
+  QN_FIELD(gate_compass);
+  QN_FIELD(align_time);
+  QN_FIELD(min_speed_for_heading);
+  QN_FIELD(heading_from_gps);
+  QN_FIELD(earth_rotation);
+  QN_FIELD(max_dt);
+#undef QN_FIELD
+
+  py::class_<F> cls(m, cls_name<S>("GpsInsFilter").c_str());
+  cls.def(py::init<const P&>(), py::arg("params"))
+      .def_property_readonly("params", &F::params)
+      .def("set_params", &F::set_params, py::arg("params"))
+      .def_property_readonly("phase", [](const F& f) { return int(f.phase()); })
+      .def_property_readonly("navigating", &F::navigating)
+      .def_property_readonly("q_nb", [](const F& f) { return Quat<S>(f.q_nb()); })
+      .def_property_readonly("v_n", [](const F& f) { return V3(f.v_n()); })
+      .def_property_readonly("llh", &F::llh)
+      .def_property_readonly("accel_bias", [](const F& f) { return V3(f.accel_bias()); })
+      .def_property_readonly("gyro_bias", [](const F& f) { return V3(f.gyro_bias()); })
+      .def_property_readonly("covariance", [](const F& f) { return typename F::Mat15(f.covariance()); })
+      .def_property_readonly("time", &F::time)
+      .def_property_readonly("counters", [](const F& f) { return counters_dict<S>(f.state().counters); })
+      .def("reset", &F::reset)
+      .def("initialize",
+           [](F& f, const Quat<S>& q, const V3& v, double lat, double lon, double h, const V3& ba, const V3& bg,
+              const typename F::Mat15& Pm) { return status_str(f.initialize(q, v, lat, lon, h, ba, bg, Pm)); },
+           py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("accel_bias"),
+           py::arg("gyro_bias"), py::arg("P"))
+      .def("predict", [](F& f, const V3& w, const V3& a, S dt) { return status_str(f.predict(w, a, dt)); },
+           py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("dt"))
+      .def("update_gps_position",
+           [](F& f, double lat, double lon, double h, const V3& sig) { return f.update_gps_position(lat, lon, h, sig); },
+           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("sigma"))
+      .def("update_gps_velocity", [](F& f, const V3& v, const V3& sig) { return f.update_gps_velocity(v, sig); },
+           py::arg("v_n"), py::arg("sigma"))
+      .def("update_gps",
+           [](F& f, double lat, double lon, double h, const V3& v, const V3& ps, const V3& vs) {
+             const GpsResult<S> r = f.update_gps(lat, lon, h, v, ps, vs);
+             return py::make_tuple(r.pos, r.vel);
+           },
+           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("v_n"), py::arg("pos_sigma"), py::arg("vel_sigma"))
+      .def("update_baro",
+           [](F& f, double h) {
+             const BaroResult<S> r = f.update_baro(h);
+             return py::make_tuple(r.height, r.vd);
+           },
+           py::arg("h"))
+      .def("update_compass", [](F& f, S yaw) { return f.update_compass(yaw); }, py::arg("heading"))
+      .def("get_state",
+           [](const F& f) {
+             const St& s = f.state();
+             py::dict d;
+             d["q_nb"] = Quat<S>(s.nav.q_nb);
+             d["v_n"] = V3(s.nav.v_n);
+             d["lat"] = s.nav.lat;
+             d["lon"] = s.nav.lon;
+             d["h"] = s.nav.h;
+             d["dtheta_prev"] = V3(s.nav.dtheta_prev);
+             d["dv_prev"] = V3(s.nav.dv_prev);
+             d["has_prev"] = s.nav.has_prev;
+             d["accel_bias"] = V3(s.b_a);
+             d["gyro_bias"] = V3(s.b_g);
+             d["P"] = typename F::Mat15(s.P);
+             d["t"] = s.t;
+             d["omega_b"] = V3(s.omega_b);
+             d["f_b"] = V3(s.f_b);
+             d["phase"] = int(s.phase);
+             d["align_sum"] = Vec3<double>(s.align_sum);
+             d["align_time"] = s.align_time;
+             d["heading_known"] = s.heading_known;
+             d["baro_offset_valid"] = s.baro_offset_valid;
+             d["baro_offset"] = s.baro_offset;
+             d["baro_last"] = s.baro_last;
+             d["baro_last_valid"] = s.baro_last_valid;
+             d["baro_ref_valid"] = s.baro_ref_valid;
+             d["baro_ref_h"] = s.baro_ref_h;
+             d["baro_ref_t"] = s.baro_ref_t;
+             d["baro_offset_n"] = s.baro_offset_n;
+             py::list cnt;
+             for (int k = 0; k < 5; ++k)
+               cnt.append(py::make_tuple(s.counters.accepted[k], s.counters.rejected[k], s.counters.skipped[k]));
+             d["counters"] = cnt;
+             return d;
+           })
+      .def("set_state",
+           [](F& f, const py::dict& d) {
+             St s;
+             s.nav.q_nb = d["q_nb"].cast<Quat<S>>();
+             s.nav.v_n = d["v_n"].cast<V3>();
+             s.nav.lat = d["lat"].cast<double>();
+             s.nav.lon = d["lon"].cast<double>();
+             s.nav.h = d["h"].cast<double>();
+             s.nav.dtheta_prev = d["dtheta_prev"].cast<V3>();
+             s.nav.dv_prev = d["dv_prev"].cast<V3>();
+             s.nav.has_prev = d["has_prev"].cast<bool>();
+             s.b_a = d["accel_bias"].cast<V3>();
+             s.b_g = d["gyro_bias"].cast<V3>();
+             s.P = d["P"].cast<typename F::Mat15>();
+             s.t = d["t"].cast<double>();
+             s.omega_b = d["omega_b"].cast<V3>();
+             s.f_b = d["f_b"].cast<V3>();
+             const int ph = d["phase"].cast<int>();
+             if (ph < 0 || ph > 2) throw py::value_error("state['phase']: expected 0, 1 or 2");
+             s.phase = GpsInsPhase(ph);
+             s.align_sum = d["align_sum"].cast<Vec3<double>>();
+             s.align_time = d["align_time"].cast<double>();
+             s.heading_known = d["heading_known"].cast<bool>();
+             s.baro_offset_valid = d["baro_offset_valid"].cast<bool>();
+             s.baro_offset = d["baro_offset"].cast<double>();
+             s.baro_last = d["baro_last"].cast<double>();
+             s.baro_last_valid = d["baro_last_valid"].cast<bool>();
+             s.baro_ref_valid = d["baro_ref_valid"].cast<bool>();
+             s.baro_ref_h = d["baro_ref_h"].cast<double>();
+             s.baro_ref_t = d["baro_ref_t"].cast<double>();
+             s.baro_offset_n = d["baro_offset_n"].cast<double>();
+             const py::list cnt = d["counters"].cast<py::list>();
+             for (int k = 0; k < 5 && k < int(cnt.size()); ++k) {
+               const py::tuple c = cnt[k].cast<py::tuple>();
+               s.counters.accepted[k] = c[0].cast<std::uint32_t>();
+               s.counters.rejected[k] = c[1].cast<std::uint32_t>();
+               s.counters.skipped[k] = c[2].cast<std::uint32_t>();
+             }
+             return status_str(f.set_state(s));
+           },
+           py::arg("state"))
+      .def(
+          "run",
+          [](F& f, const carray<double>& t, const carray<S>& gyro, const carray<S>& accel, const carray<double>& gps_t,
+             const carray<double>& gps_llh, const carray<S>& gps_vel, const carray<S>& gps_pos_sigma,
+             const carray<S>& gps_vel_sigma, const carray<double>& baro_t, const carray<double>& baro_h,
+             const carray<double>& compass_t, const carray<S>& compass_yaw) {
+            const py::ssize_t n = t.ndim() == 1 ? t.shape(0) : -1;
+            if (n < 0) throw py::value_error("t: expected shape (N,)");
+            require_shape<S>(gyro, "gyro", n, 3);
+            require_shape<S>(accel, "accel", n, 3);
+            const py::ssize_t ng = gps_t.shape(0), nb = baro_t.shape(0), nc = compass_t.shape(0);
+            if (gps_llh.ndim() != 2 || gps_llh.shape(0) != ng || gps_llh.shape(1) != 3)
+              throw py::value_error("gps_llh: expected shape (len(gps_t), 3)");
+            require_shape<S>(gps_vel, "gps_vel", ng, 3);
+            require_shape<S>(gps_pos_sigma, "gps_pos_sigma", ng, 3);
+            require_shape<S>(gps_vel_sigma, "gps_vel_sigma", ng, 3);
+            if (baro_h.ndim() != 1 || baro_h.shape(0) != nb) throw py::value_error("baro_h: expected shape (len(baro_t),)");
+            require_shape<S>(compass_yaw, "compass_yaw", nc, -1);
+            py::array_t<double> llh({n, py::ssize_t(3)});
+            auto v = empty<S>(n, 3), q = empty<S>(n, 4), ba = empty<S>(n, 3), bg = empty<S>(n, 3),
+                 sig = empty<S>(n, 15);
+            py::array_t<std::uint32_t> fl({n});
+            auto gi = empty<S>(ng, 6), gn = empty<S>(ng, 2), bi = empty<S>(nb, 2), bn = empty<S>(nb, 2),
+                 ci = empty<S>(nc, -1), cn = empty<S>(nc, -1);
+            py::array_t<std::uint8_t> gs({ng, py::ssize_t(2)}), bs({nb, py::ssize_t(2)}), cs({nc});
+            GpsInsBatchIo<S> io;
+            io.t = t.data();
+            io.gyro = gyro.data();
+            io.accel = accel.data();
+            io.n = std::size_t(n);
+            io.gps_t = gps_t.data();
+            io.gps_llh = gps_llh.data();
+            io.gps_vel = gps_vel.data();
+            io.gps_pos_sigma = gps_pos_sigma.data();
+            io.gps_vel_sigma = gps_vel_sigma.data();
+            io.ng = std::size_t(ng);
+            io.baro_t = baro_t.data();
+            io.baro_h = baro_h.data();
+            io.nb = std::size_t(nb);
+            io.compass_t = compass_t.data();
+            io.compass_yaw = compass_yaw.data();
+            io.nc = std::size_t(nc);
+            io.llh = llh.mutable_data();
+            io.v_n = v.mutable_data();
+            io.q_nb = q.mutable_data();
+            io.b_a = ba.mutable_data();
+            io.b_g = bg.mutable_data();
+            io.sigma = sig.mutable_data();
+            io.flags = fl.mutable_data();
+            io.gps_innov = gi.mutable_data();
+            io.gps_nis = gn.mutable_data();
+            io.gps_status = gs.mutable_data();
+            io.baro_innov = bi.mutable_data();
+            io.baro_nis = bn.mutable_data();
+            io.baro_status = bs.mutable_data();
+            io.compass_innov = ci.mutable_data();
+            io.compass_nis = cn.mutable_data();
+            io.compass_status = cs.mutable_data();
+            {
+              py::gil_scoped_release release;
+              gpsins_batch(f, io);
+            }
+            py::dict d;
+            d["llh"] = llh;
+            d["v_n"] = v;
+            d["q_nb"] = q;
+            d["accel_bias"] = ba;
+            d["gyro_bias"] = bg;
+            d["sigma"] = sig;
+            d["flags"] = fl;
+            d["gps_innov"] = gi;
+            d["gps_nis"] = gn;
+            d["gps_status"] = gs;
+            d["baro_innov"] = bi;
+            d["baro_nis"] = bn;
+            d["baro_status"] = bs;
+            d["compass_innov"] = ci;
+            d["compass_nis"] = cn;
+            d["compass_status"] = cs;
+            return d;
+          },
+          py::arg("t"), py::arg("gyro"), py::arg("accel"), py::arg("gps_t"), py::arg("gps_llh"), py::arg("gps_vel"),
+          py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"), py::arg("baro_h"),
+          py::arg("compass_t"), py::arg("compass_yaw"),
+          "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays.");
+}
+
+}  // namespace
+
+void bind_gpsins(py::module_& m) {
+  bind_gpsins_scalar<double>(m);
+  bind_gpsins_scalar<float>(m);
+  m.def("gpsins_F", [](const quatnav::Quat<double>& q, const quatnav::Vec3<double>& v, double lat, double lon,
+                       double h, const quatnav::Vec3<double>& f_b, bool earth_rotation, double accel_bias_tau,
+                       double gyro_bias_tau) {
+    quatnav::StrapdownState<double> s;
+    s.q_nb = q;
+    s.v_n = v;
+    s.lat = lat;
+    s.lon = lon;
+    s.h = h;
+    quatnav::GpsInsParams<double> p;
+    p.earth_rotation = earth_rotation;
+    p.accel_bias_tau = accel_bias_tau;
+    p.gyro_bias_tau = gyro_bias_tau;
+    return quatnav::Mat<double, 15, 15>(quatnav::detail::gpsins_F<double>(s, f_b, p));
+  }, py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("f_b"),
+     py::arg("earth_rotation") = true, py::arg("accel_bias_tau") = 0.0, py::arg("gyro_bias_tau") = 0.0,
+     "Error-state dynamics matrix F (15 x 15, float64) of GpsInsFilter at a nominal state.");
+}
+
+}  // namespace quatnav_py

@@ -1,0 +1,89 @@
+// GpsInsFilter (paper 004): no heap in any step, bad input leaving the state bit-for-bit
+// untouched, float and double.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <quatnav/gps_ins.hpp>
+
+using namespace quatnav;
+
+namespace {
+
+template <class S> bool same_bits(const GpsInsState<S>& a, const GpsInsState<S>& b) {
+  return std::memcmp(a.nav.q_nb.data(), b.nav.q_nb.data(), 4 * sizeof(S)) == 0 &&
+         std::memcmp(a.nav.v_n.data(), b.nav.v_n.data(), 3 * sizeof(S)) == 0 &&
+         std::memcmp(&a.nav.lat, &b.nav.lat, sizeof(double)) == 0 &&
+         std::memcmp(&a.nav.lon, &b.nav.lon, sizeof(double)) == 0 &&
+         std::memcmp(&a.nav.h, &b.nav.h, sizeof(double)) == 0 &&
+         std::memcmp(a.b_a.data(), b.b_a.data(), 3 * sizeof(S)) == 0 &&
+         std::memcmp(a.b_g.data(), b.b_g.data(), 3 * sizeof(S)) == 0 &&
+         std::memcmp(a.P.data(), b.P.data(), 225 * sizeof(S)) == 0 &&
+         std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.phase == b.phase;
+}
+
+// Aligns at rest, then navigates with GPS, altimeter and compass: every step under
+// set_is_malloc_allowed(false).
+template <class S> GpsInsFilter<S> run_static(int steps) {
+  GpsInsFilter<S> f;
+  const double lat = 0.6, lon = 2.2, h = 50.0;
+  const Vec3<S> f_b(S(0), S(0), S(-9.80));
+  const Vec3<S> w_b(S(1e-5), S(-2e-5), S(3e-5));
+  const Vec3<S> sig(S(2.5), S(2.5), S(5.0)), vsig(S(0.1), S(0.1), S(0.1));
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int k = 0; k < steps; ++k) {
+    f.predict(w_b, f_b, S(0.02));
+    if (k % 5 == 0) f.update_compass(S(0.3));
+    if (k % 5 == 1) f.update_baro(h + 0.1);
+    if (k % 10 == 2) f.update_gps(lat, lon, h, Vec3<S>::Zero(), sig, vsig);
+  }
+  Eigen::internal::set_is_malloc_allowed(true);
+  return f;
+}
+
+}  // namespace
+
+template <class S> class GpsInsTest : public ::testing::Test {};
+using Scalars = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(GpsInsTest, Scalars);
+
+TYPED_TEST(GpsInsTest, NoHeapAndNavigatesAtRest) {
+  using S = TypeParam;
+  GpsInsFilter<S> f = run_static<S>(1000);
+  ASSERT_TRUE(f.navigating());
+  const auto& s = f.state();
+  EXPECT_NEAR(s.nav.lat, 0.6, 1e-6);
+  EXPECT_NEAR(s.nav.lon, 2.2, 1e-6);
+  EXPECT_LT(s.nav.v_n.norm(), S(0.2));
+  EXPECT_NEAR(double(quat::to_euler(s.nav.q_nb)[2]), 0.3, 0.05);
+  EXPECT_TRUE(s.P.allFinite());
+}
+
+TYPED_TEST(GpsInsTest, BadInputLeavesStateUntouched) {
+  using S = TypeParam;
+  GpsInsFilter<S> f = run_static<S>(600);
+  ASSERT_TRUE(f.navigating());
+  const GpsInsState<S> before = f.state();
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  const Vec3<S> ok(S(1), S(1), S(1));
+  Eigen::internal::set_is_malloc_allowed(false);
+  EXPECT_NE(f.predict(Vec3<S>(nan, S(0), S(0)), Vec3<S>(S(0), S(0), S(-9.8)), S(0.02)), Status::Ok);
+  EXPECT_NE(f.predict(Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(-9.8)), S(-0.02)), Status::Ok);
+  EXPECT_NE(f.predict(Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(-9.8)), nan), Status::Ok);
+  EXPECT_NE(f.update_gps_position(std::nan(""), 2.2, 50.0, ok).status, Status::Ok);
+  EXPECT_NE(f.update_gps_position(0.6, 2.2, 50.0, Vec3<S>(S(-1), S(1), S(1))).status, Status::Ok);
+  EXPECT_NE(f.update_gps_velocity(Vec3<S>(nan, S(0), S(0)), ok).status, Status::Ok);
+  EXPECT_NE(f.update_baro(std::nan("")).height.status, Status::Ok);
+  EXPECT_NE(f.update_compass(nan).status, Status::Ok);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE(same_bits(before, f.state()));
+}
+
+TYPED_TEST(GpsInsTest, StateRoundTrip) {
+  using S = TypeParam;
+  GpsInsFilter<S> f = run_static<S>(300);
+  GpsInsFilter<S> g;
+  ASSERT_EQ(g.set_state(f.state()), Status::Ok);
+  EXPECT_TRUE(same_bits(f.state(), g.state()));
+}

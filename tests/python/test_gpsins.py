@@ -1,0 +1,127 @@
+"""GpsInsFilter (paper 004): C++ against the numpy reference, simulated paper-004 runs, GPS
+outage, input validation."""
+import numpy as np
+import pytest
+
+import quatnav
+from quatnav import reference as R
+from quatnav.sim.scenarios import make_scenario
+
+LEVER = (0.1, 0.0, -0.1)
+
+
+def _aids(s):
+    return dict(gps_t=s.gps.t_valid, gps_llh=np.column_stack([s.gps.lat, s.gps.lon, s.gps.h]),
+                gps_vel=s.gps.v_n, baro_t=s.baro.t, baro_h=s.baro.h, compass_t=s.compass.t,
+                compass_yaw=s.compass.yaw)
+
+
+def _horizontal_error(s, r):
+    nav = r.navigating
+    i = np.searchsorted(s.truth.t, r.t[nav])
+    assert np.allclose(s.truth.t[i], r.t[nav])
+    a, e2 = 6378137.0, 6.69437999014e-3
+    sl2 = np.sin(s.truth.lat[i]) ** 2
+    rm = a * (1 - e2) / (1 - e2 * sl2) ** 1.5
+    rn = a / np.sqrt(1 - e2 * sl2)
+    dn = (r.llh[nav, 0] - s.truth.lat[i]) * (rm + s.truth.h[i])
+    de = (r.llh[nav, 1] - s.truth.lon[i]) * (rn + s.truth.h[i]) * np.cos(s.truth.lat[i])
+    return nav, i, np.hypot(dn, de)
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return make_scenario("paper004_walk", seed=0)
+
+
+def test_cpp_matches_reference_step_by_step(walk):
+    s, n = walk, 1500  # alignment, levelling and ~25 s of navigation with every aid
+    kw = _aids(s)
+    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    ref = R.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    assert r.navigating.sum() > 1000
+    np.testing.assert_array_equal(np.isnan(r.llh), np.isnan(ref["llh"]))
+    nav = r.navigating
+    np.testing.assert_allclose(r.llh[nav, :2], ref["llh"][nav, :2], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(r.llh[nav, 2], ref["llh"][nav, 2], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(r.v_n[nav], ref["v_n"][nav], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.q_nb[nav], ref["q_nb"][nav], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.gyro_bias, ref["gyro_bias"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.accel_bias, ref["accel_bias"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.sigma[nav], ref["sigma"][nav], rtol=1e-7, atol=1e-12)
+    np.testing.assert_array_equal(r.flags & 0xF, ref["flags"] & 0xF)  # phase bits; the reference keeps no aid bits
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_walk_position_error_bounded(walk, dtype):
+    s = walk
+    r = quatnav.GpsInsFilter(dtype=dtype, lever_arm_b=LEVER).run(s.imu.t, s.imu.gyro, s.imu.accel, **_aids(s))
+    nav, i, err = _horizontal_error(s, r)
+    assert nav.mean() > 0.9
+    assert np.sqrt(np.mean(err ** 2)) < 2.0  # GPS sigma 2.5 m; paper's bound is 30 m
+    assert err.max() < 6.0
+    yaw_err = np.angle(np.exp(1j * (r.euler[nav, 2] - s.truth.rpy[i, 2])))
+    level_err = r.euler[nav, :2] - s.truth.rpy[i, :2]
+    assert np.degrees(np.abs(level_err)).max() < 2.0
+    assert np.degrees(np.abs(yaw_err[len(yaw_err) // 5:])).max() < 5.0
+
+
+def test_gps_outage_sigma_grows_and_error_stays_consistent(walk):
+    s = walk
+    t0, t1 = 30.0, 40.0
+    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t, s.imu.gyro, s.imu.accel,
+                                                     outages=[(t0, t1)], **_aids(s))
+    nav, i, err = _horizontal_error(s, r)
+    t = r.t
+    sig_h = np.hypot(r.sigma[:, 0], r.sigma[:, 1])
+    k0, k1 = np.searchsorted(t, t0), np.searchsorted(t, t1) - 1
+    inside = sig_h[k0:k1]
+    assert np.all(np.diff(inside) >= -1e-9)  # no position aid: the horizontal sigma cannot shrink
+    assert inside[-1] > 1.5 * inside[0]
+    after = sig_h[k1 + 50]
+    assert after < inside[-1]  # GPS back: the sigma drops again
+    err_full = np.full(len(t), np.nan)
+    err_full[nav] = err
+    assert np.nanmax(err_full[k0:k1]) < 4.0 * inside.max() + 1.0
+
+
+def test_position_nees_within_chi2_bounds():
+    from scipy.stats import chi2
+    nees = []
+    for seed in range(4):
+        s = make_scenario("paper004_walk", seed=seed)
+        r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t, s.imu.gyro, s.imu.accel, **_aids(s))
+        nav, i, _ = _horizontal_error(s, r)
+        a, e2 = 6378137.0, 6.69437999014e-3
+        sl2 = np.sin(s.truth.lat[i]) ** 2
+        rm = a * (1 - e2) / (1 - e2 * sl2) ** 1.5
+        rn = a / np.sqrt(1 - e2 * sl2)
+        dn = (r.llh[nav, 0] - s.truth.lat[i]) * (rm + s.truth.h[i])
+        de = (r.llh[nav, 1] - s.truth.lon[i]) * (rn + s.truth.h[i]) * np.cos(s.truth.lat[i])
+        # horizontal position, 2 dof (diagonal sigmas), one sample every 5 s to limit correlation
+        k = np.arange(0, len(dn), 250)
+        nees.append((dn[k] / r.sigma[nav, 0][k]) ** 2 + (de[k] / r.sigma[nav, 1][k]) ** 2)
+    nees = np.concatenate(nees)
+    m = len(nees)
+    lo, hi = chi2.ppf([0.001, 0.999], 2 * m) / m
+    assert lo < nees.mean() < hi, (lo, nees.mean(), hi)
+
+
+def test_bad_input_raises_naming_argument(walk):
+    s = walk
+    f = quatnav.GpsInsFilter()
+    gyro = s.imu.gyro[:100].copy()
+    gyro[10, 1] = np.nan
+    with pytest.raises(ValueError, match="gyro"):
+        f.run(s.imu.t[:100], gyro, s.imu.accel[:100])
+    with pytest.raises(ValueError, match="accel"):
+        f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100, :2])
+    t = s.imu.t[:100].copy()
+    t[50] = t[49]
+    with pytest.raises(ValueError, match="t"):
+        f.run(t, s.imu.gyro[:100], s.imu.accel[:100])
+    with pytest.raises(ValueError, match="gps_llh"):
+        f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100], gps_t=[0.5, 1.0])
+    with pytest.raises(ValueError, match="gps_t"):
+        f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100], gps_t=[1.0, 0.5],
+              gps_llh=np.zeros((2, 3)))
