@@ -125,3 +125,15 @@ def test_bad_input_raises_naming_argument(walk):
     with pytest.raises(ValueError, match="gps_t"):
         f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100], gps_t=[1.0, 0.5],
               gps_llh=np.zeros((2, 3)))
+
+
+def test_experiment_cli_writes_json(tmp_path):
+    import json
+
+    from quatnav import cli
+    out = tmp_path / "gpsins.json"
+    assert cli.main(["experiment", "gpsins", "--scenario", "walk", "--json", str(out)]) == 0
+    res = json.loads(out.read_text())
+    assert res["horizontal_m"]["rms"] < 2.0 and res["horizontal_m"]["max"] < 6.0  # paper bound 30 m
+    o = res["outage"]
+    assert o["horizontal_error_at_end_m"] > o["horizontal_error_at_start_m"]

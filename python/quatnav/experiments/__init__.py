@@ -18,6 +18,7 @@ EXPERIMENTS: dict[str, str] = {
     "marg-turn": ".marg_turn",
     "marg-broad": ".marg_broad",
     "nav13": ".nav13",
+    "gpsins": ".gpsins",
 }
 
 
