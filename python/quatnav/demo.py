@@ -2,9 +2,11 @@
 
 The scenario: smooth random rotation (up to ~2 rad/s) with a magnetometer, constant gyro bias,
 white sensor noise; exact truth. Prints RMSE of roll, pitch and yaw and the final gyro-bias
-error of :class:`~quatnav.QuaternionEKF`, :class:`~quatnav.EulerEKF` and
+error of :class:`~quatnav.QuaternionEKF` (defaults, tuned for real data, and ``paper=True``:
+the plain filter of paper 000), :class:`~quatnav.EulerEKF` and
 :class:`~quatnav.MargFilter` (paper defaults, which estimate no gyro bias, and with its bias
-integrator on); ``--plot`` writes a figure.
+integrator on); then :class:`~quatnav.NavFilter13` with its three time updates on paper
+002's simulated run. ``--plot`` writes a figure of the attitude errors.
 """
 from __future__ import annotations
 
@@ -91,7 +93,8 @@ def run_demo(plot: str | None = None, seed: int = 0, quiet: bool = False) -> dic
 
     d = rotation_scenario(seed=seed)
     results = {}
-    filters = (("QuaternionEKF", QuaternionEKF, {}), ("EulerEKF", EulerEKF, {}),
+    filters = (("QuaternionEKF", QuaternionEKF, {}),
+               ("QuaternionEKF paper", QuaternionEKF, {"paper": True}), ("EulerEKF", EulerEKF, {}),
                ("MargFilter", MargFilter, {}),
                ("MargFilter+bias", MargFilter, {"bias_gain": 0.05}))
     for name, cls, params in filters:
@@ -108,16 +111,53 @@ def run_demo(plot: str | None = None, seed: int = 0, quiet: bool = False) -> dic
     if not quiet:
         print(f"quatnav demo: simulated rotation, {len(d.t)} samples at {1 / d.dt:.0f} Hz, "
               f"gyro bias {np.degrees(d.gyro_bias) * 3600} deg/h (RMSE after 5 s)")
-        print(f"{'filter':<17}{'roll':>9}{'pitch':>9}{'yaw':>9}   {'|bias err|':>12}{'samples/s':>12}")
-        print(f"{'':<17}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[deg/h]':>12}")
+        print(f"{'filter':<21}{'roll':>9}{'pitch':>9}{'yaw':>9}   {'|bias err|':>12}{'samples/s':>12}")
+        print(f"{'':<21}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[deg/h]':>12}")
         for name, v in results.items():
-            print(f"{name:<17}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
+            print(f"{name:<21}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
                   f"{v['bias_err_deg_h']:12.1f}{v['samples_per_s']:12.3g}")
+    nav = _navigation_demo(seed, quiet)
+    if nav:
+        results["navigation"] = nav
     if plot:
-        _plot(d, results, plot)
+        _plot(d, {k: v for k, v in results.items() if k != "navigation"}, plot)
         if not quiet:
             print(f"figure written to {plot}")
     return results
+
+
+def _navigation_demo(seed: int, quiet: bool) -> dict:
+    """NavFilter13 (paper 002) with its three time updates on the paper's simulated run."""
+    try:
+        from .experiments import nav13 as X
+        from .sim import make_scenario
+        scn = make_scenario(X.SCENARIO, seed=seed)
+    except ImportError as exc:  # quatnav.sim needs scipy (extra [sim])
+        if not quiet:
+            print(f"(navigation demo skipped: {exc})")
+        return {}
+    start = X.initial_state(scn, "paper", np.random.default_rng(seed))
+    out = {}
+    for tu in X.TIME_UPDATES:
+        t0 = time.perf_counter()
+        res = X.run_filter(scn, tu, start)
+        elapsed = time.perf_counter() - t0
+        err = X.errors(scn, res)
+        late = err["t"] >= err["t"][0] + 100.0
+        rpy = np.degrees(np.sqrt(np.mean(err["rpy"][late] ** 2, axis=0)))
+        vel = np.sqrt(np.mean(np.sum(err["state"][late, 0:3] ** 2, axis=1)))
+        out[tu] = dict(roll_rmse_deg=rpy[0], pitch_rmse_deg=rpy[1], yaw_rmse_deg=rpy[2],
+                       vel_rmse_m_s=vel, samples_per_s=len(res.t) / elapsed)
+    if not quiet:
+        print()
+        print(f"NavFilter13 (paper 002): {X.SCENARIO}, seed {seed}, the paper's initial errors "
+              f"(RMSE over 100-200 s)")
+        print(f"{'time update':<21}{'roll':>9}{'pitch':>9}{'yaw':>9}   {'|v| err':>12}{'samples/s':>12}")
+        print(f"{'':<21}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[m/s]':>12}")
+        for name, v in out.items():
+            print(f"{name:<21}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
+                  f"{v['vel_rmse_m_s']:12.3f}{v['samples_per_s']:12.3g}")
+    return out
 
 
 def _plot(d: RotationData, results: dict, path: str) -> None:

@@ -61,8 +61,9 @@ def test_every_filter_runs_on_the_target(report):
     for row in report["rows"]:
         assert "error" not in row, row["filter"]
         assert row["forbidden_symbols"] == [], row["filter"]
-        # The MargFilter's Gauss-Newton convergence test (kGnNotConverged) may decide differently
-        # in float32 on a handful of samples; every other flag must agree exactly.
+        # The MargFilter's per-sample flags include its Gauss-Newton convergence test, which can
+        # decide differently in float32 on a few of the 3000 samples (1-2 seen); the Kalman
+        # filters' flags must agree exactly.
         allowed = 3 if row["filter"] == "MargFilter" else 0
         assert row["flags_differ_vs_host_double"] <= allowed, row["filter"]
 
