@@ -7,6 +7,7 @@ navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, y
 from . import _core
 from . import quaternion
 from . import earth, strapdown
+from . import datasets, metrics  # noqa: F401  (BROAD loader and benchmark metrics)
 from .attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 from .marg import MARG_FLAGS, MargFilter, MargResult
 from .nav13 import NavFilter13, NavResult

@@ -70,6 +70,7 @@ class AttitudeResult:
 class _AttitudeFilter:
     _core_name: str = ""
     _param_names: tuple = ()
+    _bool_params: tuple = ()
     _int_params: tuple = ("mag_ref_samples",)
     #: Parameters where 0 means "off" (unlimited range, no covariance floor).
     _zero_ok_params: tuple = ("gyro_range", "acc_range", "cov_floor")
@@ -79,6 +80,8 @@ class _AttitudeFilter:
         self.dtype = V.resolve_dtype(dtype)
         suffix = "_f32" if self.dtype == np.float32 else "_f64"
         p = getattr(_core, self._core_name + "Params" + suffix)()
+        if params.pop("paper", False) and hasattr(type(p), "paper"):
+            p = type(p).paper()  # filters without extras are the paper's filter already
         for name, value in params.items():
             if name not in self._param_names:
                 raise TypeError(f"{type(self).__name__}: unknown parameter {name!r}; "
@@ -87,6 +90,10 @@ class _AttitudeFilter:
                 if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
                     raise ValueError(f"{name}: expected a positive integer, got {value!r}")
                 setattr(p, name, int(value))
+            elif name in self._bool_params:
+                if not isinstance(value, (bool, np.bool_)):
+                    raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
+                setattr(p, name, bool(value))
             else:
                 setattr(p, name, V.positive(value, name, allow_zero=name in self._zero_ok_params))
         self._f = getattr(_core, self._core_name + suffix)(p)
@@ -260,27 +267,27 @@ class _AttitudeFilter:
 
 
 class QuaternionEKF(_AttitudeFilter):
-    """Quaternion EKF with gyro-bias states (Kim & Jang 2019; paper 000).
+    """Quaternion EKF with gyro-bias states (Kim & Jang 2019; paper 000), robust on real data.
 
     State ``[q0, q1, q2, q3, bx, by, bz]``: ``q_nb`` and the gyro bias. Measurements: the
-    normalized accelerometer (gravity ``[0, 0, -1]`` in NED) and the normalized magnetometer
-    (reference ``[m_x, 0, m_z]``, x = magnetic north, learned from the first samples unless
-    :meth:`set_mag_dip` is called).
+    normalized accelerometer (gravity ``[0, 0, -1]`` in NED) and the magnetometer (reference
+    ``[m_x, 0, m_z]``, x = magnetic north, learned from the first samples unless
+    :meth:`set_mag_dip` is called). ``QuaternionEKF(paper=True)`` is the plain filter of the
+    paper with its original noise values; the defaults add the robustness options below.
 
-    Parameters (keyword, SI units)
-    ------------------------------
-    gyro_noise : float, default 0.005
+    Parameters (keyword, SI units; defaults chosen on BROAD, paper values in brackets)
+    ---------------------------------------------------------------------------------
+    gyro_noise : float, default 0.01 [0.005]
         Gyro white-noise density, rad/s/sqrt(Hz).
-    gyro_bias_noise : float, default 1e-5
+    gyro_bias_noise : float, default 1e-4 [1e-5]
         Gyro bias random-walk density, rad/s^2/sqrt(Hz).
-    acc_noise : float, default 0.05
-        Standard deviation of each component of the normalized accelerometer (dimensionless;
-        0.05 is about 0.5 m/s^2 at 1 g).
-    mag_noise : float, default 0.1
+    acc_noise : float, default 0.3 [0.05]
+        Standard deviation of each component of the normalized accelerometer (dimensionless).
+    mag_noise : float, default 1.0 [0.1]
         Standard deviation of each component of the normalized magnetometer (dimensionless).
-    init_att_sigma : float, default 0.05
+    init_att_sigma : float, default 0.5 [0.05]
         Attitude one-sigma after :meth:`initialize`, rad.
-    init_bias_sigma : float, default 0.01
+    init_bias_sigma : float, default 0.1 [0.01]
         Gyro-bias one-sigma after :meth:`initialize`, rad/s.
     mag_ref_samples : int, default 100
         Magnetometer samples over which the dip of the reference field is averaged (unless
@@ -296,14 +303,75 @@ class QuaternionEKF(_AttitudeFilter):
     cov_floor : float, default 1e-12
         Eigenvalue floor of the error-state covariance (rad^2 and (rad/s)^2): after every step
         an eigenvalue below it is raised to it (a healthy covariance is left untouched). 0: off.
+
+    The default noise values are effective ones: they cover what the model leaves out
+    (residual linear acceleration after the low-pass, field deviations, scale factors), so
+    that the attitude error stays within the filter's own 3 sigma on real data. Scaling all
+    noise values by one factor leaves the estimates unchanged and scales the covariance.
+
+    Robustness for real data (each off with 0 / False). They compare ``|acc|`` with
+    ``gravity``, so ``acc`` must be in m/s^2 (or set ``gravity`` to 1 g in the unit used).
+
+    mag_heading_only : bool, default True
+        The magnetometer corrects heading only (a scalar update of the heading of the field's
+        horizontal projection, gain projected on the yaw direction): it never tilts roll and
+        pitch. False: the paper's 3-row magnetometer update.
+    gravity : float, default 9.81
+        Magnitude of gravity, m/s^2.
+    acc_adapt : float, default 0
+        Adaptive accelerometer noise: std ``acc_noise + acc_adapt * ||a| - g| / g``.
+    acc_reject : float, default 0
+        Reject the accelerometer update when ``||a| - g|`` exceeds this, m/s^2.
+    acc_gate : float, default 0
+        Default NIS gate of the accelerometer update (3 dof).
+    acc_recovery_time : float, default 0
+        After this long with every accelerometer update rejected, accept again, s.
+    acc_lp_tau : float, default 3
+        Low-pass the accelerometer in a quasi-inertial frame (carried by the bias-corrected
+        gyro) with this time constant before the update, s; linear accelerations average out.
+    mag_norm_tol : float, default 0.05
+        Reject the magnetometer when ``||m| / m_ref - 1|`` exceeds this (m_ref learned).
+    mag_dip_tol : float, default 0.05
+        Reject the magnetometer when its dip differs from the learned dip by more, rad.
+    mag_gate : float, default 9
+        Default NIS gate of the magnetometer update.
+    mag_settle_time : float, default 0
+        After a disturbance, the field must pass the norm and dip tests this long before the
+        magnetometer is used again, s.
+    mag_ref_tau : float, default 30
+        Time constant with which the reference norm and dip follow accepted samples, s.
+    mag_recovery_time : float, default 0
+        After this long with every magnetometer sample disturbed, the current field becomes
+        the reference, s.
+    rest_detection : bool, default True
+        Detect rest (gyro and accelerometer steady for ``rest_time``) and use it as a
+        zero-rate measurement of the gyro bias; flag ``at_rest``.
+    rest_gyr_th, rest_acc_th, rest_time, rest_tau, rest_rate_noise : float
+        Rest thresholds (rad/s, m/s^2), minimum duration (s), low-pass time constant (s) and the
+        std of the residual rate at rest (rad/s); defaults 0.03, 0.5, 1.5, 0.5, 0.02.
     dtype : float64 or float32
         Precision of the C++ filter.
+
+    The defaults of the robustness parameters were chosen with :mod:`quatnav.tuning` on the
+    BROAD benchmark (one set for all trials); see ``docs/broad.md``.
     """
 
     _core_name = "QuaternionEKF"
     _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "mag_ref_samples", "max_dt", "gyro_range", "acc_range", "cov_floor")
+                    "init_bias_sigma", "mag_ref_samples", "max_dt", "gyro_range", "acc_range", "cov_floor", "mag_heading_only", "gravity", "acc_adapt",
+                    "acc_reject", "acc_gate", "acc_recovery_time", "acc_lp_tau", "mag_norm_tol", "mag_dip_tol",
+                    "mag_gate", "mag_settle_time", "mag_ref_tau", "mag_recovery_time", "rest_detection", "rest_gyr_th",
+                    "rest_acc_th", "rest_time", "rest_tau", "rest_rate_noise")
+    _bool_params = ("mag_heading_only", "rest_detection")
+    _zero_ok_params = ("gyro_range", "acc_range", "cov_floor", "gravity", "acc_adapt", "acc_reject", "acc_gate", "acc_recovery_time", "acc_lp_tau",
+                       "mag_norm_tol", "mag_dip_tol", "mag_gate", "mag_settle_time", "mag_ref_tau",
+                       "mag_recovery_time", "rest_rate_noise")
     n_states = 7
+
+    @property
+    def at_rest(self) -> bool:
+        """True while rest is detected."""
+        return bool(self._f.at_rest)
 
     def reset(self, quat, bias=None, P=None) -> None:
         """Start from a given ``q_nb``, gyro bias (rad/s) and 7x7 covariance."""

@@ -17,6 +17,8 @@ def build_parser() -> argparse.ArgumentParser:
     experiments.add_parser(sub)
     from . import bench
     bench.add_parser(sub)
+    from . import evaluate
+    evaluate.add_parser(sub)
     return parser
 
 

@@ -99,6 +99,7 @@ class _Base:
         quat = np.empty((n, 4))
         bias = np.empty((n, 3))
         sigma = np.empty((n, self.n_states))
+        flags = np.zeros(n, dtype=np.uint32)
         for k in range(n):
             m = None if mag is None or np.all(np.isnan(mag[k])) else mag[k]
             if not self.initialized:
@@ -111,21 +112,69 @@ class _Base:
             quat[k] = self.quat
             bias[k] = self.bias
             sigma[k] = np.sqrt(np.maximum(np.diag(self.P), 0))
-        return SimpleNamespace(quat=quat, bias=bias, sigma=sigma)
+            flags[k] = getattr(self, "flags", 0)
+        return SimpleNamespace(quat=quat, bias=bias, sigma=sigma, flags=flags)
+
+
+def _lowpass(y, x, dt, tau):
+    """First-order low-pass step y + a (x - y), a = dt / (tau + dt) (as quaternion_ekf.hpp)."""
+    a = dt / (tau + dt)
+    return y + a * (x - y)
+
+
+FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = 1 << 4, 1 << 5, 1 << 8
 
 
 class QuaternionEKF(_Base):
-    """Quaternion EKF of paper 000 in numpy. State x = [q0 q1 q2 q3 bx by bz]."""
+    """Quaternion EKF of paper 000 in numpy, with the robustness options of quaternion_ekf.hpp.
 
-    defaults = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
-                    init_att_sigma=0.05, init_bias_sigma=0.01, mag_ref_samples=100, max_dt=1.0)
+    State x = [q0 q1 q2 q3 bx by bz]. ``QuaternionEKF(paper=True)`` is the plain paper filter.
+    """
+
+    defaults = dict(gyro_noise=0.01, gyro_bias_noise=1e-4, acc_noise=0.3, mag_noise=1.0,
+                    init_att_sigma=0.5, init_bias_sigma=0.1, mag_ref_samples=100, max_dt=1.0,
+                    mag_heading_only=True, gravity=9.81, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
+                    acc_recovery_time=0.0, acc_lp_tau=3.0, mag_norm_tol=0.05, mag_dip_tol=0.05,
+                    mag_gate=9.0, mag_settle_time=0.0, mag_ref_tau=30.0, mag_recovery_time=0.0,
+                    rest_detection=True, rest_gyr_th=0.03, rest_acc_th=0.5, rest_time=1.5,
+                    rest_tau=0.5, rest_rate_noise=0.02)
+    paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
+                           init_att_sigma=0.05, init_bias_sigma=0.01, mag_heading_only=False, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
+                           acc_recovery_time=0.0, acc_lp_tau=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0,
+                           mag_gate=0.0, mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0,
+                           rest_detection=False)
     n_states = 7
 
-    def __init__(self, **params):
+    def __init__(self, paper=False, **params):
+        if paper:
+            params = {**self.paper_overrides, **params}
         super().__init__(**params)
+        self.p.mag_heading_only = bool(self.p.mag_heading_only)
+        self.p.rest_detection = bool(self.p.rest_detection)
         self.q = Q.identity()
         self.bias = np.zeros(3)
         self.P = np.eye(7)
+        self._reset_bookkeeping()
+        self.mag_norm_ref = 0.0
+        self.flags = 0
+
+    def _reset_bookkeeping(self):
+        self.gyr_last = np.zeros(3)
+        self.dt_last = 0.0
+        self.gyr_lp = np.zeros(3)
+        self.acc_lp = np.zeros(3)
+        self.lp_init = False
+        self.rest_t = 0.0
+        self.acc_reject_t = 0.0
+        self.mag_reject_t = 0.0
+        self.mag_ok_t = 1e9
+        self.q_i = Q.identity()
+        self.acc_i_lp = np.zeros(3)
+        self.acc_lp_init = False
+
+    @property
+    def at_rest(self):
+        return self.p.rest_detection and self.rest_t >= self.p.rest_time
 
     @property
     def quat(self):
@@ -169,7 +218,11 @@ class QuaternionEKF(_Base):
             return "zero_norm"
         self.q, mref = out
         self.bias = np.zeros(3)
+        self._reset_bookkeeping()
+        self.flags = 0
         self._init_mag_ref(mref)
+        if mref is not None:
+            self.mag_norm_ref = float(np.linalg.norm(mag))
         X = Q.xi(self.q)
         self.P = np.zeros((7, 7))
         self.P[:4, :4] = (self.p.init_att_sigma / 2) ** 2 * X @ X.T
@@ -192,7 +245,183 @@ class QuaternionEKF(_Base):
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
+        # Bookkeeping of the robustness features.
+        self.flags = 0
+        gyr = np.asarray(gyr, float)
+        if self.p.acc_lp_tau > 0:
+            qi = Q.mul(self.q_i, Q.from_rotvec((gyr - self.bias) * dt))
+            self.q_i = qi / np.linalg.norm(qi)
+        self.gyr_last = gyr.copy()
+        self.dt_last = dt
+        if self.p.rest_detection and self.lp_init:
+            self.gyr_lp = _lowpass(self.gyr_lp, gyr, dt, self.p.rest_tau)
         return "ok"
+
+    # --- robustness ---------------------------------------------------------------------
+    def update_acc(self, acc, gate=0.0):
+        """Accelerometer update with rest detection, low-pass, rejection and adaptive noise."""
+        if not self.initialized:
+            return SimpleNamespace(status="not_initialized")
+        status, _ = _unit(acc)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        acc = np.asarray(acc, float)
+        dt = self.dt_last
+        p = self.p
+        if p.rest_detection:
+            self._rest_step(acc)
+        acc_used = acc
+        if p.acc_lp_tau > 0:
+            a_i = Q.rotate(self.q_i, acc)
+            if not self.acc_lp_init or not dt > 0:
+                self.acc_i_lp = a_i
+                self.acc_lp_init = True
+            else:
+                self.acc_i_lp = _lowpass(self.acc_i_lp, a_i, dt, p.acc_lp_tau)
+            acc_used = Q.rotate_inv(self.q_i, self.acc_i_lp)
+        g = p.gravity
+        dev = abs(np.linalg.norm(acc_used) - g) if g > 0 else 0.0
+        recovering = p.acc_recovery_time > 0 and self.acc_reject_t >= p.acc_recovery_time
+        if p.acc_reject > 0 and dev > p.acc_reject and not recovering:
+            if p.acc_recovery_time > 0:
+                self.acc_reject_t += dt
+            self.flags |= FLAG_ACC_REJECTED
+            return SimpleNamespace(status="rejected")
+        sigma = p.acc_noise + (p.acc_adapt * dev / g if g > 0 else 0.0)
+        gt = gate if gate > 0 else (0.0 if recovering else p.acc_gate)
+        res = self._update3(acc_used, *GRAVITY_REF, sigma, gt)
+        if res.status == "ok":
+            self.acc_reject_t = 0.0
+        elif res.status == "rejected":
+            if p.acc_recovery_time > 0:
+                self.acc_reject_t += dt
+            self.flags |= FLAG_ACC_REJECTED
+        return res
+
+    def _rest_step(self, acc):
+        p, dt = self.p, self.dt_last
+        if not self.lp_init or not dt > 0:
+            self.gyr_lp = self.gyr_last.copy()
+            self.acc_lp = acc.copy()
+            self.lp_init = dt > 0
+            self.rest_t = 0.0
+            return
+        self.acc_lp = _lowpass(self.acc_lp, acc, dt, p.rest_tau)
+        still = (np.linalg.norm(self.gyr_last - self.gyr_lp) < p.rest_gyr_th
+                 and np.linalg.norm(self.gyr_lp - self.bias) < p.rest_gyr_th
+                 and np.linalg.norm(acc - self.acc_lp) < p.rest_acc_th)
+        self.rest_t = self.rest_t + dt if still else 0.0
+        if self.rest_t < p.rest_time:
+            return
+        self.flags |= FLAG_AT_REST
+        H = np.zeros((3, 7))
+        H[:, 4:] = np.eye(3)
+        r = p.gyro_noise**2 / dt + p.rest_rate_noise**2
+        self._correct(H, np.eye(3) * r, self.gyr_last - self.bias, 0.0)
+
+    def update_mag(self, mag, gate=0.0):
+        """Magnetometer update: disturbance tests, then heading-only (or paper) update."""
+        if not self.initialized:
+            return SimpleNamespace(status="not_initialized")
+        status, m = _unit(mag)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        p = self.p
+        mnorm = float(np.linalg.norm(mag))
+        self._learn_mag_ref(Q.rotate(self.q, m))
+        if not self.mag_norm_ref > 0:
+            self.mag_norm_ref = mnorm
+        dt = self.dt_last
+        mn = Q.rotate(self.q, m)
+        dip = np.arcsin(np.clip(mn[2], -1.0, 1.0))
+        dip_ref = np.arctan2(self.mag_ref[2], self.mag_ref[0])
+        disturbed = ((p.mag_norm_tol > 0 and abs(mnorm / self.mag_norm_ref - 1) > p.mag_norm_tol)
+                     or (p.mag_dip_tol > 0 and abs(dip - dip_ref) > p.mag_dip_tol))
+        if p.mag_settle_time > 0:
+            self.mag_ok_t = 0.0 if disturbed else self.mag_ok_t + dt
+        if not disturbed and self.mag_ok_t < p.mag_settle_time:
+            self.mag_reject_t += dt
+            self.flags |= FLAG_MAG_REJECTED
+            return SimpleNamespace(status="rejected")
+        if disturbed:
+            self.mag_reject_t += dt
+            if not (p.mag_recovery_time > 0 and self.mag_reject_t >= p.mag_recovery_time):
+                self.flags |= FLAG_MAG_REJECTED
+                return SimpleNamespace(status="rejected")
+            if not self.mag_ref_fixed:
+                self.mag_sin_dip_sum, self.mag_ref_count = 0.0, 0
+                self._learn_mag_ref(mn)
+            self.mag_norm_ref = mnorm
+        gt = gate if gate > 0 else p.mag_gate
+        if p.mag_heading_only:
+            res = self.update_heading(m, gt)
+        else:
+            res = self._update3(mag, self.mag_ref[0], self.mag_ref[2], p.mag_noise, gt)
+        if res.status == "ok":
+            self.mag_reject_t = 0.0
+            if p.mag_ref_tau > 0 and dt > 0:
+                if not self.mag_ref_fixed and self.mag_ref_count >= p.mag_ref_samples:
+                    mn2 = Q.rotate(self.q, m)
+                    dip2 = np.arcsin(np.clip(mn2[2], -1.0, 1.0))
+                    d = _lowpass(dip_ref, dip2, dt, p.mag_ref_tau)
+                    self.mag_ref = np.array([np.cos(d), 0.0, np.sin(d)])
+                self.mag_norm_ref = _lowpass(self.mag_norm_ref, mnorm, dt, p.mag_ref_tau)
+        elif res.status == "rejected":
+            if p.mag_recovery_time > 0:
+                self.mag_reject_t += dt
+            self.flags |= FLAG_MAG_REJECTED
+        return res
+
+    @staticmethod
+    def heading_model(q, m_unit):
+        """h(q) = atan2(m_n,y, m_n,x) with m_n = C_nb m; H keeps its yaw part only.
+
+        Returns (h, horiz2, H (4,), u (4,), J_tilt (2,)) or None for a vertical field.
+        """
+        mn = Q.rotate(q, m_unit)
+        horiz2 = mn[0] ** 2 + mn[1] ** 2
+        if not horiz2 > 1e-6:
+            return None
+        h = np.arctan2(mn[1], mn[0])
+        dpsi = np.array([-mn[1] / horiz2, mn[0] / horiz2, 0.0])
+        J = -dpsi @ Q.skew(mn)
+        u = Q.right(q)[:, 3]
+        return h, horiz2, 2.0 * u, u, J[:2]
+
+    def update_heading(self, m_unit, gate=0.0):
+        """Heading-only magnetometer update with the gain projected on the yaw direction."""
+        out = self.heading_model(self.q, m_unit)
+        if out is None:
+            return SimpleNamespace(status="zero_norm")
+        h, horiz2, Hq, u, Jt = out
+        R3 = Q.right(self.q)[:, 1:]
+        Sphi = 4.0 * R3.T @ self.P[:4, :4] @ R3
+        R = self.p.mag_noise**2 / horiz2 + Jt @ Sphi[:2, :2] @ Jt
+        H = np.zeros(7)
+        H[:4] = Hq
+        y = float(Q.wrap_pi(-h))
+        PHt = self.P @ H
+        Sv = H @ PHt + R
+        res = SimpleNamespace(status="ok", innovation=np.array([y, 0.0, 0.0]),
+                              innovation_cov=np.diag([Sv, 0.0, 0.0]), nis=y * y / Sv)
+        if gate > 0 and not res.nis <= gate:
+            res.status = "rejected"
+            return res
+        K = PHt / Sv
+        K[:4] = u * (u @ K[:4])
+        IKH = np.eye(7) - np.outer(K, H)
+        P = IKH @ self.P @ IKH.T + R * np.outer(K, K)
+        P = 0.5 * (P + P.T)
+        dx = K * y
+        q = self.q + dx[:4]
+        n = np.linalg.norm(q)
+        qh = q / n
+        J = (np.eye(4) - np.outer(qh, qh)) / n
+        P[:4, :4] = J @ P[:4, :4] @ J.T
+        P[:4, 4:] = J @ P[:4, 4:]
+        P[4:, :4] = P[:4, 4:].T
+        self.q, self.bias, self.P = qh, self.bias + dx[4:], P
+        return res
 
     def _update3(self, v, rx, rz, sigma, gate):
         status, u = _unit(v)

@@ -1,0 +1,366 @@
+"""Real-data attitude accuracy: quatnav's filters and the peer libraries on BROAD, side by side.
+
+``quatnav eval broad DIR [--filters qekf,euler-ekf,marg] [--peers vqf,imufusion,madgwick]
+[--json FILE] [--plot DIR]`` runs every selected algorithm on every trial of DIR in the same run
+and prints, per trial, per group and on average, BROAD's total / heading / inclination RMSE over
+the movement phases (:mod:`quatnav.metrics`), and for quatnav's filters the fraction of samples
+whose attitude error lies within the filter's own 3 sigma.
+
+Every algorithm runs with its default parameters, online (causal), one parameter set for all
+trials. How each peer is fed (checked on the data: each mapping gives the peer's errors within
+a fraction of a degree of the reference, any other mapping gives tens of degrees):
+
+* ``vqf``: ``vqf.VQF(Ts)`` 9D, gyro rad/s, acc m/s^2, mag as is; ``quat9D`` is ENU (earth
+  frame y = magnetic north), converted with :func:`quatnav.quaternion.enu_to_ned`.
+* ``imufusion``: ``imufusion.Ahrs`` with ``convention = CONVENTION_NED``, sample period set,
+  gyro in deg/s, acc in g; its quaternion is then NED directly.
+* ``madgwick``: ``ahrs.filters.Madgwick`` (default gain), gyro rad/s, acc m/s^2, mag; its earth
+  frame is NWU (x north, z up): ``q_nb = [0, 1, 0, 0] * q_nwu_b``.
+
+Peers are optional: a peer whose package is not installed is skipped with a note.
+
+BROAD: D. Laidig, M. Caruso, A. Cereatti, T. Seel, Data 6(7), 2021, doi:10.3390/data6070072,
+CC BY 4.0.
+"""
+from __future__ import annotations
+
+import importlib
+import json
+import sys
+from concurrent.futures import Executor
+from pathlib import Path
+
+import numpy as np
+
+from . import metrics as M
+from . import quaternion as Q
+
+__all__ = ["FILTERS", "PEERS", "run_algorithm", "evaluate_trial", "evaluate", "format_table",
+           "available", "add_parser", "plot_results"]
+
+#: quatnav's own filters (name -> class name in :mod:`quatnav`).
+FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
+#: Peer libraries (name -> Python module that must be importable).
+PEERS = {"vqf": "vqf", "imufusion": "imufusion", "madgwick": "ahrs"}
+
+_Q_NED_NWU = np.array([0.0, 1.0, 0.0, 0.0])  # rotates NWU vectors into NED (180 deg about x)
+
+
+def available(name: str) -> tuple[bool, str]:
+    """Whether algorithm ``name`` can run here, and a note when it cannot."""
+    if name in FILTERS:
+        import quatnav
+        if hasattr(quatnav, FILTERS[name]):
+            return True, ""
+        return False, f"{name}: quatnav.{FILTERS[name]} is not available in this build; skipped"
+    if name in PEERS:
+        try:
+            importlib.import_module(PEERS[name])
+            return True, ""
+        except ImportError:
+            return False, f"{name}: package {PEERS[name]!r} is not installed; skipped"
+    raise ValueError(f"unknown algorithm {name!r}; known: {', '.join([*FILTERS, *PEERS])}")
+
+
+def run_algorithm(name: str, trial, params: dict | None = None):
+    """Run one algorithm on one trial.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`FILTERS` or :data:`PEERS`.
+    trial : quatnav.datasets.broad.Trial
+    params : dict, optional
+        Keyword parameters of a quatnav filter (ignored for peers: they run with defaults).
+
+    Returns
+    -------
+    quat : (N, 4) ndarray
+        ``q_nb`` [w, x, y, z] in NED (x magnetic north).
+    att_sigma : (N, 3) ndarray or None
+        The filter's body-frame attitude one-sigma, rad (quatnav filters only).
+    """
+    gyr, acc, mag = trial.gyr, trial.acc, trial.mag
+    if name in FILTERS:
+        import quatnav
+        cls = getattr(quatnav, FILTERS[name])
+        f = cls(**(params or {}))
+        res = f.run(gyr, acc, mag, dt=trial.dt, on_invalid="skip")
+        return np.asarray(res.quat, float), getattr(res, "att_sigma", None)
+    if name == "vqf":
+        import vqf
+        v = vqf.VQF(trial.dt)
+        out = v.updateBatch(np.ascontiguousarray(gyr), np.ascontiguousarray(acc), np.ascontiguousarray(mag))
+        return Q.enu_to_ned(out["quat9D"]), None
+    if name == "imufusion":
+        import imufusion
+        ahrs = imufusion.Ahrs()
+        s = imufusion.AhrsSettings()
+        s.convention = imufusion.CONVENTION_NED
+        s.sample_rate = int(round(trial.rate))
+        ahrs.set_settings(s)
+        ahrs.set_sample_period(trial.dt)
+        gd, ag = np.degrees(gyr), acc / 9.80665
+        q = np.empty((len(trial), 4))
+        for k in range(len(trial)):
+            ahrs.update(gd[k], ag[k], mag[k])
+            q[k] = ahrs.get_quaternion()
+        return q, None
+    if name == "madgwick":
+        import ahrs
+        mw = ahrs.filters.Madgwick(gyr=gyr, acc=acc, mag=mag, frequency=trial.rate)
+        return Q.mul(_Q_NED_NWU, np.asarray(mw.Q, float)), None
+    raise ValueError(f"unknown algorithm {name!r}")
+
+
+def evaluate_trial(trial, name: str, params: dict | None = None, keep_series: bool = False) -> dict:
+    """BROAD figures of one algorithm on one trial (degrees), plus 3-sigma consistency if any."""
+    quat, sig = run_algorithm(name, trial, params)
+    out = M.attitude_rmse_deg(quat, trial.quat_ref, trial.movement)
+    if sig is not None:
+        out["within_3sigma"] = M.sigma_consistency(quat, trial.quat_ref, sig, trial.movement)
+    if keep_series:
+        e = M.error_quat(quat, trial.quat_ref)
+        out["series_total_deg"] = np.degrees(M.total_error(e))
+    return out
+
+
+def _job(path: str, name: str, params, keep_series: bool):
+    from .datasets import broad
+    trial = broad.load_trial(path)
+    return trial.name, name, evaluate_trial(trial, name, params, keep_series)
+
+
+def _progress(total: int, enabled: bool):
+    if not enabled:
+        return None
+    try:
+        from tqdm import tqdm
+        return tqdm(total=total, unit="run", file=sys.stderr)
+    except ImportError:  # pragma: no cover
+        return None
+
+
+def evaluate(directory=None, filters=("qekf",), peers=("vqf", "imufusion", "madgwick"),
+             params: dict | None = None, executor: Executor | None = None, progress: bool = False,
+             keep_series: bool = False) -> dict:
+    """Run filters and peers on every trial of a BROAD folder.
+
+    Parameters
+    ----------
+    directory : str or Path, optional
+        Folder of BROAD trial files (default: the shared data folder's ``broad``).
+    filters, peers : sequence of str
+        Keys of :data:`FILTERS` / :data:`PEERS`. Unavailable ones are skipped with a note.
+    params : dict, optional
+        ``{filter name: {parameter: value}}`` overriding quatnav filters' defaults.
+    executor : concurrent.futures.Executor, optional
+        Runs the (trial, algorithm) jobs; in-process and sequential if None.
+    progress : bool
+        Show a progress bar (tqdm) on stderr.
+    keep_series : bool
+        Keep each run's total error over time (degrees) for plots.
+
+    Returns
+    -------
+    dict
+        ``{"algorithms": [...], "trials": {name: {"groups": [...], "results": {alg: figures}}},
+        "groups": {group: {alg: {"total": ...}}}, "mean": {alg: figures}, "notes": [...]}``.
+    """
+    from .datasets import broad
+    directory = Path(directory) if directory is not None else broad.default_dir()
+    files = broad.list_trials(directory)
+    if not files:
+        raise FileNotFoundError(f"directory: no BROAD trials (.mat/.hdf5) in {directory}")
+    info = broad.load_trial_info(directory)
+    notes, algs = [], []
+    for name in [*filters, *peers]:
+        ok, note = available(name)
+        if ok:
+            algs.append(name)
+        else:
+            notes.append(note)
+    params = params or {}
+    jobs = [(str(f), a, params.get(a), keep_series) for f in files for a in algs]
+    bar = _progress(len(jobs), progress)
+    raw = []
+    if executor is None:
+        for j in jobs:
+            raw.append(_job(*j))
+            if bar:
+                bar.update(1)
+    else:
+        futures = [executor.submit(_job, *j) for j in jobs]
+        for fut in futures:
+            raw.append(fut.result())
+            if bar:
+                bar.update(1)
+    if bar:
+        bar.close()
+    trials: dict = {}
+    for f in files:
+        groups = info.get("trials", {}).get(f.stem, {}).get("groups", [])
+        trials[f.stem] = {"groups": list(groups), "results": {}}
+    for tname, a, res in raw:
+        trials[tname]["results"][a] = res
+    keys = ("total", "heading", "inclination", "within_3sigma")
+
+    def mean_over(names, a):
+        out = {}
+        for k in keys:
+            vals = [trials[t]["results"][a][k] for t in names if k in trials[t]["results"][a]]
+            if vals:
+                out[k] = float(np.mean(vals))
+        return out
+
+    groups_present = []
+    for g in info.get("groups", []):
+        members = [t for t in trials if g["name"] in trials[t]["groups"]]
+        if members and g["name"] != "all_trials":
+            groups_present.append((g["name"], members))
+    return {
+        "algorithms": algs,
+        "trials": trials,
+        "groups": {g: {"trials": m, **{a: mean_over(m, a) for a in algs}} for g, m in groups_present},
+        "mean": {a: mean_over(list(trials), a) for a in algs},
+        "notes": notes,
+        "directory": str(directory),
+    }
+
+
+def format_table(results: dict, metric: str = "total") -> str:
+    """Plain-text tables: per trial, per group and the mean (``metric`` RMSE, degrees), and
+    for the mean also heading / inclination and the 3-sigma consistency of quatnav's filters."""
+    algs = results["algorithms"]
+    w = max(12, *(len(a) + 1 for a in algs))
+    head = f"{'trial':34s}" + "".join(f"{a:>{w}s}" for a in algs)
+    lines = [f"{metric} RMSE over the movement phases, deg", head, "-" * len(head)]
+    for t, d in results["trials"].items():
+        lines.append(f"{t[:34]:34s}" + "".join(f"{d['results'][a][metric]:{w}.2f}" for a in algs))
+    lines.append("-" * len(head))
+    for g, d in results["groups"].items():
+        lines.append(f"{'group ' + g:34s}" + "".join(f"{d[a].get(metric, np.nan):{w}.2f}" for a in algs))
+    lines.append("-" * len(head))
+    for k in ("total", "heading", "inclination"):
+        lines.append(f"{'mean ' + k:34s}" + "".join(f"{results['mean'][a][k]:{w}.2f}" for a in algs))
+    cons = [results["mean"][a].get("within_3sigma") for a in algs]
+    if any(c is not None for c in cons):
+        lines.append(f"{'within own 3 sigma (fraction)':34s}" +
+                     "".join(f"{c:{w}.3f}" if c is not None else f"{'-':>{w}s}" for c in cons))
+    for n in results.get("notes", []):
+        lines.append("note: " + n)
+    return "\n".join(lines)
+
+
+def _jsonable(results: dict) -> dict:
+    def conv(x):
+        if isinstance(x, dict):
+            return {k: conv(v) for k, v in x.items() if not k.startswith("series_")}
+        if isinstance(x, (list, tuple)):
+            return [conv(v) for v in x]
+        if isinstance(x, (np.floating, np.integer)):
+            return x.item()
+        return x
+    return conv(results)
+
+
+def plot_results(results: dict, outdir) -> list[Path]:
+    """Write plots: total error over time per trial (needs ``keep_series``) and a bar chart of
+    the total RMSE per group. Returns the files written."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = []
+    algs = results["algorithms"]
+    for t, d in results["trials"].items():
+        series = {a: d["results"][a].get("series_total_deg") for a in algs}
+        if not any(s is not None for s in series.values()):
+            continue
+        fig, ax = plt.subplots(figsize=(10, 4))
+        for a, s in series.items():
+            if s is not None:
+                ax.plot(np.arange(len(s)) / 285.714, s, lw=0.7,
+                        label=f"{a} ({d['results'][a]['total']:.2f} deg)")
+        ax.set_xlabel("time [s] (at BROAD's 285.7 Hz)")
+        ax.set_ylabel("total error [deg]")
+        ax.set_title(f"BROAD {t}")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+        p = outdir / f"error_{t}.png"
+        fig.tight_layout()
+        fig.savefig(p, dpi=110)
+        plt.close(fig)
+        written.append(p)
+    names = list(results["groups"]) + ["mean"]
+    vals = {a: [results["groups"][g][a].get("total", np.nan) for g in results["groups"]] +
+            [results["mean"][a]["total"]] for a in algs}
+    fig, ax = plt.subplots(figsize=(max(8, len(names) * 0.9), 4))
+    x = np.arange(len(names))
+    wid = 0.8 / max(1, len(algs))
+    for i, a in enumerate(algs):
+        ax.bar(x + i * wid - 0.4 + wid / 2, vals[a], wid, label=a)
+    ax.set_xticks(x)
+    ax.set_xticklabels(names, rotation=30, ha="right")
+    ax.set_ylabel("total RMSE [deg]")
+    ax.set_title("BROAD: mean total RMSE per group (Laidig et al. 2021, CC BY 4.0)")
+    ax.legend(fontsize=8)
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    p = outdir / "groups_total_rmse.png"
+    fig.savefig(p, dpi=110)
+    plt.close(fig)
+    written.append(p)
+    return written
+
+
+def _split(s: str) -> list[str]:
+    return [x.strip() for x in s.split(",") if x.strip()] if s else []
+
+
+def _cmd_broad(args) -> int:
+    filters, peers = _split(args.filters), _split(args.peers)
+    for n in filters:
+        if n not in FILTERS:
+            raise SystemExit(f"--filters: unknown filter {n!r}; known: {', '.join(FILTERS)}")
+    for n in peers:
+        if n not in PEERS:
+            raise SystemExit(f"--peers: unknown peer {n!r}; known: {', '.join(PEERS)}")
+    executor = None
+    if args.jobs and args.jobs > 1:
+        from concurrent.futures import ProcessPoolExecutor
+        executor = ProcessPoolExecutor(max_workers=args.jobs)
+    try:
+        res = evaluate(args.dir, filters, peers, executor=executor, progress=not args.quiet,
+                       keep_series=bool(args.plot))
+    finally:
+        if executor is not None:
+            executor.shutdown()
+    print(format_table(res))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(_jsonable(res), f, indent=2)
+        print(f"wrote {args.json}")
+    if args.plot:
+        for p in plot_results(res, args.plot):
+            print(f"wrote {p}")
+    print("BROAD: Laidig, Caruso, Cereatti, Seel, Data 6(7), 2021, doi:10.3390/data6070072 (CC BY 4.0)")
+    return 0
+
+
+def add_parser(sub) -> None:
+    """Register ``quatnav eval broad ...`` on the CLI's subparsers."""
+    p = sub.add_parser("eval", help="evaluate filters on real datasets")
+    evsub = p.add_subparsers(dest="dataset", metavar="DATASET")
+    b = evsub.add_parser("broad", help="BROAD benchmark: filters and peers side by side")
+    b.add_argument("dir", nargs="?", default=None, help="folder of BROAD trials (default: shared data)")
+    b.add_argument("--filters", default="qekf", help="comma list of %s (default: qekf)" % ",".join(FILTERS))
+    b.add_argument("--peers", default="vqf,imufusion,madgwick",
+                   help="comma list of %s (default: all; missing packages are skipped)" % ",".join(PEERS))
+    b.add_argument("--json", default=None, help="write the results to this JSON file")
+    b.add_argument("--plot", default=None, help="write plots into this folder")
+    b.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    b.add_argument("--quiet", action="store_true", help="no progress bar")
+    b.set_defaults(func=_cmd_broad)
+    p.set_defaults(func=lambda a: (p.print_help(), 2)[1])

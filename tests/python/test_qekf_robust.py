@@ -1,0 +1,232 @@
+"""Robustness features of QuaternionEKF: each one's effect on simulated data, C++ vs reference."""
+import numpy as np
+import pytest
+
+import quatnav
+from quatnav import quaternion as Q
+from quatnav import reference
+
+G = 9.81
+DIP = np.radians(60.0)
+M_N = 48.0 * np.array([np.cos(DIP), 0.0, np.sin(DIP)])  # uT, NED, x = magnetic north
+
+
+def simulate(n=3000, rate=100.0, seed=0, rot_rate=None, lin_acc=None, mag_dist=None, bias=(0.0, 0.0, 0.0),
+             q0=(1.0, 0.0, 0.0, 0.0)):
+    """IMU samples of a body turning at ``rot_rate(k)`` (rad/s, body), with linear acceleration
+    ``lin_acc(k)`` (m/s^2, NED) and a magnetic disturbance ``mag_dist(k)`` (uT, body)."""
+    rng = np.random.default_rng(seed)
+    dt = 1.0 / rate
+    q = np.array(q0, float)
+    quat = np.empty((n, 4))
+    gyr, acc, mag = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    for k in range(n):
+        w = np.zeros(3) if rot_rate is None else np.asarray(rot_rate(k), float)
+        if k > 0:
+            q = Q.mul(q, Q.from_rotvec(w * dt))
+        quat[k] = q
+        a_n = np.zeros(3) if lin_acc is None else np.asarray(lin_acc(k), float)
+        f_n = a_n - np.array([0.0, 0.0, G])
+        acc[k] = Q.rotate_inv(q, f_n) + rng.normal(0, 0.05, 3)
+        gyr[k] = w + np.asarray(bias) + rng.normal(0, 0.002, 3)
+        m_b = Q.rotate_inv(q, M_N) + rng.normal(0, 0.3, 3)
+        if mag_dist is not None:
+            m_b = m_b + np.asarray(mag_dist(k), float)
+        mag[k] = m_b
+    return quat, gyr, acc, mag, dt
+
+
+def tilt_err_deg(q_est, q_true):
+    e = quatnav.metrics.error_quat(q_est, q_true)
+    return np.degrees(quatnav.metrics.inclination_error(e))
+
+
+def heading_err_deg(q_est, q_true):
+    e = quatnav.metrics.error_quat(q_est, q_true)
+    return np.degrees(quatnav.metrics.heading_error(e))
+
+
+def wobble(k):
+    return 0.3 * np.array([np.sin(0.011 * k), np.cos(0.007 * k), 0.5 * np.sin(0.005 * k)])
+
+
+def test_heading_only_mag_never_tilts():
+    f = quatnav.QuaternionEKF(paper=True, mag_heading_only=True)
+    q_true = Q.from_euler([0.3, -0.2, 1.0])
+    f.initialize(Q.rotate_inv(q_true, [0, 0, -G]), Q.rotate_inv(q_true, M_N))
+    # A field with a wrong direction (rotated 20 deg about a tilted axis).
+    bad = Q.rotate(Q.from_rotvec([0.2, 0.3, 0.1]), Q.rotate_inv(q_true, M_N))
+    down_before = Q.rotate_inv(f.quat, [0, 0, 1.0])
+    res = f.update_mag(bad)
+    assert res.status == "ok"
+    down_after = Q.rotate_inv(f.quat, [0, 0, 1.0])
+    np.testing.assert_allclose(down_after, down_before, atol=1e-12)
+    # ... while the paper's 3-row update does tilt.
+    g = quatnav.QuaternionEKF(paper=True)
+    g.initialize(Q.rotate_inv(q_true, [0, 0, -G]), Q.rotate_inv(q_true, M_N))
+    g.update_mag(bad)
+    assert np.linalg.norm(Q.rotate_inv(g.quat, [0, 0, 1.0]) - down_before) > 1e-4
+
+
+def test_heading_model_jacobian_finite_difference():
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        q = Q.normalize(rng.normal(size=4))
+        m = rng.normal(size=3)
+        m /= np.linalg.norm(m)
+        h, horiz2, H, u, Jt = reference.QuaternionEKF.heading_model(q, m)
+        eps = 1e-6
+        # Full navigation-frame Jacobian: yaw part 1 (= H u / |u|^2 * ... ), tilt parts Jt.
+        for i in range(3):
+            dphi = np.zeros(3)
+            dphi[i] = eps
+            hp = reference.QuaternionEKF.heading_model(Q.mul(Q.from_rotvec(dphi), q), m)[0]
+            hm = reference.QuaternionEKF.heading_model(Q.mul(Q.from_rotvec(-dphi), q), m)[0]
+            d = Q.wrap_pi(hp - hm) / (2 * eps)
+            expect = 1.0 if i == 2 else Jt[i]
+            assert d == pytest.approx(expect, rel=1e-5, abs=1e-6)
+        # H maps a yaw change dq = u * eps / 2 to eps.
+        assert H @ (u / 2) == pytest.approx(1.0)
+
+
+def test_acc_low_pass_and_rejection_reduce_tilt_error_in_acceleration_burst():
+    burst = lambda k: np.array([6.0 * np.sign(np.sin(0.05 * k + 0.1)), 0.0, 0.0]) if 1000 <= k < 1600 else np.zeros(3)
+    quat, gyr, acc, mag, dt = simulate(n=2000, rot_rate=wobble, lin_acc=burst)
+    win = slice(1000, 1700)
+    base = dict(paper=True)
+    plain = quatnav.QuaternionEKF(**base).run(gyr, acc, mag, dt=dt)
+    rej = quatnav.QuaternionEKF(acc_reject=1.0, **base).run(gyr, acc, mag, dt=dt)
+    lp = quatnav.QuaternionEKF(acc_lp_tau=3.0, **base).run(gyr, acc, mag, dt=dt)
+    e_plain = np.sqrt(np.mean(tilt_err_deg(plain.quat, quat)[win] ** 2))
+    e_rej = np.sqrt(np.mean(tilt_err_deg(rej.quat, quat)[win] ** 2))
+    e_lp = np.sqrt(np.mean(tilt_err_deg(lp.quat, quat)[win] ** 2))
+    assert rej.flag("acc_rejected")[1000:1600].mean() > 0.9
+    assert not rej.flag("acc_rejected")[200:900].any()
+    assert e_rej < 0.5 * e_plain
+    assert e_lp < 0.5 * e_plain
+
+
+def test_adaptive_acc_noise_reduces_tilt_error():
+    burst = lambda k: np.array([0.0, 4.0 * np.sin(0.2 * k), 0.0]) if 800 <= k < 1400 else np.zeros(3)
+    quat, gyr, acc, mag, dt = simulate(n=1600, rot_rate=wobble, lin_acc=burst, seed=1)
+    win = slice(800, 1450)
+    e0 = tilt_err_deg(quatnav.QuaternionEKF(paper=True).run(gyr, acc, mag, dt=dt).quat, quat)[win]
+    e1 = tilt_err_deg(quatnav.QuaternionEKF(paper=True, acc_adapt=20.0).run(gyr, acc, mag, dt=dt).quat, quat)[win]
+    assert np.sqrt(np.mean(e1**2)) < 0.7 * np.sqrt(np.mean(e0**2))
+
+
+def test_magnetic_disturbance_rejected_and_heading_kept():
+    dist = lambda k: np.array([25.0, -20.0, 10.0]) if 1000 <= k < 1600 else np.zeros(3)
+    quat, gyr, acc, mag, dt = simulate(n=2000, rot_rate=wobble, mag_dist=dist, seed=2)
+    win = slice(1000, 1700)
+    base = dict(paper=True, gyro_noise=0.002)
+    plain = quatnav.QuaternionEKF(**base).run(gyr, acc, mag, dt=dt)
+    rob = quatnav.QuaternionEKF(mag_norm_tol=0.1, mag_dip_tol=0.1, **base).run(gyr, acc, mag, dt=dt)
+    assert rob.flag("mag_rejected")[1000:1600].mean() > 0.9
+    assert rob.flag("mag_rejected")[300:900].mean() < 0.05
+    h_plain = np.sqrt(np.mean(heading_err_deg(plain.quat, quat)[win] ** 2))
+    h_rob = np.sqrt(np.mean(heading_err_deg(rob.quat, quat)[win] ** 2))
+    assert h_rob < 0.3 * h_plain
+    assert h_rob < 3.0
+
+
+def test_mag_gate_rejects_outliers():
+    spikes = lambda k: np.array([0.0, 60.0, 0.0]) if k % 50 == 0 and k > 300 else np.zeros(3)
+    quat, gyr, acc, mag, dt = simulate(n=1200, rot_rate=wobble, mag_dist=spikes, seed=4)
+    r = quatnav.QuaternionEKF(paper=True, mag_heading_only=True, mag_gate=9.0).run(gyr, acc, mag, dt=dt)
+    spike_rows = np.arange(350, 1200, 50)
+    assert r.flag("mag_rejected")[spike_rows].mean() > 0.8
+
+
+def test_rest_detection_sharpens_bias():
+    bias = (0.01, -0.02, 0.015)
+    quat, gyr, acc, mag, dt = simulate(n=3000, bias=bias, seed=5)
+    off = quatnav.QuaternionEKF(paper=True, rest_detection=False).run(gyr, acc, None, dt=dt)
+    on = quatnav.QuaternionEKF(paper=True, rest_detection=True).run(gyr, acc, None, dt=dt)
+    assert on.flag("at_rest")[500:].all()
+    assert not on.flag("at_rest")[:100].any()
+    assert not off.flag("at_rest").any()
+    # Without a magnetometer the z bias is only observable at rest.
+    assert on.sigma[-1, 6] < 0.2 * off.sigma[-1, 6]
+    assert abs(on.bias[-1, 2] - bias[2]) < 3 * on.sigma[-1, 6] + 1e-4
+    assert abs(on.bias[-1, 2] - bias[2]) < 0.3 * abs(off.bias[-1, 2] - bias[2])
+
+
+def test_rest_not_detected_while_turning():
+    quat, gyr, acc, mag, dt = simulate(n=800, rot_rate=lambda k: [0.0, 0.0, 0.5], seed=6)
+    r = quatnav.QuaternionEKF(rest_detection=True).run(gyr, acc, mag, dt=dt)
+    assert not r.flag("at_rest").any()
+
+
+ROBUST = dict(paper=True, mag_heading_only=True, acc_noise=0.05, acc_lp_tau=1.0, acc_adapt=5.0, acc_reject=1.0, acc_recovery_time=0.5,
+              mag_norm_tol=0.1, mag_dip_tol=0.1, mag_gate=16.0, mag_settle_time=0.2, mag_ref_tau=2.0,
+              mag_recovery_time=1.0, rest_detection=True, gyro_noise=0.002)
+
+
+@pytest.mark.parametrize("extra", [dict(), dict(acc_lp_tau=0.0), dict(mag_heading_only=False), dict(paper=True)])
+def test_cpp_matches_reference_with_robustness(extra):
+    burst = lambda k: np.array([5.0, 0.0, 0.0]) if 250 <= k < 300 else np.zeros(3)
+    dist = lambda k: np.array([30.0, 0.0, 0.0]) if 320 <= k < 420 else np.zeros(3)
+    rot = lambda k: np.zeros(3) if k < 230 else wobble(k)
+    quat, gyr, acc, mag, dt = simulate(n=500, rot_rate=rot, lin_acc=burst, mag_dist=dist, seed=7,
+                                       bias=(0.01, 0, -0.01))
+    kw = {**ROBUST, **extra} if "paper" not in extra else dict(paper=True)
+    if "paper" not in extra:
+        kw.pop("paper")  # the reference's and the wrapper's defaults are the robust ones
+    c = quatnav.QuaternionEKF(**kw).run(gyr, acc, mag, dt=dt)
+    r = reference.QuaternionEKF(**kw).run(gyr, acc, mag, dt=dt)
+    np.testing.assert_allclose(c.quat, r.quat, atol=1e-9)
+    np.testing.assert_allclose(c.bias, r.bias, atol=1e-9)
+    np.testing.assert_allclose(c.sigma, r.sigma, atol=1e-9)
+    extra_bits = quatnav.FLAGS["acc_rejected"] | quatnav.FLAGS["mag_rejected"] | quatnav.FLAGS["at_rest"]
+    np.testing.assert_array_equal(c.flags & extra_bits, r.flags & extra_bits)
+    if "paper" not in extra:
+        # The scenario exercises every feature.
+        assert c.flag("at_rest").any() and c.flag("mag_rejected").any()
+        if extra.get("acc_lp_tau") == 0.0:
+            assert c.flag("acc_rejected").any()
+
+
+def test_split_run_with_robustness_state():
+    quat, gyr, acc, mag, dt = simulate(n=600, rot_rate=lambda k: np.zeros(3) if k < 300 else wobble(k), seed=8)
+    full = quatnav.QuaternionEKF(**ROBUST).run(gyr, acc, mag, dt=dt)
+    a = quatnav.QuaternionEKF(**ROBUST)
+    a.run(gyr[:350], acc[:350], mag[:350], dt=dt)
+    b = quatnav.QuaternionEKF(**ROBUST)
+    b.set_state(a.get_state())
+    second = b.run(gyr[350:], acc[350:], mag[350:], dt=dt)
+    np.testing.assert_array_equal(second.quat, full.quat[350:])
+    np.testing.assert_array_equal(second.sigma, full.sigma[350:])
+
+
+def test_float32_close_to_float64_with_defaults():
+    quat, gyr, acc, mag, dt = simulate(n=1500, rot_rate=wobble, seed=9)
+    r64 = quatnav.QuaternionEKF().run(gyr, acc, mag, dt=dt)
+    r32 = quatnav.QuaternionEKF(dtype=np.float32).run(gyr, acc, mag, dt=dt)
+    ang = np.degrees(quatnav.metrics.total_error(quatnav.metrics.error_quat(r32.quat, r64.quat)))
+    assert ang.max() < 0.05
+
+
+def test_parameter_validation():
+    with pytest.raises(TypeError, match="rest_detection"):
+        quatnav.QuaternionEKF(rest_detection=1.0)
+    with pytest.raises(ValueError, match="acc_reject"):
+        quatnav.QuaternionEKF(acc_reject=-1.0)
+    with pytest.raises(TypeError, match="unknown parameter"):
+        quatnav.QuaternionEKF(acc_rejection=1.0)
+    p = quatnav.QuaternionEKF(paper=True).params
+    assert p["mag_heading_only"] is False and p["rest_detection"] is False and p["acc_lp_tau"] == 0
+    assert p["gyro_noise"] == pytest.approx(0.005) and p["acc_noise"] == pytest.approx(0.05)
+    d = quatnav.QuaternionEKF().params
+    assert d["mag_heading_only"] is True and d["rest_detection"] is True and d["acc_lp_tau"] > 0
+    ref = reference.QuaternionEKF()
+    for k, v in d.items():
+        assert float(getattr(ref.p, k)) == pytest.approx(float(v), rel=1e-6), k
+
+
+def test_default_consistency_on_simulated_data():
+    """With honest noise the default filter's attitude error stays within its 3 sigma."""
+    quat, gyr, acc, mag, dt = simulate(n=3000, rot_rate=wobble, seed=10, bias=(0.005, -0.004, 0.003))
+    r = quatnav.QuaternionEKF().run(gyr, acc, mag, dt=dt)
+    frac = quatnav.metrics.sigma_consistency(r.quat[500:], quat[500:], r.att_sigma[500:])
+    assert frac > 0.95
