@@ -14,12 +14,12 @@ and the optical frame's to its own x axis, so a constant heading offset per tria
 mean over those samples) is removed before the heading error is taken; the inclination error
 does not depend on it. One parameter set for all trials.
 
-The loader here is deliberately minimal (``scipy.io.loadmat`` of the documented fields).
+The trials are read with :mod:`quatnav.datasets.broad`; ``quatnav eval broad`` gives the
+benchmark's own figures (no heading-offset removal) for every filter and the peers.
 """
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -38,20 +38,18 @@ def add_arguments(parser) -> None:
 
 
 def default_dir() -> Path:
-    env = os.environ.get("QUATNAV_DATA")
-    if env:
-        return Path(env) / "broad"
-    return Path(__file__).resolve().parents[3].parent / "shared" / "data" / "broad"
+    """``<shared data>/broad`` (see :func:`quatnav.datasets.broad.default_dir`)."""
+    from ..datasets import broad
+    return broad.default_dir()
 
 
 def load_trial(path) -> dict:
-    """The documented fields of one BROAD trial (MATLAB v5)."""
-    from scipy.io import loadmat
-    m = loadmat(str(path))
-    rate = float(np.squeeze(m["sampling_rate"]))
-    return dict(name=Path(path).stem, gyr=np.asarray(m["imu_gyr"], float), acc=np.asarray(m["imu_acc"], float),
-                mag=np.asarray(m["imu_mag"], float), quat_ref_enu=np.asarray(m["opt_quat"], float),
-                movement=np.asarray(m["movement"]).ravel().astype(bool), rate_hz=rate)
+    """One BROAD trial through :func:`quatnav.datasets.broad.load_trial`, as a dict (the
+    reference kept in the dataset's ENU frame for :func:`errors_deg`)."""
+    from ..datasets import broad
+    t = broad.load_trial(path)
+    return dict(name=t.name, gyr=t.gyr, acc=t.acc, mag=t.mag, quat_ref_enu=t.quat_ref_enu,
+                movement=t.movement, rate_hz=t.rate)
 
 
 def errors_deg(q_est_ned, q_ref_enu, mask):
