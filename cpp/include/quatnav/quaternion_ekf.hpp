@@ -559,6 +559,7 @@ template <class S> class QuaternionEKF {
       return res;
     }
     detail::qekf_normalize(q, P);
+    detail::qekf_floor_covariance(q, P, params_.cov_floor);  // symmetric again, floored
     st_.q = q;
     st_.bias += dx.template tail<3>();
     st_.P = P;
