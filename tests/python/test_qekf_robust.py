@@ -220,7 +220,10 @@ def test_parameter_validation():
     d = quatnav.QuaternionEKF().params
     assert d["mag_heading_only"] is True and d["rest_detection"] is True and d["acc_lp_tau"] > 0
     ref = reference.QuaternionEKF()
+    cpp_only = {"gyro_range", "acc_range", "cov_floor"}  # input guards of the C++ step (docs/ROBUSTNESS.md)
     for k, v in d.items():
+        if k in cpp_only:
+            continue
         assert float(getattr(ref.p, k)) == pytest.approx(float(v), rel=1e-6), k
 
 
