@@ -271,10 +271,11 @@ TEST(RefusedState, MalformedCovarianceAndQuaternion) {
   EXPECT_TRUE(FuzzAdapter<EulerEKF<double>>::same(eb, e.state()));
 }
 
-template <class F> void expect_failed_mag_update_keeps_reference() {
+template <class F> void expect_failed_mag_update_keeps_reference(const typename F::Params& p = {}) {
   // An indefinite (but symmetric, non-negative diagonal) covariance makes S = H P H^T + R
   // indefinite: the solve fails, and the field reference must not have learned the sample.
-  F f;
+  // (The full 3-vector field update: the scalar heading-only update can stay solvable.)
+  F f(p);
   ASSERT_EQ(f.initialize(Vec3<double>(0, 0, -9.8), Vec3<double>(20, 0, 40)), Status::Ok);
   auto s = f.state();
   s.P.setZero();
@@ -287,7 +288,7 @@ template <class F> void expect_failed_mag_update_keeps_reference() {
 }
 
 TEST(RefusedState, FailedMagUpdateLeavesFieldReference) {
-  expect_failed_mag_update_keeps_reference<QuaternionEKF<double>>();
+  expect_failed_mag_update_keeps_reference<QuaternionEKF<double>>(QuaternionEKFParams<double>::paper());
   expect_failed_mag_update_keeps_reference<EulerEKF<double>>();
 }
 
