@@ -6,7 +6,7 @@ error of :class:`~quatnav.QuaternionEKF` (defaults, tuned for real data, and ``p
 the plain filter of paper 000), :class:`~quatnav.EulerEKF` and
 :class:`~quatnav.MargFilter` (paper defaults, which estimate no gyro bias, and with its bias
 integrator on); then :class:`~quatnav.NavFilter13` with its three time updates on paper
-002's simulated run. ``--plot`` writes a figure of the attitude errors.
+002's simulated run, and :class:`~quatnav.GpsInsFilter` on paper 004's simulated runs. ``--plot`` writes a figure of the attitude errors.
 """
 from __future__ import annotations
 
@@ -119,6 +119,9 @@ def run_demo(plot: str | None = None, seed: int = 0, quiet: bool = False) -> dic
     nav = _navigation_demo(seed, quiet)
     if nav:
         results["navigation"] = nav
+    ins = _gpsins_demo(seed, quiet)
+    if ins:
+        results["gpsins"] = ins
     if plot:
         _plot(d, {k: v for k, v in results.items() if k != "navigation"}, plot)
         if not quiet:
@@ -157,6 +160,29 @@ def _navigation_demo(seed: int, quiet: bool) -> dict:
         for name, v in out.items():
             print(f"{name:<21}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
                   f"{v['vel_rmse_m_s']:12.3f}{v['samples_per_s']:12.3g}")
+    return out
+
+
+def _gpsins_demo(seed: int, quiet: bool) -> dict:
+    """GpsInsFilter (paper 004) on its three simulated scenarios, with a 10 s GPS outage."""
+    try:
+        from .experiments import gpsins as G
+        out = {name: G.run_scenario(name, seed=seed) for name in ("static", "turntable", "walk")}
+    except ImportError as exc:  # quatnav.sim needs scipy (extra [sim])
+        if not quiet:
+            print(f"(GPS/INS demo skipped: {exc})")
+        return {}
+    if not quiet:
+        print()
+        print(f"GpsInsFilter (paper 004): simulated runs, seed {seed}; a 10 s GPS outage mid-run")
+        print(f"{'scenario':<21}{'horiz RMS':>10}{'max':>8}{'roll':>8}{'pitch':>8}{'yaw':>8}"
+              f"{'outage drift':>14}{'1-sigma':>9}")
+        print(f"{'':<21}{'[m]':>10}{'[m]':>8}{'[deg]':>8}{'[deg]':>8}{'[deg]':>8}{'[m]':>14}{'[m]':>9}")
+        for name, r in out.items():
+            e, o = r["euler_deg"], r["outage"]
+            print(f"{name:<21}{r['horizontal_m']['rms']:10.2f}{r['horizontal_m']['max']:8.2f}"
+                  f"{e['roll']['rms']:8.2f}{e['pitch']['rms']:8.2f}{e['yaw']['rms']:8.2f}"
+                  f"{o['horizontal_error_at_end_m']:14.2f}{o['horizontal_sigma_at_end_m']:9.2f}")
     return out
 
 
