@@ -11,8 +11,8 @@
 // The attitude error is the phi-angle (nav-frame small rotation): C_nb_est = (I + [psi x]) C_nb.
 // Paper 004's state list (eq. 5) repeats V_E and psi_N: the intended states are the 15 above.
 //
-// Continuous error dynamics (detail::error_dynamics; a finite-difference check of F against the
-// mechanization is not yet in the tests):
+// Continuous error dynamics (detail::gpsins_F; checked against finite differences of the
+// mechanization in tests/python/test_gpsins_jacobian.py; radii taken constant in latitude):
 //   dp' = F_pp dp + dv                                           (eq. 9: in metres, the exact
 //         linearization of lat' = v_N/(R_M+h), lon' = v_E/((R_N+h) cos L), h' = -v_D)
 //   dv' = -[f_n x] psi - C_nb db_a - [(2 w_ie + w_en) x] dv + [v x](2 dw_ie + dw_en) + dg   (eq. 8)
