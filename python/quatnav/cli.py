@@ -19,6 +19,8 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_parser(sub)
     from . import evaluate
     evaluate.add_parser(sub)
+    from . import ins_cli
+    ins_cli.add_parser(sub)
     return parser
 
 

@@ -11,8 +11,8 @@
 // The attitude error is the phi-angle (nav-frame small rotation): C_nb_est = (I + [psi x]) C_nb.
 // Paper 004's state list (eq. 5) repeats V_E and psi_N: the intended states are the 15 above.
 //
-// Continuous error dynamics (detail::error_dynamics; a finite-difference check of F against the
-// mechanization is not yet in the tests):
+// Continuous error dynamics (detail::gpsins_F; checked against finite differences of the
+// mechanization in tests/python/test_gpsins_jacobian.py; radii taken constant in latitude):
 //   dp' = F_pp dp + dv                                           (eq. 9: in metres, the exact
 //         linearization of lat' = v_N/(R_M+h), lon' = v_E/((R_N+h) cos L), h' = -v_D)
 //   dv' = -[f_n x] psi - C_nb db_a - [(2 w_ie + w_en) x] dv + [v x](2 dw_ie + dw_en) + dg   (eq. 8)
@@ -39,7 +39,10 @@
 //   Altimeter height (1): h_INS - (h_baro + offset); the offset ties the altimeter to the GPS
 //     height: a running mean of (GPS height - altimeter) over the last baro_offset_fixes fixes,
 //     kept outside the Kalman filter (the paper zeroes the altimeter on the ground);
-//     R = baro_sigma^2 + gps_pos_sigma_v^2 / n for an offset averaged over n fixes.
+//     R = baro_sigma^2 + gps_pos_sigma_v^2 / n for an offset averaged over n fixes. The offset's
+//     error is common to every altimeter sample but enters R as white noise, so with the
+//     altimeter the height, v_D and accelerometer-z sigmas are too small (NEES of dp_D about 24
+//     on a simulated walk; tests/python/test_gpsins_consistency.py); an offset state would fix it.
 //   Altimeter vertical velocity (1), as the paper does: v_D,INS - v_D,baro, where v_D,baro is the
 //     derivative of the altimeter over a baseline of at least baro_rate_baseline seconds,
 //     R = 2 sigma_h^2 / T^2 + baro_vd_sigma^2 (successive derivatives share an end point, so

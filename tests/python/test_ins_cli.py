@@ -1,0 +1,215 @@
+"""``quatnav ins run``: CSV files written from the simulator's paper-004 walk, run in-process and
+once as a subprocess, checked against the truth; and every input-error path."""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import quatnav
+from quatnav import cli, earth
+from quatnav.sim.scenarios import make_scenario
+
+LEVER = (0.1, 0.0, -0.1)
+PYTHON_DIR = str(Path(quatnav.__file__).resolve().parent.parent)
+
+
+def _write(path, header, cols, fmt="%.9f"):
+    np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header), comments="", fmt=fmt)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return make_scenario("paper004_walk", seed=0)
+
+
+@pytest.fixture(scope="module")
+def files(walk, tmp_path_factory):
+    s, d = walk, tmp_path_factory.mktemp("ins")
+    g = s.gps
+    # columns in a different order from the documentation, and an extra column
+    imu = _write(d / "imu.csv", ["accel_x", "accel_y", "accel_z", "time", "gyro_x", "gyro_y", "gyro_z", "temp"],
+                 [*s.imu.accel.T, s.imu.t, *s.imu.gyro.T, np.full(len(s.imu.t), 25.0)], fmt="%.12g")
+    gnss = _write(d / "gnss.csv", ["time", "lat", "lon", "h", "v_n", "v_e", "v_d"],
+                  [g.t_valid, np.degrees(g.lat), np.degrees(g.lon), g.h, *g.v_n.T], fmt="%.12f")
+    baro = _write(d / "baro.csv", ["time", "h"], [s.baro.t, s.baro.h])
+    compass = _write(d / "compass.csv", ["time", "heading"], [s.compass.t, np.degrees(s.compass.yaw)])
+    cfg = d / "cfg.toml"
+    cfg.write_text("# antenna 10 cm forward, 10 cm up\n[filter]\nlever_arm_b = [0.1, 0.0, -0.1]\n"
+                   "gps_pos_sigma_h = 2.5\ngate_gps_pos = 21.108\n")
+    return dict(dir=d, imu=imu, gnss=gnss, baro=baro, compass=compass, config=str(cfg))
+
+
+def _args(fl, out):
+    return ["ins", "run", "--imu", fl["imu"], "--gnss", fl["gnss"], "--baro", fl["baro"], "--compass", fl["compass"],
+            "--config", fl["config"], "--out", str(out)]
+
+
+def _read(out):
+    with open(out) as fh:
+        header = fh.readline().strip().split(",")
+    return header, np.loadtxt(out, delimiter=",", skiprows=1, ndmin=2)
+
+
+def test_run_in_process_against_truth_and_api(walk, files, capsys):
+    s = walk
+    out = files["dir"] / "out.csv"
+    assert cli.main(_args(files, out)) == 0
+    assert "wrote" in capsys.readouterr().out
+    header, a = _read(out)
+    from quatnav.ins_cli import OUTPUT_COLUMNS
+    assert tuple(header) == OUTPUT_COLUMNS
+    c = {n: a[:, i] for i, n in enumerate(header)}
+    # same numbers as the Python API on the same data (up to the CSV's printed digits)
+    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(
+        s.imu.t, s.imu.gyro, s.imu.accel, gps_t=s.gps.t_valid,
+        gps_llh=np.column_stack([s.gps.lat, s.gps.lon, s.gps.h]), gps_vel=s.gps.v_n, baro_t=s.baro.t,
+        baro_h=s.baro.h, compass_t=s.compass.t, compass_yaw=s.compass.yaw)
+    nav = r.navigating
+    assert len(a) == nav.sum() > 0.9 * len(s.imu.t)
+    np.testing.assert_allclose(c["time"], r.t[nav], atol=1e-6)
+    np.testing.assert_allclose(np.radians(c["lat"]), r.llh[nav, 0], atol=1e-9)  # ~1 cm
+    np.testing.assert_allclose(c["yaw"], np.degrees(r.euler[nav, 2]), atol=1e-3)
+    np.testing.assert_allclose(c["gyro_bias_z_deg_h"], np.degrees(r.gyro_bias[nav, 2]) * 3600, rtol=1e-5)
+    np.testing.assert_allclose(c["sigma_psi_d_deg"], np.degrees(r.sigma[nav, 8]), rtol=1e-5)
+    # against the truth: horizontal position within the filter's own sigma
+    i = np.searchsorted(s.truth.t, c["time"])
+    assert np.allclose(s.truth.t[i], c["time"], atol=1e-6)
+    lat, h = s.truth.lat[i], s.truth.h[i]
+    R_M, R_N = earth.radii(lat)
+    dn = (np.radians(c["lat"]) - lat) * (R_M + h)
+    de = (np.radians(c["lon"]) - s.truth.lon[i]) * (R_N + h) * np.cos(lat)
+    rms = np.sqrt(np.mean(dn ** 2 + de ** 2))
+    sig = np.sqrt(np.mean(c["sigma_n"] ** 2 + c["sigma_e"] ** 2))
+    assert rms < 3.0 * sig, (rms, sig)  # 2-dof: E[err^2] = sig^2 when consistent
+    assert rms < 2.0  # GPS 2.5 m per axis; the paper's bound is 30 m
+    yaw_err = np.angle(np.exp(1j * np.radians(c["yaw"] - np.degrees(s.truth.rpy[i, 2]))))
+    assert np.degrees(np.abs(yaw_err[len(i) // 5:])).max() < 5.0
+    assert np.all(np.isfinite(a))
+
+
+def test_run_as_subprocess(files):
+    out = files["dir"] / "out_sub.csv"
+    env = dict(os.environ, PYTHONPATH=PYTHON_DIR + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    p = subprocess.run([sys.executable, "-m", "quatnav", "ins", "run", "--imu", files["imu"], "--gnss", files["gnss"],
+                        "--out", str(out)], capture_output=True, text=True, env=env, timeout=120)
+    assert p.returncode == 0, p.stderr
+    header, a = _read(out)
+    assert header[:10] == ["time", "lat", "lon", "h", "v_n", "v_e", "v_d", "roll", "pitch", "yaw"]
+    assert len(a) > 1000
+    # an input error from a subprocess: one line, no traceback, exit status 2
+    p = subprocess.run([sys.executable, "-m", "quatnav", "ins", "run", "--imu", files["gnss"], "--gnss", files["gnss"],
+                        "--out", str(out)], capture_output=True, text=True, env=env, timeout=120)
+    assert p.returncode == 2
+    assert "Traceback" not in p.stderr and len(p.stderr.strip().splitlines()) == 1
+    assert "missing column 'gyro_x'" in p.stderr
+
+
+def test_help_documents_the_columns(capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["ins", "run", "--help"])
+    h = capsys.readouterr().out
+    for name in ("gyro_x", "accel_z", "lat", "lon", "v_n", "sigma_vn", "heading", "[filter]",
+                 "gyro_bias_{x,y,z}_deg_h", "accel_bias_{x,y,z}_m_s2", "sigma_psi_{n,e,d}_deg"):
+        assert name in h, name
+
+
+def _lines(path):
+    return Path(path).read_text().splitlines()
+
+
+def _bad(tmp_path, fl, name, lines):
+    p = tmp_path / f"bad_{name}.csv"
+    p.write_text("\n".join(lines) + "\n")
+    return dict(fl, **{name: str(p)})
+
+
+def _error(capsys, fl, out):
+    rc = cli.main(_args(fl, out))
+    err = capsys.readouterr().err.strip()
+    assert rc == 2
+    assert len(err.splitlines()) == 1 and err.startswith("quatnav ins run: error: ")
+    return err
+
+
+def test_input_errors_name_file_line_and_column(files, tmp_path, capsys):
+    out = tmp_path / "o.csv"
+    imu = _lines(files["imu"])
+    # missing column
+    hdr = imu[0].replace("gyro_y", "gyro_yy")
+    err = _error(capsys, _bad(tmp_path, files, "imu", [hdr] + imu[1:50]), out)
+    assert "bad_imu.csv" in err and "line 1" in err and "'gyro_y'" in err and "missing column" in err
+    # unsorted times (IMU time is the 4th column)
+    rows = imu[:50]
+    rows[10], rows[11] = rows[11], rows[10]
+    err = _error(capsys, _bad(tmp_path, files, "imu", rows), out)
+    assert "line 12" in err and "'time'" in err and "backwards" in err
+    # duplicate time in the GNSS
+    g = _lines(files["gnss"])
+    g[6] = g[5]
+    err = _error(capsys, _bad(tmp_path, files, "gnss", g), out)
+    assert "bad_gnss.csv" in err and "line 7" in err and "duplicate time" in err
+    # NaN in a required column
+    g = _lines(files["gnss"])
+    f = g[3].split(",")
+    f[1] = "nan"
+    g[3] = ",".join(f)
+    err = _error(capsys, _bad(tmp_path, files, "gnss", g), out)
+    assert "line 4" in err and "'lat'" in err and "not a finite number" in err
+    # empty cell in a required column, text in a numeric one
+    b = _lines(files["baro"])
+    b[20] = b[20].split(",")[0] + ","
+    err = _error(capsys, _bad(tmp_path, files, "baro", b), out)
+    assert "bad_baro.csv" in err and "line 21" in err and "'h'" in err and "empty" in err
+    c = _lines(files["compass"])
+    c[2] = c[2].split(",")[0] + ",north"
+    err = _error(capsys, _bad(tmp_path, files, "compass", c), out)
+    assert "line 3" in err and "'heading'" in err and "'north'" in err
+    # a velocity given in part
+    g = _lines(files["gnss"])
+    f = g[8].split(",")
+    f[5] = ""
+    g[8] = ",".join(f)
+    err = _error(capsys, _bad(tmp_path, files, "gnss", g), out)
+    assert "line 9" in err and "'v_e'" in err
+    # latitude out of range (radians given by mistake is fine; 95 deg is not)
+    g = _lines(files["gnss"])
+    f = g[2].split(",")
+    f[1] = "95.0"
+    g[2] = ",".join(f)
+    err = _error(capsys, _bad(tmp_path, files, "gnss", g), out)
+    assert "line 3" in err and "'lat'" in err
+    # missing file, empty file
+    err = _error(capsys, dict(files, baro=str(tmp_path / "nope.csv")), out)
+    assert "nope.csv" in err and "cannot open" in err
+    err = _error(capsys, _bad(tmp_path, files, "compass", []), out)
+    assert "empty file" in err
+
+
+def test_config_errors(files, tmp_path, capsys):
+    out = tmp_path / "o.csv"
+    for text, expect in (("[filter]\ngyro_noize = 1e-3\n", "unknown parameter 'gyro_noize'"),
+                         ("[filter]\nlever_arm_b = [0.1, 0.0]\n", "lever_arm_b must be a list of 3"),
+                         ("[filter]\ngyro_noise = 'big'\n", "gyro_noise must be a number"),
+                         ("[filter]\ngyro_noise = -1.0\n", "gyro_noise"),
+                         ("[filters]\ngyro_noise = 1.0\n", "'filters'"),
+                         ("[filter\n", "not valid TOML")):
+        cfg = tmp_path / "c.toml"
+        cfg.write_text(text)
+        err = _error(capsys, dict(files, config=str(cfg)), out)
+        assert "c.toml" in err and expect in err, (text, err)
+
+
+def test_no_navigation_exits_1(files, tmp_path, capsys):
+    # GNSS fixes all before the IMU starts: navigation never starts
+    g = _lines(files["gnss"])
+    out = tmp_path / "o.csv"
+    fl = _bad(tmp_path, files, "gnss", [g[0], "-5.0" + g[1][g[1].index(","):]])
+    assert cli.main(_args(fl, out)) == 1
+    assert "navigation never started" in capsys.readouterr().out
+    from quatnav.ins_cli import OUTPUT_COLUMNS
+    with open(out) as fh:
+        assert fh.read().splitlines() == [",".join(OUTPUT_COLUMNS)]
