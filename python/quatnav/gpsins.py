@@ -243,6 +243,43 @@ class GpsInsFilter:
         """Back to the start of alignment (parameters kept)."""
         self._f.reset()
 
+    def initialize(self, q_nb, v_n, llh, accel_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0),
+                   P=None) -> None:
+        """Start navigation directly, skipping the static alignment (e.g. from a dataset's own
+        initial alignment when the vehicle is not at rest at the start).
+
+        Parameters
+        ----------
+        q_nb : (4,) array_like
+            Attitude [w, x, y, z], body to NED.
+        v_n : (3,) array_like
+            NED velocity of the IMU, m/s.
+        llh : (3,) array_like
+            IMU [lat (rad), lon (rad), h (m)].
+        accel_bias, gyro_bias : (3,) array_like
+            Initial bias estimates, m/s^2 and rad/s.
+        P : (15, 15) array_like, optional
+            Error-state covariance (:data:`STATE_NAMES`); default: the parameters' initial sigmas
+            with GPS position sigmas ``gps_pos_sigma_h``/``_v`` and ``init_vel_sigma``.
+        """
+        q = V.vector(q_nb, "q_nb", 4, self.dtype)
+        v = V.vector(v_n, "v_n", 3, self.dtype)
+        llh = V.vector(llh, "llh", 3, np.float64)
+        ba = V.vector(accel_bias, "accel_bias", 3, self.dtype)
+        bg = V.vector(gyro_bias, "gyro_bias", 3, self.dtype)
+        if P is None:
+            p = self._f.params
+            d = np.array([p.gps_pos_sigma_h, p.gps_pos_sigma_h, p.gps_pos_sigma_v] + [p.init_vel_sigma] * 3
+                         + [p.init_level_sigma] * 2 + [p.init_yaw_sigma] + [p.init_accel_bias_sigma] * 3
+                         + [p.init_gyro_bias_sigma] * 3)
+            P = np.diag(d ** 2)
+        P = np.asarray(V._numeric(P, "P"), dtype=self.dtype)
+        if P.shape != (15, 15):
+            raise ValueError(f"P: expected shape (15, 15), got {P.shape}")
+        s = self._f.initialize(q, v, float(llh[0]), float(llh[1]), float(llh[2]), ba, bg, P)
+        if s != "ok":
+            raise ValueError(f"q_nb, v_n, llh, P: rejected by the filter ({s})")
+
     # --- steps --------------------------------------------------------------------------------
     def predict(self, omega_ib_b, f_ib_b, dt: float) -> str:
         """One IMU interval: mean rate (rad/s), specific force (m/s^2), dt (s). Returns the status."""

@@ -19,6 +19,7 @@ EXPERIMENTS: dict[str, str] = {
     "marg-broad": ".marg_broad",
     "nav13": ".nav13",
     "gpsins": ".gpsins",
+    "navego": ".navego",
 }
 
 
