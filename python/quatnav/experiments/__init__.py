@@ -20,6 +20,7 @@ EXPERIMENTS: dict[str, str] = {
     "nav13": ".nav13",
     "gpsins": ".gpsins",
     "navego": ".navego",
+    "walk-rtk": ".walk_rtk",
 }
 
 
