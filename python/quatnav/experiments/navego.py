@@ -172,7 +172,12 @@ def plot(arrays, path) -> None:
 
 
 def run(args) -> int:
-    out, arrays = run_navego(args.data, args.seconds)
+    try:
+        out, arrays = run_navego(args.data, args.seconds)
+    except FileNotFoundError as exc:
+        import sys
+        print(f"error: {exc} (use --data DIR or set QUATNAV_DATA)", file=sys.stderr)
+        return 2
     with open(args.json, "w") as fh:
         json.dump(out, fh, indent=2)
     if args.plot:

@@ -180,8 +180,13 @@ def plot(summary, arrays, path) -> None:
 
 
 def run(args) -> int:
-    summary, arrays = run_walk(args.data, args.seed, args.noise_m, args.outage_first, args.outage_length,
-                               args.outage_period)
+    try:
+        summary, arrays = run_walk(args.data, args.seed, args.noise_m, args.outage_first, args.outage_length,
+                                   args.outage_period)
+    except FileNotFoundError as exc:
+        import sys
+        print(f"error: {exc} (use --data DIR or set QUATNAV_DATA)", file=sys.stderr)
+        return 2
     with open(args.json, "w") as fh:
         json.dump(summary, fh, indent=2)
     if args.plot:
