@@ -40,6 +40,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--outage-first", type=float, default=20.0, help="first outage start after the IMU start, s")
     parser.add_argument("--outage-length", type=float, default=10.0, help="outage length, s (10)")
     parser.add_argument("--outage-period", type=float, default=30.0, help="outage period, s (30)")
+    parser.add_argument("--sweep", action="store_true",
+                        help="also repeat the outage runs with the first outage at 15, 20, ..., 45 s and "
+                             "summarize the drift over every outage with >= 30 RTK-fixed epochs")
 
 
 #: Filter parameters for the walk (the measured sensor noise at rest is far lower, 5e-5 rad/s/sqrt(Hz)
@@ -159,6 +162,27 @@ def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, perio
     return summary, arrays
 
 
+def outage_sweep(directory=None, firsts=range(15, 46, 5), seed=0, noise_m=2.5, length=10.0, period=30.0) -> dict:
+    """Drift at the end of each outage over several outage phases (outages with >= 30 RTK-fixed
+    epochs): median, 90th percentile, max, and the error over the filter's own one-sigma."""
+    out = {"firsts_s": [float(f) for f in firsts]}
+    for run in ("rtk_outages", "degraded_outages"):
+        ends, sig, starts = [], [], []
+        for first in firsts:
+            s, _ = run_walk(directory, seed, noise_m, float(first), length, period, runs=(run,))
+            for o in s[run]["outages"]:
+                if o["fixed_epochs"] >= 30:
+                    ends.append(o["horizontal_at_end_m"])
+                    sig.append(o["sigma_h_at_end_m"])
+                    starts.append(o["start_s"])
+        e, sg = np.array(ends), np.array(sig)
+        out[run] = {"n": int(len(e)), "starts_s": starts, "drift_at_end_m": e.tolist(),
+                    "median_m": float(np.median(e)), "p90_m": float(np.percentile(e, 90)), "max_m": float(e.max()),
+                    "min_m": float(e.min()), "error_over_sigma_median": float(np.median(e / sg)),
+                    "error_over_sigma_max": float(np.max(e / sg)), "within_2_sigma": float(np.mean(e < 2 * sg))}
+    return out
+
+
 def plot(summary, arrays, path) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -187,6 +211,9 @@ def run(args) -> int:
         import sys
         print(f"error: {exc} (use --data DIR or set QUATNAV_DATA)", file=sys.stderr)
         return 2
+    if args.sweep:
+        summary["outage_sweep"] = outage_sweep(args.data, seed=args.seed, noise_m=args.noise_m,
+                                               length=args.outage_length, period=args.outage_period)
     with open(args.json, "w") as fh:
         json.dump(summary, fh, indent=2)
     if args.plot:
@@ -206,4 +233,10 @@ def run(args) -> int:
         if "gnss_input_horizontal_rms_m" in s:
             line += f" (noisy GNSS input RMS {s['gnss_input_horizontal_rms_m']:.2f} m)"
         print(line)
+    if args.sweep:
+        for run in ("rtk_outages", "degraded_outages"):
+            w = summary["outage_sweep"][run]
+            print(f"sweep {run}: {w['n']} outages, drift at end median {w['median_m']:.2f} m, 90% {w['p90_m']:.2f} m, "
+                  f"max {w['max_m']:.2f} m; error/sigma median {w['error_over_sigma_median']:.2f}, "
+                  f"max {w['error_over_sigma_max']:.2f}")
     return 0
