@@ -35,8 +35,6 @@ POS_FILE = "gnss_1730_sf.pos"
 #: down is -gyro_z), so (x, -y, -z) is a forward-right-down-like frame; the walking direction is
 #: at FORWARD_YAW_DEG about down from the sensor's x axis (between -x and -y).
 FORWARD_YAW_DEG = 140.0
-#: Sensor -> body FRD rotation (body x along the walk): ``v_b = C_BS v_s``.
-C_BS = None  # set below
 
 
 def _rz(psi):
@@ -50,6 +48,7 @@ def mounting_matrix(forward_yaw_deg: float = FORWARD_YAW_DEG) -> np.ndarray:
     return _rz(np.radians(forward_yaw_deg)).T @ np.diag([1.0, -1.0, -1.0])
 
 
+#: Sensor -> body FRD rotation (body x along the walk): ``v_b = C_BS v_s``.
 C_BS = mounting_matrix()
 
 
