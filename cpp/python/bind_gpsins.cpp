@@ -14,6 +14,7 @@ template <class S> py::dict counters_dict(const quatnav::GpsInsCounters& c) {
     e["accepted"] = c.accepted[k];
     e["rejected"] = c.rejected[k];
     e["skipped"] = c.skipped[k];
+    if (k < 2) e["resets"] = c.resets[k];
     d[names[k]] = e;
   }
   return d;
@@ -56,6 +57,7 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
   QN_FIELD(gate_gps_vel);
   QN_FIELD(gate_baro);
   QN_FIELD(gate_compass);
+  QN_FIELD(gps_reset_after);
   QN_FIELD(align_time);
   QN_FIELD(min_speed_for_heading);
   QN_FIELD(heading_from_gps);
@@ -137,6 +139,9 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
              for (int k = 0; k < 5; ++k)
                cnt.append(py::make_tuple(s.counters.accepted[k], s.counters.rejected[k], s.counters.skipped[k]));
              d["counters"] = cnt;
+             d["resets"] = py::make_tuple(s.counters.resets[0], s.counters.resets[1]);
+             d["gps_pos_reject_run"] = s.gps_pos_reject_run;
+             d["gps_vel_reject_run"] = s.gps_vel_reject_run;
              return d;
            })
       .def("set_state",
@@ -177,6 +182,13 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
                s.counters.rejected[k] = c[1].cast<std::uint32_t>();
                s.counters.skipped[k] = c[2].cast<std::uint32_t>();
              }
+             if (d.contains("resets")) {
+               const py::tuple rs = d["resets"].cast<py::tuple>();
+               s.counters.resets[0] = rs[0].cast<std::uint32_t>();
+               s.counters.resets[1] = rs[1].cast<std::uint32_t>();
+             }
+             if (d.contains("gps_pos_reject_run")) s.gps_pos_reject_run = d["gps_pos_reject_run"].cast<std::uint32_t>();
+             if (d.contains("gps_vel_reject_run")) s.gps_vel_reject_run = d["gps_vel_reject_run"].cast<std::uint32_t>();
              return status_str(f.set_state(s));
            },
            py::arg("state"))

@@ -24,6 +24,7 @@ GPSINS_FLAGS = {
     "gps_vel_used": 1 << 7, "gps_vel_rejected": 1 << 8, "baro_used": 1 << 9,
     "baro_rejected": 1 << 10, "baro_vd_used": 1 << 11, "baro_vd_rejected": 1 << 12,
     "compass_used": 1 << 13, "compass_rejected": 1 << 14, "aid_skipped": 1 << 15,
+    "gps_reset": 1 << 16,
 }
 
 #: Names of the 15 error states, in order (units: m, m/s, rad, m/s^2, rad/s).
@@ -36,7 +37,7 @@ PARAM_NAMES = ("gyro_noise", "accel_noise", "gyro_bias_rw", "accel_bias_rw", "gy
                "init_yaw_sigma", "init_vel_sigma", "gps_pos_sigma_h", "gps_pos_sigma_v",
                "gps_vel_sigma", "lever_arm_b", "baro_sigma", "baro_rate_baseline", "baro_vd_sigma", "baro_offset_fixes",
                "compass_sigma", "declination", "gate_gps_pos", "gate_gps_vel", "gate_baro",
-               "gate_compass", "align_time", "min_speed_for_heading", "heading_from_gps",
+               "gate_compass", "gps_reset_after", "align_time", "min_speed_for_heading", "heading_from_gps",
                "earth_rotation", "max_dt")
 
 _STATUS = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated",
@@ -69,7 +70,9 @@ class GpsInsResult:
         ``status`` (strings), NaN where no update was made.
     counters : dict
         Per measurement kind (gps_pos, gps_vel, baro, baro_vd, compass): accepted, rejected by
-        the chi-square gate, skipped as invalid.
+        the chi-square gate, skipped as invalid; gps_pos and gps_vel also count ``resets``
+        (gate lockout: after ``gps_reset_after`` consecutive rejections the next rejected fix
+        resets the position or velocity to it).
     """
 
     t: np.ndarray
@@ -157,7 +160,8 @@ class GpsInsFilter:
         ``lever_arm_b`` (3,) m, ``gps_pos_sigma_h``/``_v`` (m), ``gps_vel_sigma`` (m/s),
         ``baro_sigma`` (m), ``baro_rate_baseline`` (s), ``compass_sigma`` (rad), ``declination``
         (rad), chi-square gates ``gate_*`` (0: off), ``align_time`` (s),
-        ``min_speed_for_heading`` (m/s), ``heading_from_gps``, ``earth_rotation``, ``max_dt`` (s).
+        ``min_speed_for_heading`` (m/s), ``heading_from_gps``, ``earth_rotation``, ``max_dt`` (s),
+        ``gps_reset_after`` (consecutive gate rejections before a GPS reset; 0: never).
 
     Examples
     --------
@@ -242,6 +246,43 @@ class GpsInsFilter:
     def reset(self) -> None:
         """Back to the start of alignment (parameters kept)."""
         self._f.reset()
+
+    def initialize(self, q_nb, v_n, llh, accel_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0),
+                   P=None) -> None:
+        """Start navigation directly, skipping the static alignment (e.g. from a dataset's own
+        initial alignment when the vehicle is not at rest at the start).
+
+        Parameters
+        ----------
+        q_nb : (4,) array_like
+            Attitude [w, x, y, z], body to NED.
+        v_n : (3,) array_like
+            NED velocity of the IMU, m/s.
+        llh : (3,) array_like
+            IMU [lat (rad), lon (rad), h (m)].
+        accel_bias, gyro_bias : (3,) array_like
+            Initial bias estimates, m/s^2 and rad/s.
+        P : (15, 15) array_like, optional
+            Error-state covariance (:data:`STATE_NAMES`); default: the parameters' initial sigmas
+            with GPS position sigmas ``gps_pos_sigma_h``/``_v`` and ``init_vel_sigma``.
+        """
+        q = V.vector(q_nb, "q_nb", 4, self.dtype)
+        v = V.vector(v_n, "v_n", 3, self.dtype)
+        llh = V.vector(llh, "llh", 3, np.float64)
+        ba = V.vector(accel_bias, "accel_bias", 3, self.dtype)
+        bg = V.vector(gyro_bias, "gyro_bias", 3, self.dtype)
+        if P is None:
+            p = self._f.params
+            d = np.array([p.gps_pos_sigma_h, p.gps_pos_sigma_h, p.gps_pos_sigma_v] + [p.init_vel_sigma] * 3
+                         + [p.init_level_sigma] * 2 + [p.init_yaw_sigma] + [p.init_accel_bias_sigma] * 3
+                         + [p.init_gyro_bias_sigma] * 3)
+            P = np.diag(d ** 2)
+        P = np.asarray(V._numeric(P, "P"), dtype=self.dtype)
+        if P.shape != (15, 15):
+            raise ValueError(f"P: expected shape (15, 15), got {P.shape}")
+        s = self._f.initialize(q, v, float(llh[0]), float(llh[1]), float(llh[2]), ba, bg, P)
+        if s != "ok":
+            raise ValueError(f"q_nb, v_n, llh, P: rejected by the filter ({s})")
 
     # --- steps --------------------------------------------------------------------------------
     def predict(self, omega_ib_b, f_ib_b, dt: float) -> str:

@@ -49,6 +49,13 @@
 //     their noise is correlated by -1/2; the extra term covers that and the lag of a mean rate).
 //   Compass heading (1): wrap(yaw_INS - (psi_mag + declination)),
 //     H = [0, 0, tan(theta) cos(yaw), tan(theta) sin(yaw), 1, 0...].
+// Gate lockout: a chi-square gate alone can reject every fix for good once the INS error has
+// outgrown its covariance (seen on a real pedestrian walk with cm-level RTK fixes: after one
+// rejection no fix was ever accepted again and the position drifted by hundreds of metres). After
+// gps_reset_after consecutive rejected GPS positions (velocities) the next rejected one resets
+// the position (velocity) to the fix, less the lever-arm term, with the fix's covariance in its
+// block and its cross-covariances zeroed; the update still reports Rejected, the reset is
+// counted (counters.resets) and flagged (gpsins_flags::kGpsReset).
 // Feedback (paper Fig. 2): after each accepted correction dx is injected into the nominal state
 // (lat -= dp_N / (R_M + h), lon -= dp_E / ((R_N + h) cos L), h += dp_D, v -= dv,
 // q_nb <- exp(-psi) * q_nb, b -= db) and dx is reset to zero (the covariance is kept: the reset
@@ -65,7 +72,8 @@
 // No heap, no exceptions from any step; a step whose status is not Ok (or Rejected, for an
 // update) leaves the state bit-for-bit untouched, with one documented exception: before
 // navigation starts an aid that is used for initialization (a compass heading, a GPS course, an
-// altimeter height kept for its offset) returns NotInitialized after being recorded.
+// altimeter height kept for its offset) returns NotInitialized after being recorded. A Rejected
+// GPS update changes only the counters, except the gate-lockout reset described above.
 #pragma once
 
 #include <cmath>
@@ -99,6 +107,7 @@ constexpr std::uint32_t kBaroVdRejected = 1u << 12;
 constexpr std::uint32_t kCompassUsed = 1u << 13;
 constexpr std::uint32_t kCompassRejected = 1u << 14;
 constexpr std::uint32_t kAidSkipped = 1u << 15;       ///< an aiding sample was invalid or failed
+constexpr std::uint32_t kGpsReset = 1u << 16;         ///< a GPS position or velocity reset (gate lockout)
 }  // namespace gpsins_flags
 
 /// Parameters (units beside each field; defaults fit a MEMS IMU and a standalone GPS).
@@ -128,6 +137,8 @@ template <class S> struct GpsInsParams {
   S gate_gps_vel = S(21.108);        ///< chi-square gate, 3 dof (0.9999); 0: off
   S gate_baro = S(15.137);           ///< chi-square gate, 1 dof (0.9999); 0: off
   S gate_compass = S(15.137);        ///< chi-square gate, 1 dof (0.9999); 0: off
+  S gps_reset_after = S(5);          ///< consecutive gate-rejected GPS positions (velocities) after which
+                                     ///< the next rejected one resets position (velocity) to it; 0: never
   S align_time = S(2.0);             ///< accelerometer averaging at rest before levelling (s)
   S min_speed_for_heading = S(1.0);  ///< GPS speed above which its course gives the heading (m/s)
   bool heading_from_gps = true;      ///< take the heading from GPS course when no compass has come
@@ -143,6 +154,7 @@ struct GpsInsCounters {
   std::uint32_t accepted[5] = {0, 0, 0, 0, 0};  ///< gps_pos, gps_vel, baro, baro_vd, compass
   std::uint32_t rejected[5] = {0, 0, 0, 0, 0};
   std::uint32_t skipped[5] = {0, 0, 0, 0, 0};
+  std::uint32_t resets[2] = {0, 0};  ///< gate-lockout resets of gps_pos, gps_vel
 };
 
 /// Everything the filter holds (plain data; state()/set_state() round-trip exactly).
@@ -166,6 +178,8 @@ template <class S> struct GpsInsState {
   double baro_ref_h = 0.0;               ///< start of the current derivative baseline (m)
   double baro_ref_t = 0.0;               ///< its time (s)
   double baro_offset_n = 0.0;            ///< fixes averaged into baro_offset so far
+  std::uint32_t gps_pos_reject_run = 0;  ///< consecutive gate rejections of GPS position
+  std::uint32_t gps_vel_reject_run = 0;  ///< consecutive gate rejections of GPS velocity
   GpsInsCounters counters;
 };
 
@@ -482,7 +496,18 @@ template <class S_> class GpsInsFilter {
     H.template block<3, 3>(0, 0).setIdentity();
     H.template block<3, 3>(0, 6) = -quat::skew<S>(l_n);
     const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
-    return correct<3>(kGpsPos, H, R, y, p_.gate_gps_pos);
+    const UpdateResult<S, 3> r = correct<3>(kGpsPos, H, R, y, p_.gate_gps_pos);
+    if (lockout(r.status, s_.gps_pos_reject_run)) {
+      // Gate lockout: the IMU position from the fix, its covariance block from the fix's.
+      double la2 = lat, lo2 = lon, h2 = h;
+      detail::geodetic_add(la2, lo2, h2, Vec3<double>(-l_n.template cast<double>()));
+      s_.nav.lat = la2;
+      s_.nav.lon = lo2;
+      s_.nav.h = h2;
+      reset_block(0, R);
+      ++s_.counters.resets[0];
+    }
+    return r;
   }
 
   /// GPS antenna velocity (NED, m/s) with per-axis one-sigma (m/s; NaN: parameters). While
@@ -514,7 +539,13 @@ template <class S_> class GpsInsFilter {
     H.template block<3, 3>(0, 6) = -quat::skew<S>(Vec3<S>(C * wl));
     H.template block<3, 3>(0, 12) = C * quat::skew<S>(p_.lever_arm_b);
     const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
-    return correct<3>(kGpsVel, H, R, y, p_.gate_gps_vel);
+    const UpdateResult<S, 3> r = correct<3>(kGpsVel, H, R, y, p_.gate_gps_vel);
+    if (lockout(r.status, s_.gps_vel_reject_run)) {
+      s_.nav.v_n = v_n - C * wl;  // gate lockout: the IMU velocity from the fix
+      reset_block(3, R);
+      ++s_.counters.resets[1];
+    }
+    return r;
   }
 
   /// A GPS fix: velocity first (it may give the heading), then position (which may start
@@ -637,6 +668,25 @@ template <class S_> class GpsInsFilter {
     }
     if (s_.baro_offset_n < double(p_.baro_offset_fixes)) s_.baro_offset_n += 1.0;
     s_.baro_offset += (d - s_.baro_offset) / s_.baro_offset_n;
+  }
+
+  // Counts consecutive gate rejections in run; true (and run restarted) when a reset is due.
+  bool lockout(Status st, std::uint32_t& run) {
+    if (st == Status::Ok) {
+      run = 0;
+      return false;
+    }
+    if (st != Status::Rejected || !(p_.gps_reset_after > S(0))) return false;
+    if (double(++run) < double(p_.gps_reset_after) + 1.0) return false;
+    run = 0;
+    return true;
+  }
+
+  // The 3x3 covariance block at (i, i) set to R, its cross-covariances zeroed.
+  void reset_block(int i, const Mat3<S>& R) {
+    s_.P.template middleRows<3>(i).setZero();
+    s_.P.template middleCols<3>(i).setZero();
+    s_.P.template block<3, 3>(i, i) = R;
   }
 
   void set_yaw(S yaw) {
@@ -828,6 +878,7 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
       while (ig < io.ng && io.gps_t[ig] <= tk) {
         const double* llh = io.gps_llh + 3 * ig;
         GpsResult<S> r;
+        const std::uint32_t resets0 = f.state().counters.resets[0] + f.state().counters.resets[1];
         r.pos.status = Status::NonFinite;
         if (!(std::isnan(llh[0]) && std::isnan(llh[1]) && std::isnan(llh[2]))) {
           const Vec3<S> vel = io.gps_vel ? Vec3<S>(Eigen::Map<const Vec3<S>>(io.gps_vel + 3 * ig))
@@ -839,6 +890,7 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
           r = f.update_gps(llh[0], llh[1], llh[2], vel, ps, vs);
           fl |= detail::gpsins_aid_flag(r.pos, gf::kGpsPosUsed, gf::kGpsPosRejected);
           fl |= detail::gpsins_aid_flag(r.vel, gf::kGpsVelUsed, gf::kGpsVelRejected);
+          if (f.state().counters.resets[0] + f.state().counters.resets[1] != resets0) fl |= gf::kGpsReset;
         }
         const UpdateResult<S, 3>* rr[2] = {&r.pos, &r.vel};
         for (int c = 0; c < 2; ++c) {

@@ -19,6 +19,8 @@ EXPERIMENTS: dict[str, str] = {
     "marg-broad": ".marg_broad",
     "nav13": ".nav13",
     "gpsins": ".gpsins",
+    "navego": ".navego",
+    "walk-rtk": ".walk_rtk",
 }
 
 

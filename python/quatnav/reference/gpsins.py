@@ -55,6 +55,7 @@ class GpsInsParams:
     gate_gps_vel: float = 21.108
     gate_baro: float = 15.137
     gate_compass: float = 15.137
+    gps_reset_after: float = 5.0
     align_time: float = 2.0
     min_speed_for_heading: float = 1.0
     heading_from_gps: bool = True
@@ -169,7 +170,11 @@ class _State:
     baro_ref_h: float = 0.0
     baro_ref_t: float = 0.0
     baro_offset_n: float = 0.0
-    counters: dict = field(default_factory=lambda: {k: {"accepted": 0, "rejected": 0, "skipped": 0}
+    gps_pos_reject_run: int = 0
+    gps_vel_reject_run: int = 0
+    counters: dict = field(default_factory=lambda: {k: ({"accepted": 0, "rejected": 0, "skipped": 0, "resets": 0}
+                                                        if k in ("gps_pos", "gps_vel") else
+                                                        {"accepted": 0, "rejected": 0, "skipped": 0})
                                                     for k in KINDS})
 
     def copy(self):
@@ -414,7 +419,35 @@ class GpsInsFilter:
         H = np.zeros((3, 15))
         H[:, 0:3] = np.eye(3)
         H[:, 6:9] = -Q.skew(l_n)
-        return self._correct("gps_pos", H, np.diag(sig ** 2), y, self.p.gate_gps_pos)
+        R = np.diag(sig ** 2)
+        res = self._correct("gps_pos", H, R, y, self.p.gate_gps_pos)
+        if self._lockout(res.status, "gps_pos_reject_run"):
+            # Gate lockout: the IMU position from the fix, its covariance block from the fix's.
+            s = self.s
+            s.nav.lat, s.nav.lon, s.nav.h = geodetic_add(lat, lon, h, -l_n)
+            self._reset_block(0, R)
+            s.counters["gps_pos"]["resets"] += 1
+        return res
+
+    def _lockout(self, status, run):
+        """Count consecutive gate rejections (state field ``run``); True when a reset is due."""
+        if status == "ok":
+            setattr(self.s, run, 0)
+            return False
+        if status != "rejected" or not self.p.gps_reset_after > 0:
+            return False
+        setattr(self.s, run, getattr(self.s, run) + 1)
+        if getattr(self.s, run) < self.p.gps_reset_after + 1:
+            return False
+        setattr(self.s, run, 0)
+        return True
+
+    def _reset_block(self, i, R):
+        P = self.s.P.copy()
+        P[i:i + 3, :] = 0.0
+        P[:, i:i + 3] = 0.0
+        P[i:i + 3, i:i + 3] = R
+        self.s.P = P
 
     def update_gps_velocity(self, v_n, sigma):
         v_n = np.asarray(v_n, float)
@@ -435,7 +468,13 @@ class GpsInsFilter:
         H[:, 3:6] = np.eye(3)
         H[:, 6:9] = -Q.skew(C @ wl)
         H[:, 12:15] = C @ Q.skew(self.p.lever_arm_b)
-        return self._correct("gps_vel", H, np.diag(sig ** 2), y, self.p.gate_gps_vel)
+        R = np.diag(sig ** 2)
+        res = self._correct("gps_vel", H, R, y, self.p.gate_gps_vel)
+        if self._lockout(res.status, "gps_vel_reject_run"):
+            self.s.nav.v_n = v_n - C @ wl  # gate lockout: the IMU velocity from the fix
+            self._reset_block(3, R)
+            self.s.counters["gps_vel"]["resets"] += 1
+        return res
 
     def update_gps(self, lat, lon, h, v_n, pos_sigma, vel_sigma):
         """Returns ``(pos_result, vel_result)`` (see the C++ ``update_gps``)."""
