@@ -546,7 +546,8 @@ def python_nav_run(name, kind, d):
                 lat=float(f32(d["llh0"][0])), lon=float(f32(d["llh0"][1])), h=float(f32(d["llh0"][2])))
         r = f.run(acc[1:], gyr[1:], t=t[1:], vel_t=t[x["vel_k"][1]], vel=f32(x["vel"][1]),
                   yaw_t=t[x["yaw_k"][1]], yaw=f32(x["yaw"][1]))
-        return np.vstack([f32(x["x0_q"][1]) / np.linalg.norm(f32(x["x0_q"][1])), r.quat])
+        # sample 0 is the reset and its aids, which run() applies before its first sample
+        return np.vstack([np.full(4, np.nan), r.quat])
     f = quatnav.GpsInsFilter(dtype=np.float64, lever_arm_b=tuple(f32(x["lever_arm_b"][1])))
     r = f.run(t, gyr, acc, gps_t=t[x["gps_k"][1]], gps_llh=x["gps_llh"][1], gps_vel=f32(x["gps_vel"][1]),
               baro_t=t[x["baro_k"][1]], baro_h=f32(x["baro_h"][1]), compass_t=t[x["compass_k"][1]],
