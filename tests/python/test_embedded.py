@@ -54,7 +54,7 @@ def test_attitude_difference_measure():
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("embedded")
-    r = subprocess.run([sys.executable, str(SCRIPT), "--check", "--opt", "Os", "--report-dir", str(out)],
+    r = subprocess.run([sys.executable, str(SCRIPT), "--check", "--opt", "O2", "--report-dir", str(out)],
                        capture_output=True, text=True, timeout=1500, cwd=ROOT)
     assert r.returncode == 0, r.stdout[-4000:] + r.stderr[-4000:]
     return json.loads((out / "report.json").read_text())
