@@ -52,3 +52,59 @@ TEST(Kalman, GateRejectsAndFailureLeavesCovarianceUntouched) {
   EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res)), Status::NumericalFailure);
   EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
 }
+
+// fixed_mul (types.hpp) replaces operator* for the 12- to 15-state filters so that no GEMM
+// kernel (and its malloc) is linked on bare metal: it must give operator*'s product.
+template <class S, int R, int K, int C> void check_fixed_mul(std::mt19937& g, S tol) {
+  std::normal_distribution<S> n;
+  Mat<S, R, K> a;
+  Mat<S, K, C> b;
+  for (int i = 0; i < R * K; ++i) a.data()[i] = n(g);
+  for (int i = 0; i < K * C; ++i) b.data()[i] = n(g);
+  const Mat<S, R, C> ref = a * b;  // Eigen's own product (GEMM for these sizes)
+  const Mat<S, R, C> got = fixed_mul(a, b);
+  EXPECT_LE((got - ref).cwiseAbs().maxCoeff(), tol * (S(1) + ref.cwiseAbs().maxCoeff())) << R << "x" << K << "x" << C;
+}
+
+TEST(Kalman, FixedMulIsTheProduct) {
+  std::mt19937 g(11);
+  check_fixed_mul<double, 13, 13, 13>(g, 1e-14);
+  check_fixed_mul<double, 15, 15, 15>(g, 1e-14);
+  check_fixed_mul<double, 12, 24, 12>(g, 1e-14);
+  check_fixed_mul<double, 3, 13, 13>(g, 1e-14);
+  check_fixed_mul<double, 13, 4, 13>(g, 1e-14);
+  check_fixed_mul<float, 13, 13, 13>(g, 1e-5f);
+  check_fixed_mul<float, 15, 15, 15>(g, 1e-5f);
+  check_fixed_mul<float, 12, 24, 12>(g, 1e-5f);
+  // Below Eigen's GEMM threshold operator* already evaluates coefficient by coefficient:
+  // the same arithmetic, so the same bits (the small filters are unchanged).
+  std::normal_distribution<double> n;
+  Mat<double, 7, 7> a, b;
+  for (int i = 0; i < 49; ++i) a.data()[i] = n(g), b.data()[i] = n(g);
+  const Mat<double, 7, 7> ref = a * b, got = fixed_mul(a, b);
+  EXPECT_EQ(std::memcmp(ref.data(), got.data(), sizeof ref), 0);
+}
+
+TEST(Kalman, ThirteenStatesMatchTextbookFormulas) {
+  // N = 13 goes through fixed_mul everywhere; compare with operator* (GEMM) formulas.
+  std::mt19937 g(5);
+  std::normal_distribution<double> n;
+  Mat<double, 13, 13> A;
+  for (int i = 0; i < 169; ++i) A.data()[i] = n(g);
+  const Mat<double, 13, 13> P0 = A * A.transpose() + Mat<double, 13, 13>::Identity();
+  Mat<double, 3, 13> H;
+  for (int i = 0; i < 39; ++i) H.data()[i] = n(g);
+  const Mat<double, 3, 3> R = Vec3<double>(0.3, 0.5, 0.2).asDiagonal();
+  const Vec3<double> y(0.7, -0.2, 0.1);
+  Mat<double, 13, 13> P = P0;
+  Vec<double, 13> dx;
+  UpdateResult<double, 3> res;
+  ASSERT_EQ((kalman_correct<double, 13, 3>(P, H, R, y, dx, res)), Status::Ok);
+  const Mat<double, 3, 3> S = H * P0 * H.transpose() + R;
+  const Mat<double, 13, 3> K = P0 * H.transpose() * S.inverse();
+  const double scale = P0.cwiseAbs().maxCoeff();
+  EXPECT_LT((dx - K * y).norm(), 1e-10 * scale);
+  EXPECT_LT((P - (P0 - K * S * K.transpose())).norm(), 1e-10 * scale);
+  EXPECT_NEAR(res.nis, y.dot(S.inverse() * y), 1e-10);
+  EXPECT_EQ(P, P.transpose());
+}

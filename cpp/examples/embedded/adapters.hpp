@@ -7,7 +7,10 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
+#include <quatnav/gps_ins.hpp>
+#include <quatnav/nav_filter13.hpp>
 #include <quatnav/quatnav.hpp>
 
 namespace qn_fw {
@@ -92,6 +95,133 @@ template <class S> struct StrapdownAdapter {
   }
   Quat<S> attitude() const { return st.q_nb; }
 };
+
+#ifdef QN_INPUT_NAV13  // the recording has the NavFilter13 initial state and its aids
+/// NavFilter13 (paper 002) with time update TU on the "nav13" recording, fed like
+/// quatnav::run_nav13_batch: sample 0 resets the filter to the recorded initial state (with the
+/// paper's initial errors), every later sample is one predict; the velocity and then the yaw
+/// measurements recorded for sample k are applied after it (sample 0: right after the reset).
+template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
+  using Filter = quatnav::NavFilter13<S, TU>;
+  using State = typename Filter::State;
+  Filter f;
+  std::uint32_t iv = 0, iy = 0;
+
+  std::uint32_t step(std::uint32_t k) {
+    namespace nf = quatnav::nav13_flags;
+    std::uint32_t fl = 0;
+    if (k == 0) {
+      typename Filter::Params p;
+      p.accel_noise = S(qn_input::accel_noise);
+      p.gyro_noise = S(qn_input::gyro_noise);
+      p.vel_noise = S(qn_input::vel_noise);
+      p.yaw_noise = S(qn_input::yaw_noise);
+      p.earth_rotation = qn_input::earth_rotation != 0;
+      f = Filter(p);
+      quatnav::Mat<S, 13, 13> P0;
+      for (int i = 0; i < 13; ++i)
+        for (int j = 0; j < 13; ++j) P0(i, j) = S(qn_input::P0[i][j]);
+      const quatnav::Status s =
+          f.reset(Vec3<S>(S(qn_input::x0_v[0]), S(qn_input::x0_v[1]), S(qn_input::x0_v[2])),
+                  Quat<S>(S(qn_input::x0_q[0]), S(qn_input::x0_q[1]), S(qn_input::x0_q[2]), S(qn_input::x0_q[3])),
+                  Vec3<S>::Zero(), Vec3<S>::Zero(), P0, S(qn_input::llh0[0]), S(qn_input::llh0[1]),
+                  S(qn_input::llh0[2]));
+      if (s != quatnav::Status::Ok) fl |= quatnav::flags::kPredictSkipped;
+    } else if (f.predict(load3<S>(qn_input::acc, k), load3<S>(qn_input::gyr, k), S(qn_input::dt[k])) !=
+               quatnav::Status::Ok) {
+      fl |= quatnav::flags::kPredictSkipped;
+    }
+    while (iv < qn_input::kNVel && qn_input::vel_k[iv] <= k) {
+      const quatnav::UpdateResult<S, 3> r = f.update_velocity(load3<S>(qn_input::vel, iv));
+      fl |= r.status == quatnav::Status::Ok ? nf::kVelUpdated : quatnav::update_flags(r, nf::kVelSkipped, nf::kVelRejected);
+      ++iv;
+    }
+    while (iy < qn_input::kNYaw && qn_input::yaw_k[iy] <= k) {
+      const quatnav::UpdateResult<S, 1> r = f.update_yaw(S(qn_input::yaw[iy]));
+      fl |= r.status == quatnav::Status::Ok ? nf::kYawUpdated : quatnav::update_flags(r, nf::kYawSkipped, nf::kYawRejected);
+      ++iy;
+    }
+    return fl;
+  }
+  Quat<S> attitude() const { return f.state().q_nb; }
+  /// Carried position (lat, lon rad, h m; kept in S by NavFilter13) and NED velocity (m/s).
+  void nav(double* llh, S* v) const {
+    llh[0] = double(f.state().lat);
+    llh[1] = double(f.state().lon);
+    llh[2] = double(f.state().h);
+    for (int i = 0; i < 3; ++i) v[i] = f.state().v_n[i];
+  }
+};
+
+#endif  // QN_INPUT_NAV13
+
+#ifdef QN_INPUT_GPSINS  // the recording has the GPS, altimeter and compass samples
+/// GpsInsFilter (paper 004) on the "gpsins" recording, fed like quatnav::gpsins_batch: sample 0
+/// only fixes the start time, every later sample is one predict followed by the compass, the
+/// altimeter and the GPS samples recorded for it, in that order. Alignment, levelling and the
+/// start of navigation happen inside, as in the batch run.
+template <class S> struct GpsInsAdapter {
+  using Filter = quatnav::GpsInsFilter<S>;
+  using State = typename Filter::State;
+  Filter f;
+  std::uint32_t ig = 0, ib = 0, ic = 0;
+
+  std::uint32_t step(std::uint32_t k) {
+    namespace gf = quatnav::gpsins_flags;
+    using quatnav::Status;
+    std::uint32_t fl = 0;
+    if (k == 0) {
+      typename Filter::Params p;
+      p.lever_arm_b = Vec3<S>(S(qn_input::lever_arm_b[0]), S(qn_input::lever_arm_b[1]), S(qn_input::lever_arm_b[2]));
+      p.earth_rotation = qn_input::earth_rotation != 0;
+      f.set_params(p);
+      f.reset();
+      // aids at or before the first sample are not used (gpsins_batch skips them)
+      while (ic < qn_input::kNCompass && qn_input::compass_k[ic] == 0) ++ic;
+      while (ib < qn_input::kNBaro && qn_input::baro_k[ib] == 0) ++ib;
+      while (ig < qn_input::kNGps && qn_input::gps_k[ig] == 0) ++ig;
+    } else {
+      if (f.predict(load3<S>(qn_input::gyr, k), load3<S>(qn_input::acc, k), S(qn_input::dt[k])) != Status::Ok)
+        fl |= gf::kPredictSkipped;
+      while (ic < qn_input::kNCompass && qn_input::compass_k[ic] <= k) {
+        fl |= quatnav::detail::gpsins_aid_flag(f.update_compass(S(qn_input::compass[ic])), gf::kCompassUsed,
+                                               gf::kCompassRejected);
+        ++ic;
+      }
+      while (ib < qn_input::kNBaro && qn_input::baro_k[ib] <= k) {
+        const quatnav::BaroResult<S> r = f.update_baro(double(qn_input::baro_h[ib]));
+        fl |= quatnav::detail::gpsins_aid_flag(r.height, gf::kBaroUsed, gf::kBaroRejected);
+        fl |= quatnav::detail::gpsins_aid_flag(r.vd, gf::kBaroVdUsed, gf::kBaroVdRejected);
+        ++ib;
+      }
+      while (ig < qn_input::kNGps && qn_input::gps_k[ig] <= k) {
+        const double* llh = qn_input::gps_llh[ig];
+        const Vec3<S> nan3 = Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN());
+        const quatnav::GpsResult<S> r = f.update_gps(llh[0], llh[1], llh[2], load3<S>(qn_input::gps_vel, ig), nan3, nan3);
+        fl |= quatnav::detail::gpsins_aid_flag(r.pos, gf::kGpsPosUsed, gf::kGpsPosRejected);
+        fl |= quatnav::detail::gpsins_aid_flag(r.vel, gf::kGpsVelUsed, gf::kGpsVelRejected);
+        ++ig;
+      }
+    }
+    switch (f.phase()) {
+      case quatnav::GpsInsPhase::Aligning: fl |= gf::kAligning; break;
+      case quatnav::GpsInsPhase::Levelled: fl |= gf::kLevelled; break;
+      case quatnav::GpsInsPhase::Navigating: fl |= gf::kNavigating; break;
+    }
+    return fl;
+  }
+  Quat<S> attitude() const { return f.q_nb(); }
+  /// Position (lat, lon rad, h m; kept in double by GpsInsFilter) and NED velocity (m/s).
+  void nav(double* llh, S* v) const {
+    const quatnav::Vec3<double> l = f.llh();
+    for (int i = 0; i < 3; ++i) {
+      llh[i] = l[i];
+      v[i] = f.v_n()[i];
+    }
+  }
+};
+
+#endif  // QN_INPUT_GPSINS
 
 /// No filter: the sizes of the filter images are reported relative to this one.
 template <class S> struct NullAdapter {

@@ -12,6 +12,8 @@
 // printf is needed on the target):
 //   BEGIN <name> <n samples> <sizeof(Scalar)> <sizeof(State)> <sizeof(adapter)>
 //   Q <k> <flags> <w> <x> <y> <z>         attitude q_nb after sample k
+//   N <k> <lat> <lon> <h> <vN> <vE> <vD>  navigation filters only: position (double, rad, m)
+//                                         and NED velocity (Scalar, m/s) after sample k
 //   STACK <bytes>                         stack high-water of the step (target only)
 //   TICKS <sum> <min> <max> <overhead>    SysTick ticks per step (target only)
 //   CAL <ticks> <instructions>            a loop of known length (target only)
@@ -19,6 +21,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
+#include <utility>
 
 #include QN_INPUT
 #include "adapters.hpp"
@@ -65,6 +69,11 @@ struct Line {
       hex(u, 16);
     }
   }
+  void hexd(double x) {
+    std::uint64_t u;
+    std::memcpy(&u, &x, 8);
+    hex(u, 16);
+  }
   void flush() {
     buf[n++] = '\n';
     buf[n] = 0;
@@ -72,6 +81,25 @@ struct Line {
     n = 0;
   }
 };
+
+// Navigation adapters also give position and velocity: nav(double llh[3], S v[3]).
+template <class A, class = void> struct HasNav : std::false_type {};
+template <class A>
+struct HasNav<A, std::void_t<decltype(std::declval<const A&>().nav(static_cast<double*>(nullptr),
+                                                                   static_cast<S*>(nullptr)))>> : std::true_type {};
+
+template <class A> void put_nav(const A& a, std::uint32_t k, Line& l) {
+  if constexpr (HasNav<A>::value) {
+    double llh[3];
+    S v[3];
+    a.nav(llh, v);
+    l.put("N");
+    l.hex(k, 8);
+    for (int i = 0; i < 3; ++i) l.hexd(llh[i]);
+    for (int i = 0; i < 3; ++i) l.hexs(v[i]);
+    l.flush();
+  }
+}
 
 #ifdef __arm__
 // SysTick, clocked by the core clock. Under QEMU -icount the virtual clock advances a fixed time
@@ -139,6 +167,7 @@ int main() {
     l.hex(fl, 8);
     for (int i = 0; i < 4; ++i) l.hexs(q[i]);
     l.flush();
+    put_nav(g_adapter, k, l);
   }
 #ifdef __arm__
   l.put("STACK");

@@ -26,13 +26,16 @@ What it does, in order:
 With --check it exits non-zero when a check fails (emulator output incomplete or faulted,
 heap or exception support linked, attitude difference above --tol-deg).
 
-Needs: arm-none-eabi-gcc with newlib (Debian: gcc-arm-none-eabi libnewlib-arm-none-eabi),
+Needs: arm-none-eabi-gcc with newlib and its C++ library (Debian: gcc-arm-none-eabi
+libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib),
 qemu-system-arm, a host C++ compiler, Eigen 3.4 (the cmeel-eigen wheel or libeigen3-dev) and
 the quatnav Python package (for quatnav.sim). Compilations are cached in build/embedded
 (keyed on the command line and the content of every source and header).
 
 Adding a filter: one line in FILTERS below if an adapter in adapters.hpp fits it (attitude
-filters fed like quatnav::run_attitude_batch, the strapdown), otherwise a small adapter there.
+filters fed like quatnav::run_attitude_batch, the strapdown, NavFilter13 with each time update,
+GpsInsFilter), otherwise a small adapter there. Navigation adapters also print position and
+velocity (nav()), compared in metres and m/s.
 """
 
 from __future__ import annotations
@@ -64,7 +67,13 @@ FILTERS = [
     ("EulerEKF", "marg", "qn_fw::AttitudeAdapter<quatnav::EulerEKF<QN_SCALAR>>"),
     ("MargFilter", "marg", "qn_fw::MargAdapter<QN_SCALAR>"),
     ("Strapdown", "nav", "qn_fw::StrapdownAdapter<QN_SCALAR>"),
+    ("NavFilter13-Ekf", "nav13", "qn_fw::Nav13Adapter<QN_SCALAR, quatnav::TimeUpdate::Ekf>"),
+    ("NavFilter13-SecondOrder", "nav13", "qn_fw::Nav13Adapter<QN_SCALAR, quatnav::TimeUpdate::SecondOrder>"),
+    ("NavFilter13-Ukf", "nav13", "qn_fw::Nav13Adapter<QN_SCALAR, quatnav::TimeUpdate::Ukf>"),
+    ("GpsInsFilter", "gpsins", "qn_fw::GpsInsAdapter<QN_SCALAR>"),
 ]
+# Navigation filters: the firmware also prints position and velocity (adapters with nav()).
+NAV_KINDS = ("nav13", "gpsins")
 NULL_ADAPTER = "qn_fw::NullAdapter<QN_SCALAR>"
 
 # The recorded inputs: scenario, options, samples.
@@ -73,6 +82,12 @@ INPUTS = {
                  what="hand-held MARG, smooth random rotations, 100 Hz, first 30 s"),
     "nav": dict(scenario="paper001_constant_turn", options={}, n=4000,
                 what="paper 001 vehicle: rest, accelerate, straight, start of a 12 deg/s turn; 100 Hz, first 40 s"),
+    "nav13": dict(scenario="paper002_straight_then_circle", options={}, n=3000,
+                  what="paper 002 robot at 2 m/s, IMU 100 Hz, NED velocity and yaw at 10 Hz, the paper's "
+                       "initial errors (10/10/20 deg, 1 ft/s, biases unknown); first 30 s"),
+    "gpsins": dict(scenario="paper004_walk", options={}, n=4000,
+                   what="paper 004 walk: 10 s rest (alignment), then 1.4 m/s along the path; MEMS IMU 50 Hz, "
+                        "GPS 5 Hz (position + velocity, lever arm), altimeter 10 Hz, compass 10 Hz; first 80 s"),
 }
 SEED = 1
 
@@ -126,11 +141,62 @@ def make_input(kind):
                 mag[row[int(i)]] = s.mag.mag[j]
     tr = s.truth
     i0 = int(idx[0])
-    return {
+    extra = {}
+    if kind == "nav13":
+        extra = _nav13_extra(s, t, dt, n)
+    elif kind == "gpsins":
+        extra = _gpsins_extra(s, t, n)
+    return {"extra": extra, "t": t,
+            "truth_llh": np.column_stack([tr.lat[idx], tr.lon[idx], tr.h[idx]]), "truth_v": np.asarray(tr.v_n[idx]),
         "dt": dt, "gyr": np.asarray(imu.gyro[:n]), "acc": np.asarray(imu.accel[:n]), "mag": mag,
         "q0": tr.q_nb[i0], "v0": tr.v_n[i0], "llh0": np.array([tr.lat[i0], tr.lon[i0], tr.h[i0]]),
         "earth_rotation": int(bool(tr.earth_rate)),
         "truth_q": np.asarray(tr.q_nb[idx], float),
+    }
+
+
+def _aid_index(t, dt, tau, before_first):
+    """Sample index after whose step an aid at time tau is applied (>= n: after the recording).
+
+    before_first (run_nav13_batch): an aid at tau <= t[0] + 1e-4 dt goes to sample 0, after the
+    reset; otherwise (gpsins_batch) an aid at tau <= t[0] gets index 0 and is not used."""
+    eps = 1e-4 * dt[0] if before_first else 0.0
+    k = np.searchsorted(t + eps, tau, side="left")
+    return np.where(tau <= t[0] + eps, 0, np.maximum(k, 1))
+
+
+def _nav13_extra(s, t, dt, n):
+    """NavFilter13 on paper 002: the experiment's parameters and initial state (paper errors)."""
+    from quatnav.experiments import nav13 as ex
+
+    v0, q0, ba, bg, P0 = ex.initial_state(s, "paper", np.random.default_rng(0))
+    kv = _aid_index(t, dt, np.asarray(s.gps.t_valid, float), True)
+    ky = _aid_index(t, dt, np.asarray(s.compass.t, float), True)
+    mv, my = kv < n, ky < n
+    return {
+        "accel_noise": ("float", ex._density(s, "accel")), "gyro_noise": ("float", ex._density(s, "gyro")),
+        "vel_noise": ("float", s.params["gps"]["vel_sigma_m_s"]),
+        "yaw_noise": ("float", np.radians(s.params["compass"]["noise_deg"])),
+        "x0_v": ("float", v0), "x0_q": ("float", q0), "P0": ("float", P0),
+        "vel_k": ("unsigned", kv[mv]), "vel": ("float", np.asarray(s.gps.v_n)[mv]),
+        "yaw_k": ("unsigned", ky[my]), "yaw": ("float", np.asarray(s.compass.yaw)[my]),
+    }
+
+
+def _gpsins_extra(s, t, n):
+    """GpsInsFilter on paper 004: GPS (antenna position + velocity), altimeter, compass."""
+    dt0 = np.array([0.0])
+    kg = _aid_index(t, dt0, np.asarray(s.gps.t_valid, float), False)
+    kb = _aid_index(t, dt0, np.asarray(s.baro.t, float), False)
+    kc = _aid_index(t, dt0, np.asarray(s.compass.t, float), False)
+    mg, mb, mc = kg < n, kb < n, kc < n
+    return {
+        "lever_arm_b": ("float", np.asarray(s.params["gps"]["lever_arm_b_m"], float)),
+        "gps_k": ("unsigned", kg[mg]),
+        "gps_llh": ("double", np.column_stack([s.gps.lat, s.gps.lon, s.gps.h])[mg]),
+        "gps_vel": ("float", np.asarray(s.gps.v_n)[mg]),
+        "baro_k": ("unsigned", kb[mb]), "baro_h": ("float", np.asarray(s.baro.h)[mb]),
+        "compass_k": ("unsigned", kc[mc]), "compass": ("float", np.asarray(s.compass.yaw)[mc]),
     }
 
 
@@ -150,6 +216,7 @@ def input_header(kind, d):
         "// Sensor samples as float32: gyr rad/s, acc m/s^2 (specific force), mag T (NaN row: no",
         "// sample), dt s (row 0: the nominal interval); q0, v0, llh0: true initial state.",
         "#pragma once",
+        f"#define QN_INPUT_{kind.upper()} 1",
         "namespace qn_input {",
         "#define QN_NAN __builtin_nanf(\"\")",
         f"constexpr unsigned kN = {n};",
@@ -157,6 +224,28 @@ def input_header(kind, d):
     ]
     for name in ("gyr", "acc", "mag"):
         lines.append(f"static const float {name}[kN][3] = {{\n{rows(d[name])}}};")
+    touch = []
+    for name, (ctype, val) in d.get("extra", {}).items():
+        a = np.asarray(val)
+        if a.ndim == 0:
+            lines.append(f"constexpr float {name} = {_c_float(a)};")
+            continue
+        if ctype == "unsigned":
+            fmt = lambda v: f"{int(v)}u"
+        elif ctype == "double":
+            fmt = lambda v: repr(float(v))
+        else:
+            fmt = _c_float
+        m = max(1, len(a))
+        if a.ndim == 1:
+            if name.endswith("_k"):  # index array: its length is the aid count kN<Aid>
+                lines.append(f"constexpr unsigned kN{_camel(name[:-2])} = {len(a)};")
+            lines.append(f"static const {ctype} {name}[{m}] = {{" + ", ".join(fmt(v) for v in a) + "};")
+            touch.append(f"float({name}[k % {m}])")
+        else:
+            body = ",\n".join("  {" + ", ".join(fmt(v) for v in r) + "}" for r in a)
+            lines.append(f"static const {ctype} {name}[{m}][{a.shape[1]}] = {{\n{body}}};")
+            touch.append(f"float({name}[k % {m}][k % {a.shape[1]}])")
     lines += [
         "static const float q0[4] = {" + ", ".join(_c_float(v) for v in d["q0"]) + "};",
         "static const float v0[3] = {" + ", ".join(_c_float(v) for v in d["v0"]) + "};",
@@ -166,13 +255,18 @@ def input_header(kind, d):
         "inline float touch(unsigned k) {",
         "  return dt[k] + gyr[k][0] + gyr[k][1] + gyr[k][2] + acc[k][0] + acc[k][1] + acc[k][2] +",
         "         mag[k][0] + mag[k][1] + mag[k][2] + q0[k & 3] + v0[k % 3] + float(llh0[k % 3]) +",
-        "         float(earth_rotation);",
+        "         float(earth_rotation)" + "".join(f" +\n         {x}" for x in touch) + ";",
         "}",
         "#undef QN_NAN",
         "}  // namespace qn_input",
         "",
     ]
     return "\n".join(lines)
+
+
+def _camel(name):
+    """'compass' -> 'Compass', 'gps' -> 'Gps' (aid counts kNCompass, kNGps, ...)."""
+    return "".join(w.capitalize() for w in name.split("_"))
 
 
 def write_if_changed(path, text):
@@ -348,7 +442,7 @@ def worst_stack(ci_path, root="qn_step"):
 
 
 def parse_output(text, scalar_bytes=None):
-    res = {"q": [], "flags": [], "end": False, "fault": None}
+    res = {"q": [], "flags": [], "llh": [], "v": [], "end": False, "fault": None}
     fmt = {8: ">f", 16: ">d"}
     for line in text.splitlines():
         p = line.split()
@@ -360,6 +454,10 @@ def parse_output(text, scalar_bytes=None):
         elif p[0] == "Q":
             res["flags"].append(int(p[2], 16))
             res["q"].append([np.frombuffer(bytes.fromhex(h), dtype=fmt[len(h)])[0] for h in p[3:7]])
+        elif p[0] == "N":
+            val = [np.frombuffer(bytes.fromhex(h), dtype=fmt[len(h)])[0] for h in p[2:8]]
+            res["llh"].append(val[:3])
+            res["v"].append(val[3:])
         elif p[0] == "STACK":
             res["stack"] = int(p[1], 16)
         elif p[0] == "TICKS":
@@ -372,7 +470,22 @@ def parse_output(text, scalar_bytes=None):
             res["fault"] = line
     res["q"] = np.array(res["q"], float)
     res["flags"] = np.array(res["flags"], np.uint32)
+    res["llh"] = np.array(res["llh"], float).reshape(-1, 3)
+    res["v"] = np.array(res["v"], float).reshape(-1, 3)
     return res
+
+
+def pos_diff_m(llh1, llh2):
+    """Distance (m) between two arrays of geodetic positions [lat, lon rad, h m] (WGS-84 radii)."""
+    a, e2 = 6378137.0, 6.69437999014e-3
+    lat = llh2[:, 0]
+    sl2 = np.sin(lat) ** 2
+    rm = a * (1 - e2) / (1 - e2 * sl2) ** 1.5 + llh2[:, 2]
+    rn = a / np.sqrt(1 - e2 * sl2) + llh2[:, 2]
+    dn = (llh1[:, 0] - llh2[:, 0]) * rm
+    de = np.angle(np.exp(1j * (llh1[:, 1] - llh2[:, 1]))) * rn * np.cos(lat)
+    dd = llh1[:, 2] - llh2[:, 2]
+    return np.sqrt(dn ** 2 + de ** 2 + dd ** 2), np.hypot(dn, de), np.abs(dd)
 
 
 def att_diff_deg(q1, q2):
@@ -397,15 +510,49 @@ def tilt_err_deg(q, q_true):
 
 
 def python_run(name, kind, d):
-    """quatnav.<name>(dtype=float64).run on the recording, for attitude filters; else None."""
+    """quatnav.<name>(dtype=float64).run on the recording (attitude after every sample), for the
+    attitude and navigation filters; else None. Samples as the target sees them (float32)."""
     import quatnav
 
+    if kind in NAV_KINDS:
+        return python_nav_run(name, kind, d)
     cls = getattr(quatnav, name, None)
     if kind != "marg" or cls is None or not hasattr(cls, "run"):
         return None
     f32 = lambda a: np.asarray(a, np.float32).astype(np.float64)  # the samples as the target sees them
     r = cls(dtype=np.float64).run(f32(d["gyr"]), f32(d["acc"]), f32(d["mag"]), dt=f32(d["dt"]))
     return np.asarray(r.quat, float)
+
+
+def python_nav_run(name, kind, d):
+    """NavFilter13 / GpsInsFilter through the Python package, fed exactly like the adapters: the
+    sample times are the running sum of the float32 intervals (exact in double), each aid is
+    given the time of the sample after which the adapter applies it. Returns the attitude (NaN
+    rows where the package reports none)."""
+    import quatnav
+
+    f32 = lambda a: np.asarray(a, np.float32).astype(np.float64)
+    x = {k: (c, np.asarray(v)) for k, (c, v) in d["extra"].items()}
+    dt = f32(d["dt"])
+    t = np.concatenate([[0.0], np.cumsum(dt[1:])])
+    acc, gyr = f32(d["acc"]), f32(d["gyr"])
+    if kind == "nav13":
+        tu = name.split("-")[1]
+        tu = {"Ekf": "ekf", "SecondOrder": "second_order", "Ukf": "ukf"}[tu]
+        f = quatnav.NavFilter13(tu, dtype=np.float64, accel_noise=float(f32(x["accel_noise"][1])),
+                                gyro_noise=float(f32(x["gyro_noise"][1])), vel_noise=float(f32(x["vel_noise"][1])),
+                                yaw_noise=float(f32(x["yaw_noise"][1])))
+        f.reset(f32(x["x0_v"][1]), f32(x["x0_q"][1]), np.zeros(3), np.zeros(3), f32(x["P0"][1]),
+                lat=float(f32(d["llh0"][0])), lon=float(f32(d["llh0"][1])), h=float(f32(d["llh0"][2])))
+        r = f.run(acc[1:], gyr[1:], t=t[1:], vel_t=t[x["vel_k"][1]], vel=f32(x["vel"][1]),
+                  yaw_t=t[x["yaw_k"][1]], yaw=f32(x["yaw"][1]))
+        # sample 0 is the reset and its aids, which run() applies before its first sample
+        return np.vstack([np.full(4, np.nan), r.quat])
+    f = quatnav.GpsInsFilter(dtype=np.float64, lever_arm_b=tuple(f32(x["lever_arm_b"][1])))
+    r = f.run(t, gyr, acc, gps_t=t[x["gps_k"][1]], gps_llh=x["gps_llh"][1], gps_vel=f32(x["gps_vel"][1]),
+              baro_t=t[x["baro_k"][1]], baro_h=f32(x["baro_h"][1]), compass_t=t[x["compass_k"][1]],
+              compass_yaw=f32(x["compass"][1]))
+    return np.asarray(r.q_nb, float)
 
 
 # --------------------------------------------------------------------------------------------
@@ -430,6 +577,11 @@ def main(argv=None):
         if shutil.which(tool) is None:
             raise SystemExit(f"{tool} not found (Debian: apt-get install gcc-arm-none-eabi "
                              "libnewlib-arm-none-eabi qemu-system-arm)")
+    probe = subprocess.run(["arm-none-eabi-g++", *CPU_FLAGS, "-x", "c++", "-fsyntax-only", "-"],
+                           input="#include <cstddef>\n#include <cmath>\n", capture_output=True, text=True)
+    if probe.returncode != 0:
+        raise SystemExit("arm-none-eabi-g++ has no C++ standard headers (Debian: apt-get install "
+                         "libstdc++-arm-none-eabi-newlib)\n" + probe.stderr[-500:])
     filters = FILTERS
     if args.filters:
         want = args.filters.split(",")
@@ -523,11 +675,39 @@ def main(argv=None):
             })
             if (name, "float") in host_runs:
                 row["max_att_diff_vs_host_float_deg"] = float(att_diff_deg(tg["q"], host_runs[(name, "float")]["q"]).max())
+            if kind in NAV_KINDS:
+                if len(tg["llh"]) != len(tg["q"]) or len(hd["llh"]) != len(hd["q"]):
+                    failures.append(f"{name} -{opt}: position/velocity output incomplete")
+                else:
+                    dp, dph, dpv = pos_diff_m(tg["llh"], hd["llh"])
+                    dv = np.linalg.norm(tg["v"] - hd["v"], axis=1)
+                    row.update({"max_pos_diff_vs_host_double_m": float(dp.max()),
+                                "final_pos_diff_vs_host_double_m": float(dp[-1]),
+                                "max_horiz_pos_diff_vs_host_double_m": float(dph.max()),
+                                "max_height_diff_vs_host_double_m": float(dpv.max()),
+                                "max_vel_diff_vs_host_double_m_s": float(dv.max()),
+                                "final_vel_diff_vs_host_double_m_s": float(dv[-1])})
+                    if (name, "float") in host_runs and len(host_runs[(name, "float")]["llh"]) == len(tg["llh"]):
+                        hf = host_runs[(name, "float")]
+                        row["max_pos_diff_vs_host_float_m"] = float(pos_diff_m(tg["llh"], hf["llh"])[0].max())
+                        row["max_vel_diff_vs_host_float_m_s"] = float(np.linalg.norm(tg["v"] - hf["v"], axis=1).max())
+                    nav = np.ones(len(hd["q"]), bool)
+                    if kind == "gpsins":  # position and velocity exist once navigation has started
+                        nav = (hd["flags"] & 0x4) != 0
+                    if nav.any():
+                        e_p = pos_diff_m(hd["llh"][nav], inputs[kind]["truth_llh"][nav])[0]
+                        e_v = np.linalg.norm(hd["v"][nav] - inputs[kind]["truth_v"][nav], axis=1)
+                        row["host_double_pos_err_rms_m"] = float(np.sqrt(np.mean(e_p ** 2)))
+                        row["host_double_vel_err_rms_m_s"] = float(np.sqrt(np.mean(e_v ** 2)))
             py = python_run(name, kind, inputs[kind])
             if py is not None:
-                row["host_double_vs_python_deg"] = float(att_diff_deg(hd["q"], py).max())
+                ok = np.all(np.isfinite(py), axis=1)
+                row["host_double_vs_python_deg"] = float(att_diff_deg(hd["q"][ok], py[ok]).max())
             truth = inputs[kind]["truth_q"]
-            if kind == "marg":  # heading is relative to magnetic north: compare the tilt only
+            if kind == "gpsins":  # attitude once levelled (before that the filter has none)
+                lev = (hd["flags"] & 0x6) != 0
+                row["host_double_att_err_rms_deg"] = float(np.sqrt(np.mean(att_diff_deg(hd["q"][lev], truth[lev]) ** 2)))
+            elif kind == "marg":  # heading is relative to magnetic north: compare the tilt only
                 row["host_double_tilt_err_rms_deg"] = float(np.sqrt(np.mean(tilt_err_deg(hd["q"], truth) ** 2)))
             else:
                 row["host_double_att_err_rms_deg"] = float(np.sqrt(np.mean(att_diff_deg(hd["q"], truth) ** 2)))
@@ -538,7 +718,9 @@ def main(argv=None):
             log(f"   {name:14s} -{opt}: text {row['text']:6d} B, data+bss {row['data_bss']:5d} B, "
                 f"stack {row['stack_static']} B static / {row['stack_measured']} B measured, "
                 f"state {row['state_bytes']} B, {row['insn_per_step_mean']} insn/step, "
-                f"max diff vs double {row['max_att_diff_vs_host_double_deg']:.2e} deg ({t_qemu:.1f} s in QEMU)")
+                f"max diff vs double {row['max_att_diff_vs_host_double_deg']:.2e} deg"
+                + (f", {row['max_pos_diff_vs_host_double_m']:.2e} m, {row['max_vel_diff_vs_host_double_m_s']:.2e} m/s"
+                   if "max_pos_diff_vs_host_double_m" in row else "") + f" ({t_qemu:.1f} s in QEMU)")
 
     report = {
         "command": " ".join(["python cpp/examples/embedded/run.py"] + list(sys.argv[1:] if argv is None else argv)),
@@ -586,6 +768,26 @@ def markdown(rep):
                  f"({r['stack_depth']}) | {r['stack_measured']} | {r['state_bytes']} | {r['object_bytes']} | "
                  f"{r['insn_per_step_mean']} ({r['insn_per_step_max']}) | {r['max_att_diff_vs_host_double_deg']:.2e} | "
                  + (f"{vf:.2e}" if vf is not None else "-") + " |")
+    nav_rows = [r for r in rep["rows"] if "max_pos_diff_vs_host_double_m" in r]
+    if nav_rows:
+        L += ["", "Navigation filters, position and velocity of the target's float32 run against the host's double "
+              "(resp. float) run:", "",
+              "| filter | opt | max position diff (m) (horizontal / height) | final position diff (m) "
+              "| max velocity diff (m/s) | vs host float: position (m) / velocity (m/s) "
+              "| host double vs truth RMS: position (m) / velocity (m/s) |",
+              "|---|---|---|---|---|---|---|"]
+        for r in nav_rows:
+            pf = r.get("max_pos_diff_vs_host_float_m")
+            vf = r.get("max_vel_diff_vs_host_float_m_s")
+            L.append(f"| {r['filter']} | -{r['opt']} | {r['max_pos_diff_vs_host_double_m']:.3g} "
+                     f"({r['max_horiz_pos_diff_vs_host_double_m']:.3g} / {r['max_height_diff_vs_host_double_m']:.3g}) | "
+                     f"{r['final_pos_diff_vs_host_double_m']:.3g} | {r['max_vel_diff_vs_host_double_m_s']:.2e} | "
+                     + (f"{pf:.3g} / {vf:.2e}" if pf is not None else "-") + " | "
+                     + (f"{r['host_double_pos_err_rms_m']:.3g} / {r['host_double_vel_err_rms_m_s']:.3g}"
+                        if "host_double_pos_err_rms_m" in r else "-") + " |")
+        L += ["", "NavFilter13 carries its position (latitude, longitude, height) in the filter's scalar type, "
+              "float32 on the target; GpsInsFilter keeps it in double (software floating point on a "
+              "Cortex-M4F). docs/PORTING.md explains the difference these columns show."]
     L += ["", "Columns:",
           "- **.text**, **.data+.bss**: the image with the filter minus the same firmware without it "
           "(same recording, startup and output code), from `arm-none-eabi-size`; in parentheses the part "

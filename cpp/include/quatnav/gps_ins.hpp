@@ -438,12 +438,12 @@ template <class S_> class GpsInsFilter {
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
       const Mat15 Fdt = F * dt;
-      const Mat15 Phi = Mat15::Identity() + Fdt + S(0.5) * Fdt * Fdt;
+      const Mat15 Phi = Mat15::Identity() + Fdt + S(0.5) * fixed_mul(Fdt, Fdt);
       const Vec15 qc = detail::gpsins_Qc_diag(p_);
       const Mat15 PhiQ = Phi * qc.asDiagonal();
-      Mat15 Qd = S(0.5) * dt * (PhiQ * Phi.transpose());
+      Mat15 Qd = S(0.5) * dt * fixed_mul(PhiQ, Phi.transpose());
       Qd.diagonal() += S(0.5) * dt * qc;
-      Mat15 P = Phi * s.P * Phi.transpose() + Qd;
+      Mat15 P = fixed_mul(fixed_mul(Phi, s.P), Phi.transpose()) + Qd;
       symmetrize(P);
       if (p_.accel_bias_tau > S(0)) s.b_a *= std::exp(-dt / p_.accel_bias_tau);
       if (p_.gyro_bias_tau > S(0)) s.b_g *= std::exp(-dt / p_.gyro_bias_tau);

@@ -35,8 +35,8 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
                       const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res,
                       S gate = S(0)) {
   res.innovation = y;
-  const Mat<S, N, M> PHt = P * H.transpose();
-  Mat<S, M, M> Sm = H * PHt + R;
+  const Mat<S, N, M> PHt = fixed_mul(P, H.transpose());
+  Mat<S, M, M> Sm = fixed_mul(H, PHt) + R;
   symmetrize(Sm);
   res.innovation_cov = Sm;
   if (!all_finite(Sm) || !all_finite(y)) {
@@ -62,8 +62,9 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
   Mat<S, N, M> K;
   for (int j = 0; j < N; ++j) K.row(j) = llt.solve(Vec<S, M>(PHt.row(j).transpose())).transpose();
   const Vec<S, N> dx_new = K * y;
-  Mat<S, N, N> IKH = Mat<S, N, N>::Identity() - K * H;
-  Mat<S, N, N> P_new = IKH * P * IKH.transpose() + K * R * K.transpose();
+  // Products through fixed_mul (types.hpp): no GEMM kernel, so no malloc linked, for N >= 8.
+  Mat<S, N, N> IKH = Mat<S, N, N>::Identity() - fixed_mul(K, H);
+  Mat<S, N, N> P_new = fixed_mul(fixed_mul(IKH, P), IKH.transpose()) + fixed_mul(Mat<S, N, M>(K * R), K.transpose());
   symmetrize(P_new);
   if (!all_finite(P_new) || !all_finite(dx_new)) {
     res.status = Status::NumericalFailure;

@@ -339,7 +339,7 @@ bool nav13_predict_taylor(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, cons
   Vec13<S> xn = nav13_f(x, u);
   if constexpr (kSecondOrder) xn += nav13_second_order_term(x, P, u);      // (16)-(17)
   const Mat13<S> F = nav13_jacobian(x, u);
-  Mat13<S> Pn = F * P * F.transpose() + nav13_process_noise(Quat<S>(x.template segment<4>(kQ)), u.dt, p);  // (19)-(20)
+  Mat13<S> Pn = fixed_mul(fixed_mul(F, P), F.transpose()) + nav13_process_noise(Quat<S>(x.template segment<4>(kQ)), u.dt, p);  // (19)-(20)
   symmetrize(Pn);
   if (!xn.allFinite() || !Pn.allFinite() || !(xn.template segment<4>(kQ).norm() > S(0.5))) return false;
   nav13_normalize(xn, Pn);
@@ -356,7 +356,7 @@ Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const
   constexpr int N = 12, L = 2 * N + 1;
   const Quat<S> q0 = x.template segment<4>(kQ);
   const Mat<S, 12, 13> T = nav13_to_error(q0);
-  Mat12<S> P12 = T * P * T.transpose();
+  Mat12<S> P12 = fixed_mul(fixed_mul(T, P), T.transpose());
   symmetrize(P12);
   Mat<S, N, L> off;
   if (!sigma_offsets<S, N>(P12, w.gamma, off)) return Status::SolveFailed;
@@ -397,12 +397,12 @@ Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const
   qm = quat::mul(qm, quat::from_rotvec(dmean));
   qm /= qm.norm();
   for (int i = 0; i < L; ++i) D.template block<3, 1>(3, i) -= dmean;
-  Mat12<S> Pn12 = sigma_covariance<S, N, N>(D, w) + T * nav13_process_noise(q0, u.dt, p) * T.transpose();
+  Mat12<S> Pn12 = sigma_covariance<S, N, N>(D, w) + fixed_mul(fixed_mul(T, nav13_process_noise(q0, u.dt, p)), T.transpose());
   symmetrize(Pn12);
   Vec13<S> xn = ysum;
   xn.template segment<4>(kQ) = qm;
   const Mat<S, 13, 12> Tb = nav13_from_error(qm);
-  Mat13<S> Pn = Tb * Pn12 * Tb.transpose();
+  Mat13<S> Pn = fixed_mul(fixed_mul(Tb, Pn12), Tb.transpose());
   symmetrize(Pn);
   if (!xn.allFinite() || !Pn.allFinite()) return Status::NumericalFailure;
   x = xn;
@@ -444,7 +444,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   /// (q_true = q * exp(dtheta)); its attitude block is in rad^2.
   Mat<S, 12, 12> error_covariance() const {
     const Mat<S, 12, 13> T = detail::nav13_to_error(st_.q_nb);
-    return T * st_.P * T.transpose();
+    return fixed_mul(fixed_mul(T, st_.P), T.transpose());
   }
 
   /// Start from a given state. P is the 13x13 covariance of [v_n, q_nb, b_a, b_g]; its quaternion

@@ -26,6 +26,21 @@ template <class S, int R, int C> using Mat = Eigen::Matrix<S, R, C>;
 /// A quaternion stored scalar first, [w, x, y, z] (Hamilton).
 template <class S> using Quat = Eigen::Matrix<S, 4, 1>;
 
+/// Product of two fixed-size matrices, evaluated coefficient by coefficient into a fixed-size
+/// result (Eigen's lazyProduct). Eigen sends a product with an inner dimension of 8 or more (or
+/// both outer dimensions of 8 or more) to its blocked GEMM kernel even at fixed size; that kernel
+/// carries a heap fallback that is never taken for fixed sizes but still links malloc and free
+/// into a bare-metal image. For products below that size Eigen already evaluates this way, so
+/// results there are bit-for-bit those of operator*. The filters with 12 to 15 states use this
+/// for every matrix-matrix product of that size (see docs/PORTING.md).
+template <class A, class B>
+Eigen::Matrix<typename A::Scalar, A::RowsAtCompileTime, B::ColsAtCompileTime> fixed_mul(const Eigen::MatrixBase<A>& a,
+                                                                                      const Eigen::MatrixBase<B>& b) {
+  static_assert(A::RowsAtCompileTime > 0 && A::ColsAtCompileTime > 0 && B::ColsAtCompileTime > 0,
+                "fixed_mul: fixed-size operands only");
+  return a.lazyProduct(b);
+}
+
 /// What a step did. A step that does not return Ok or Rejected left the state untouched.
 enum class Status : std::uint8_t {
   Ok = 0,             ///< step applied

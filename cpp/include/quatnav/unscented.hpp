@@ -83,7 +83,8 @@ template <class S, int N, int M>
 Mat<S, M, M> sigma_covariance(const Mat<S, M, 2 * N + 1>& D, const UnscentedWeights<S, N>& w) {
   Mat<S, M, M> P = w.wc0 * D.col(0) * D.col(0).transpose();
   // sum_{i>=1} wi d_i d_i^T = wi * D_r D_r^T with D_r the remaining 2N columns.
-  P.noalias() += w.wi * D.template rightCols<2 * N>() * D.template rightCols<2 * N>().transpose();
+  // fixed_mul (types.hpp): no GEMM kernel, so no malloc linked into a bare-metal image.
+  P += w.wi * fixed_mul(D.template rightCols<2 * N>(), D.template rightCols<2 * N>().transpose());
   return P;
 }
 
