@@ -74,6 +74,7 @@ cmake --build build/consumer -j "$JOBS" >/dev/null
 emb=()
 command -v arm-none-eabi-g++ >/dev/null || emb+=(gcc-arm-none-eabi)
 dpkg -s libnewlib-arm-none-eabi >/dev/null 2>&1 || emb+=(libnewlib-arm-none-eabi)
+dpkg -s libstdc++-arm-none-eabi-newlib >/dev/null 2>&1 || emb+=(libstdc++-arm-none-eabi-newlib)
 command -v qemu-system-arm >/dev/null || emb+=(qemu-system-arm)
 if [ ${#emb[@]} -gt 0 ]; then
   echo "== installing Debian packages: ${emb[*]}"
@@ -81,7 +82,7 @@ if [ ${#emb[@]} -gt 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends "${emb[@]}" >/dev/null
 fi
 echo "== embedded: cross-compile every filter for a Cortex-M4F, run it in QEMU, compare with the host"
-QUATNAV_JOBS="$JOBS" timeout 1200 "$PY" cpp/examples/embedded/run.py --check --report-dir build/embedded/report
+QUATNAV_JOBS="$JOBS" timeout 1500 "$PY" cpp/examples/embedded/run.py --check --opt O2 --report-dir build/embedded/report
 
 # --- Python tests ---------------------------------------------------------------------------
 echo "== pytest"
