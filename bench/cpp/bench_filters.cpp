@@ -103,6 +103,7 @@ template <class S> std::vector<Sample<S>> samples_as() {
 // ------------------------------------------------------------------------------------------
 template <class S> struct QEKFCase {
   static constexpr const char* name = "QuaternionEKF";
+  static constexpr bool countable = true;
   static constexpr const char* policy = "ekf";
   static constexpr const char* step_desc = "predict+acc+mag";
   quatnav::QuaternionEKF<S> f;
@@ -125,6 +126,7 @@ template <class S> struct QEKFJointCase : QEKFCase<S> {
 
 template <class S> struct EulerEKFCase {
   static constexpr const char* name = "EulerEKF";
+  static constexpr bool countable = true;
   static constexpr const char* policy = "ekf";
   static constexpr const char* step_desc = "predict+acc+mag";
   quatnav::EulerEKF<S> f;
@@ -134,6 +136,37 @@ template <class S> struct EulerEKFCase {
     f.update_acc(s.acc);
     f.update_mag(s.mag);
   }
+};
+
+// The 13-state GPS-aided navigation filter (nav_filter13.hpp): its time update alone, one row per
+// policy (EKF, second order, UKF), from a representative state and covariance. The measurement
+// updates are the same for the three policies. No flop count (the filter carries the geodetic
+// position in double, which the counting scalar does not model).
+template <class S, quatnav::TimeUpdate TU> struct Nav13CaseT {
+  static constexpr const char* name = "NavFilter13";
+  static constexpr const char* step_desc = "predict";
+  static constexpr bool countable = false;
+  quatnav::NavFilter13<S, TU> f;
+  void init(const Sample<S>&) {
+    const Quat<S> q = quatnav::quat::from_euler<S>(S(0.1), S(-0.1), S(0.5));
+    quatnav::Mat<S, 13, 13> P = quatnav::Mat<S, 13, 13>::Zero();
+    P.template block<3, 3>(0, 0).diagonal().setConstant(S(0.09));
+    const quatnav::Mat43<S> X = quatnav::quat::xi(q);
+    P.template block<4, 4>(3, 3) = S(0.25 * 0.03) * X * X.transpose();
+    P.template block<3, 3>(7, 7).diagonal().setConstant(S(4e-4));
+    P.template block<3, 3>(10, 10).diagonal().setConstant(S(1e-10));
+    f.reset(Vec3<S>(S(1), S(1), S(0)), q, Vec3<S>::Zero(), Vec3<S>::Zero(), P, S(0.63), S(2.2), S(50));
+  }
+  void step(const Sample<S>& s) { f.predict(s.acc, s.gyr, s.dt); }
+};
+template <class S> struct Nav13EkfCase : Nav13CaseT<S, quatnav::TimeUpdate::Ekf> {
+  static constexpr const char* policy = "time update: ekf";
+};
+template <class S> struct Nav13SecondOrderCase : Nav13CaseT<S, quatnav::TimeUpdate::SecondOrder> {
+  static constexpr const char* policy = "time update: second order";
+};
+template <class S> struct Nav13UkfCase : Nav13CaseT<S, quatnav::TimeUpdate::Ukf> {
+  static constexpr const char* policy = "time update: ukf";
 };
 
 // ------------------------------------------------------------------------------------------
@@ -209,7 +242,10 @@ template <template <class> class CaseT> void run_case(const Options& opt) {
     std::printf("%s\t%s\n", label.c_str(), CaseT<double>::name);
     return;
   }
-  const double flops = opt.flops ? count_flops<CaseT>() : 0.0;
+  double flops = 0.0;
+  if constexpr (CaseT<double>::countable) {
+    if (opt.flops) flops = count_flops<CaseT>();
+  }
   std::uint64_t alloc_d = 0, alloc_f = 0;
   const double ns_d = opt.scalar != "float" ? time_case<double, CaseT>(opt, alloc_d) : 0.0;
   const double ns_f = opt.scalar != "double" ? time_case<float, CaseT>(opt, alloc_f) : 0.0;
@@ -253,5 +289,8 @@ int main(int argc, char** argv) {
   qb::run_case<qb::QEKFCase>(opt);
   qb::run_case<qb::QEKFJointCase>(opt);
   qb::run_case<qb::EulerEKFCase>(opt);
+  qb::run_case<qb::Nav13EkfCase>(opt);
+  qb::run_case<qb::Nav13SecondOrderCase>(opt);
+  qb::run_case<qb::Nav13UkfCase>(opt);
   return 0;
 }

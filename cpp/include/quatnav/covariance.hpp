@@ -24,6 +24,7 @@
 #include <cmath>
 #include <limits>
 
+#include "kalman.hpp"
 #include "quaternion.hpp"
 #include "types.hpp"
 
@@ -86,6 +87,31 @@ bool symmetric_eigen(const Mat<S, N, N>& A_in, Vec<S, N>& lam, Mat<S, N, N>* V_o
   return converged;
 }
 
+/// True when the symmetric matrix A (its lower triangle is read) has a Cholesky factor
+/// A = L L^T with a positive diagonal, i.e. is positive definite up to rounding: the
+/// column-by-column (Cholesky-Crout) factorization that Eigen::LLT's unblocked kernel runs for
+/// small fixed sizes, written out so that the test is a few dozen inline multiply-adds (only
+/// the pivots are needed, so the diagonal of L is not stored). False at the first pivot that
+/// is not positive (or is NaN).
+template <class S, int N> bool has_cholesky(const Mat<S, N, N>& A) {
+  Mat<S, N, N> L;
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 8
+#endif
+  for (int j = 0; j < N; ++j) {
+    S d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > S(0))) return false;
+    const S inv = S(1) / std::sqrt(d);
+    for (int i = j + 1; i < N; ++i) {
+      S v = A(i, j);
+      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
+      L(i, j) = v * inv;
+    }
+  }
+  return true;
+}
+
 }  // namespace detail
 
 /// Health figures of a covariance matrix.
@@ -119,10 +145,10 @@ template <class S, int N> CovarianceHealth<S> covariance_health(const Mat<S, N, 
 /// floor <= 0 disables the repair. Non-finite P is left alone (returns false): callers
 /// refuse such results before they reach the state.
 template <class S, int N> bool floor_covariance(Mat<S, N, N>& P, S floor) {
-  if (!(floor > S(0)) || !P.allFinite()) return false;
-  const Mat<S, N, N> shifted = P - floor * Mat<S, N, N>::Identity();
-  const Eigen::LLT<Mat<S, N, N>> llt(shifted);
-  if (llt.info() == Eigen::Success) return false;
+  if (!(floor > S(0)) || !all_finite(P)) return false;
+  Mat<S, N, N> shifted = P;
+  shifted.diagonal().array() -= floor;
+  if (detail::has_cholesky<S, N>(shifted)) return false;
   const Mat<S, N, N> Ps = (P + P.transpose()) * S(0.5);
   Vec<S, N> lam;
   Mat<S, N, N> V;
@@ -145,14 +171,28 @@ namespace detail {
 /// changed it, P = T+ Pe T+^T. T+ T = diag(I - q q^T, I3) is the projection that the
 /// normalization (qekf_normalize) already applies, so a healthy P is unchanged and a repaired
 /// one keeps the structure. Returns true when the floor was applied.
+template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor);
+
 template <class S> bool qekf_floor_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
-  P = (P + P.transpose()).eval() * S(0.5);
+  symmetrize(P);
+  return qekf_floor_symmetric_covariance(q, P, floor);
+}
+
+/// qekf_floor_covariance for a P that is already exactly symmetric (as the filter keeps it:
+/// its time update, Joseph update and normalization all produce symmetric blocks).
+template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
   if (!(floor > S(0))) return false;
-  Mat<S, 6, 7> T = Mat<S, 6, 7>::Zero();
-  T.template topLeftCorner<3, 4>() = S(2) * quat::xi(q).transpose();
-  T.template bottomRightCorner<3, 3>().setIdentity();
-  Mat<S, 6, 6> Pe = T * P * T.transpose();
-  Pe = (Pe + Pe.transpose()).eval() * S(0.5);
+  // Pe = T P T^T by blocks (T is block diagonal): [4 X^T Pqq X, 2 X^T Pqb; ., Pbb], X = Xi(q).
+  const Mat43<S> X = quat::xi(q);
+  Mat<S, 6, 6> Pe;
+  Mat43<S> PqqX;
+  PqqX.noalias() = P.template topLeftCorner<4, 4>() * X;
+  Pe.template topLeftCorner<3, 3>().noalias() = S(4) * X.transpose() * PqqX;
+  Pe.template topRightCorner<3, 3>().noalias() = S(2) * X.transpose() * P.template topRightCorner<4, 3>();
+  Pe.template bottomLeftCorner<3, 3>() = Pe.template topRightCorner<3, 3>().transpose();
+  Pe.template bottomRightCorner<3, 3>() = P.template bottomRightCorner<3, 3>();
+  auto Pe_aa = Pe.template topLeftCorner<3, 3>();
+  symmetrize(Pe_aa);  // the other blocks are symmetric by construction
   if (!floor_covariance<S, 6>(Pe, floor)) return false;
   Mat<S, 7, 6> Tp = Mat<S, 7, 6>::Zero();
   Tp.template topLeftCorner<4, 3>() = quat::xi(q) / S(2);

@@ -183,7 +183,7 @@ template <class S> class EulerEKF {
 
   Status predict(const Vec3<S>& gyr, S dt) {
     if (!st_.initialized) return Status::NotInitialized;
-    if (!gyr.allFinite()) return Status::NonFinite;
+    if (!all_finite(gyr)) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Vec3<S> e;
@@ -191,13 +191,28 @@ template <class S> class EulerEKF {
     Mat3<S> E;
     bool singular = false;
     detail::euler_propagate(st_.euler, st_.bias, gyr, dt, params_.singular_cos, e, F, E, singular);
-    Mat6 Q = Mat6::Zero();
-    Q.template topLeftCorner<3, 3>() = (dt * params_.gyro_noise * params_.gyro_noise) * E * E.transpose();
-    Q.template bottomRightCorner<3, 3>().diagonal().setConstant(dt * params_.gyro_bias_noise *
-                                                                params_.gyro_bias_noise);
-    Mat6 P = F * st_.P * F.transpose() + Q;
+    // P = F P F^T + Q by blocks: F = [G B; 0 I], P = [A C; C^T D] give
+    //   [G A G^T + G C B^T + B C^T G^T + B D B^T + Q_ee,  G C + B D;  (G C + B D)^T,  D + Q_bb].
+    const Mat3<S> G = F.template topLeftCorner<3, 3>();
+    const Mat3<S> B = F.template topRightCorner<3, 3>();
+    const auto A = st_.P.template topLeftCorner<3, 3>();
+    const auto C = st_.P.template topRightCorner<3, 3>();
+    const auto D = st_.P.template bottomRightCorner<3, 3>();
+    Mat3<S> GC_BD, M;
+    GC_BD.noalias() = G * C;
+    GC_BD.noalias() += B * D;
+    M.noalias() = G * A;
+    M.noalias() += B * C.transpose();
+    Mat6 P;
+    P.template topLeftCorner<3, 3>().noalias() = (dt * params_.gyro_noise * params_.gyro_noise) * E * E.transpose();
+    P.template topLeftCorner<3, 3>().noalias() += M * G.transpose();
+    P.template topLeftCorner<3, 3>().noalias() += GC_BD * B.transpose();
+    P.template topRightCorner<3, 3>() = GC_BD;
+    P.template bottomLeftCorner<3, 3>() = GC_BD.transpose();
+    P.template bottomRightCorner<3, 3>() = D;
+    P.template bottomRightCorner<3, 3>().diagonal().array() += dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
     symmetrize(P);
-    if (!P.allFinite() || !e.allFinite()) return Status::NumericalFailure;
+    if (!all_finite(P) || !all_finite(e)) return Status::NumericalFailure;
     floor_covariance<S, 6>(P, params_.cov_floor);
     e[0] = quat::wrap_pi(e[0]);
     e[2] = quat::wrap_pi(e[2]);
@@ -262,7 +277,7 @@ template <class S> class EulerEKF {
     const Mat3<S> R = Mat3<S>::Identity() * (sigma * sigma);
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    if (kalman_correct<S, 6, 3>(P, H, R, Vec3<S>(u - h), dx, res, gate) != Status::Ok) return res;
+    if (kalman_correct<S, 6, 3, 0, 3>(P, H, R, Vec3<S>(u - h), dx, res, gate) != Status::Ok) return res;
     floor_covariance<S, 6>(P, params_.cov_floor);
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);

@@ -3,20 +3,26 @@
 // S = H P H^T + R is factorized by Cholesky (LLT); the gain is K = P H^T S^-1 computed by a
 // solve, never by an inverse; the covariance update is the Joseph form
 //   P+ = (I - K H) P (I - K H)^T + K R K^T,
-// symmetrized afterwards. The normalized innovation squared (NIS) y^T S^-1 y is returned so
-// that callers can gate and tests can judge consistency. Fixed-size Eigen only: no heap.
+// symmetrized afterwards (evaluated by blocks, exploiting the zero columns of H: see
+// joseph_update). The normalized innovation squared (NIS) y^T S^-1 y is returned so that
+// callers can gate and tests can judge consistency. Fixed-size Eigen only: no heap.
 #pragma once
 
 #include <Eigen/Cholesky>
+#include <cmath>
 #include <limits>
 
 #include "types.hpp"
 
 namespace quatnav {
 
-/// True when every coefficient is finite.
+/// True when every coefficient is finite. x * 0 is (+-)0 for a finite x and NaN for an infinite
+/// or NaN one, so the sum of those products is zero exactly when every coefficient is finite: a
+/// branch-free reduction that vectorizes (DenseBase::allFinite() tests the coefficients one by
+/// one).
 template <class Derived> bool all_finite(const Eigen::MatrixBase<Derived>& m) {
-  return m.allFinite();
+  using S = typename Derived::Scalar;
+  return (m.derived().array() * S(0)).sum() == S(0);
 }
 
 /// Make a square matrix exactly symmetric in place.
@@ -24,48 +30,131 @@ template <class Derived> void symmetrize(Eigen::MatrixBase<Derived>& P) {
   P = (P + P.transpose()).eval() * typename Derived::Scalar(0.5);
 }
 
+/// The Joseph-form covariance update P+ = (I - K H) P (I - K H)^T + K R K^T for a gain K (any
+/// gain, not only the optimal one), where H is nonzero only in its NC columns from C0 on
+/// (`Hc` holds those columns). Evaluated by blocks, without forming I - K H:
+///   B  = (I - K H) P = P - K (H P)
+///   P+ = B (I - K H)^T + K R K^T = B + (K R - B H^T) K^T,
+/// which is the same expression re-associated (3 N^2 M + N M^2 multiply-adds instead of
+/// 2 N^3 + ...). P_out is symmetrized; it may not alias P. Every product is coefficient-based
+/// (lazyProduct, as fixed_mul in types.hpp): for N >= 8 Eigen's default product goes through its
+/// GEMM kernel, whose heap fallback (never taken for fixed sizes) would still link malloc into a
+/// microcontroller image (docs/PORTING.md).
+template <class S, int N, int M, int C0, int NC>
+void joseph_update(const Mat<S, N, N>& P, const Mat<S, N, M>& K, const Mat<S, M, NC>& Hc,
+                   const Mat<S, M, M>& R, Mat<S, N, N>& P_out) {
+  static_assert(C0 >= 0 && NC >= 1 && C0 + NC <= N, "H columns out of range");
+  Mat<S, M, N> HP;
+  HP.noalias() = Hc.lazyProduct(P.template middleRows<NC>(C0));
+  P_out = P;
+  P_out.noalias() -= K.lazyProduct(HP);  // B
+  Mat<S, N, M> W;
+  W.noalias() = K.lazyProduct(R);
+  W.noalias() -= P_out.template middleCols<NC>(C0).lazyProduct(Hc.transpose());
+  P_out.noalias() += W.lazyProduct(K.transpose());
+  symmetrize(P_out);
+}
+
+namespace detail {
+
+/// Cholesky factor A = L L^T of a small symmetric matrix (lower triangle read; the lower
+/// triangle of L written, with the reciprocals of its diagonal in `inv_diag`). False at the
+/// first pivot that is not positive: A is not positive definite. Plain loops on fixed sizes,
+/// fully inline (no heap, nothing for a bare-metal image to link).
+template <class S, int M> bool cholesky_small(const Mat<S, M, M>& A, Mat<S, M, M>& L, Vec<S, M>& inv_diag) {
+  for (int j = 0; j < M; ++j) {
+    S d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > S(0))) return false;
+    const S ljj = std::sqrt(d);
+    L(j, j) = ljj;
+    inv_diag[j] = S(1) / ljj;
+    for (int i = j + 1; i < M; ++i) {
+      S v = A(i, j);
+      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
+      L(i, j) = v * inv_diag[j];
+    }
+  }
+  return true;
+}
+
+/// X = B L^-T for the factor of cholesky_small (forward substitution on the columns of X, each
+/// an R-vector): X L^T = B.
+template <class S, int M, int R>
+void solve_right_lower_transposed(const Mat<S, M, M>& L, const Vec<S, M>& inv_diag, const Mat<S, R, M>& B,
+                                  Mat<S, R, M>& X) {
+  for (int i = 0; i < M; ++i) {
+    Vec<S, R> c = B.col(i);
+    for (int k = 0; k < i; ++k) c -= L(i, k) * X.col(k);
+    X.col(i) = c * inv_diag[i];
+  }
+}
+
+/// X = B L^-1 (backward substitution on the columns): X L = B.
+template <class S, int M, int R>
+void solve_right_lower(const Mat<S, M, M>& L, const Vec<S, M>& inv_diag, const Mat<S, R, M>& B, Mat<S, R, M>& X) {
+  for (int i = M - 1; i >= 0; --i) {
+    Vec<S, R> c = B.col(i);
+    for (int k = i + 1; k < M; ++k) c -= L(k, i) * X.col(k);
+    X.col(i) = c * inv_diag[i];
+  }
+}
+
+}  // namespace detail
+
 /// One Kalman correction with N states and M measurement rows.
 ///
 /// Inputs: P (NxN), H (MxN), R (MxM), innovation y = z - h(x) (M). On success writes the state
 /// correction dx = K y, replaces P by the Joseph-form update and fills `res` (innovation,
 /// its covariance S, NIS). When `gate` is positive and NIS exceeds it, returns Rejected.
 /// Any status other than Ok leaves P and dx unchanged.
-template <class S, int N, int M>
+///
+/// C0, NC: H is nonzero only in the NC columns starting at column C0 (a measurement of part of
+/// the state, the usual case); the products then skip the zero columns. The default is a dense
+/// H. Columns outside that range are ignored, so a caller must only narrow it when they are
+/// zero.
+template <class S, int N, int M, int C0 = 0, int NC = N>
 Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>& R,
                       const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res,
                       S gate = S(0)) {
   res.innovation = y;
-  const Mat<S, N, M> PHt = fixed_mul(P, H.transpose());
-  Mat<S, M, M> Sm = fixed_mul(H, PHt) + R;
+  const Mat<S, M, NC> Hc = H.template middleCols<NC>(C0);
+  Mat<S, N, M> PHt;
+  PHt.noalias() = P.template middleCols<NC>(C0).lazyProduct(Hc.transpose());
+  Mat<S, M, M> Sm = R;
+  Sm.noalias() += Hc.lazyProduct(PHt.template middleRows<NC>(C0));
   symmetrize(Sm);
   res.innovation_cov = Sm;
   if (!all_finite(Sm) || !all_finite(y)) {
     res.status = Status::NumericalFailure;
     return res.status;
   }
-  const Eigen::LLT<Mat<S, M, M>> llt(Sm);
-  if (llt.info() != Eigen::Success) {
+  // S = L L^T (Cholesky).
+  Mat<S, M, M> L;
+  Vec<S, M> inv_diag;
+  if (!detail::cholesky_small<S, M>(Sm, L, inv_diag)) {
     res.status = Status::SolveFailed;
     return res.status;
   }
   // NIS = |L^-1 y|^2.
-  const Vec<S, M> w = llt.matrixL().solve(y);
+  Mat<S, 1, M> w;
+  detail::solve_right_lower_transposed<S, M, 1>(L, inv_diag, Mat<S, 1, M>(y.transpose()), w);
   res.nis = w.squaredNorm();
   if (gate > S(0) && !(res.nis <= gate)) {
     res.status = Status::Rejected;
     return res.status;
   }
-  // K^T = S^-1 H P  (S symmetric), K = P H^T S^-1, solved one row of K at a time: Eigen solves
-  // a fixed-size vector right-hand side fully inline, whereas a matrix right-hand side goes
-  // through its blocked solver, whose heap fallback (never taken for fixed sizes) would still
-  // link malloc into a microcontroller image (see docs/PORTING.md).
-  Mat<S, N, M> K;
-  for (int j = 0; j < N; ++j) K.row(j) = llt.solve(Vec<S, M>(PHt.row(j).transpose())).transpose();
-  const Vec<S, N> dx_new = K * y;
-  // Products through fixed_mul (types.hpp): no GEMM kernel, so no malloc linked, for N >= 8.
-  Mat<S, N, N> IKH = Mat<S, N, N>::Identity() - fixed_mul(K, H);
-  Mat<S, N, N> P_new = fixed_mul(fixed_mul(IKH, P), IKH.transpose()) + fixed_mul(Mat<S, N, M>(K * R), K.transpose());
-  symmetrize(P_new);
+  // K = P H^T S^-1 = (P H^T L^-T) L^-1 by two triangular solves, never an inverse. Plain
+  // substitution loops: Eigen's triangular solve with a matrix right-hand side goes through its
+  // blocked solver, whose heap fallback (never taken for fixed sizes) would still link malloc
+  // into a microcontroller image (see docs/PORTING.md).
+  Mat<S, N, M> Z, K;
+  detail::solve_right_lower_transposed<S, M, N>(L, inv_diag, PHt, Z);
+  detail::solve_right_lower<S, M, N>(L, inv_diag, Z, K);
+  Vec<S, N> dx_new;
+  dx_new.noalias() = K * y;
+  Mat<S, N, N> P_new;
+  joseph_update<S, N, M, C0, NC>(P, K, Hc, R, P_new);
   if (!all_finite(P_new) || !all_finite(dx_new)) {
     res.status = Status::NumericalFailure;
     return res.status;

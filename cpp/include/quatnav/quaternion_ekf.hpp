@@ -175,12 +175,21 @@ void qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S
 }
 
 /// Covariance projection after q <- q/|q|: J = (I - q_hat q_hat^T)/|q| on the quaternion block.
+/// J is a scaled projection, so the products are written with its rank-one structure:
+/// J A J^T = (A - qh v^T - v qh^T + s qh qh^T) / n^2 with v = A qh, s = qh^T v, and
+/// J C = (C - qh (qh^T C)) / n.
 template <class S> void qekf_normalize(Quat<S>& q, Mat<S, 7, 7>& P) {
   const S n = q.norm();
   const Quat<S> qh = q / n;
-  const Mat4<S> J = (Mat4<S>::Identity() - qh * qh.transpose()) / n;
-  P.template topLeftCorner<4, 4>() = (J * P.template topLeftCorner<4, 4>() * J.transpose()).eval();
-  P.template topRightCorner<4, 3>() = (J * P.template topRightCorner<4, 3>()).eval();
+  const Mat4<S> A = P.template topLeftCorner<4, 4>();
+  const Vec4<S> v = A * qh;
+  const S s = qh.dot(v);
+  const Vec4<S> w = v - (s / S(2)) * qh;  // A - qh v^T - v qh^T + s qh qh^T = A - qh w^T - w qh^T
+  const S n2 = n * n;
+  for (int j = 0; j < 4; ++j)  // computed once per pair: the block stays exactly symmetric
+    for (int i = 0; i <= j; ++i) P(i, j) = P(j, i) = (A(i, j) - qh[i] * w[j] - w[i] * qh[j]) / n2;
+  const Eigen::Matrix<S, 1, 3> qC = qh.transpose() * P.template topRightCorner<4, 3>();
+  P.template topRightCorner<4, 3>() = (P.template topRightCorner<4, 3>() - qh * qC) / n;
   P.template bottomLeftCorner<3, 4>() = P.template topRightCorner<4, 3>().transpose();
   q = qh;
 }
@@ -306,23 +315,41 @@ template <class S> class QuaternionEKF {
   /// Time update with one gyro sample [rad/s] over dt [s] (eq. 9, 13, 14).
   Status predict(const Vec3<S>& gyr, S dt) {
     if (!st_.initialized) return Status::NotInitialized;
-    if (!gyr.allFinite()) return Status::NonFinite;
+    if (!all_finite(gyr)) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
     Mat7 Phi;
     detail::qekf_propagate(st_.q, st_.bias, gyr, dt, q_new, Phi);
-    Mat7 Q = Mat7::Zero();
+    // P = Phi P Phi^T + Q (eq. 13-14) by blocks: Phi = [F B; 0 I], P = [A C; C^T D] give
+    //   [F A F^T + F C B^T + B C^T F^T + B D B^T + Q_qq,  F C + B D;  (F C + B D)^T,  D + Q_bb].
+    const Mat4<S> F = Phi.template topLeftCorner<4, 4>();
+    const Mat43<S> B = Phi.template topRightCorner<4, 3>();
+    const auto A = st_.P.template topLeftCorner<4, 4>();
+    const auto C = st_.P.template topRightCorner<4, 3>();
+    const auto D = st_.P.template bottomRightCorner<3, 3>();
+    Mat43<S> FC_BD;
+    FC_BD.noalias() = F * C;
+    FC_BD.noalias() += B * D;
+    Mat4<S> M;  // F A + B C^T  (the top rows of Phi P)
+    M.noalias() = F * A;
+    M.noalias() += B * C.transpose();
     const Mat43<S> X = quat::xi(q_new);
-    Q.template topLeftCorner<4, 4>() =
+    Mat7 P_new;
+    P_new.template topLeftCorner<4, 4>().noalias() =
         (dt * params_.gyro_noise * params_.gyro_noise / S(4)) * X * X.transpose();
-    Q.template bottomRightCorner<3, 3>().diagonal().setConstant(dt * params_.gyro_bias_noise *
-                                                                params_.gyro_bias_noise);
-    Mat7 P_new = Phi * st_.P * Phi.transpose() + Q;
-    symmetrize(P_new);
-    if (!P_new.allFinite() || !q_new.allFinite()) return Status::NumericalFailure;
+    P_new.template topLeftCorner<4, 4>().noalias() += M * F.transpose();
+    P_new.template topLeftCorner<4, 4>().noalias() += FC_BD * B.transpose();
+    P_new.template topRightCorner<4, 3>() = FC_BD;
+    P_new.template bottomLeftCorner<3, 4>() = FC_BD.transpose();
+    P_new.template bottomRightCorner<3, 3>() = D;
+    P_new.template bottomRightCorner<3, 3>().diagonal().array() +=
+        dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
+    auto P_qq = P_new.template topLeftCorner<4, 4>();
+    symmetrize(P_qq);  // the other blocks are symmetric by construction
+    if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
     st_.q = q_new / q_new.norm();
-    detail::qekf_floor_covariance(st_.q, P_new, params_.cov_floor);
+    detail::qekf_floor_symmetric_covariance(st_.q, P_new, params_.cov_floor);
     st_.P = P_new;
     // Bookkeeping for the robustness features: the last rate and step, the rest low-pass.
     flags_ = 0;
@@ -480,7 +507,7 @@ template <class S> class QuaternionEKF {
     Mat<S, 6, 6> R = Mat<S, 6, 6>::Zero();
     R.diagonal() << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
         Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
-    apply_correction<6>(H, R, Vec<S, 6>(z - h), res, gate);
+    apply_correction<6, 0, 4>(H, R, Vec<S, 6>(z - h), res, gate);
     if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
     return res;
   }
@@ -508,7 +535,7 @@ template <class S> class QuaternionEKF {
     H.template rightCols<3>().setIdentity();
     const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
     UpdateResult<S, 3> res;
-    apply_correction<3>(H, Mat3<S>(Mat3<S>::Identity() * r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
+    apply_correction<3, 4, 3>(H, Mat3<S>(Mat3<S>::Identity() * r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
   }
 
   /// Heading-only magnetometer update (see heading_model): Kalman gain projected on the yaw
@@ -527,11 +554,10 @@ template <class S> class QuaternionEKF {
     const Mat3<S> Sphi = detail::quat_cov_to_nav_angle_cov(st_.q, Mat4<S>(st_.P.template topLeftCorner<4, 4>()));
     const S R = params_.mag_noise * params_.mag_noise / horiz2 +
                 Jt.dot(Sphi.template topLeftCorner<2, 2>() * Jt);
-    Eigen::Matrix<S, 1, 7> H = Eigen::Matrix<S, 1, 7>::Zero();
-    H.template leftCols<4>() = Hq;
     const S y = quat::wrap_pi(-h);
-    const Vec<S, 7> PHt = st_.P * H.transpose();
-    const S Sv = H.dot(PHt) + R;
+    Vec<S, 7> PHt;  // P H^T, H = [Hq 0]
+    PHt.noalias() = st_.P.template leftCols<4>() * Hq.transpose();
+    const S Sv = Hq.dot(PHt.template head<4>()) + R;
     res.innovation[0] = y;
     res.innovation_cov(0, 0) = Sv;
     if (!std::isfinite(Sv) || !std::isfinite(y)) {
@@ -549,17 +575,16 @@ template <class S> class QuaternionEKF {
     }
     Vec<S, 7> K = PHt / Sv;
     K.template head<4>() = (u * u.dot(K.template head<4>())).eval();  // yaw direction only
-    const Mat7 IKH = Mat7::Identity() - K * H;
-    Mat7 P = IKH * st_.P * IKH.transpose() + (K * R) * K.transpose();
-    symmetrize(P);
+    Mat7 P;
+    joseph_update<S, 7, 1, 0, 4>(st_.P, K, Hq, Mat<S, 1, 1>::Constant(R), P);
     const Vec<S, 7> dx = K * y;
     Quat<S> q = st_.q + dx.template head<4>();
-    if (!P.allFinite() || !dx.allFinite() || !(q.norm() > S(0.5))) {
+    if (!all_finite(P) || !all_finite(dx) || !(q.norm() > S(0.5))) {
       res.status = Status::NumericalFailure;
       return res;
     }
     detail::qekf_normalize(q, P);
-    detail::qekf_floor_covariance(q, P, params_.cov_floor);  // symmetric again, floored
+    detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
     st_.q = q;
     st_.bias += dx.template tail<3>();
     st_.P = P;
@@ -608,7 +633,7 @@ template <class S> class QuaternionEKF {
     Mat<S, 3, 7> H = Mat<S, 3, 7>::Zero();
     H.template leftCols<4>() = detail::qekf_H(st_.q, rx, rz);
     const Mat3<S> R = Mat3<S>::Identity() * (sigma * sigma);
-    apply_correction<3>(H, R, Vec3<S>(u - detail::qekf_h(st_.q, rx, rz)), res, gate);
+    apply_correction<3, 0, 4>(H, R, Vec3<S>(u - detail::qekf_h(st_.q, rx, rz)), res, gate);
     return res;
   }
 
@@ -618,19 +643,20 @@ template <class S> class QuaternionEKF {
     return r;
   }
 
-  template <int M>
+  /// H is nonzero only in its NC columns from C0 on (the quaternion or the bias block).
+  template <int M, int C0, int NC>
   void apply_correction(const Mat<S, M, 7>& H, const Mat<S, M, M>& R, const Vec<S, M>& y,
                         UpdateResult<S, M>& res, S gate) {
     Mat7 P = st_.P;
     Vec<S, 7> dx;
-    if (kalman_correct<S, 7, M>(P, H, R, y, dx, res, gate) != Status::Ok) return;
+    if (kalman_correct<S, 7, M, C0, NC>(P, H, R, y, dx, res, gate) != Status::Ok) return;
     Quat<S> q = st_.q + dx.template head<4>();
     if (!(q.norm() > S(0.5))) {
       res.status = Status::NumericalFailure;
       return;
     }
     detail::qekf_normalize(q, P);
-    detail::qekf_floor_covariance(q, P, params_.cov_floor);
+    detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
     st_.q = q;
     st_.bias += dx.template tail<3>();
     st_.P = P;
