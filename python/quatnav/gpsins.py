@@ -403,7 +403,7 @@ class GpsInsFilter:
                 skipped[name] = rows
         refused = [_STATUS.index(x) for x in ("non_finite", "numerical_failure", "solve_failed", "invalid_argument")]
         for name, key in (("gps", "gps_status"), ("baro", "baro_status"), ("compass", "compass_status")):
-            s_ = d[key].reshape(len(d[key]), -1)
+            s_ = d[key].reshape(len(d[key]), -1) if len(d[key]) else np.zeros((0, 1), np.uint8)
             rows = np.flatnonzero(np.isin(s_, refused).any(axis=1))
             if name == "gps" and ng:  # an all-NaN position row is an absent fix, not a refused one
                 rows = rows[~np.isnan(gps_llh[rows]).all(axis=1)]
