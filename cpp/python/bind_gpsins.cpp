@@ -63,6 +63,9 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
   QN_FIELD(heading_from_gps);
   QN_FIELD(earth_rotation);
   QN_FIELD(max_dt);
+  QN_FIELD(gyro_range);
+  QN_FIELD(acc_range);
+  QN_FIELD(cov_floor);
 #undef QN_FIELD
 
   py::class_<F> cls(m, cls_name<S>("GpsInsFilter").c_str());

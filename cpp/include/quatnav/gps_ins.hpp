@@ -81,6 +81,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "attitude.hpp"
+#include "covariance.hpp"
 #include "earth.hpp"
 #include "kalman.hpp"
 #include "quaternion.hpp"
@@ -108,6 +110,7 @@ constexpr std::uint32_t kCompassUsed = 1u << 13;
 constexpr std::uint32_t kCompassRejected = 1u << 14;
 constexpr std::uint32_t kAidSkipped = 1u << 15;       ///< an aiding sample was invalid or failed
 constexpr std::uint32_t kGpsReset = 1u << 16;         ///< a GPS position or velocity reset (gate lockout)
+constexpr std::uint32_t kSaturated = 1u << 17;        ///< the IMU sample was saturated (also kPredictSkipped)
 }  // namespace gpsins_flags
 
 /// Parameters (units beside each field; defaults fit a MEMS IMU and a standalone GPS).
@@ -144,6 +147,10 @@ template <class S> struct GpsInsParams {
   bool heading_from_gps = true;      ///< take the heading from GPS course when no compass has come
   bool earth_rotation = true;        ///< Earth rate, Coriolis and transport terms
   S max_dt = S(1.0);                 ///< longest accepted IMU interval (s)
+  S gyro_range = S(0);               ///< gyro range per axis; |w_i| >= it is Saturated (rad/s); 0: unlimited
+  S acc_range = S(0);                ///< accelerometer range per axis; |f_i| >= it is Saturated (m/s^2); 0: unlimited
+  S cov_floor = S(0);                ///< eigenvalue floor of P (covariance.hpp), applied only when P is not
+                                     ///< positive definite above it (units of each state squared); 0: off
 };
 
 /// Alignment phase.
@@ -346,7 +353,15 @@ template <class S_> class GpsInsFilter {
   /// Restore a state; InvalidArgument (nothing changed) when it is not finite.
   Status set_state(const State& s) {
     if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !s.P.allFinite() || !s.b_a.allFinite() ||
-        !s.b_g.allFinite())
+        !s.b_g.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) ||
+        !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() || !s.align_sum.allFinite() ||
+        !std::isfinite(s.align_time) || !std::isfinite(s.baro_offset) || !std::isfinite(s.baro_last) ||
+        !std::isfinite(s.baro_ref_h) || !std::isfinite(s.baro_ref_t) || !std::isfinite(s.baro_offset_n))
+      return Status::InvalidArgument;
+    // As the filter keeps them: P exactly symmetric with a non-negative diagonal, |q| = 1, and a
+    // latitude off the poles (the Earth model divides by cos(lat)).
+    if (!detail::acceptable_covariance<S, 15>(s.P) || std::abs(s.nav.q_nb.norm() - S(1)) > S(1e-3) ||
+        !(std::abs(s.nav.lat) < 1.5707) || int(s.phase) > 2)
       return Status::InvalidArgument;
     s_ = s;
     return Status::Ok;
@@ -375,16 +390,23 @@ template <class S_> class GpsInsFilter {
       return Status::InvalidArgument;
     if (!((P - P.transpose()).cwiseAbs().maxCoeff() <= S(1e-6) * (S(1) + P.cwiseAbs().maxCoeff())))
       return Status::InvalidArgument;
+    if (!(std::abs(lat) < 1.5707)) return Status::InvalidArgument;
+    Mat15 Ps = P;
+    symmetrize(Ps);
+    const Quat<S> qn = q_nb / q_nb.norm();
+    // A quaternion whose norm overflows, or a P near the float maximum, overflows here.
+    if (!qn.allFinite() || !Ps.allFinite() || !(Ps.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
+    floor_covariance<S, 15>(Ps, p_.cov_floor);
     State s = s_;
     s.nav = StrapdownState<S>();
-    s.nav.q_nb = q_nb / q_nb.norm();
+    s.nav.q_nb = qn;
     s.nav.v_n = v_n;
     s.nav.lat = lat;
     s.nav.lon = lon;
     s.nav.h = h;
     s.b_a = b_a;
     s.b_g = b_g;
-    s.P = P;
+    s.P = Ps;
     s.phase = GpsInsPhase::Navigating;
     s.heading_known = true;
     s_ = s;
@@ -405,12 +427,15 @@ template <class S_> class GpsInsFilter {
   Status predict(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) {
     if (!(std::isfinite(dt) && dt > S(0) && dt <= p_.max_dt)) return Status::InvalidDt;
     if (!omega_ib_b.allFinite() || !f_ib_b.allFinite()) return Status::NonFinite;
+    if (detail::saturated(omega_ib_b, p_.gyro_range) || detail::saturated(f_ib_b, p_.acc_range))
+      return Status::Saturated;
     State s = s_;
     const Vec3<S> w = omega_ib_b - s.b_g;
     const Vec3<S> f = f_ib_b - s.b_a;
     if (s.phase == GpsInsPhase::Aligning) {
       s.align_sum += f_ib_b.template cast<double>() * double(dt);
       s.align_time += double(dt);
+      if (!s.align_sum.allFinite()) return Status::NumericalFailure;
       if (s.align_time >= double(p_.align_time)) {
         const Vec3<S> fm = (s.align_sum / s.align_time).template cast<S>();
         const S fn = fm.norm();
@@ -448,9 +473,13 @@ template <class S_> class GpsInsFilter {
       if (p_.accel_bias_tau > S(0)) s.b_a *= std::exp(-dt / p_.accel_bias_tau);
       if (p_.gyro_bias_tau > S(0)) s.b_g *= std::exp(-dt / p_.gyro_bias_tau);
       if (!P.allFinite()) return Status::NumericalFailure;
+      floor_covariance<S, 15>(P, p_.cov_floor);
       s.P = P;
     }
-    if (!s.nav.q_nb.allFinite()) return Status::NumericalFailure;
+    if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.lon) ||
+        !std::isfinite(s.nav.h) || !(std::abs(s.nav.lat) < 1.5707) || !w.allFinite() || !f.allFinite() ||
+        !s.b_a.allFinite() || !s.b_g.allFinite())
+      return Status::NumericalFailure;
     s.omega_b = w;
     s.f_b = f;
     s.t += double(dt);
@@ -485,6 +514,7 @@ template <class S_> class GpsInsFilter {
       res.status = start(lat, lon, h, sig, v0_n);
       return res;
     }
+    const State saved = s_;  // the offset tracking below is undone if the update fails
     const Mat3<S> C = quat::to_rotmat(s_.nav.q_nb);
     const Vec3<S> l_n = C * p_.lever_arm_b;
     track_baro_offset(h + double(l_n[2]));  // IMU height from the antenna fix
@@ -497,6 +527,7 @@ template <class S_> class GpsInsFilter {
     H.template block<3, 3>(0, 6) = -quat::skew<S>(l_n);
     const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
     const UpdateResult<S, 3> r = correct<3>(kGpsPos, H, R, y, p_.gate_gps_pos);
+    if (r.status != Status::Ok && r.status != Status::Rejected) restore(saved);
     if (lockout(r.status, s_.gps_pos_reject_run)) {
       // Gate lockout: the IMU position from the fix, its covariance block from the fix's.
       double la2 = lat, lo2 = lon, h2 = h;
@@ -574,6 +605,7 @@ template <class S_> class GpsInsFilter {
       count(kBaro, r.height);
       return r;
     }
+    const State saved = s_;  // restored (but for the counters) when the height update fails
     s_.baro_last = h_baro;
     s_.baro_last_valid = true;
     if (s_.phase != GpsInsPhase::Navigating) {
@@ -595,6 +627,10 @@ template <class S_> class GpsInsFilter {
       R(0, 0) = p_.baro_sigma * p_.baro_sigma +
                 p_.gps_pos_sigma_v * p_.gps_pos_sigma_v / S(s_.baro_offset_n > 1.0 ? s_.baro_offset_n : 1.0);
       r.height = correct<1>(kBaro, H, R, Vec<S, 1>(y), p_.gate_baro);
+      if (r.height.status != Status::Ok && r.height.status != Status::Rejected) {
+        restore(saved);
+        return r;
+      }
     }
     if (p_.baro_rate_baseline > S(0)) {
       if (!s_.baro_ref_valid) {
@@ -610,8 +646,10 @@ template <class S_> class GpsInsFilter {
         Mat<S, 1, 1> R;
         R(0, 0) = S(2) * p_.baro_sigma * p_.baro_sigma / S(T * T) + p_.baro_vd_sigma * p_.baro_vd_sigma;
         r.vd = correct<1>(kBaroVd, H, R, Vec<S, 1>(y), p_.gate_baro);
-        s_.baro_ref_h = h_baro;
-        s_.baro_ref_t = s_.t;
+        if (r.vd.status == Status::Ok || r.vd.status == Status::Rejected) {
+          s_.baro_ref_h = h_baro;
+          s_.baro_ref_t = s_.t;
+        }
       }
     }
     return r;
@@ -695,6 +733,13 @@ template <class S_> class GpsInsFilter {
     s_.heading_known = true;
   }
 
+  /// Put back a saved state, keeping the (diagnostic) counters of what happened since.
+  void restore(const State& saved) {
+    const GpsInsCounters c = s_.counters;
+    s_ = saved;
+    s_.counters = c;
+  }
+
   Status start(double lat, double lon, double h, const Vec3<S>& sig, const Vec3<S>& v0_n) {
     State s = s_;
     const Vec3<S> l_n = quat::rotate(s.nav.q_nb, p_.lever_arm_b);
@@ -707,6 +752,10 @@ template <class S_> class GpsInsFilter {
     s.nav.lon = lon;
     s.nav.h = h;
     s.P = initial_covariance(sig, p_.init_vel_sigma);
+    // A huge sigma (float) or a lever arm that moves the fix past the pole is refused.
+    if (!s.P.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.lon) ||
+        !std::isfinite(s.nav.h) || !(std::abs(s.nav.lat) < 1.5707))
+      return Status::NumericalFailure;
     s.phase = GpsInsPhase::Navigating;
     if (s.baro_last_valid) {
       s.baro_offset = h - s.baro_last;
@@ -736,9 +785,12 @@ template <class S_> class GpsInsFilter {
     kalman_correct<S, 15, M>(P, H, R, y, dx, res, gate);
     if (res.status == Status::Ok) {
       State s = s_;
+      floor_covariance<S, 15>(P, p_.cov_floor);
       s.P = P;
       detail::gpsins_inject(s, dx);
-      if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.h))
+      if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) ||
+          !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) || !(std::abs(s.nav.lat) < 1.5707) ||
+          !s.b_a.allFinite() || !s.b_g.allFinite())
         res.status = Status::NumericalFailure;
       else
         s_ = s;
@@ -852,7 +904,7 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
       const S dt = S(io.t[k] - io.t[k - 1]);
       const Status s = f.predict(Vec3<S>(Eigen::Map<const Vec3<S>>(io.gyro + 3 * k)),
                                  Vec3<S>(Eigen::Map<const Vec3<S>>(io.accel + 3 * k)), dt);
-      if (s != Status::Ok) fl |= gf::kPredictSkipped;
+      if (s != Status::Ok) fl |= gf::kPredictSkipped | (s == Status::Saturated ? gf::kSaturated : 0u);
       const double tk = io.t[k];
       while (ic < io.nc && io.compass_t[ic] <= tk) {
         const UpdateResult<S, 1> r = f.update_compass(io.compass_yaw[ic]);

@@ -63,7 +63,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "attitude.hpp"
 #include "batch.hpp"
+#include "covariance.hpp"
 #include "earth.hpp"
 #include "kalman.hpp"
 #include "quaternion.hpp"
@@ -98,6 +100,10 @@ template <class S> struct NavFilter13Params {
   S ukf_beta = S(2);                 ///< unscented transform beta [-]
   S ukf_kappa = S(0);                ///< unscented transform kappa [-]
   S max_dt = S(1);                   ///< a predict with dt above this is refused [s]
+  S gyro_range = S(0);   ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
+  S acc_range = S(0);    ///< accelerometer range per axis; |f_i| >= it is Saturated [m/s^2]; 0: unlimited
+  S cov_floor = S(0);    ///< eigenvalue floor of the 12x12 error-state covariance (covariance.hpp),
+                         ///< applied only when it is not positive definite above it; 0: off
   bool earth_rotation = true;        ///< include Earth rate, transport rate and Coriolis terms
 };
 
@@ -321,6 +327,24 @@ template <class S> Mat<S, 13, 12> nav13_from_error(const Quat<S>& q) {
   return T;
 }
 
+/// The covariance floor of NavFilter13: the 13x13 P is singular along q by construction (|q| = 1),
+/// so the floor (covariance.hpp) is applied to the error-state covariance Pe = T P T^T (12x12,
+/// [dv, dtheta, db_a, db_g]) and, only when that changed it, mapped back P = T' Pe T'^T (T' T is
+/// the projection the normalization already applies). A healthy P is left bit for bit. Returns
+/// true when the floor was applied.
+template <class S> bool nav13_floor_covariance(const Quat<S>& q, Mat13<S>& P, S floor) {
+  if (!(floor > S(0))) return false;
+  Mat12<S> Pe = nav13_to_error(q) * P * nav13_to_error(q).transpose();
+  symmetrize(Pe);
+  if (!floor_covariance<S, 12>(Pe, floor)) return false;
+  const Mat<S, 13, 12> Tb = nav13_from_error(q);
+  Mat13<S> Pn = Tb * Pe * Tb.transpose();
+  symmetrize(Pn);
+  if (!Pn.allFinite()) return false;
+  P = Pn;
+  return true;
+}
+
 /// Earth terms of eq. (2) and gravity at (lat, h) for the velocity v_n (earth.hpp, WGS-84).
 template <class S> void nav13_earth_terms(S lat, S h, const Vec3<S>& v_n, bool earth_rotation, Nav13Input<S>& u) {
   u.g_n = earth::gravity_n(lat, h);
@@ -343,6 +367,7 @@ bool nav13_predict_taylor(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, cons
   symmetrize(Pn);
   if (!xn.allFinite() || !Pn.allFinite() || !(xn.template segment<4>(kQ).norm() > S(0.5))) return false;
   nav13_normalize(xn, Pn);
+  if (!xn.allFinite() || !Pn.allFinite()) return false;  // |q| or P overflowed
   x = xn;
   P = Pn;
   return true;
@@ -461,6 +486,9 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Mat13 Pn = P;
     symmetrize(Pn);
     detail::nav13_normalize(xv, Pn);
+    // A huge quaternion (norm overflowing) or a P near the float maximum can overflow here.
+    if (!xv.allFinite() || !Pn.allFinite()) return Status::InvalidArgument;
+    detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), Pn, params_.cov_floor);
     unpack(xv, s);
     s.P = Pn;
     s.lat = lat;
@@ -477,6 +505,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
         !s.P.allFinite() || !std::isfinite(s.lat) || !std::isfinite(s.lon) || !std::isfinite(s.h))
       return Status::NonFinite;
     if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
+    if (!detail::acceptable_covariance<S, 13>(s.P) || !(std::abs(s.lat) < S(1.5))) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
   }
@@ -499,6 +528,8 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     if (!params_ok_) return Status::InvalidArgument;
     if (!f_ib_b.allFinite() || !omega_ib_b.allFinite()) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
+    if (detail::saturated(omega_ib_b, params_.gyro_range) || detail::saturated(f_ib_b, params_.acc_range))
+      return Status::Saturated;
     Nav13Input<S> u;
     u.f_ib_b = f_ib_b;
     u.omega_ib_b = omega_ib_b;
@@ -515,11 +546,16 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     }
     const Vec3<S> v_mid = S(0.5) * (st_.v_n + xv.template segment<3>(detail::kV));
     const Vec3<S> rates = earth::geodetic_rates(st_.lat, st_.h, v_mid);
+    const S lat = st_.lat + rates[0] * dt, lon = st_.lon + rates[1] * dt, h = st_.h + rates[2] * dt;
+    // A velocity that carries the position past the pole (or overflows) is refused: the Earth
+    // terms of the next step would not be finite.
+    if (!std::isfinite(lon) || !std::isfinite(h) || !(std::abs(lat) < S(1.5))) return Status::NumericalFailure;
+    detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), P, params_.cov_floor);
     unpack(xv, st_);
     st_.P = P;
-    st_.lat += rates[0] * dt;
-    st_.lon += rates[1] * dt;
-    st_.h += rates[2] * dt;
+    st_.lat = lat;
+    st_.lon = lon;
+    st_.h = h;
     return Status::Ok;
   }
 
@@ -580,7 +616,8 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     params_ = p;
     params_ok_ = weights_.compute(UnscentedParams<S>{p.ukf_alpha, p.ukf_beta, p.ukf_kappa});
     params_ok_ = params_ok_ && p.accel_noise >= S(0) && p.gyro_noise >= S(0) && p.accel_bias_noise >= S(0) &&
-                 p.gyro_bias_noise >= S(0) && p.vel_noise > S(0) && p.yaw_noise > S(0) && p.max_dt > S(0);
+                 p.gyro_bias_noise >= S(0) && p.vel_noise > S(0) && p.yaw_noise > S(0) && p.max_dt > S(0) &&
+                 p.gyro_range >= S(0) && p.acc_range >= S(0) && p.cov_floor >= S(0);
   }
 
   static void unpack(const Vec13& xv, State& s) {
@@ -598,11 +635,16 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Vec13 dx;
     if (kalman_correct<S, 13, M>(P, H, R, y, dx, res, gate) != Status::Ok) return;
     Vec13 xv = x() + dx;  // (23)
-    if (!(xv.template segment<4>(detail::kQ).norm() > S(0.5))) {
+    if (!xv.allFinite() || !(xv.template segment<4>(detail::kQ).norm() > S(0.5))) {
       res.status = Status::NumericalFailure;
       return;
     }
     detail::nav13_normalize(xv, P);
+    if (!xv.allFinite() || !P.allFinite()) {
+      res.status = Status::NumericalFailure;
+      return;
+    }
+    detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), P, params_.cov_floor);
     unpack(xv, st_);
     st_.P = P;
   }
@@ -656,7 +698,8 @@ void run_nav13_batch(Filter& f, const S* f_ib_b, const S* omega_ib_b, const S* t
   for (std::size_t k = 0; k < n; ++k) {
     std::uint32_t fl = k == 0 ? fl0 : 0u;
     const Eigen::Map<const Vec3<S>> fk(f_ib_b + 3 * k), wk(omega_ib_b + 3 * k);
-    if (f.predict(Vec3<S>(fk), Vec3<S>(wk), dt[k]) != Status::Ok) fl |= flags::kPredictSkipped;
+    const Status sp = f.predict(Vec3<S>(fk), Vec3<S>(wk), dt[k]);
+    if (sp != Status::Ok) fl |= flags::kPredictSkipped | (sp == Status::Saturated ? flags::kSaturated : 0u);
     apply(t[k] + S(1e-4) * dt[k], fl);
     if (x_out) Eigen::Map<Vec<S, 13>>(x_out + 13 * k) = f.x();
     if (sigma_out) Eigen::Map<Vec<S, 13>>(sigma_out + 13 * k) = f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt();
