@@ -302,7 +302,14 @@ TYPED_TEST(Nav13Filter, NonPositiveCovarianceIsReported) {
   using S = typename F::Scalar;
   F f = make_filter<F>();
   NavFilter13State<S> s = f.state();
+  // A negative variance is refused by set_state (state kept) ...
   s.P.template block<3, 3>(0, 0) = -Mat3<S>::Identity();
+  const NavFilter13State<S> initial = f.state();
+  EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
+  EXPECT_TRUE(same_state(initial, f.state()));
+  // ... an indefinite P with positive variances is accepted, and the steps that need its
+  // factorization report SolveFailed and leave it as it was (eigenvalues of the block: 3, -1, 1).
+  s.P.template block<3, 3>(0, 0) << S(1), S(2), S(0), S(2), S(1), S(0), S(0), S(0), S(1);
   ASSERT_EQ(f.set_state(s), Status::Ok);
   const NavFilter13State<S> before = f.state();
   EXPECT_EQ(f.update_velocity(Vec3<S>(1, 2, 0)).status, Status::SolveFailed);
