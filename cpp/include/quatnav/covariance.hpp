@@ -157,7 +157,8 @@ template <class S, int N> bool floor_covariance(Mat<S, N, N>& P, S floor) {
   // rebuilt P passes the Cholesky test above instead of sitting exactly on its edge.
   const S margin = S(8 * N) * std::numeric_limits<S>::epsilon() * lam.cwiseAbs().maxCoeff();
   lam = lam.cwiseMax(floor + margin);
-  P = V * lam.asDiagonal() * V.transpose();
+  // fixed_mul: no GEMM kernel (and the malloc it links on bare metal) for the 12- and 15-state filters.
+  P = fixed_mul(Mat<S, N, N>(V * lam.asDiagonal()), V.transpose());
   P = (P + P.transpose()).eval() * S(0.5);
   return true;
 }

@@ -334,11 +334,12 @@ template <class S> Mat<S, 13, 12> nav13_from_error(const Quat<S>& q) {
 /// true when the floor was applied.
 template <class S> bool nav13_floor_covariance(const Quat<S>& q, Mat13<S>& P, S floor) {
   if (!(floor > S(0))) return false;
-  Mat12<S> Pe = nav13_to_error(q) * P * nav13_to_error(q).transpose();
+  const Mat<S, 12, 13> T = nav13_to_error(q);
+  Mat12<S> Pe = fixed_mul(fixed_mul(T, P), T.transpose());  // fixed_mul: no GEMM, no malloc linked
   symmetrize(Pe);
   if (!floor_covariance<S, 12>(Pe, floor)) return false;
   const Mat<S, 13, 12> Tb = nav13_from_error(q);
-  Mat13<S> Pn = Tb * Pe * Tb.transpose();
+  Mat13<S> Pn = fixed_mul(fixed_mul(Tb, Pe), Tb.transpose());
   symmetrize(Pn);
   if (!Pn.allFinite()) return false;
   P = Pn;
