@@ -636,7 +636,13 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Vec13 dx;
     if (kalman_correct<S, 13, M>(P, H, R, y, dx, res, gate) != Status::Ok) return;
     Vec13 xv = x() + dx;  // (23)
-    if (!xv.allFinite() || !(xv.template segment<4>(detail::kQ).norm() > S(0.5))) {
+    // A correction that moves the unit quaternion by more than about one unit is far outside the
+    // linearization (and an overflowing norm would normalize to zero): refused, state kept.
+    // Likewise a corrected speed above kMaxSpeed (an absurd but finite aid, e.g. 1e38 m/s, would
+    // otherwise be accepted and make every later predict overflow).
+    const S qn = xv.template segment<4>(detail::kQ).norm();
+    if (!xv.allFinite() || !(qn > S(0.5)) || !(qn < S(2)) ||
+        !(xv.template segment<3>(detail::kV).norm() < kMaxSpeed)) {
       res.status = Status::NumericalFailure;
       return;
     }
@@ -649,6 +655,9 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     unpack(xv, st_);
     st_.P = P;
   }
+
+  /// Largest speed [m/s] a correction may produce (far above any vehicle near the Earth).
+  static constexpr S kMaxSpeed = S(1e5);
 
   Params params_{};
   UnscentedWeights<S, 12> weights_{};
