@@ -25,6 +25,11 @@ if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null; then SUDO=sudo; fi
 need=()
 [ -f /usr/include/gtest/gtest.h ] || need+=(libgtest-dev)
 command -v g++ >/dev/null || need+=(g++)
+if [ "${QUATNAV_FUZZ_SECONDS:-0}" -gt 0 ]; then   # libFuzzer: clang and its runtime
+  command -v "${CXX_FUZZ:-clang++}" >/dev/null || need+=(clang)
+  ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 \
+    || [ "$(uname -m)" != x86_64 ] || need+=(libclang-rt-dev)
+fi
 if [ ${#need[@]} -gt 0 ]; then
   echo "== installing Debian packages: ${need[*]}"
   $SUDO apt-get update -qq
