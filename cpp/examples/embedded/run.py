@@ -785,9 +785,9 @@ def markdown(rep):
                      + (f"{pf:.3g} / {vf:.2e}" if pf is not None else "-") + " | "
                      + (f"{r['host_double_pos_err_rms_m']:.3g} / {r['host_double_vel_err_rms_m_s']:.3g}"
                         if "host_double_pos_err_rms_m" in r else "-") + " |")
-        L += ["", "NavFilter13 carries its position (latitude, longitude, height) in the filter's scalar type, "
-              "float32 on the target; GpsInsFilter keeps it in double (software floating point on a "
-              "Cortex-M4F). docs/PORTING.md explains the difference these columns show."]
+        L += ["", "Both filters keep the geodetic position (latitude, longitude, height) in double for every "
+              "scalar type (a float32 latitude resolves only 0.38 m); on a Cortex-M4F that is software "
+              "floating point. docs/PORTING.md explains the difference these columns show."]
     L += ["", "Columns:",
           "- **.text**, **.data+.bss**: the image with the filter minus the same firmware without it "
           "(same recording, startup and output code), from `arm-none-eabi-size`; in parentheses the part "
