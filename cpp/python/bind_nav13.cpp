@@ -98,11 +98,11 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
       .def_property_readonly("x", [](const F& f) { return typename F::Vec13(f.x()); })
       .def_property_readonly("covariance", [](const F& f) { return M13(f.covariance()); })
       .def_property_readonly("error_covariance", [](const F& f) { return quatnav::Mat<S, 12, 12>(f.error_covariance()); })
-      .def("reset", [](F& f, const V3& v, const Q4& q, const V3& ba, const V3& bg, const M13& P, S lat, S lon, S h) {
+      .def("reset", [](F& f, const V3& v, const Q4& q, const V3& ba, const V3& bg, const M13& P, double lat, double lon, double h) {
             return status_str(f.reset(v, q, ba, bg, P, lat, lon, h));
           }, py::arg("v_n"), py::arg("q_nb"), py::arg("accel_bias"), py::arg("gyro_bias"), py::arg("P"),
           py::arg("lat"), py::arg("lon"), py::arg("h"))
-      .def("set_position", [](F& f, S lat, S lon, S h) { return status_str(f.set_position(lat, lon, h)); },
+      .def("set_position", [](F& f, double lat, double lon, double h) { return status_str(f.set_position(lat, lon, h)); },
            py::arg("lat"), py::arg("lon"), py::arg("h"))
       .def("predict", [](F& f, const V3& fb, const V3& wb, S dt) { return status_str(f.predict(fb, wb, dt)); },
            py::arg("f_ib_b"), py::arg("omega_ib_b"), py::arg("dt"))
@@ -133,9 +133,9 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
         s.accel_bias = d["accel_bias"].cast<V3>();
         s.gyro_bias = d["gyro_bias"].cast<V3>();
         s.P = d["P"].cast<M13>();
-        s.lat = d["lat"].cast<S>();
-        s.lon = d["lon"].cast<S>();
-        s.h = d["h"].cast<S>();
+        s.lat = d["lat"].cast<double>();  // the position is double for every S
+        s.lon = d["lon"].cast<double>();
+        s.h = d["h"].cast<double>();
         s.initialized = d["initialized"].cast<bool>();
         return status_str(f.set_state(s));
       }, py::arg("state"))

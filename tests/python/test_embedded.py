@@ -70,12 +70,9 @@ def test_every_filter_runs_on_the_target(report):
         # The MargFilter's per-sample flags include its Gauss-Newton convergence test, which can
         # decide differently in float32 on a few of the 3000 samples (1-2 seen); the Kalman
         # filters' flags must agree exactly.
+        # NavFilter13-Ukf included: its float32 factorization repairs round-off (docs/PORTING.md),
+        # so no time update is skipped on the target either.
         allowed = 3 if row["filter"] == "MargFilter" else 0
-        if row["filter"] == "NavFilter13-Ukf":
-            # Known float32 limitation (docs/PORTING.md): the 12x12 Cholesky of the unscented
-            # update can fail late in the run and the predict is then skipped (flagged); at -O2
-            # it does on the target, at -Os it happened not to. Not bounded here.
-            continue
         assert row["flags_differ_vs_host_double"] <= allowed, row["filter"]
 
 
@@ -124,9 +121,13 @@ def test_gpsins_float32_matches_host_double_in_position_and_velocity(report):
     assert row["host_double_pos_err_rms_m"] < 10.0  # the double run itself navigates
 
 
-def test_nav13_float32_velocity_matches_host_double(report):
-    # NavFilter13's estimated state (velocity, attitude) agrees; its carried position is in the
-    # filter's scalar type, float32 on the target, which docs/PORTING.md examines.
-    for row in report["rows"]:
-        if row["filter"].startswith("NavFilter13"):
-            assert row["max_vel_diff_vs_host_double_m_s"] < 0.01, row["filter"]
+def test_nav13_float32_matches_host_double_in_position_and_velocity(report):
+    # NavFilter13 carries its position in double for every scalar type: the float32 target agrees
+    # with the double run within about 0.5 mm over the 30 s at 2 m/s (REPORT.md); a float32
+    # latitude stood still and ended 60 m off (docs/PORTING.md).
+    rows = [r for r in report["rows"] if r["filter"].startswith("NavFilter13")]
+    assert rows
+    for row in rows:
+        assert row["max_pos_diff_vs_host_double_m"] < 0.01, row["filter"]
+        assert row["max_vel_diff_vs_host_double_m_s"] < 0.001, row["filter"]
+        assert row["host_double_pos_err_rms_m"] < 1.0, row["filter"]  # the double run itself navigates

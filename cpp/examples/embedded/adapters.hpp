@@ -124,8 +124,7 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
       const quatnav::Status s =
           f.reset(Vec3<S>(S(qn_input::x0_v[0]), S(qn_input::x0_v[1]), S(qn_input::x0_v[2])),
                   Quat<S>(S(qn_input::x0_q[0]), S(qn_input::x0_q[1]), S(qn_input::x0_q[2]), S(qn_input::x0_q[3])),
-                  Vec3<S>::Zero(), Vec3<S>::Zero(), P0, S(qn_input::llh0[0]), S(qn_input::llh0[1]),
-                  S(qn_input::llh0[2]));
+                  Vec3<S>::Zero(), Vec3<S>::Zero(), P0, qn_input::llh0[0], qn_input::llh0[1], qn_input::llh0[2]);
       if (s != quatnav::Status::Ok) fl |= quatnav::flags::kPredictSkipped;
     } else if (f.predict(load3<S>(qn_input::acc, k), load3<S>(qn_input::gyr, k), S(qn_input::dt[k])) !=
                quatnav::Status::Ok) {
@@ -144,11 +143,11 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
     return fl;
   }
   Quat<S> attitude() const { return f.state().q_nb; }
-  /// Carried position (lat, lon rad, h m; kept in S by NavFilter13) and NED velocity (m/s).
+  /// Carried position (lat, lon rad, h m; kept in double by NavFilter13) and NED velocity (m/s).
   void nav(double* llh, S* v) const {
-    llh[0] = double(f.state().lat);
-    llh[1] = double(f.state().lon);
-    llh[2] = double(f.state().h);
+    llh[0] = f.state().lat;
+    llh[1] = f.state().lon;
+    llh[2] = f.state().h;
     for (int i = 0; i < 3; ++i) v[i] = f.state().v_n[i];
   }
 };

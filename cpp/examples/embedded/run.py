@@ -543,7 +543,7 @@ def python_nav_run(name, kind, d):
                                 gyro_noise=float(f32(x["gyro_noise"][1])), vel_noise=float(f32(x["vel_noise"][1])),
                                 yaw_noise=float(f32(x["yaw_noise"][1])))
         f.reset(f32(x["x0_v"][1]), f32(x["x0_q"][1]), np.zeros(3), np.zeros(3), f32(x["P0"][1]),
-                lat=float(f32(d["llh0"][0])), lon=float(f32(d["llh0"][1])), h=float(f32(d["llh0"][2])))
+                lat=float(d["llh0"][0]), lon=float(d["llh0"][1]), h=float(d["llh0"][2]))
         r = f.run(acc[1:], gyr[1:], t=t[1:], vel_t=t[x["vel_k"][1]], vel=f32(x["vel"][1]),
                   yaw_t=t[x["yaw_k"][1]], yaw=f32(x["yaw"][1]))
         # sample 0 is the reset and its aids, which run() applies before its first sample
@@ -785,9 +785,9 @@ def markdown(rep):
                      + (f"{pf:.3g} / {vf:.2e}" if pf is not None else "-") + " | "
                      + (f"{r['host_double_pos_err_rms_m']:.3g} / {r['host_double_vel_err_rms_m_s']:.3g}"
                         if "host_double_pos_err_rms_m" in r else "-") + " |")
-        L += ["", "NavFilter13 carries its position (latitude, longitude, height) in the filter's scalar type, "
-              "float32 on the target; GpsInsFilter keeps it in double (software floating point on a "
-              "Cortex-M4F). docs/PORTING.md explains the difference these columns show."]
+        L += ["", "Both filters keep the geodetic position (latitude, longitude, height) in double for every "
+              "scalar type (a float32 latitude resolves only 0.38 m); on a Cortex-M4F that is software "
+              "floating point. docs/PORTING.md explains the difference these columns show."]
     L += ["", "Columns:",
           "- **.text**, **.data+.bss**: the image with the filter minus the same firmware without it "
           "(same recording, startup and output code), from `arm-none-eabi-size`; in parentheses the part "

@@ -114,9 +114,11 @@ template <class S> struct NavFilter13State {
   Vec3<S> accel_bias = Vec3<S>::Zero();           ///< b_a [m/s^2]
   Vec3<S> gyro_bias = Vec3<S>::Zero();            ///< b_g [rad/s]
   Mat<S, 13, 13> P = Mat<S, 13, 13>::Identity();  ///< covariance of [v_n, q_nb, b_a, b_g]
-  S lat = S(0);  ///< carried geodetic latitude [rad] (not estimated: integrated from v_n)
-  S lon = S(0);  ///< carried longitude [rad]
-  S h = S(0);    ///< carried height above the ellipsoid [m]
+  // The carried position is double for every S (as GpsInsFilter's): a float latitude resolves
+  // 0.38 m and an increment v_N dt / (R_M + h) below 19 m/s at 100 Hz rounds away entirely.
+  double lat = 0.0;  ///< carried geodetic latitude [rad] (not estimated: integrated from v_n)
+  double lon = 0.0;  ///< carried longitude [rad]
+  double h = 0.0;    ///< carried height above the ellipsoid [m]
   bool initialized = false;
 };
 
@@ -476,11 +478,11 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   /// Start from a given state. P is the 13x13 covariance of [v_n, q_nb, b_a, b_g]; its quaternion
   /// block is projected onto the tangent space of the normalized q. lat, lon in rad, h in m.
   Status reset(const Vec3<S>& v_n, const Quat<S>& q_nb, const Vec3<S>& accel_bias, const Vec3<S>& gyro_bias,
-               const Mat13& P, S lat, S lon, S h) {
+               const Mat13& P, double lat, double lon, double h) {
     if (!v_n.allFinite() || !q_nb.allFinite() || !accel_bias.allFinite() || !gyro_bias.allFinite() ||
         !P.allFinite() || !std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h))
       return Status::NonFinite;
-    if (!(q_nb.norm() > S(0.5)) || !(std::abs(lat) < S(1.5))) return Status::InvalidArgument;
+    if (!(q_nb.norm() > S(0.5)) || !(std::abs(lat) < 1.5)) return Status::InvalidArgument;
     State s;
     Vec13 xv;
     xv << v_n, q_nb, accel_bias, gyro_bias;
@@ -506,15 +508,15 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
         !s.P.allFinite() || !std::isfinite(s.lat) || !std::isfinite(s.lon) || !std::isfinite(s.h))
       return Status::NonFinite;
     if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
-    if (!detail::acceptable_covariance<S, 13>(s.P) || !(std::abs(s.lat) < S(1.5))) return Status::InvalidArgument;
+    if (!detail::acceptable_covariance<S, 13>(s.P) || !(std::abs(s.lat) < 1.5)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
   }
 
   /// Replace the carried position (e.g. from a GPS fix): lat, lon [rad], h [m].
-  Status set_position(S lat, S lon, S h) {
+  Status set_position(double lat, double lon, double h) {
     if (!std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h)) return Status::NonFinite;
-    if (!(std::abs(lat) < S(1.5))) return Status::InvalidArgument;
+    if (!(std::abs(lat) < 1.5)) return Status::InvalidArgument;
     st_.lat = lat;
     st_.lon = lon;
     st_.h = h;
@@ -524,6 +526,9 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   /// Time update with one IMU sample: f_ib_b [m/s^2] and omega_ib_b [rad/s] as measured (mean
   /// over the step), dt [s]. The Earth terms come from the carried position and the prior
   /// velocity; the position is then advanced with the mean of the prior and posterior velocity.
+  /// The Earth terms and the geodetic rates are computed in S from the position rounded to S
+  /// (their change over one ulp of a float latitude is far below float resolution); only the
+  /// accumulation of the position is double, so a float build needs no double trigonometry.
   Status predict(const Vec3<S>& f_ib_b, const Vec3<S>& omega_ib_b, S dt) {
     if (!st_.initialized) return Status::NotInitialized;
     if (!params_ok_) return Status::InvalidArgument;
@@ -535,7 +540,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     u.f_ib_b = f_ib_b;
     u.omega_ib_b = omega_ib_b;
     u.dt = dt;
-    detail::nav13_earth_terms(st_.lat, st_.h, st_.v_n, params_.earth_rotation, u);
+    detail::nav13_earth_terms(S(st_.lat), S(st_.h), st_.v_n, params_.earth_rotation, u);
     Vec13 xv = x();
     Mat13 P = st_.P;
     if constexpr (TU == TimeUpdate::Ukf) {
@@ -546,11 +551,12 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
         return Status::NumericalFailure;
     }
     const Vec3<S> v_mid = S(0.5) * (st_.v_n + xv.template segment<3>(detail::kV));
-    const Vec3<S> rates = earth::geodetic_rates(st_.lat, st_.h, v_mid);
-    const S lat = st_.lat + rates[0] * dt, lon = st_.lon + rates[1] * dt, h = st_.h + rates[2] * dt;
+    const Vec3<S> rates = earth::geodetic_rates(S(st_.lat), S(st_.h), v_mid);
+    const double lat = st_.lat + double(rates[0]) * double(dt), lon = st_.lon + double(rates[1]) * double(dt),
+                 h = st_.h + double(rates[2]) * double(dt);
     // A velocity that carries the position past the pole (or overflows) is refused: the Earth
     // terms of the next step would not be finite.
-    if (!std::isfinite(lon) || !std::isfinite(h) || !(std::abs(lat) < S(1.5))) return Status::NumericalFailure;
+    if (!std::isfinite(lon) || !std::isfinite(h) || !(std::abs(lat) < 1.5)) return Status::NumericalFailure;
     detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), P, params_.cov_floor);
     unpack(xv, st_);
     st_.P = P;

@@ -13,9 +13,11 @@
 // no heap.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <cmath>
+#include <limits>
 
+#include "covariance.hpp"
+#include "kalman.hpp"
 #include "types.hpp"
 
 namespace quatnav {
@@ -56,13 +58,81 @@ template <class S, int N> struct UnscentedWeights {
   S wc(int i) const { return i == 0 ? wc0 : wi; }
 };
 
-/// Sigma-point offsets: column 0 zero, column i = gamma L_i, column N+i = -gamma L_i (P = L L^T).
-/// Returns false (and leaves `offsets` unchanged) when P is not positive definite.
+/// Lower-triangular L with L L^T = P (+ a repair of round-off, below) for a symmetric P,
+/// computed on the correlation scale: C = D^-1 P D^-1 with D = diag(sqrt(P_ii)), C = L_c L_c^T,
+/// L = D L_c.
+///
+/// The repair. A float32 covariance whose smallest correlation eigenvalue is small loses
+/// definiteness over many steps. In NavFilter13 (paper 002 input, 100 Hz, velocity and yaw
+/// aiding) a level tilt and the horizontal accelerometer bias that mimics it (g dtheta_x and
+/// b_a,y; g dtheta_y and b_a,x) become well-determined combinations while each stays uncertain:
+/// two eigenvalues of C fall to 1e-5..3e-5 after 20-30 s (double). In float32 the time updates
+/// and corrections move them by about float epsilon per step, and the errors add up instead of
+/// averaging out: one of them reaches zero after a few hundred to a few thousand steps, at a step
+/// that depends on the last bits (FMA contraction on a Cortex-M4F moves it by tens of steps). The
+/// EKF's float32 P goes indefinite the same way but never factorizes it; a Cholesky of P (or of C)
+/// then fails, and refused every later time update. Because the unscented covariance is rebuilt
+/// from this factor at every time update, repairing C here removes the accumulated round-off
+/// before it grows: when C - kLow I has no Cholesky factor (kLow = 16 eps), the eigenvalues of C
+/// are raised to kFloor = 64 eps (C = V max(Lambda, kFloor) V^T, detail::symmetric_eigen of
+/// covariance.hpp, fixed size). This only adds variance (never claims more certainty than P), in
+/// the direction that lost it, by about 1e-5 of the variances in float32 and 1e-14 in double
+/// (where it does not trigger on a healthy P). An eigenvalue of C below -sqrt(eps) is not
+/// round-off (a correlation above one): refused.
+/// Returns false and leaves L unchanged for a negative or non-finite variance, such a P, or a
+/// failed factorization.
+template <class S, int N>
+bool covariance_factor(const Mat<S, N, N>& P, Mat<S, N, N>& L) {
+  const S eps = std::numeric_limits<S>::epsilon();
+  const S kLow = S(16) * eps, kFloor = S(64) * eps;
+  Vec<S, N> d;
+  for (int i = 0; i < N; ++i) {
+    if (!(P(i, i) >= S(0)) || !std::isfinite(P(i, i))) return false;
+    d[i] = std::sqrt(P(i, i));
+  }
+  // C: unit diagonal; a component of zero variance keeps a unit row (its column of L is then
+  // zero after the scaling by D).
+  Mat<S, N, N> C = Mat<S, N, N>::Identity();
+  for (int j = 0; j < N; ++j)
+    for (int i = j + 1; i < N; ++i)
+      if (d[i] > S(0) && d[j] > S(0)) C(i, j) = C(j, i) = (P(i, j) + P(j, i)) / (S(2) * d[i] * d[j]);
+  if (!C.allFinite()) return false;
+  if (!detail::has_cholesky<S, N>(Mat<S, N, N>(C - kLow * Mat<S, N, N>::Identity()))) {
+    Vec<S, N> lam;
+    Mat<S, N, N> V;
+    detail::symmetric_eigen<S, N>(C, lam, &V);
+    if (!lam.allFinite() || !V.allFinite() || !(lam.minCoeff() > -std::sqrt(eps))) return false;
+    const Mat<S, N, N> VL = V * lam.cwiseMax(kFloor).asDiagonal();
+    C = fixed_mul(VL, V.transpose());  // fixed_mul (types.hpp): no GEMM kernel, no malloc linked
+    symmetrize(C);
+  }
+  Mat<S, N, N> Lc = Mat<S, N, N>::Zero();
+  for (int j = 0; j < N; ++j) {
+    S piv = C(j, j);
+    for (int k = 0; k < j; ++k) piv -= Lc(j, k) * Lc(j, k);
+    if (!(piv > S(0))) return false;
+    const S ljj = std::sqrt(piv);
+    Lc(j, j) = ljj;
+    for (int i = j + 1; i < N; ++i) {
+      S c = C(i, j);
+      for (int k = 0; k < j; ++k) c -= Lc(i, k) * Lc(j, k);
+      Lc(i, j) = c / ljj;
+    }
+  }
+  const Mat<S, N, N> Ln = d.asDiagonal() * Lc;
+  if (!Ln.allFinite()) return false;
+  L = Ln;
+  return true;
+}
+
+/// Sigma-point offsets: column 0 zero, column i = gamma L_i, column N+i = -gamma L_i (P = L L^T,
+/// covariance_factor). Returns false (and leaves `offsets` unchanged) when P is not positive
+/// definite up to round-off.
 template <class S, int N>
 bool sigma_offsets(const Mat<S, N, N>& P, S gamma, Mat<S, N, 2 * N + 1>& offsets) {
-  const Eigen::LLT<Mat<S, N, N>> llt(P);
-  if (llt.info() != Eigen::Success) return false;
-  const Mat<S, N, N> L = gamma * Mat<S, N, N>(llt.matrixL());
+  Mat<S, N, N> L0;
+  if (!covariance_factor<S, N>(P, L0)) return false;
+  const Mat<S, N, N> L = gamma * L0;
   if (!L.allFinite()) return false;
   offsets.col(0).setZero();
   offsets.template middleCols<N>(1) = L;
