@@ -38,6 +38,8 @@ def _numeric(x, name: str) -> np.ndarray:
 
 def first_bad_row(a: np.ndarray) -> int | None:
     """Index of the first row of ``a`` with a non-finite value, or None."""
+    if a.dtype.kind == "f" and np.isfinite(np.add.reduce(a, axis=None)):
+        return None  # a NaN or infinity makes the sum non-finite (an overflow takes the long way)
     bad = ~np.isfinite(a)
     if a.ndim > 1:
         bad = bad.reshape(a.shape[0], int(np.prod(a.shape[1:]))).any(axis=1)  # also for 0 rows
@@ -62,7 +64,9 @@ def vectors(x, name: str, cols: int = 3, n: int | None = None, dtype=np.float64,
     a = np.ascontiguousarray(a, dtype=dtype)
     if finite:
         check = a
-        if allow_nan_rows:
+        if allow_nan_rows and np.isfinite(np.add.reduce(a, axis=None)):
+            pass  # no NaN or infinity at all (the fast path of the test below)
+        elif allow_nan_rows:
             allnan = np.isnan(a).all(axis=1)
             check = a[~allnan]
             rows = np.flatnonzero(~allnan)
@@ -78,7 +82,7 @@ def vectors(x, name: str, cols: int = 3, n: int | None = None, dtype=np.float64,
 
 def nonzero_rows(a: np.ndarray, name: str, skip_nan_rows: bool = True) -> None:
     """Raise on the first row with (near) zero norm."""
-    norms = np.linalg.norm(a, axis=1)
+    norms = np.sqrt(np.einsum("ij,ij->i", a, a))  # np.linalg.norm(a, axis=1), without its temporaries
     bad = norms <= np.finfo(a.dtype).tiny ** 0.5
     if skip_nan_rows:
         bad &= np.isfinite(norms)

@@ -108,3 +108,92 @@ TEST(Kalman, ThirteenStatesMatchTextbookFormulas) {
   EXPECT_NEAR(res.nis, y.dot(S.inverse() * y), 1e-10);
   EXPECT_EQ(P, P.transpose());
 }
+
+// Sequential scalar processing with a diagonal R gives the joint update (kalman_correct): the
+// same dx, P, NIS and innovation covariance up to rounding, also when H is nonzero only in some
+// columns (the C0/NC narrowing).
+template <int N, int M, int C0, int NC> void check_diagonal_matches_joint(unsigned seed) {
+  std::mt19937 g(seed);
+  std::normal_distribution<double> n;
+  Mat<double, N, N> A;
+  for (int i = 0; i < N * N; ++i) A.data()[i] = n(g);
+  const Mat<double, N, N> P0 = A * A.transpose() + 0.1 * Mat<double, N, N>::Identity();
+  Mat<double, M, N> H = Mat<double, M, N>::Zero();
+  for (int i = 0; i < M; ++i)
+    for (int j = C0; j < C0 + NC; ++j) H(i, j) = n(g);
+  Vec<double, M> r, y;
+  for (int i = 0; i < M; ++i) {
+    r[i] = 0.05 + std::abs(n(g));
+    y[i] = n(g);
+  }
+  const Mat<double, M, M> R = r.asDiagonal();
+  Mat<double, N, N> Pj = P0, Ps = P0;
+  Vec<double, N> dxj, dxs;
+  UpdateResult<double, M> rj, rs;
+  ASSERT_EQ((kalman_correct<double, N, M, C0, NC>(Pj, H, R, y, dxj, rj)), Status::Ok);
+  ASSERT_EQ((kalman_correct_diagonal<double, N, M, C0, NC>(Ps, H, r, y, dxs, rs)), Status::Ok);
+  const double scale = P0.cwiseAbs().maxCoeff();
+  EXPECT_LT((dxs - dxj).norm(), 1e-12 * scale);
+  EXPECT_LT((Ps - Pj).norm(), 1e-12 * scale);
+  EXPECT_NEAR(rs.nis, rj.nis, 1e-12 * (1 + rj.nis));
+  EXPECT_LT((rs.innovation_cov - rj.innovation_cov).norm(), 1e-12 * scale);
+  EXPECT_EQ(rs.innovation, y);
+  EXPECT_EQ(Ps, Ps.transpose());
+  // The joint NIS from the textbook formula.
+  const Mat<double, M, M> S = H * P0 * H.transpose() + R;
+  EXPECT_NEAR(rs.nis, y.dot(S.inverse() * y), 1e-10 * (1 + rs.nis));
+}
+
+TEST(Kalman, DiagonalSequentialMatchesJoint) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    check_diagonal_matches_joint<7, 3, 0, 4>(seed);
+    check_diagonal_matches_joint<7, 6, 0, 4>(seed + 10);
+    check_diagonal_matches_joint<7, 3, 4, 3>(seed + 20);
+    check_diagonal_matches_joint<6, 3, 0, 3>(seed + 30);
+    check_diagonal_matches_joint<13, 3, 0, 13>(seed + 40);
+  }
+}
+
+TEST(Kalman, DiagonalGateAndFailuresLeaveCovarianceUntouched) {
+  Mat<double, 3, 3> P = Mat<double, 3, 3>::Identity();
+  const Mat<double, 3, 3> P0 = P;
+  Mat<double, 2, 3> H;
+  H << 1.0, 0.0, 0.0, 0.0, 1.0, 0.0;
+  Vec2<double> r(1.0, 1.0), y(10.0, 0.0);  // NIS = 100 / 2 = 50
+  Vec<double, 3> dx = Vec<double, 3>::Constant(42.0);
+  UpdateResult<double, 2> res;
+  EXPECT_EQ((kalman_correct_diagonal<double, 3, 2>(P, H, r, y, dx, res, 9.0)), Status::Rejected);
+  EXPECT_NEAR(res.nis, 50.0, 1e-12);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  EXPECT_EQ(dx[0], 42.0);
+  r << 1.0, -2.0;  // the second pivot 1 - 2 < 0: S not positive definite
+  EXPECT_EQ((kalman_correct_diagonal<double, 3, 2>(P, H, r, y, dx, res)), Status::SolveFailed);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  r << 1.0, 1.0;
+  y[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ((kalman_correct_diagonal<double, 3, 2>(P, H, r, y, dx, res)), Status::NumericalFailure);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  EXPECT_EQ(dx[0], 42.0);
+}
+
+// The scalar Joseph form equals (I - k h^T) P (I - k h^T)^T + r k k^T for any gain.
+TEST(Kalman, ScalarJosephMatchesProductForm) {
+  std::mt19937 g(9);
+  std::normal_distribution<double> n;
+  Mat<double, 7, 7> A;
+  for (int i = 0; i < 49; ++i) A.data()[i] = n(g);
+  const Mat<double, 7, 7> P0 = A * A.transpose() + Mat<double, 7, 7>::Identity();
+  Vec<double, 7> h, k;
+  for (int i = 0; i < 7; ++i) {
+    h[i] = n(g);
+    k[i] = n(g);  // not the optimal gain
+  }
+  const double r = 0.7;
+  const Vec<double, 7> a = P0 * h;
+  Mat<double, 7, 7> P = P0;
+  joseph_update_scalar<double, 7>(P, k, a, h.dot(a) + r);
+  const Mat<double, 7, 7> IKH = Mat<double, 7, 7>::Identity() - k * h.transpose();
+  const Mat<double, 7, 7> ref = IKH * P0 * IKH.transpose() + r * k * k.transpose();
+  EXPECT_LT((P - ref).norm(), 1e-11 * ref.norm());
+  EXPECT_EQ(P, P.transpose());
+}

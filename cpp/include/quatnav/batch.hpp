@@ -7,7 +7,9 @@
 // step and sets kSaturated (with kPredictSkipped or kAccSkipped). A magnetometer row that is
 // entirely NaN means "no sample" (kNoMag). Outputs (any may be null): quat (n x 4), bias (n x 3), sigma
 // (n x kStates, sqrt of the covariance diagonal), att_sigma (n x 3, rad, body-frame
-// rotation-vector one-sigma), flags (n, quatnav::flags bits). Allocates nothing.
+// rotation-vector one-sigma: the filter's attitude_variance(), the diagonal of its
+// attitude_covariance() without the off-diagonal terms), flags (n, quatnav::flags bits).
+// Allocates nothing.
 #pragma once
 
 #include <cmath>
@@ -60,7 +62,7 @@ void run_attitude_batch(Filter& f, const S* gyr, const S* acc, const S* mag, con
     if (sigma_out)
       Eigen::Map<Vec<S, N>>(sigma_out + N * k) = f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt();
     if (att_sigma_out)
-      Eigen::Map<Vec3<S>>(att_sigma_out + 3 * k) = f.attitude_covariance().diagonal().cwiseMax(S(0)).cwiseSqrt();
+      Eigen::Map<Vec3<S>>(att_sigma_out + 3 * k) = f.attitude_variance().cwiseMax(S(0)).cwiseSqrt();
     if (flags_out) flags_out[k] = fl;
   }
 }

@@ -87,26 +87,29 @@ bool symmetric_eigen(const Mat<S, N, N>& A_in, Vec<S, N>& lam, Mat<S, N, N>* V_o
   return converged;
 }
 
-/// True when the symmetric matrix A (its lower triangle is read) has a Cholesky factor
-/// A = L L^T with a positive diagonal, i.e. is positive definite up to rounding: the
-/// column-by-column (Cholesky-Crout) factorization that Eigen::LLT's unblocked kernel runs for
-/// small fixed sizes, written out so that the test is a few dozen inline multiply-adds (only
-/// the pivots are needed, so the diagonal of L is not stored). False at the first pivot that
-/// is not positive (or is NaN).
+/// True when the symmetric matrix A (its lower triangle is read) is positive definite up to
+/// rounding: every pivot of its LDL^T factorization A = L D L^T (L unit lower triangular) is
+/// positive. The pivots d_j are the squares of the Cholesky factor's diagonal, so this is the
+/// test "A has a Cholesky factor" without a single square root: one division per pivot, plain
+/// inline loops on fixed sizes (the serial chain of square roots and divisions of a Cholesky
+/// factorization cost more time than its instruction count says). W holds L D (unscaled rows),
+/// so that each off-diagonal coefficient costs one multiply-add per k. False at the first pivot
+/// that is not positive (or is NaN).
 template <class S, int N> bool has_cholesky(const Mat<S, N, N>& A) {
-  Mat<S, N, N> L;
+  Mat<S, N, N> W, L;  // W(i, k) = L(i, k) d_k
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC unroll 8
 #endif
   for (int j = 0; j < N; ++j) {
     S d = A(j, j);
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    for (int k = 0; k < j; ++k) d -= W(j, k) * L(j, k);
     if (!(d > S(0))) return false;
-    const S inv = S(1) / std::sqrt(d);
+    const S inv = S(1) / d;
     for (int i = j + 1; i < N; ++i) {
-      S v = A(i, j);
-      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
-      L(i, j) = v * inv;
+      S w = A(i, j);
+      for (int k = 0; k < j; ++k) w -= W(i, k) * L(j, k);
+      W(i, j) = w;
+      L(i, j) = w * inv;
     }
   }
   return true;

@@ -151,6 +151,9 @@ template <class S> class EulerEKF {
     return Status::Ok;
   }
 
+  /// The diagonal of attitude_covariance() (rad^2).
+  Vec3<S> attitude_variance() const { return attitude_covariance().diagonal(); }
+
   /// Covariance of the body-frame rotation vector (q_true = q * exp(dtheta)): W P_ee W^T with
   /// W = E^-1 the map from Euler-angle to body-rate perturbations.
   Mat3<S> attitude_covariance() const {

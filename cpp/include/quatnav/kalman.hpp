@@ -165,6 +165,92 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
   return res.status;
 }
 
+/// The scalar Joseph update P+ = (I - k h^T) P (I - k h^T)^T + r k k^T for one measurement row
+/// h and any gain k, given a = P h and s = h^T P h + r (so r = s - h^T a):
+///   P+ = P - k a^T - a k^T + s k k^T,
+/// evaluated once per pair (i >= j) and mirrored, so P+ is exactly symmetric. O(N^2); in place.
+template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a, S s) {
+  for (int j = 0; j < N; ++j) {
+    const S kj = k[j], aj = a[j], skj = s * k[j];
+    for (int i = j; i < N; ++i) P(i, j) = P(j, i) = P(i, j) - k[i] * aj - a[i] * kj + k[i] * skj;
+  }
+}
+
+/// One Kalman correction with N states and M measurement rows whose noise is uncorrelated
+/// (R = diag(r)): the rows are processed one after the other as scalar updates, each
+/// linearized at the prior (H fixed), with the innovation of row i taken against the
+/// correction accumulated so far, e_i = y_i - h_i^T dx. In exact arithmetic this is the joint
+/// update of kalman_correct: the scalar variances s_i and the e_i are the pivots and the
+/// forward substitution of the LDL^T factorization of S = H P H^T + R, so
+///   NIS = y^T S^-1 y = sum_i e_i^2 / s_i,   S = L diag(s) L^T,  L_ji = h_j^T P_(i-1) h_i / s_i,
+/// and the result's innovation, innovation_cov and nis are those of the joint update (up to
+/// rounding). No M x M factorization, no N x M products: O(M N^2) multiply-adds.
+///
+/// Each scalar step uses the optimal gain k = a / s (a = P h), for which the Joseph form's
+/// extra terms s k k^T - a k^T = (s k - a) k^T are rounding noise: P+ = P - k a^T, evaluated
+/// once per pair and mirrored (exactly symmetric).
+///
+/// Statuses as kalman_correct: NumericalFailure for a non-finite H, r, y or result, SolveFailed
+/// when a pivot s_i is not positive (S not positive definite), Rejected when `gate` is positive
+/// and NIS exceeds it. Any status other than Ok leaves P and dx unchanged. C0, NC: H is nonzero
+/// only in the NC columns from C0 on (see kalman_correct).
+template <class S, int N, int M, int C0 = 0, int NC = N>
+Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,
+                               Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0)) {
+  static_assert(C0 >= 0 && NC >= 1 && C0 + NC <= N, "H columns out of range");
+  res.innovation = y;
+  const Mat<S, M, NC> Hc = H.template middleCols<NC>(C0);
+  if (!all_finite(Hc) || !all_finite(r) || !all_finite(y)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  Mat<S, N, N> Pw = P;
+  Vec<S, N> dxw = Vec<S, N>::Zero();
+  Vec<S, M> s;
+  Mat<S, M, M> L = Mat<S, M, M>::Identity();  // unit lower factor of S
+  S nis = S(0);
+  for (int i = 0; i < M; ++i) {
+    const Eigen::Matrix<S, NC, 1> h = Hc.row(i).transpose();
+    Vec<S, N> a;
+    a.noalias() = Pw.template middleCols<NC>(C0).lazyProduct(h);
+    const S si = h.dot(a.template segment<NC>(C0)) + r[i];
+    if (!std::isfinite(si)) {
+      res.status = Status::NumericalFailure;
+      return res.status;
+    }
+    if (!(si > S(0))) {
+      res.status = Status::SolveFailed;
+      return res.status;
+    }
+    s[i] = si;
+    const S inv_s = S(1) / si;
+    for (int j = i + 1; j < M; ++j) L(j, i) = Hc.row(j).dot(a.template segment<NC>(C0)) * inv_s;
+    const S e = y[i] - h.dot(dxw.template segment<NC>(C0));
+    nis += e * e * inv_s;
+    const Vec<S, N> k = a * inv_s;
+    dxw.noalias() += k * e;
+    for (int j = 0; j < N; ++j) {
+      const S aj = a[j];
+      for (int l = j; l < N; ++l) Pw(l, j) = Pw(j, l) = Pw(l, j) - k[l] * aj;
+    }
+  }
+  res.innovation_cov.noalias() = L * s.asDiagonal() * L.transpose();
+  symmetrize(res.innovation_cov);
+  res.nis = nis;
+  if (gate > S(0) && !(nis <= gate)) {
+    res.status = Status::Rejected;
+    return res.status;
+  }
+  if (!all_finite(Pw) || !all_finite(dxw)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  P = Pw;
+  dx = dxw;
+  res.status = Status::Ok;
+  return res.status;
+}
+
 /// Chi-square quantiles used as default gates (probability 0.9999) for 1..6 degrees of freedom.
 template <class S> S chi2_gate_9999(int dof) {
   static constexpr double q[] = {0.0, 15.137, 18.421, 21.108, 23.513, 25.745, 27.856};

@@ -280,6 +280,14 @@ template <class S> class QuaternionEKF {
     return Status::Ok;
   }
 
+  /// The diagonal of attitude_covariance() (rad^2), without the off-diagonal terms.
+  Vec3<S> attitude_variance() const {
+    const Mat43<S> X = quat::xi(st_.q);
+    Mat43<S> PX;
+    PX.noalias() = st_.P.template topLeftCorner<4, 4>() * X;
+    return S(4) * (X.array() * PX.array()).colwise().sum().transpose();
+  }
+
   /// Attitude (4x4 quaternion block) as a 3x3 covariance of a body-frame rotation vector.
   Mat3<S> attitude_covariance() const {
     return detail::quat_cov_to_angle_cov(st_.q, Mat4<S>(st_.P.template topLeftCorner<4, 4>()));
@@ -504,10 +512,10 @@ template <class S> class QuaternionEKF {
     Mat<S, 6, 7> H = Mat<S, 6, 7>::Zero();
     H.template block<3, 4>(0, 0) = detail::qekf_H(st_.q, S(0), S(-1));
     H.template block<3, 4>(3, 0) = detail::qekf_H(st_.q, st_.mag.ref[0], st_.mag.ref[2]);
-    Mat<S, 6, 6> R = Mat<S, 6, 6>::Zero();
-    R.diagonal() << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
+    Vec<S, 6> r;
+    r << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
         Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
-    apply_correction<6, 0, 4>(H, R, Vec<S, 6>(z - h), res, gate);
+    apply_correction<6, 0, 4>(H, r, Vec<S, 6>(z - h), res, gate);
     if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
     return res;
   }
@@ -535,7 +543,7 @@ template <class S> class QuaternionEKF {
     H.template rightCols<3>().setIdentity();
     const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
     UpdateResult<S, 3> res;
-    apply_correction<3, 4, 3>(H, Mat3<S>(Mat3<S>::Identity() * r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
+    apply_correction<3, 4, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
   }
 
   /// Heading-only magnetometer update (see heading_model): Kalman gain projected on the yaw
@@ -551,9 +559,12 @@ template <class S> class QuaternionEKF {
       res.status = Status::ZeroNorm;
       return res;
     }
-    const Mat3<S> Sphi = detail::quat_cov_to_nav_angle_cov(st_.q, Mat4<S>(st_.P.template topLeftCorner<4, 4>()));
+    // Tilt block of the navigation-frame attitude covariance (quat_cov_to_nav_angle_cov's top
+    // left 2x2): 4 R2^T P_qq R2 with R2 the x and y columns of R3; J_t Sigma J_t^T = 4 |P^1/2 R2 J_t|^2
+    // evaluated as 4 v^T P_qq v with v = R2 J_t.
+    const Vec4<S> v = quat::right(st_.q).template middleCols<2>(1) * Jt;
     const S R = params_.mag_noise * params_.mag_noise / horiz2 +
-                Jt.dot(Sphi.template topLeftCorner<2, 2>() * Jt);
+                S(4) * v.dot(st_.P.template topLeftCorner<4, 4>() * v);
     const S y = quat::wrap_pi(-h);
     Vec<S, 7> PHt;  // P H^T, H = [Hq 0]
     PHt.noalias() = st_.P.template leftCols<4>() * Hq.transpose();
@@ -575,8 +586,8 @@ template <class S> class QuaternionEKF {
     }
     Vec<S, 7> K = PHt / Sv;
     K.template head<4>() = (u * u.dot(K.template head<4>())).eval();  // yaw direction only
-    Mat7 P;
-    joseph_update<S, 7, 1, 0, 4>(st_.P, K, Hq, Mat<S, 1, 1>::Constant(R), P);
+    Mat7 P = st_.P;
+    joseph_update_scalar<S, 7>(P, K, PHt, Sv);  // Joseph form: valid for the projected gain
     const Vec<S, 7> dx = K * y;
     Quat<S> q = st_.q + dx.template head<4>();
     if (!all_finite(P) || !all_finite(dx) || !(q.norm() > S(0.5))) {
@@ -632,8 +643,8 @@ template <class S> class QuaternionEKF {
     if (res.status != Status::Ok) return res;
     Mat<S, 3, 7> H = Mat<S, 3, 7>::Zero();
     H.template leftCols<4>() = detail::qekf_H(st_.q, rx, rz);
-    const Mat3<S> R = Mat3<S>::Identity() * (sigma * sigma);
-    apply_correction<3, 0, 4>(H, R, Vec3<S>(u - detail::qekf_h(st_.q, rx, rz)), res, gate);
+    apply_correction<3, 0, 4>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - detail::qekf_h(st_.q, rx, rz)), res,
+                              gate);
     return res;
   }
 
@@ -643,13 +654,16 @@ template <class S> class QuaternionEKF {
     return r;
   }
 
-  /// H is nonzero only in its NC columns from C0 on (the quaternion or the bias block).
+  /// H is nonzero only in its NC columns from C0 on (the quaternion or the bias block). Every
+  /// measurement of this filter has uncorrelated components (R = diag(r)), so the rows are
+  /// processed as sequential scalar updates (kalman_correct_diagonal: the joint update up to
+  /// rounding, same NIS).
   template <int M, int C0, int NC>
-  void apply_correction(const Mat<S, M, 7>& H, const Mat<S, M, M>& R, const Vec<S, M>& y,
+  void apply_correction(const Mat<S, M, 7>& H, const Vec<S, M>& r, const Vec<S, M>& y,
                         UpdateResult<S, M>& res, S gate) {
     Mat7 P = st_.P;
     Vec<S, 7> dx;
-    if (kalman_correct<S, 7, M, C0, NC>(P, H, R, y, dx, res, gate) != Status::Ok) return;
+    if (kalman_correct_diagonal<S, 7, M, C0, NC>(P, H, r, y, dx, res, gate) != Status::Ok) return;
     Quat<S> q = st_.q + dx.template head<4>();
     if (!(q.norm() > S(0.5))) {
       res.status = Status::NumericalFailure;
