@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cstdio>
 
 #include <random>
 #include <vector>
@@ -456,6 +457,8 @@ template <class S, TimeUpdate TU> double nav13_near_singular(S floor, int steps)
     min_eig = std::min(min_eig, double(h.min_eig));
     if (::testing::Test::HasFailure()) break;
   }
+  std::printf("  NavFilter13<%s> %s, floor %g, %d steps: smallest error-state eigenvalue %.2e\n", to_string(TU),
+              sizeof(S) == 4 ? "float32" : "float64", double(floor), steps, min_eig);
   return min_eig;
 }
 
@@ -578,6 +581,8 @@ template <class S> double gpsins_near_singular(S floor, int steps) {
     min_eig = std::min(min_eig, double(h.min_eig));
     if (::testing::Test::HasFailure()) break;
   }
+  std::printf("  GpsInsFilter %s, floor %g, %d steps: smallest eigenvalue of P %.2e\n",
+              sizeof(S) == 4 ? "float32" : "float64", double(floor), steps, min_eig);
   return min_eig;
 }
 
