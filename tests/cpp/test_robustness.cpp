@@ -449,6 +449,7 @@ template <class S, TimeUpdate TU> double nav13_near_singular(S floor, int steps)
     f.update_velocity_yaw(Vec3<S>::Zero(), S(0.4));
     f.set_position(S(0.6), S(0.2), S(100));
     EXPECT_TRUE(f.covariance() == f.covariance().transpose()) << "step " << k;
+    if (k % 10 != 9) continue;  // eigenvalues every 10th step (a 12x12 Jacobi per step is slow under ASan)
     const Mat<double, 12, 13> T = detail::nav13_to_error<double>(f.state().q_nb.template cast<double>());
     const Mat<double, 12, 12> Pe =
         fixed_mul(fixed_mul(T, Mat<double, 13, 13>(f.covariance().template cast<double>())), T.transpose());
@@ -576,6 +577,7 @@ template <class S> double gpsins_near_singular(S floor, int steps) {
     f.update_baro(100.0);
     if (k % 10 == 0) f.update_gps(0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Constant(S(1e-3)), Vec3<S>::Constant(S(1e-4)));
     EXPECT_TRUE(f.covariance() == f.covariance().transpose()) << "step " << k;
+    if (k % 10 != 9) continue;  // eigenvalues every 10th step (as above)
     const auto h = covariance_health<double, 15>(Mat<double, 15, 15>(f.covariance().template cast<double>()));
     EXPECT_TRUE(h.finite);
     min_eig = std::min(min_eig, double(h.min_eig));
