@@ -6,7 +6,7 @@
 // arbitrary scalars: NaN, +-inf, +-0, huge, denormal, epsilon, raw bit patterns and ordinary
 // values. After every operation the driver checks the contract of every filter:
 //   * a status other than Ok or Rejected left the state bit for bit as it was;
-//   * after Ok, the whole state is finite, the quaternion has unit norm and P is symmetric;
+//   * after Ok (or Rejected), the whole state is finite, the quaternion has unit norm and P is symmetric;
 //   * an accepted update reports a finite innovation, innovation covariance and NIS.
 // A violation calls `fail(message)` (abort in the fuzzer, a test failure under GoogleTest).
 //
@@ -498,12 +498,15 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
         const Vec3<S> ps = (r.byte() & 1) ? Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN()) : r.vec3<S>();
         const Vec3<S> vs = (r.byte() & 1) ? Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN()) : r.vec3<S>();
         const GpsResult<S> g = f.update_gps(lat, lon, h, v, ps, vs);
-        // Two updates: judged by the first failure (a failed one left its part unchanged, but the
-        // other may have been applied), else Ok.
+        // Two updates: Ok when either was applied, Rejected when either was rejected (a rejected
+        // one may reset its block by the documented gate lockout), else the position's failure
+        // (a failed update left its part unchanged).
         StepOutcome o = outcome(g.pos, "update_gps");
         const StepOutcome ov = outcome(g.vel, "update_gps");
         o.outputs_finite = o.outputs_finite && ov.outputs_finite;
-        o.status = (g.pos.status == Status::Ok || g.vel.status == Status::Ok) ? Status::Ok : g.pos.status;
+        o.status = (g.pos.status == Status::Ok || g.vel.status == Status::Ok)               ? Status::Ok
+                   : (g.pos.status == Status::Rejected || g.vel.status == Status::Rejected) ? Status::Rejected
+                                                                                            : g.pos.status;
         o.may_record = g.pos.status == Status::NotInitialized || g.vel.status == Status::NotInitialized;
         return o;
       }
@@ -586,7 +589,7 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
       fail(std::string(A::name) + ": " + o.op + " accepted with non-finite outputs");
       return false;
     }
-    if ((o.status == Status::Ok || o.may_record) && !A::healthy(f, why)) {
+    if ((o.status == Status::Ok || o.status == Status::Rejected || o.may_record) && !A::healthy(f, why)) {
       fail(std::string(A::name) + ": after " + o.op + ": " + why);
       return false;
     }
@@ -594,18 +597,25 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
   return true;
 }
 
-/// The fuzz entry: the first byte picks the filter and the precision.
+/// The fuzz entry: the first byte picks the filter and the precision (every filter, float and
+/// double; NavFilter13 with each of its three time updates).
 template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
   Reader r(data, size);
-  // NavFilter13 and GpsInsFilter have adapters above but are not fuzzed yet: the replay in
-  // test_robustness (DISABLED_ tests) still finds contract violations in them.
-  switch (r.byte() % 6) {
+  switch (r.byte() % 14) {
     case 0: return run_one<QuaternionEKF<double>>(r, fail);
     case 1: return run_one<QuaternionEKF<float>>(r, fail);
     case 2: return run_one<EulerEKF<double>>(r, fail);
     case 3: return run_one<EulerEKF<float>>(r, fail);
     case 4: return run_one<MargFilter<double>>(r, fail);
-    default: return run_one<MargFilter<float>>(r, fail);
+    case 5: return run_one<MargFilter<float>>(r, fail);
+    case 6: return run_one<NavFilter13<double, TimeUpdate::Ekf>>(r, fail);
+    case 7: return run_one<NavFilter13<float, TimeUpdate::Ekf>>(r, fail);
+    case 8: return run_one<NavFilter13<double, TimeUpdate::SecondOrder>>(r, fail);
+    case 9: return run_one<NavFilter13<float, TimeUpdate::SecondOrder>>(r, fail);
+    case 10: return run_one<NavFilter13<double, TimeUpdate::Ukf>>(r, fail);
+    case 11: return run_one<NavFilter13<float, TimeUpdate::Ukf>>(r, fail);
+    case 12: return run_one<GpsInsFilter<double>>(r, fail);
+    default: return run_one<GpsInsFilter<float>>(r, fail);
   }
 }
 

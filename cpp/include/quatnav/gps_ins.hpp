@@ -207,6 +207,19 @@ namespace detail {
 
 template <class S> using Mat15 = Mat<S, 15, 15>;
 
+/// Largest |latitude| (rad) the filter navigates at: the Earth model divides by cos(lat) (about
+/// 10 m from the pole). A state, fix or correction beyond it is refused.
+constexpr double kGpsInsMaxAbsLat = 1.5707;
+
+/// The nominal navigation state and the biases as the filter keeps them: finite, |q| = 1 to
+/// rounding (a quaternion whose norm overflowed normalizes to zero, which this refuses) and the
+/// latitude off the poles. Checked on every candidate state before it is committed.
+template <class S> bool gpsins_nav_ok(const GpsInsState<S>& s) {
+  return s.nav.q_nb.allFinite() && s.nav.v_n.allFinite() && std::isfinite(s.nav.lat) && std::isfinite(s.nav.lon) &&
+         std::isfinite(s.nav.h) && std::abs(s.nav.lat) < kGpsInsMaxAbsLat && s.b_a.allFinite() &&
+         s.b_g.allFinite() && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3);
+}
+
 /// Continuous-time error dynamics matrix F (15 x 15) at a nominal state, for the bias-corrected
 /// specific force f_b (m/s^2). Block layout and equations: see the file comment.
 template <class S>
@@ -352,16 +365,12 @@ template <class S_> class GpsInsFilter {
   const State& state() const { return s_; }
   /// Restore a state; InvalidArgument (nothing changed) when it is not finite.
   Status set_state(const State& s) {
-    if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !s.P.allFinite() || !s.b_a.allFinite() ||
-        !s.b_g.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) ||
-        !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() || !s.align_sum.allFinite() ||
-        !std::isfinite(s.align_time) || !std::isfinite(s.baro_offset) || !std::isfinite(s.baro_last) ||
-        !std::isfinite(s.baro_ref_h) || !std::isfinite(s.baro_ref_t) || !std::isfinite(s.baro_offset_n))
-      return Status::InvalidArgument;
-    // As the filter keeps them: P exactly symmetric with a non-negative diagonal, |q| = 1, and a
-    // latitude off the poles (the Earth model divides by cos(lat)).
-    if (!detail::acceptable_covariance<S, 15>(s.P) || std::abs(s.nav.q_nb.norm() - S(1)) > S(1e-3) ||
-        !(std::abs(s.nav.lat) < 1.5707) || int(s.phase) > 2)
+    // As the filter keeps them: everything finite, |q| = 1, the latitude off the poles
+    // (detail::gpsins_nav_ok), P exactly symmetric with a non-negative diagonal.
+    if (!detail::gpsins_nav_ok(s) || !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() ||
+        !s.align_sum.allFinite() || !std::isfinite(s.align_time) || !std::isfinite(s.baro_offset) ||
+        !std::isfinite(s.baro_last) || !std::isfinite(s.baro_ref_h) || !std::isfinite(s.baro_ref_t) ||
+        !std::isfinite(s.baro_offset_n) || !detail::acceptable_covariance<S, 15>(s.P) || int(s.phase) > 2)
       return Status::InvalidArgument;
     s_ = s;
     return Status::Ok;
@@ -390,16 +399,14 @@ template <class S_> class GpsInsFilter {
       return Status::InvalidArgument;
     if (!((P - P.transpose()).cwiseAbs().maxCoeff() <= S(1e-6) * (S(1) + P.cwiseAbs().maxCoeff())))
       return Status::InvalidArgument;
-    if (!(std::abs(lat) < 1.5707)) return Status::InvalidArgument;
     Mat15 Ps = P;
     symmetrize(Ps);
-    const Quat<S> qn = q_nb / q_nb.norm();
-    // A quaternion whose norm overflows, or a P near the float maximum, overflows here.
-    if (!qn.allFinite() || !Ps.allFinite() || !(Ps.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
+    // A P near the float maximum overflows when symmetrized.
+    if (!Ps.allFinite() || !(Ps.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
     floor_covariance<S, 15>(Ps, p_.cov_floor);
     State s = s_;
     s.nav = StrapdownState<S>();
-    s.nav.q_nb = qn;
+    s.nav.q_nb = q_nb / q_nb.norm();
     s.nav.v_n = v_n;
     s.nav.lat = lat;
     s.nav.lon = lon;
@@ -409,6 +416,8 @@ template <class S_> class GpsInsFilter {
     s.P = Ps;
     s.phase = GpsInsPhase::Navigating;
     s.heading_known = true;
+    // A quaternion whose norm overflows normalizes to zero; a latitude at a pole: refused.
+    if (!detail::gpsins_nav_ok(s)) return Status::InvalidArgument;
     s_ = s;
     return Status::Ok;
   }
@@ -476,10 +485,7 @@ template <class S_> class GpsInsFilter {
       floor_covariance<S, 15>(P, p_.cov_floor);
       s.P = P;
     }
-    if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.lon) ||
-        !std::isfinite(s.nav.h) || !(std::abs(s.nav.lat) < 1.5707) || !w.allFinite() || !f.allFinite() ||
-        !s.b_a.allFinite() || !s.b_g.allFinite())
-      return Status::NumericalFailure;
+    if (!detail::gpsins_nav_ok(s) || !w.allFinite() || !f.allFinite()) return Status::NumericalFailure;
     s.omega_b = w;
     s.f_b = f;
     s.t += double(dt);
@@ -529,14 +535,18 @@ template <class S_> class GpsInsFilter {
     const UpdateResult<S, 3> r = correct<3>(kGpsPos, H, R, y, p_.gate_gps_pos);
     if (r.status != Status::Ok && r.status != Status::Rejected) restore(saved);
     if (lockout(r.status, s_.gps_pos_reject_run)) {
-      // Gate lockout: the IMU position from the fix, its covariance block from the fix's.
-      double la2 = lat, lo2 = lon, h2 = h;
-      detail::geodetic_add(la2, lo2, h2, Vec3<double>(-l_n.template cast<double>()));
-      s_.nav.lat = la2;
-      s_.nav.lon = lo2;
-      s_.nav.h = h2;
-      reset_block(0, R);
-      ++s_.counters.resets[0];
+      // Gate lockout: the IMU position from the fix, its covariance block from the fix's (not
+      // done when that position is unusable, e.g. a fix within the pole limit moved past it).
+      State s = s_;
+      detail::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
+      s.nav.lat = lat;
+      s.nav.lon = lon;
+      s.nav.h = h;
+      reset_block(s.P, 0, R);
+      if (detail::gpsins_nav_ok(s)) {
+        s_ = s;
+        ++s_.counters.resets[0];
+      }
     }
     return r;
   }
@@ -572,9 +582,13 @@ template <class S_> class GpsInsFilter {
     const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
     const UpdateResult<S, 3> r = correct<3>(kGpsVel, H, R, y, p_.gate_gps_vel);
     if (lockout(r.status, s_.gps_vel_reject_run)) {
-      s_.nav.v_n = v_n - C * wl;  // gate lockout: the IMU velocity from the fix
-      reset_block(3, R);
-      ++s_.counters.resets[1];
+      State s = s_;
+      s.nav.v_n = v_n - C * wl;  // gate lockout: the IMU velocity from the fix
+      reset_block(s.P, 3, R);
+      if (detail::gpsins_nav_ok(s)) {
+        s_ = s;
+        ++s_.counters.resets[1];
+      }
     }
     return r;
   }
@@ -721,10 +735,10 @@ template <class S_> class GpsInsFilter {
   }
 
   // The 3x3 covariance block at (i, i) set to R, its cross-covariances zeroed.
-  void reset_block(int i, const Mat3<S>& R) {
-    s_.P.template middleRows<3>(i).setZero();
-    s_.P.template middleCols<3>(i).setZero();
-    s_.P.template block<3, 3>(i, i) = R;
+  static void reset_block(Mat15& P, int i, const Mat3<S>& R) {
+    P.template middleRows<3>(i).setZero();
+    P.template middleCols<3>(i).setZero();
+    P.template block<3, 3>(i, i) = R;
   }
 
   void set_yaw(S yaw) {
@@ -753,9 +767,7 @@ template <class S_> class GpsInsFilter {
     s.nav.h = h;
     s.P = initial_covariance(sig, p_.init_vel_sigma);
     // A huge sigma (float) or a lever arm that moves the fix past the pole is refused.
-    if (!s.P.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) || !std::isfinite(s.nav.lon) ||
-        !std::isfinite(s.nav.h) || !(std::abs(s.nav.lat) < 1.5707))
-      return Status::NumericalFailure;
+    if (!s.P.allFinite() || !detail::gpsins_nav_ok(s)) return Status::NumericalFailure;
     s.phase = GpsInsPhase::Navigating;
     if (s.baro_last_valid) {
       s.baro_offset = h - s.baro_last;
@@ -783,14 +795,15 @@ template <class S_> class GpsInsFilter {
     Mat15 P = s_.P;
     Vec15 dx = Vec15::Zero();
     kalman_correct<S, 15, M>(P, H, R, y, dx, res, gate);
+    // A finite innovation can still give an infinite NIS (a reading near the float maximum, a
+    // height of 1e300 m): the update is refused, not reported Ok with non-finite outputs.
+    if (res.status == Status::Ok && !std::isfinite(res.nis)) res.status = Status::NumericalFailure;
     if (res.status == Status::Ok) {
       State s = s_;
       floor_covariance<S, 15>(P, p_.cov_floor);
       s.P = P;
       detail::gpsins_inject(s, dx);
-      if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) ||
-          !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) || !(std::abs(s.nav.lat) < 1.5707) ||
-          !s.b_a.allFinite() || !s.b_g.allFinite())
+      if (!detail::gpsins_nav_ok(s))
         res.status = Status::NumericalFailure;
       else
         s_ = s;

@@ -308,6 +308,12 @@ template <class S> void nav13_normalize(Vec13<S>& x, Mat13<S>& P) {
   x.template segment<4>(kQ) = qh;
 }
 
+/// A candidate state as the filter keeps it: finite, |q| = 1 to rounding (checked after the
+/// normalization: a quaternion whose norm overflowed normalizes to zero) and P finite.
+template <class S> bool nav13_state_ok(const Vec13<S>& x, const Mat13<S>& P) {
+  return x.allFinite() && P.allFinite() && std::abs(x.template segment<4>(kQ).norm() - S(1)) <= S(1e-3);
+}
+
 /// T (12x13): the error-state map [dv, dtheta, db_a, db_g] = T [dv, dq, db_a, db_g] at a unit q,
 /// dtheta = 2 Xi(q)^T dq (q_true = q * exp(dtheta), body-frame rotation vector).
 template <class S> Mat<S, 12, 13> nav13_to_error(const Quat<S>& q) {
@@ -370,7 +376,7 @@ bool nav13_predict_taylor(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, cons
   symmetrize(Pn);
   if (!xn.allFinite() || !Pn.allFinite() || !(xn.template segment<4>(kQ).norm() > S(0.5))) return false;
   nav13_normalize(xn, Pn);
-  if (!xn.allFinite() || !Pn.allFinite()) return false;  // |q| or P overflowed
+  if (!nav13_state_ok(xn, Pn)) return false;  // |q| or P overflowed
   x = xn;
   P = Pn;
   return true;
@@ -432,7 +438,7 @@ Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const
   const Mat<S, 13, 12> Tb = nav13_from_error(qm);
   Mat13<S> Pn = fixed_mul(fixed_mul(Tb, Pn12), Tb.transpose());
   symmetrize(Pn);
-  if (!xn.allFinite() || !Pn.allFinite()) return Status::NumericalFailure;
+  if (!nav13_state_ok(xn, Pn)) return Status::NumericalFailure;
   x = xn;
   P = Pn;
   return Status::Ok;
@@ -489,8 +495,9 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Mat13 Pn = P;
     symmetrize(Pn);
     detail::nav13_normalize(xv, Pn);
-    // A huge quaternion (norm overflowing) or a P near the float maximum can overflow here.
-    if (!xv.allFinite() || !Pn.allFinite()) return Status::InvalidArgument;
+    // A P near the float maximum can overflow here, and a quaternion whose norm overflows
+    // normalizes to zero (finite, so the check is on the normalized norm).
+    if (!detail::nav13_state_ok(xv, Pn)) return Status::InvalidArgument;
     detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), Pn, params_.cov_floor);
     unpack(xv, s);
     s.P = Pn;
@@ -641,6 +648,12 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Mat13 P = st_.P;
     Vec13 dx;
     if (kalman_correct<S, 13, M>(P, H, R, y, dx, res, gate) != Status::Ok) return;
+    // A finite innovation can still give an infinite NIS (a reading near the float maximum):
+    // refused rather than reported Ok with a non-finite output.
+    if (!std::isfinite(res.nis)) {
+      res.status = Status::NumericalFailure;
+      return;
+    }
     Vec13 xv = x() + dx;  // (23)
     // A correction that moves the unit quaternion by more than about one unit is far outside the
     // linearization (and an overflowing norm would normalize to zero): refused, state kept.
@@ -653,7 +666,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
       return;
     }
     detail::nav13_normalize(xv, P);
-    if (!xv.allFinite() || !P.allFinite()) {
+    if (!detail::nav13_state_ok(xv, P)) {
       res.status = Status::NumericalFailure;
       return;
     }
