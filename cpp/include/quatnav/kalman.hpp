@@ -167,12 +167,15 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
 
 /// The scalar Joseph update P+ = (I - k h^T) P (I - k h^T)^T + r k k^T for one measurement row
 /// h and any gain k, given a = P h and s = h^T P h + r (so r = s - h^T a):
-///   P+ = P - k a^T - a k^T + s k k^T,
-/// evaluated once per pair (i >= j) and mirrored, so P+ is exactly symmetric. O(N^2); in place.
+///   P+ = P - k a^T - a k^T + s k k^T = P - a k^T - k b^T,   b = a - s k,
+/// (b is the gain's departure from the optimal a / s, times -s: rounding noise for the optimal
+/// gain, which is why the Joseph form keeps a gain error out of P to first order), evaluated
+/// once per pair (i >= j) and mirrored, so P+ is exactly symmetric. O(N^2); in place.
 template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a, S s) {
+  const Vec<S, N> b = a - s * k;
   for (int j = 0; j < N; ++j) {
-    const S kj = k[j], aj = a[j], skj = s * k[j];
-    for (int i = j; i < N; ++i) P(i, j) = P(j, i) = P(i, j) - k[i] * aj - a[i] * kj + k[i] * skj;
+    const S kj = k[j], bj = b[j];
+    for (int i = j; i < N; ++i) P(i, j) = P(j, i) = P(i, j) - a[i] * kj - k[i] * bj;
   }
 }
 
@@ -186,9 +189,10 @@ template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S
 /// and the result's innovation, innovation_cov and nis are those of the joint update (up to
 /// rounding). No M x M factorization, no N x M products: O(M N^2) multiply-adds.
 ///
-/// Each scalar step uses the optimal gain k = a / s (a = P h), for which the Joseph form's
-/// extra terms s k k^T - a k^T = (s k - a) k^T are rounding noise: P+ = P - k a^T, evaluated
-/// once per pair and mirrored (exactly symmetric).
+/// Each scalar step uses the optimal gain k = a / s (a = P h) and the Joseph form
+/// (joseph_update_scalar): its extra terms s k k^T - a k^T vanish in exact arithmetic, but they
+/// keep a rounding error in k from entering P to first order, which the short form P - k a^T
+/// does not (that matters in float32); evaluated once per pair and mirrored (exactly symmetric).
 ///
 /// Statuses as kalman_correct: NumericalFailure for a non-finite H, r, y or result, SolveFailed
 /// when a pivot s_i is not positive (S not positive definite), Rejected when `gate` is positive
@@ -229,10 +233,7 @@ Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec
     nis += e * e * inv_s;
     const Vec<S, N> k = a * inv_s;
     dxw.noalias() += k * e;
-    for (int j = 0; j < N; ++j) {
-      const S aj = a[j];
-      for (int l = j; l < N; ++l) Pw(l, j) = Pw(j, l) = Pw(l, j) - k[l] * aj;
-    }
+    joseph_update_scalar<S, N>(Pw, k, a, si);
   }
   res.innovation_cov.noalias() = L * s.asDiagonal() * L.transpose();
   symmetrize(res.innovation_cov);
