@@ -182,10 +182,38 @@ template <class S> bool qekf_floor_covariance(const Quat<S>& q, Mat<S, 7, 7>& P,
   return qekf_floor_symmetric_covariance(q, P, floor);
 }
 
+/// The test of qekf_floor_symmetric_covariance alone: true when Pe - floor I has a Cholesky
+/// factor (Pe = T P T^T, the error-state covariance), i.e. when the floor has nothing to do.
+/// Only the lower triangle of Pe - floor I is formed, coefficient by coefficient on local
+/// arrays (the attitude block as 4 X_i^T (P_qq X_j), the cross block as 2 P_qb^T X), and its
+/// LDL^T pivots are tested (has_cholesky). A P for which this is false goes through the full
+/// path, which forms Pe again, symmetrized, and tests it once more before any repair: this
+/// test only decides how soon a healthy P is left alone.
+template <class S> bool qekf_error_cov_above_floor(const Quat<S>& q, const Mat<S, 7, 7>& P, S floor) {
+  const S x[4][3] = {{-q[1], -q[2], -q[3]}, {q[0], -q[3], q[2]}, {q[3], q[0], -q[1]}, {-q[2], q[1], q[0]}};
+  S ax[4][3];  // P_qq X
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 3; ++j)
+      ax[k][j] = P(k, 0) * x[0][j] + P(k, 1) * x[1][j] + P(k, 2) * x[2][j] + P(k, 3) * x[3][j];
+  Mat<S, 6, 6> E;  // lower triangle of Pe - floor I
+  for (int j = 0; j < 3; ++j) {
+    for (int i = j; i < 3; ++i)
+      E(i, j) = S(4) * (x[0][i] * ax[0][j] + x[1][i] * ax[1][j] + x[2][i] * ax[2][j] + x[3][i] * ax[3][j]);
+    for (int r = 0; r < 3; ++r)
+      E(3 + r, j) = S(2) * (P(0, 4 + r) * x[0][j] + P(1, 4 + r) * x[1][j] + P(2, 4 + r) * x[2][j] +
+                            P(3, 4 + r) * x[3][j]);
+  }
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) E(3 + i, 3 + j) = P(4 + i, 4 + j);
+  for (int i = 0; i < 6; ++i) E(i, i) -= floor;
+  return has_cholesky<S, 6>(E);
+}
+
 /// qekf_floor_covariance for a P that is already exactly symmetric (as the filter keeps it:
 /// its time update, Joseph update and normalization all produce symmetric blocks).
 template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
   if (!(floor > S(0))) return false;
+  if (qekf_error_cov_above_floor(q, P, floor)) return false;  // the common case: nothing to do
   // Pe = T P T^T by blocks (T is block diagonal): [4 X^T Pqq X, 2 X^T Pqb; ., Pbb], X = Xi(q).
   const Mat43<S> X = quat::xi(q);
   Mat<S, 6, 6> Pe;

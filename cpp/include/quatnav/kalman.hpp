@@ -171,11 +171,25 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
 /// (b is the gain's departure from the optimal a / s, times -s: rounding noise for the optimal
 /// gain, which is why the Joseph form keeps a gain error out of P to first order), evaluated
 /// once per pair (i >= j) and mirrored, so P+ is exactly symmetric. O(N^2); in place.
+///
+/// The vectors are copied into local arrays first: written through P's reference, the loop
+/// would otherwise have to reload a, k and b after every store (they could alias P), which
+/// made this O(N^2) loop the most expensive part of a QuaternionEKF step.
 template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a, S s) {
-  const Vec<S, N> b = a - s * k;
+  S av[N], kv[N], bv[N];
+  for (int i = 0; i < N; ++i) {
+    av[i] = a[i];
+    kv[i] = k[i];
+    bv[i] = a[i] - s * k[i];
+  }
+  S* p = P.data();  // column-major: P(i, j) = p[i + N j]
   for (int j = 0; j < N; ++j) {
-    const S kj = k[j], bj = b[j];
-    for (int i = j; i < N; ++i) P(i, j) = P(j, i) = P(i, j) - a[i] * kj - k[i] * bj;
+    const S kj = kv[j], bj = bv[j];
+    for (int i = j; i < N; ++i) {
+      const S v = p[i + N * j] - av[i] * kj - kv[i] * bj;
+      p[i + N * j] = v;
+      p[j + N * i] = v;
+    }
   }
 }
 
