@@ -197,3 +197,36 @@ TEST(Kalman, ScalarJosephMatchesProductForm) {
   EXPECT_LT((P - ref).norm(), 1e-11 * ref.norm());
   EXPECT_EQ(P, P.transpose());
 }
+
+// A finite innovation whose y^T S^-1 y overflows (1e200 against S = 2: dx and P stay finite,
+// the NIS is infinite) is a NumericalFailure in both corrections, with P and dx untouched; with
+// a gate it stays a rejection (an infinite NIS exceeds any gate).
+TEST(Kalman, OverflowingNisIsRefused) {
+  Mat<double, 3, 3> P = Mat<double, 3, 3>::Identity();
+  const Mat<double, 3, 3> P0 = P;
+  Mat<double, 1, 3> H(1.0, 0.0, 0.0);
+  Mat<double, 1, 1> R;
+  R << 1.0;
+  Vec<double, 1> y;
+  y << 1e200;
+  Vec<double, 3> dx = Vec<double, 3>::Constant(42.0);
+  UpdateResult<double, 1> res;
+  EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res)), Status::NumericalFailure);
+  EXPECT_TRUE(std::isinf(res.nis));
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  EXPECT_EQ(dx[0], 42.0);
+  EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res, 9.0)), Status::Rejected);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+
+  const Vec<double, 1> r(1.0);
+  EXPECT_EQ((kalman_correct_diagonal<double, 3, 1>(P, H, r, y, dx, res)), Status::NumericalFailure);
+  EXPECT_TRUE(std::isinf(res.nis));
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof(P0)), 0);
+  EXPECT_EQ(dx[0], 42.0);
+  EXPECT_EQ((kalman_correct_diagonal<double, 3, 1>(P, H, r, y, dx, res, 9.0)), Status::Rejected);
+
+  // The same update with a representable NIS is accepted.
+  y << 1e100;
+  EXPECT_EQ((kalman_correct<double, 3, 1>(P, H, R, y, dx, res)), Status::Ok);
+  EXPECT_TRUE(std::isfinite(res.nis));
+}

@@ -794,10 +794,9 @@ template <class S_> class GpsInsFilter {
     UpdateResult<S, M> res;
     Mat15 P = s_.P;
     Vec15 dx = Vec15::Zero();
+    // kalman_correct refuses an infinite NIS (a finite reading near the float maximum, a height
+    // of 1e300 m) with NumericalFailure.
     kalman_correct<S, 15, M>(P, H, R, y, dx, res, gate);
-    // A finite innovation can still give an infinite NIS (a reading near the float maximum, a
-    // height of 1e300 m): the update is refused, not reported Ok with non-finite outputs.
-    if (res.status == Status::Ok && !std::isfinite(res.nis)) res.status = Status::NumericalFailure;
     if (res.status == Status::Ok) {
       State s = s_;
       floor_covariance<S, 15>(P, p_.cov_floor);

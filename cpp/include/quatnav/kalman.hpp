@@ -100,6 +100,23 @@ void solve_right_lower(const Mat<S, M, M>& L, const Vec<S, M>& inv_diag, const M
   }
 }
 
+/// The common end of kalman_correct and kalman_correct_diagonal: a result with any non-finite
+/// part is NumericalFailure and leaves P and dx as they were; otherwise it is stored and Ok.
+/// A finite innovation can still overflow y^T S^-1 y (a reading near the float maximum): an
+/// infinite NIS is a failure too, never an Ok with a non-finite output.
+template <class S, int N, int M>
+Status commit_correction(Mat<S, N, N>& P, Vec<S, N>& dx, const Mat<S, N, N>& P_new, const Vec<S, N>& dx_new,
+                         UpdateResult<S, M>& res) {
+  if (!all_finite(P_new) || !all_finite(dx_new) || !std::isfinite(res.nis)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  P = P_new;
+  dx = dx_new;
+  res.status = Status::Ok;
+  return res.status;
+}
+
 }  // namespace detail
 
 /// One Kalman correction with N states and M measurement rows.
@@ -107,7 +124,8 @@ void solve_right_lower(const Mat<S, M, M>& L, const Vec<S, M>& inv_diag, const M
 /// Inputs: P (NxN), H (MxN), R (MxM), innovation y = z - h(x) (M). On success writes the state
 /// correction dx = K y, replaces P by the Joseph-form update and fills `res` (innovation,
 /// its covariance S, NIS). When `gate` is positive and NIS exceeds it, returns Rejected.
-/// Any status other than Ok leaves P and dx unchanged.
+/// Any status other than Ok leaves P and dx unchanged; a non-finite result (P, dx or the NIS,
+/// which a finite innovation near the float maximum can overflow) is NumericalFailure.
 ///
 /// C0, NC: H is nonzero only in the NC columns starting at column C0 (a measurement of part of
 /// the state, the usual case); the products then skip the zero columns. The default is a dense
@@ -155,14 +173,7 @@ Status kalman_correct(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Mat<S, M, M>
   dx_new.noalias() = K * y;
   Mat<S, N, N> P_new;
   joseph_update<S, N, M, C0, NC>(P, K, Hc, R, P_new);
-  if (!all_finite(P_new) || !all_finite(dx_new)) {
-    res.status = Status::NumericalFailure;
-    return res.status;
-  }
-  P = P_new;
-  dx = dx_new;
-  res.status = Status::Ok;
-  return res.status;
+  return detail::commit_correction(P, dx, P_new, dx_new, res);
 }
 
 /// The scalar Joseph update P+ = (I - k h^T) P (I - k h^T)^T + r k k^T for one measurement row
@@ -208,7 +219,7 @@ template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S
 /// keep a rounding error in k from entering P to first order, which the short form P - k a^T
 /// does not (that matters in float32); evaluated once per pair and mirrored (exactly symmetric).
 ///
-/// Statuses as kalman_correct: NumericalFailure for a non-finite H, r, y or result, SolveFailed
+/// Statuses as kalman_correct: NumericalFailure for a non-finite H, r, y or result (NIS included), SolveFailed
 /// when a pivot s_i is not positive (S not positive definite), Rejected when `gate` is positive
 /// and NIS exceeds it. Any status other than Ok leaves P and dx unchanged. C0, NC: H is nonzero
 /// only in the NC columns from C0 on (see kalman_correct).
@@ -256,14 +267,7 @@ Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec
     res.status = Status::Rejected;
     return res.status;
   }
-  if (!all_finite(Pw) || !all_finite(dxw)) {
-    res.status = Status::NumericalFailure;
-    return res.status;
-  }
-  P = Pw;
-  dx = dxw;
-  res.status = Status::Ok;
-  return res.status;
+  return detail::commit_correction(P, dx, Pw, dxw, res);
 }
 
 /// Chi-square quantiles used as default gates (probability 0.9999) for 1..6 degrees of freedom.

@@ -647,13 +647,8 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
                         S gate) {
     Mat13 P = st_.P;
     Vec13 dx;
+    // kalman_correct refuses an infinite NIS (NumericalFailure).
     if (kalman_correct<S, 13, M>(P, H, R, y, dx, res, gate) != Status::Ok) return;
-    // A finite innovation can still give an infinite NIS (a reading near the float maximum):
-    // refused rather than reported Ok with a non-finite output.
-    if (!std::isfinite(res.nis)) {
-      res.status = Status::NumericalFailure;
-      return;
-    }
     Vec13 xv = x() + dx;  // (23)
     // A correction that moves the unit quaternion by more than about one unit is far outside the
     // linearization (and an overflowing norm would normalize to zero): refused, state kept.
