@@ -106,19 +106,9 @@ bool covariance_factor(const Mat<S, N, N>& P, Mat<S, N, N>& L) {
     C = fixed_mul(VL, V.transpose());  // fixed_mul (types.hpp): no GEMM kernel, no malloc linked
     symmetrize(C);
   }
-  Mat<S, N, N> Lc = Mat<S, N, N>::Zero();
-  for (int j = 0; j < N; ++j) {
-    S piv = C(j, j);
-    for (int k = 0; k < j; ++k) piv -= Lc(j, k) * Lc(j, k);
-    if (!(piv > S(0))) return false;
-    const S ljj = std::sqrt(piv);
-    Lc(j, j) = ljj;
-    for (int i = j + 1; i < N; ++i) {
-      S c = C(i, j);
-      for (int k = 0; k < j; ++k) c -= Lc(i, k) * Lc(j, k);
-      Lc(i, j) = c / ljj;
-    }
-  }
+  Mat<S, N, N> Lc = Mat<S, N, N>::Zero();  // cholesky_small writes the lower triangle only
+  Vec<S, N> inv_diag;
+  if (!detail::cholesky_small<S, N>(C, Lc, inv_diag)) return false;
   const Mat<S, N, N> Ln = d.asDiagonal() * Lc;
   if (!Ln.allFinite()) return false;
   L = Ln;
