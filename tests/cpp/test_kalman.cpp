@@ -6,28 +6,36 @@
 #include <quatnav/kalman.hpp>
 #include <random>
 
+#include "random_matrix.hpp"
+
 using namespace quatnav;
+using quatnav_test::Randn;
+
+// One correction against the textbook formulas K = P H^T S^-1, P+ = P - K S K^T, NIS y^T S^-1 y,
+// with a dense random H (for N = 13 every product goes through fixed_mul; the reference uses
+// operator*, Eigen's GEMM). Errors relative to the largest coefficient of P.
+template <int N, int M> void check_textbook(unsigned seed, const Vec<double, M>& r, const Vec<double, M>& y,
+                                            double tol) {
+  Randn rnd(seed);
+  const Mat<double, N, N> P0 = rnd.spd<Mat<double, N, N>>(1.0);
+  const Mat<double, M, N> H = rnd.matrix<Mat<double, M, N>>();
+  const Mat<double, M, M> R = r.asDiagonal();
+  Mat<double, N, N> P = P0;
+  Vec<double, N> dx;
+  UpdateResult<double, M> res;
+  ASSERT_EQ((kalman_correct<double, N, M>(P, H, R, y, dx, res)), Status::Ok);
+  const Mat<double, M, M> S = H * P0 * H.transpose() + R;
+  const Mat<double, N, M> K = P0 * H.transpose() * S.inverse();
+  const double scale = P0.cwiseAbs().maxCoeff();
+  EXPECT_LT((dx - K * y).norm(), tol * scale);
+  EXPECT_LT((P - (P0 - K * S * K.transpose())).norm(), tol * scale);
+  EXPECT_NEAR(res.nis, y.dot(S.inverse() * y), tol * (1 + res.nis));
+  EXPECT_EQ(P, P.transpose());
+}
 
 TEST(Kalman, MatchesTextbookFormulas) {
-  std::mt19937 g(4);
-  std::normal_distribution<double> n;
-  Mat<double, 5, 5> A;
-  for (int i = 0; i < 25; ++i) A.data()[i] = n(g);
-  const Mat<double, 5, 5> P0 = A * A.transpose() + Mat<double, 5, 5>::Identity();
-  Mat<double, 2, 5> H;
-  for (int i = 0; i < 10; ++i) H.data()[i] = n(g);
-  const Mat<double, 2, 2> R = Vec2<double>(0.3, 0.5).asDiagonal();
-  const Vec2<double> y(0.7, -0.2);
-  Mat<double, 5, 5> P = P0;
-  Vec<double, 5> dx;
-  UpdateResult<double, 2> res;
-  ASSERT_EQ((kalman_correct<double, 5, 2>(P, H, R, y, dx, res)), Status::Ok);
-  const Mat<double, 2, 2> S = H * P0 * H.transpose() + R;
-  const Mat<double, 5, 2> K = P0 * H.transpose() * S.inverse();
-  EXPECT_LT((dx - K * y).norm(), 1e-12);
-  EXPECT_LT((P - (P0 - K * S * K.transpose())).norm(), 1e-12);
-  EXPECT_NEAR(res.nis, y.dot(S.inverse() * y), 1e-12);
-  EXPECT_EQ(P, P.transpose());
+  check_textbook<5, 2>(4, Vec2<double>(0.3, 0.5), Vec2<double>(0.7, -0.2), 1e-13);
+  check_textbook<13, 3>(5, Vec3<double>(0.3, 0.5, 0.2), Vec3<double>(0.7, -0.2, 0.1), 1e-10);
 }
 
 TEST(Kalman, GateRejectsAndFailureLeavesCovarianceUntouched) {
@@ -85,46 +93,19 @@ TEST(Kalman, FixedMulIsTheProduct) {
   EXPECT_EQ(std::memcmp(ref.data(), got.data(), sizeof ref), 0);
 }
 
-TEST(Kalman, ThirteenStatesMatchTextbookFormulas) {
-  // N = 13 goes through fixed_mul everywhere; compare with operator* (GEMM) formulas.
-  std::mt19937 g(5);
-  std::normal_distribution<double> n;
-  Mat<double, 13, 13> A;
-  for (int i = 0; i < 169; ++i) A.data()[i] = n(g);
-  const Mat<double, 13, 13> P0 = A * A.transpose() + Mat<double, 13, 13>::Identity();
-  Mat<double, 3, 13> H;
-  for (int i = 0; i < 39; ++i) H.data()[i] = n(g);
-  const Mat<double, 3, 3> R = Vec3<double>(0.3, 0.5, 0.2).asDiagonal();
-  const Vec3<double> y(0.7, -0.2, 0.1);
-  Mat<double, 13, 13> P = P0;
-  Vec<double, 13> dx;
-  UpdateResult<double, 3> res;
-  ASSERT_EQ((kalman_correct<double, 13, 3>(P, H, R, y, dx, res)), Status::Ok);
-  const Mat<double, 3, 3> S = H * P0 * H.transpose() + R;
-  const Mat<double, 13, 3> K = P0 * H.transpose() * S.inverse();
-  const double scale = P0.cwiseAbs().maxCoeff();
-  EXPECT_LT((dx - K * y).norm(), 1e-10 * scale);
-  EXPECT_LT((P - (P0 - K * S * K.transpose())).norm(), 1e-10 * scale);
-  EXPECT_NEAR(res.nis, y.dot(S.inverse() * y), 1e-10);
-  EXPECT_EQ(P, P.transpose());
-}
-
 // Sequential scalar processing with a diagonal R gives the joint update (kalman_correct): the
 // same dx, P, NIS and innovation covariance up to rounding, also when H is nonzero only in some
 // columns (the C0/NC narrowing).
 template <int N, int M, int C0, int NC> void check_diagonal_matches_joint(unsigned seed) {
-  std::mt19937 g(seed);
-  std::normal_distribution<double> n;
-  Mat<double, N, N> A;
-  for (int i = 0; i < N * N; ++i) A.data()[i] = n(g);
-  const Mat<double, N, N> P0 = A * A.transpose() + 0.1 * Mat<double, N, N>::Identity();
+  Randn rnd(seed);
+  const Mat<double, N, N> P0 = rnd.spd<Mat<double, N, N>>(0.1);
   Mat<double, M, N> H = Mat<double, M, N>::Zero();
   for (int i = 0; i < M; ++i)
-    for (int j = C0; j < C0 + NC; ++j) H(i, j) = n(g);
+    for (int j = C0; j < C0 + NC; ++j) H(i, j) = rnd();
   Vec<double, M> r, y;
   for (int i = 0; i < M; ++i) {
-    r[i] = 0.05 + std::abs(n(g));
-    y[i] = n(g);
+    r[i] = 0.05 + std::abs(rnd());
+    y[i] = rnd();
   }
   const Mat<double, M, M> R = r.asDiagonal();
   Mat<double, N, N> Pj = P0, Ps = P0;
@@ -178,15 +159,12 @@ TEST(Kalman, DiagonalGateAndFailuresLeaveCovarianceUntouched) {
 
 // The scalar Joseph form equals (I - k h^T) P (I - k h^T)^T + r k k^T for any gain.
 TEST(Kalman, ScalarJosephMatchesProductForm) {
-  std::mt19937 g(9);
-  std::normal_distribution<double> n;
-  Mat<double, 7, 7> A;
-  for (int i = 0; i < 49; ++i) A.data()[i] = n(g);
-  const Mat<double, 7, 7> P0 = A * A.transpose() + Mat<double, 7, 7>::Identity();
+  Randn rnd(9);
+  const Mat<double, 7, 7> P0 = rnd.spd<Mat<double, 7, 7>>(1.0);
   Vec<double, 7> h, k;
   for (int i = 0; i < 7; ++i) {
-    h[i] = n(g);
-    k[i] = n(g);  // not the optimal gain
+    h[i] = rnd();
+    k[i] = rnd();  // not the optimal gain
   }
   const double r = 0.7;
   const Vec<double, 7> a = P0 * h;

@@ -9,7 +9,10 @@
 #include <type_traits>
 #include <vector>
 
+#include "random_matrix.hpp"
+
 using namespace quatnav;
+using quatnav_test::Randn;
 
 namespace {
 
@@ -165,11 +168,8 @@ TEST(Nav13Float, UkfFloatRunsEveryTimeUpdateAndTracksDouble) {
 }
 
 TEST(Unscented, CovarianceFactorReproducesDefiniteMatrices) {
-  std::mt19937 g(3);
-  std::normal_distribution<double> nd;
-  Mat<double, 6, 6> A;
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) A(i, j) = nd(g);
+  Randn rnd(3);
+  const Mat<double, 6, 6> A = rnd.matrix<Mat<double, 6, 6>>().transpose();  // drawn row by row
   // scales over ten orders of magnitude, as in the navigation filters
   const Vec<double, 6> s = (Vec<double, 6>() << 1.0, 1e-2, 1e-3, 1e-4, 1e-5, 1e-5).finished();
   const Mat<double, 6, 6> P = s.asDiagonal() * (A * A.transpose()) * s.asDiagonal();
@@ -187,11 +187,8 @@ TEST(Unscented, CovarianceFactorReproducesDefiniteMatrices) {
 // A semidefinite P rounded to float32 is indefinite by round-off: the factor exists and adds a
 // little variance, only in the direction that lost it (L L^T - P >= 0 up to round-off).
 TEST(Unscented, CovarianceFactorRepairsRoundOffOfASemidefiniteMatrix) {
-  std::mt19937 g(5);
-  std::normal_distribution<double> nd;
-  Mat<double, 12, 11> B;
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 11; ++j) B(i, j) = nd(g);
+  Randn rnd(5);
+  Mat<double, 12, 11> B = rnd.matrix<Mat<double, 11, 12>>().transpose();  // drawn row by row
   B.row(7) = -B.row(3);  // x7 = -x3 (scaled): a tilt and the accelerometer bias that mimics it
   const Vec<double, 12> s = (Vec<double, 12>() << 0.005, 0.005, 0.004, 2e-3, 2e-3, 2e-3, 0.02, 0.02, 2e-4, 5e-6,
                              5e-6, 1e-5).finished();
