@@ -124,6 +124,43 @@ template <class S> struct QEKFJointCase : QEKFCase<S> {
   }
 };
 
+// Where a QuaternionEKF step goes: the time update alone, with the accelerometer update, the
+// covariance floor off (cov_floor = 0: no error-state test after each part), and the plain filter
+// of the paper (QuaternionEKFParams::paper(): no low-pass, rest, disturbance tests; 3-row
+// magnetometer update). Differences between these rows split the full step's cost.
+template <class S> struct QEKFPredictCase : QEKFCase<S> {
+  static constexpr const char* policy = "ekf, predict only";
+  static constexpr const char* step_desc = "predict";
+  void step(const Sample<S>& s) { this->f.predict(s.gyr, s.dt); }
+};
+
+template <class S> struct QEKFPredictAccCase : QEKFCase<S> {
+  static constexpr const char* policy = "ekf, predict+acc only";
+  static constexpr const char* step_desc = "predict+acc";
+  void step(const Sample<S>& s) {
+    this->f.predict(s.gyr, s.dt);
+    this->f.update_acc(s.acc);
+  }
+};
+
+template <class S> struct QEKFNoFloorCase : QEKFCase<S> {
+  static constexpr const char* policy = "ekf, cov_floor 0";
+  void init(const Sample<S>& s) {
+    quatnav::QuaternionEKFParams<S> p;
+    p.cov_floor = S(0);
+    this->f = quatnav::QuaternionEKF<S>(p);
+    this->f.initialize(s.acc, s.mag);
+  }
+};
+
+template <class S> struct QEKFPaperCase : QEKFCase<S> {
+  static constexpr const char* policy = "ekf, paper() parameters";
+  void init(const Sample<S>& s) {
+    this->f = quatnav::QuaternionEKF<S>(quatnav::QuaternionEKFParams<S>::paper());
+    this->f.initialize(s.acc, s.mag);
+  }
+};
+
 template <class S> struct EulerEKFCase {
   static constexpr const char* name = "EulerEKF";
   static constexpr bool countable = true;
@@ -288,6 +325,10 @@ int main(int argc, char** argv) {
   }
   qb::run_case<qb::QEKFCase>(opt);
   qb::run_case<qb::QEKFJointCase>(opt);
+  qb::run_case<qb::QEKFPredictCase>(opt);
+  qb::run_case<qb::QEKFPredictAccCase>(opt);
+  qb::run_case<qb::QEKFNoFloorCase>(opt);
+  qb::run_case<qb::QEKFPaperCase>(opt);
   qb::run_case<qb::EulerEKFCase>(opt);
   qb::run_case<qb::Nav13EkfCase>(opt);
   qb::run_case<qb::Nav13SecondOrderCase>(opt);
