@@ -219,9 +219,9 @@ template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S
 /// keep a rounding error in k from entering P to first order, which the short form P - k a^T
 /// does not (that matters in float32); evaluated once per pair and mirrored (exactly symmetric).
 ///
-/// Statuses as kalman_correct: NumericalFailure for a non-finite H, r, y or result (NIS included), SolveFailed
-/// when a pivot s_i is not positive (S not positive definite), Rejected when `gate` is positive
-/// and NIS exceeds it. Any status other than Ok leaves P and dx unchanged. C0, NC: H is nonzero
+/// Statuses as kalman_correct: NumericalFailure for a non-finite H, r, y or result (the NIS
+/// included), SolveFailed when a pivot s_i is not positive (S not positive definite), Rejected
+/// when `gate` is positive and NIS exceeds it. Any status other than Ok leaves P and dx unchanged. C0, NC: H is nonzero
 /// only in the NC columns from C0 on (see kalman_correct).
 template <class S, int N, int M, int C0 = 0, int NC = N>
 Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,

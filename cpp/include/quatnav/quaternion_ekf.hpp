@@ -179,9 +179,8 @@ void qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S
 /// J A J^T = (A - qh v^T - v qh^T + s qh qh^T) / n^2 with v = A qh, s = qh^T v, and
 /// J C = (C - qh (qh^T C)) / n.
 ///
-/// Divisions are replaced by multiplications with the reciprocals 1/n and 1/n^2: the 26
-/// divisions of the elementwise form cost more time than the rest of the projection (a division
-/// has several times the throughput cost of a multiplication), for a difference of one rounding.
+/// The scalings by 1/n and 1/n^2 multiply by the reciprocals (1 division instead of 26; the
+/// results differ from dividing by one rounding at most).
 template <class S> void qekf_normalize(Quat<S>& q, Mat<S, 7, 7>& P) {
   const S n = q.norm();
   const S inv_n = S(1) / n;
