@@ -29,8 +29,10 @@
 // velocity at 5 Hz, altimeter and compass at 10 Hz. Errors against the truth: attitude (rotation
 // vector), velocity and position (NED metres); the covariance health is that of each filter's
 // error-state covariance (NavFilter13: the 12x12 [dv, dtheta, db_a, db_g]; GpsInsFilter: its 15x15 P).
-// Usage: long_run [steps] [filter] [float32|float64]; filter one of QuaternionEKF, EulerEKF,
-// NavFilter13-ekf, NavFilter13-second_order, NavFilter13-ukf, GpsInsFilter (default: all).
+// Usage: long_run [steps] [filter] [float32|float64] [no-baro]; filter one of QuaternionEKF, EulerEKF,
+// NavFilter13-ekf, NavFilter13-second_order, NavFilter13-ukf, GpsInsFilter (default: all);
+// no-baro leaves out GpsInsFilter's altimeter updates (an experiment: its offset error enters R as
+// white noise, see gps_ins.hpp).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +46,8 @@
 using namespace quatnav;
 
 namespace {
+
+bool g_no_baro = false;  ///< no altimeter updates for GpsInsFilter (argument "no-baro")
 
 struct Truth {
   double t = 0;
@@ -326,9 +330,11 @@ template <class S> struct NavAdapter<GpsInsFilter<S>> {
     const S nan = std::numeric_limits<S>::quiet_NaN();
     if (k % 10 == 0) {
       c.add(5, f.update_compass(S(quat::wrap_pi(tr.att.euler(t)[2] + 0.035 * N(rng)))).status);
-      const BaroResult<S> b = f.update_baro(tr.h + 0.5 * N(rng));
-      c.add(3, b.height.status);
-      if (b.vd.status != Status::NotInitialized) c.add(4, b.vd.status);
+      if (!g_no_baro) {
+        const BaroResult<S> b = f.update_baro(tr.h + 0.5 * N(rng));
+        c.add(3, b.height.status);
+        if (b.vd.status != Status::NotInitialized) c.add(4, b.vd.status);
+      }
     }
     if (k % 20 == 0) {
       const earth::Radii<double> r = earth::radii(tr.lat);
@@ -444,9 +450,10 @@ int main(int argc, char** argv) {
   const std::string only = argc > 2 ? argv[2] : "";
   const std::string prec = argc > 3 ? argv[3] : "";
   const bool f64 = prec.empty() || prec == "float64", f32 = prec.empty() || prec == "float32";
+  g_no_baro = argc > 4 && std::string(argv[4]) == "no-baro";
   const long eig_every = 100;
-  std::printf("quatnav long run: %ld steps of 0.01 s per filter and precision; eigenvalues every %ld steps\n", steps,
-              eig_every);
+  std::printf("quatnav long run: %ld steps of 0.01 s per filter and precision; eigenvalues every %ld steps%s\n", steps,
+              eig_every, g_no_baro ? "; GpsInsFilter without the altimeter" : "");
   if (only.empty() || only == "QuaternionEKF") {
     if (f64) report<QuaternionEKF<double>>("QuaternionEKF", steps, eig_every);
     if (f32) report<QuaternionEKF<float>>("QuaternionEKF", steps, eig_every);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Build bench/long_run.cpp (-O2) and run it: bash bench/long_run.sh [steps] [filter] [float32|float64]
+# Build bench/long_run.cpp (-O2) and run it: bash bench/long_run.sh [steps] [filter] [float32|float64] [no-baro]
 # (default 10 million steps of every filter in float64 and float32).
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -234,14 +234,17 @@ def test_nees_within_chi_square_bounds_on_paper002_scenario():
     NEES of the 12-dimensional error state lies within the two-sided 99% chi-square bounds at
     (nearly) every checked time, for every time update.
 
-    The filter's accelerometer noise is 10x the paper's 30 ug per sample: with the paper's value the
-    NEES grows to ~2x its expectation by 200 s, the excess in the vertical velocity and
-    accelerometer-bias states, cause not yet identified (docs/NAV13.md)."""
+    The filter's accelerometer noise is 5x the paper's 30 ug per sample: with the paper's value the
+    NEES grows to ~1.5-2x its expectation by 200 s, the excess in the vertical velocity and
+    accelerometer-bias states, cause not yet identified (docs/NAV13.md). (Before the rotation
+    correction of the velocity increment, nav_filter13.hpp eq. 12, this needed 10x; with it, 10x
+    is conservative: mean ANEES 8.3-9.1 for the three time updates, below the lower bound at
+    16-42% of the times.)"""
     chi2 = pytest.importorskip("scipy.stats").chi2
     pytest.importorskip("quatnav.sim")
     from quatnav.experiments import nav13 as X
     runs = 8
-    mc = X.monte_carlo(runs, seed=100, mode="gaussian", with_nees=True, decimate=500, accel_noise_scale=10.0)
+    mc = X.monte_carlo(runs, seed=100, mode="gaussian", with_nees=True, decimate=500, accel_noise_scale=5.0)
     t = mc["t"]
     check = t >= 10.0
     lo, hi = chi2.ppf([0.005, 0.995], 12 * runs) / runs

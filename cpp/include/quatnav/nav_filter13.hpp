@@ -39,6 +39,20 @@
 //    to (-pi, pi]. The correction eq. (22)-(23) uses the shared Joseph-form kalman_correct; the
 //    quaternion is renormalized afterwards with the covariance projected by the normalization's
 //    Jacobian, and likewise after every time update (the Euler step does not keep |q| = 1).
+//  * Rotation term of the velocity increment (eq. 12). The inputs are means over the step (an
+//    IMU's increments divided by dt), but the Euler step applies the specific force with the
+//    attitude at the start of the step: v+ = v + dt C(q_k) a. The true increment is
+//    int C(q(t)) a dt = dt C(q_k) (a + dt/2 w x a) + O(dt^3), so the Euler step is short by
+//    dt^2/2 C (w x a) every step, an error that does not average out while the body rotates
+//    (with w about 0.2 rad/s and |a| = g it is 0.01 m/s^2, the size of 1 mrad of tilt): on a
+//    long run with a rotating attitude the mean attitude NEES was about 8 and the velocity NEES
+//    about 6-7 instead of 3 (docs/ROBUSTNESS.md). predict() therefore adds the first-order
+//    rotation correction of strapdown.hpp (Savage 2000, ch. 7; 1/2 dtheta x dv) to the measured
+//    specific force, at the bias estimates:
+//        f_ib_b <- f_ib_b + dt/2 (omega_ib_b - b_g) x (f_ib_b - b_a)   (nav13_rotation_correction)
+//    before the time update; nav13_rhs, nav13_f and their derivatives are those of eq. (12) with
+//    that input (the correction's own dependence on b_a, b_g is of order dt^2 and is left out
+//    of F, like the Earth terms).
 //  * The paper's Q (eq. 12, 19) is the covariance of w_k; we take white-noise densities and use
 //    Q_k = dt G diag(sigma_a^2 I, sigma_g^2 I) G^T with G of eq. (11) (the 4x3 block is
 //    1/2 Xi(q)), plus optional bias random walks (0 by default, eq. 7).
@@ -191,6 +205,14 @@ template <class S> Vec13<S> nav13_rhs(const Vec13<S>& x, const Nav13Input<S>& u)
   d.template segment<3>(kV) = rotmat_hom(q) * a - alpha.cross(v) + u.g_n;                    // (1)
   d.template segment<4>(kQ) = S(0.5) * (quat::xi(q) * w - quat::left(Quat<S>(S(0), w_in[0], w_in[1], w_in[2])) * q);  // (3)
   return d;                                                                                   // (7)
+}
+
+/// The measured specific force with the first-order rotation correction of the velocity
+/// increment over a step of dt (see the header comment, eq. 12): f + dt/2 (w - b_g) x (f - b_a).
+template <class S>
+Vec3<S> nav13_rotation_correction(const Vec3<S>& f_ib_b, const Vec3<S>& omega_ib_b, const Vec3<S>& b_a,
+                                  const Vec3<S>& b_g, S dt) {
+  return f_ib_b + (dt / S(2)) * Vec3<S>(omega_ib_b - b_g).cross(Vec3<S>(f_ib_b - b_a));
 }
 
 /// f_d of eq. (12): one Euler step x + dt f(x, u) (no normalization).
@@ -531,7 +553,8 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   }
 
   /// Time update with one IMU sample: f_ib_b [m/s^2] and omega_ib_b [rad/s] as measured (mean
-  /// over the step), dt [s]. The Earth terms come from the carried position and the prior
+  /// over the step), dt [s]. The specific force gets the rotation correction of the velocity
+  /// increment (nav13_rotation_correction). The Earth terms come from the carried position and the prior
   /// velocity; the position is then advanced with the mean of the prior and posterior velocity.
   /// The Earth terms and the geodetic rates are computed in S from the position rounded to S
   /// (their change over one ulp of a float latitude is far below float resolution); only the
@@ -544,7 +567,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     if (detail::saturated(omega_ib_b, params_.gyro_range) || detail::saturated(f_ib_b, params_.acc_range))
       return Status::Saturated;
     Nav13Input<S> u;
-    u.f_ib_b = f_ib_b;
+    u.f_ib_b = detail::nav13_rotation_correction(f_ib_b, omega_ib_b, st_.accel_bias, st_.gyro_bias, dt);
     u.omega_ib_b = omega_ib_b;
     u.dt = dt;
     detail::nav13_earth_terms(S(st_.lat), S(st_.h), st_.v_n, params_.earth_rotation, u);

@@ -61,6 +61,12 @@ def rhs(x, u):
     return d
 
 
+def rotation_correction(f_ib_b, omega_ib_b, b_a, b_g, dt):
+    """First-order rotation correction of the velocity increment over a step (see the C++
+    header, eq. 12): ``f + dt/2 (w - b_g) x (f - b_a)`` for inputs that are means over the step."""
+    return f_ib_b + 0.5 * dt * np.cross(omega_ib_b - b_g, f_ib_b - b_a)
+
+
 def f_d(x, u):
     """Eq. (12): one Euler step."""
     return x + u.dt * rhs(x, u)
@@ -222,6 +228,7 @@ class NavFilter13:
 
     def predict(self, f_ib_b, omega_ib_b, dt):
         u = self._input(f_ib_b, omega_ib_b, dt)
+        u.f_ib_b = rotation_correction(u.f_ib_b, u.omega_ib_b, self.x[BA], self.x[BG], u.dt)
         x, P = self.x, self.P
         if self.time_update == "ukf":
             xn, Pn = self._ukf(x, P, u)
