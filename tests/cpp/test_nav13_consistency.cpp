@@ -12,50 +12,16 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <quatnav/nav_filter13.hpp>
 
+#include "nav_truth.hpp"
+
 using namespace quatnav;
+using quatnav_test::NavTruth;
 
 namespace {
-
-/// Smooth attitude (ZYX Euler angles, rad) with body rates up to about 0.2 rad/s, and a 1000 m
-/// circle at 10 m/s with a small vertical oscillation (the trajectory of bench/long_run.cpp).
-struct Vehicle {
-  double lat = 0.6, lon = 0.2, h = 100.0;
-  static Vec3<double> euler(double t) {
-    return Vec3<double>(0.5 * std::sin(0.31 * t), 0.4 * std::sin(0.23 * t + 1.0),
-                        1.5 * std::sin(0.013 * t) + 0.6 * std::sin(0.11 * t));
-  }
-  static Vec3<double> body_rate(double t) {
-    const Vec3<double> e = euler(t);
-    const Vec3<double> d(0.5 * 0.31 * std::cos(0.31 * t), 0.4 * 0.23 * std::cos(0.23 * t + 1.0),
-                         1.5 * 0.013 * std::cos(0.013 * t) + 0.6 * 0.11 * std::cos(0.11 * t));
-    const double sr = std::sin(e[0]), cr = std::cos(e[0]), sp = std::sin(e[1]), cp = std::cos(e[1]);
-    return Vec3<double>(d[0] - d[2] * sp, d[1] * cr + d[2] * sr * cp, -d[1] * sr + d[2] * cr * cp);
-  }
-  static Vec3<double> v(double t) {
-    return Vec3<double>(10.0 * std::cos(0.01 * t), 10.0 * std::sin(0.01 * t), 0.5 * std::sin(0.05 * t));
-  }
-  static Vec3<double> v_dot(double t) {
-    return Vec3<double>(-0.1 * std::sin(0.01 * t), 0.1 * std::cos(0.01 * t), 0.025 * std::cos(0.05 * t));
-  }
-  /// Noise-free IMU over (t - dt, t] (values at the middle of the step); position advanced to t.
-  void step(double t, double dt, Vec3<double>& w_ib_b, Vec3<double>& f_ib_b) {
-    const double tm = t - 0.5 * dt;
-    const Vec3<double> vm = v(tm);
-    const Vec3<double> r0 = earth::geodetic_rates(lat, h, vm);
-    const double lat_m = lat + 0.5 * dt * r0[0], h_m = h + 0.5 * dt * r0[2];
-    const Quat<double> q = quat::from_euler(euler(tm));
-    const Vec3<double> w_ie = earth::earth_rate_n(lat_m), w_en = earth::transport_rate_n(lat_m, h_m, vm);
-    w_ib_b = body_rate(tm) + quat::rotate_inv(q, Vec3<double>(w_ie + w_en));
-    f_ib_b = quat::rotate_inv(q, Vec3<double>(v_dot(tm) + (2.0 * w_ie + w_en).cross(vm) - earth::gravity_n(lat_m, h_m)));
-    const Vec3<double> r = earth::geodetic_rates(lat_m, h_m, vm);
-    lat += dt * r[0];
-    lon += dt * r[1];
-    h += dt * r[2];
-  }
-};
 
 constexpr int kRuns = 8;
 constexpr double kDt = 0.01, kT = 150.0;
@@ -87,11 +53,11 @@ template <TimeUpdate TU> void anees(std::vector<double>& att, std::vector<double
     Mat<double, 12, 12> Pe = Mat<double, 12, 12>::Zero();
     Pe.diagonal() << Vec3<double>::Constant(0.01), Vec3<double>::Constant(9e-4), Vec3<double>::Constant(2.5e-3),
         Vec3<double>::Constant(1e-6);
-    Vehicle tr;
-    const Quat<double> q0 = quat::mul(quat::from_euler(Vehicle::euler(0.0)), quat::from_rotvec(Vec3<double>(0.03 * n3())));
+    NavTruth tr;  // the vehicle of bench/long_run.cpp
+    const Quat<double> q0 = quat::mul(quat::from_euler(tr.att.euler(0.0)), quat::from_rotvec(Vec3<double>(0.03 * n3())));
     const Mat<double, 13, 12> Tb = detail::nav13_from_error(q0);
     const Mat<double, 13, 13> P0 = Tb * Pe * Tb.transpose();
-    ASSERT_EQ(f.reset(Vec3<double>(Vehicle::v(0.0) + 0.1 * n3()), q0, Vec3<double>::Zero(), Vec3<double>::Zero(),
+    ASSERT_EQ(f.reset(Vec3<double>(tr.v(0.0) + 0.1 * n3()), q0, Vec3<double>::Zero(), Vec3<double>::Zero(),
                       Mat<double, 13, 13>((P0 + P0.transpose()) * 0.5), tr.lat, tr.lon, tr.h),
               Status::Ok);
     for (int k = 1; k <= steps; ++k) {
@@ -102,14 +68,14 @@ template <TimeUpdate TU> void anees(std::vector<double>& att, std::vector<double
       a += b_a + (sa / std::sqrt(kDt)) * n3();
       ASSERT_EQ(f.predict(a, w, kDt), Status::Ok);
       if (k % 10 == 0) {
-        const double yaw = quat::wrap_pi(Vehicle::euler(t)[2] + 0.035 * N(rng));
-        ASSERT_EQ(f.update_velocity_yaw(Vec3<double>(Vehicle::v(t) + 0.03 * n3()), yaw).status, Status::Ok);
+        const double yaw = quat::wrap_pi(tr.att.euler(t)[2] + 0.035 * N(rng));
+        ASSERT_EQ(f.update_velocity_yaw(Vec3<double>(tr.v(t) + 0.03 * n3()), yaw).status, Status::Ok);
       }
       if (k >= first && (k - first) % every == 5) {  // between the 10 Hz aids
         const int i = (k - first) / every;
-        const Quat<double> qt = quat::from_euler(Vehicle::euler(t));
+        const Quat<double> qt = quat::from_euler(tr.att.euler(t));
         const Vec3<double> dth = quat::to_rotvec(quat::mul(quat::conj(f.state().q_nb), qt));
-        const Vec3<double> dv = f.state().v_n - Vehicle::v(t);
+        const Vec3<double> dv = f.state().v_n - tr.v(t);
         const Mat<double, 12, 12> E = f.error_covariance();
         att[i] += dth.dot(E.block<3, 3>(3, 3).ldlt().solve(dth)) / kRuns;
         vel[i] += dv.dot(E.block<3, 3>(0, 0).ldlt().solve(dv)) / kRuns;
