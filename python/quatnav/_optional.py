@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import importlib
 
-_EXTRA = {"scipy": "sim", "matplotlib": "eval", "h5py": "eval", "tqdm": "eval"}
+_EXTRA = {"scipy": "sim", "matplotlib": "eval", "h5py": "eval", "tqdm": "eval", "pandas": "io"}
 
 
 def require(module: str, feature: str):

@@ -1,12 +1,143 @@
-"""The ``quatnav`` command line: ``quatnav demo``, and one subcommand per tool."""
+"""The ``quatnav`` command line: ``quatnav demo``, and one subcommand per tool.
+
+Every user mistake (a bad option, a missing or malformed input file, a missing optional
+package) ends the command with one line on stderr naming what is wrong and what to do, and exit
+status 2; :func:`main` is the one place that turns such an exception into that line. A user
+error is a :class:`UsageError` (or a subclass), or a ``ValueError`` / ``FileNotFoundError``
+raised by quatnav's own input validation; anything else is a bug and keeps its traceback.
+``QUATNAV_TRACEBACK=1`` shows the traceback of user errors too.
+"""
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
+import linecache
+import os
 import sys
+from pathlib import Path
+
+__all__ = ["UsageError", "main", "build_parser", "write_json", "missing_extra"]
+
+EPILOG = """\
+environment:
+  QUATNAV_DATA   folder of the shared datasets (broad/, navego_synthetic/, gnss_imu_walk/, px4/),
+                 used by 'eval broad' and the experiments on real data when no DIR / --data is
+                 given; default: ../shared/data next to the source tree
+  QUATNAV_TRACEBACK=1  show the Python traceback of a user error as well
+
+exit status: 0 success, 1 ran but produced nothing useful (e.g. 'ins run': navigation never
+started), 2 a user error (one line on stderr)"""
+
+#: optional package -> extra of ``pip install 'quatnav[EXTRA]'`` that provides it, per command
+#: (``None``: any command). scipy is in both [sim] and [eval]; the command decides which to name.
+_EXTRAS = {
+    "scipy": {"simulate": "sim", "bench": "sim", None: "eval"},
+    "matplotlib": {None: "eval"}, "h5py": {None: "eval"}, "tqdm": {None: "eval"},
+    "pandas": {None: "io"},
+    "vqf": {None: "peers"}, "imufusion": {None: "peers"}, "ahrs": {None: "peers"}, "filterpy": {None: "peers"},
+}
+
+
+class UsageError(Exception):
+    """A mistake of the user (bad argument, bad input file): :func:`main` prints its message as
+    one line and exits with status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser whose errors are one line: ``PROG: error: MESSAGE (see 'PROG -h')``."""
+
+    def error(self, message):  # noqa: D401 - argparse API
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} -h')\n")
+
+
+def missing_extra(module: str, command: str | None = None) -> str | None:
+    """The extra that provides ``module`` (top-level name), for ``command``; None if not optional."""
+    table = _EXTRAS.get(module.split(".")[0])
+    if table is None:
+        return None
+    return table.get(command, table[None])
+
+
+def _missing_module(exc: ImportError) -> str | None:
+    """The optional module whose absence caused ``exc`` (following ``raise ... from``), or None."""
+    e = exc
+    while e is not None:
+        name = getattr(e, "name", None)
+        if isinstance(e, ImportError) and name and name.split(".")[0] in _EXTRAS:
+            return name.split(".")[0]
+        e = e.__cause__ or e.__context__
+    return None
+
+
+def _raised_by_quatnav(exc: BaseException) -> bool:
+    """True when ``exc`` comes from an explicit ``raise`` statement in quatnav's own code (input
+    validation), not from numpy, the compiled core or an operation that failed."""
+    tb = exc.__traceback__
+    if tb is None:
+        return False
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    fname = tb.tb_frame.f_code.co_filename
+    pkg = str(Path(__file__).resolve().parent)
+    try:
+        inside = str(Path(fname).resolve()).startswith(pkg + os.sep)
+    except OSError:  # pragma: no cover
+        return False
+    return inside and linecache.getline(fname, tb.tb_lineno).lstrip().startswith("raise")
+
+
+def _plain(msg: str) -> str:
+    return " ".join(str(msg).split())  # one line whatever the exception's text
+
+
+def write_json(obj, args, path: str | None = None) -> None:
+    """Write ``obj`` as JSON to ``path`` (default ``args.json``); ``-`` is standard output.
+
+    With ``--json -`` :func:`main` sends the command's human-readable output to stderr, so that
+    stdout holds only the JSON document.
+    """
+    dest = path if path is not None else getattr(args, "json", None)
+    if not dest:
+        return
+    text = json.dumps(obj, indent=1, default=_json_default, allow_nan=True)
+    if dest == "-":
+        out = getattr(args, "_json_stdout", None) or sys.stdout
+        out.write(text + "\n")
+        out.flush()
+        return
+    with open(dest, "w") as fh:
+        fh.write(text + "\n")
+    print(f"wrote {dest}")
+
+
+def _json_default(o):
+    import numpy as np
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, Path):
+        return str(o)
+    raise TypeError(f"cannot write {type(o).__name__} as JSON")
+
+
+def _leaf_progs(parser) -> None:
+    """Set ``_prog`` (the full command name, for messages), ``_command`` (the first word after
+    ``quatnav``) and ``_choices`` (its subcommands, if any) on every parser of the tree."""
+    words = parser.prog.split()
+    choices = []
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            choices = list(action.choices)
+            for sub in action.choices.values():
+                _leaf_progs(sub)
+    parser.set_defaults(_prog=parser.prog, _command=words[1] if len(words) > 1 else None, _choices=choices)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="quatnav", description="Attitude and inertial-navigation filters.")
+    parser = _Parser(prog="quatnav", description="Attitude and inertial-navigation filters.", epilog=EPILOG,
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="store_true", help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     from . import demo
@@ -21,7 +152,17 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_parser(sub)
     from . import ins_cli
     ins_cli.add_parser(sub)
+    _leaf_progs(parser)
+    parser.set_defaults(func=None)
     return parser
+
+
+def _preflight(args) -> None:
+    """Checks that save the user a long run before a certain failure."""
+    if getattr(args, "plot", None):
+        import importlib.util
+        if importlib.util.find_spec("matplotlib") is None:
+            raise ModuleNotFoundError("No module named 'matplotlib'", name="matplotlib")
 
 
 def main(argv=None) -> int:
@@ -31,10 +172,52 @@ def main(argv=None) -> int:
         from . import __version__
         print(__version__)
         return 0
-    if not getattr(args, "func", None):
-        parser.print_help()
+    prog = getattr(args, "_prog", "quatnav")
+    if not args.func:
+        choices = getattr(args, "_choices", None) or []
+        print(f"{prog}: error: give a command ({', '.join(choices)}; see '{prog} -h')", file=sys.stderr)
         return 2
-    return int(args.func(args) or 0)
+    command = getattr(args, "_command", None)
+    debug = os.environ.get("QUATNAV_TRACEBACK", "") not in ("", "0")
+    try:
+        _preflight(args)
+        if getattr(args, "json", None) == "-":
+            args._json_stdout = sys.stdout
+            with contextlib.redirect_stdout(sys.stderr):
+                return int(args.func(args) or 0)
+        return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # e.g. piped into head
+        with contextlib.suppress(Exception):
+            sys.stdout = open(os.devnull, "w")
+        return 0
+    except ImportError as exc:
+        mod = _missing_module(exc)
+        if mod is None or debug:
+            raise
+        extra = missing_extra(mod, command)
+        what = "--plot" if mod == "matplotlib" and getattr(args, "plot", None) else "this command"
+        print(f"{prog}: error: {what} needs the optional package {mod}, which is not installed: "
+              f"pip install 'quatnav[{extra}]' (or pip install {mod})", file=sys.stderr)
+        return 2
+    except UsageError as exc:
+        if debug:
+            raise
+        print(f"{prog}: error: {_plain(exc)}", file=sys.stderr)
+        return 2
+    except (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError) as exc:
+        if debug:
+            raise
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"{prog}: error: {where}{_plain(exc.strerror or exc)}", file=sys.stderr)
+        return 2
+    except ValueError as exc:
+        if debug or not _raised_by_quatnav(exc):
+            raise
+        print(f"{prog}: error: {_plain(exc)}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

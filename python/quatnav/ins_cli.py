@@ -5,9 +5,11 @@
     quatnav ins run --imu IMU.csv --gnss GNSS.csv [--baro BARO.csv] [--compass COMPASS.csv]
                     [--config CONFIG.toml] --out OUT.csv
 
-Every input file is CSV with a header row of named columns (any order; extra columns are
-ignored; blank lines and lines starting with ``#`` are skipped). Times are in seconds on one
-clock shared by all files and strictly increasing within each file.
+Every input file is CSV with a header row of named columns (any order, matched without regard to
+case or surrounding spaces; extra columns are ignored; blank lines and lines starting with ``#``
+are skipped), read by :func:`quatnav.csvio.read_table` (pandas: ``pip install 'quatnav[io]'``):
+``,``, ``;`` or tab delimiters, UTF-8 with or without a byte-order mark. Times are in seconds on
+one clock shared by all files and strictly increasing within each file.
 
 =============  ===========================================================================
 file           columns
@@ -41,15 +43,25 @@ The output has one row per IMU sample from the start of navigation: ``time`` (s)
 (attitude error about the NED axes), ``sigma_accel_bias_x_m_s2 ..z``, ``sigma_gyro_bias_x_deg_h
 ..z``. Errors in the input end the command with exit status 2 and a one-line message naming the
 file, the line and the column; exit status 1 means navigation never started (no output rows).
+
+An IMU gap longer than ``max_dt`` is coasted: the INS is propagated across it in equal steps of
+at most ``max_dt`` with the sample that ends the gap (by the file's convention the mean over the
+gap), without output rows for the inserted steps, and a warning names the file lines. IMU times
+whose median step exceeds ``max_dt`` are refused as a wrong unit (ms, us or ns are named when the
+step fits one). Inputs that look like the wrong unit or axes give one warning each on stderr
+(:func:`plausibility_warnings`): gyro in deg/s, accelerometer in g or mg, gravity not on -z at
+rest, latitude/longitude in radians, GNSS and IMU time ranges that do not overlap.
 """
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import sys
 
 import numpy as np
+
+from .cli import UsageError, write_json
+from .csvio import CsvError, read_table
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 GNSS_COLUMNS = ("time", "lat", "lon", "h")
@@ -66,8 +78,9 @@ OUTPUT_COLUMNS = (
     + tuple(f"sigma_accel_bias_{a}_m_s2" for a in "xyz") + tuple(f"sigma_gyro_bias_{a}_deg_h" for a in "xyz"))
 
 EPILOG = """\
-input files: CSV, a header row of named columns in any order (extra columns ignored; lines
-starting with # skipped); times in s on one clock, strictly increasing in each file.
+input files: CSV, a header row of named columns in any order (case and surrounding spaces do
+not matter; extra columns ignored; lines starting with # skipped); delimiter , ; or tab; UTF-8
+(a byte-order mark is fine); times in s on one clock, strictly increasing in each file.
   IMU      time, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s^2); body
            forward-right-down; row k = mean over (time[k-1], time[k]]
   GNSS     time, lat, lon (deg), h (m, antenna); optional v_n, v_e, v_d (m/s),
@@ -81,76 +94,31 @@ output (CSV), one row per IMU sample once navigating:
   accel_bias_{x,y,z}_m_s2, gyro_bias_{x,y,z}_deg_h, sigma_n, sigma_e, sigma_d (m),
   sigma_vn, sigma_ve, sigma_vd (m/s), sigma_psi_{n,e,d}_deg,
   sigma_accel_bias_{x,y,z}_m_s2, sigma_gyro_bias_{x,y,z}_deg_h
+gaps: an IMU gap longer than max_dt is coasted (propagated in steps of at most max_dt with the
+  sample that ends it) and reported as a warning with the file lines; IMU times whose median
+  step exceeds max_dt are refused as a wrong unit (ms, us, ns)
+warnings (stderr, once each): gyro in deg/s, accelerometer in g or mg, gravity not on -z at rest
+  (forward-right-down sees (0, 0, -9.8) m/s^2), lat/lon in radians, GNSS and IMU times that do
+  not overlap
+--json FILE writes a summary (rows, navigation start, gaps, warnings); --json - prints it
 exit status: 0 on success, 1 when navigation never started (no output rows), 2 on an input
 error (one line on stderr naming the file, line and column)."""
 
 
-class InputError(Exception):
+class InputError(UsageError, ValueError):
     """A problem with an input file or the configuration (its message is the one-line report)."""
 
 
 def read_csv(path, required, optional=(), what="file"):
-    """Read a CSV with a header row; returns ({column: float array}, line numbers).
+    """Read a CSV with a header row; returns ({column: float array}, file line numbers).
 
-    Required columns must be present with a number in every row; optional columns may be absent
-    (all NaN) or empty in a row (NaN). Raises :class:`InputError` naming the file, line, column.
+    See :func:`quatnav.csvio.read_table`; raises :class:`InputError` naming the file, line, column.
     """
     try:
-        fh = open(path, newline="")
-    except OSError as e:
-        raise InputError(f"{what} {path}: cannot open ({e.strerror})") from None
-    with fh:
-        rows = []
-        header = None
-        for lineno, row in enumerate(csv.reader(fh), start=1):
-            if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
-                continue
-            if header is None:
-                header = [c.strip() for c in row]
-                header_line = lineno
-                dup = sorted({c for c in header if header.count(c) > 1 and c})
-                if dup:
-                    raise InputError(f"{what} {path}: line {lineno}: column {dup[0]!r} appears twice in the header")
-                continue
-            rows.append((lineno, row))
-    if header is None:
-        raise InputError(f"{what} {path}: empty file (no header row)")
-    missing = [c for c in required if c not in header]
-    if missing:
-        raise InputError(f"{what} {path}: line {header_line}: missing column {missing[0]!r} "
-                         f"(needs {', '.join(required)}; found {', '.join(header)})")
-    if not rows:
-        raise InputError(f"{what} {path}: no data rows")
-    idx = {c: header.index(c) for c in tuple(required) + tuple(optional) if c in header}
-    n = len(rows)
-    out = {c: np.full(n, np.nan) for c in tuple(required) + tuple(optional)}
-    lines = np.empty(n, dtype=np.int64)
-    for i, (lineno, row) in enumerate(rows):
-        lines[i] = lineno
-        if len(row) < len(header) and any(idx[c] >= len(row) for c in required):
-            raise InputError(f"{what} {path}: line {lineno}: {len(row)} fields, the header has {len(header)}")
-        for c, j in idx.items():
-            raw = row[j].strip() if j < len(row) else ""
-            if raw == "" and c not in required:
-                continue
-            try:
-                x = float(raw)
-            except ValueError:
-                x = math.nan
-            if not math.isfinite(x):
-                if c in required or raw != "":
-                    kind = "empty" if raw == "" else f"not a finite number ({raw!r})"
-                    raise InputError(f"{what} {path}: line {lineno}, column {c!r}: {kind}")
-            out[c][i] = x
-    t = out["time"]
-    d = np.diff(t)
-    bad = np.flatnonzero(d <= 0)
-    if len(bad):
-        k = bad[0] + 1
-        word = "duplicate time" if d[bad[0]] == 0 else "time goes backwards"
-        raise InputError(f"{what} {path}: line {lines[k]}, column 'time': {word} ({t[k]!r} after {t[k - 1]!r} "
-                         f"on line {lines[k - 1]}); times must be strictly increasing")
-    return out, lines
+        tab = read_table(path, required, optional, what=what)
+    except CsvError as e:
+        raise InputError(str(e)) from None
+    return tab.columns, tab.lines
 
 
 def load_config(path) -> dict:
@@ -190,19 +158,232 @@ def load_config(path) -> dict:
     return dict(params)
 
 
-def run_files(imu, gnss, out, baro=None, compass=None, config=None):
-    """Run the filter on the files and write ``out``; returns a one-line summary."""
+_UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1e-9))
+_G = 9.80665
+#: The most coasting steps inserted into one run (a longer gap is refused, not coasted).
+MAX_COAST_STEPS = 5_000_000
+
+
+def _lines_text(pairs, limit=3) -> str:
+    shown = ", ".join(pairs[:limit])
+    return shown + (f" and {len(pairs) - limit} more" if len(pairs) > limit else "")
+
+
+def check_imu_times(t, lines, max_dt, where="IMU"):
+    """Refuse IMU times in the wrong unit; return the gaps longer than ``max_dt``.
+
+    Returns
+    -------
+    gaps : list of (k, step)
+        Rows k (0-based) whose step ``t[k] - t[k-1]`` exceeds ``max_dt``.
+    warnings : list of str
+
+    Raises
+    ------
+    InputError
+        When the median step exceeds ``max_dt`` (the record would be all gaps): the message
+        names the unit the times look like (ms, us, ns) when the step fits one.
+    """
+    d = np.diff(t)
+    med = float(np.median(d))
+    warnings = []
+
+    def guess(step):
+        for name, f in _UNITS:
+            if 1e-5 <= step * f <= 0.25:
+                return name, 1.0 / (step * f)
+        return None, None
+    if med > max_dt:
+        unit, rate = guess(med)
+        hint = (f"the times look like {unit} (a {rate:.4g} Hz IMU): convert them to seconds" if unit
+                else "times must be in seconds")
+        raise InputError(f"{where}: median time step {med:g} s exceeds max_dt = {max_dt:g} s, implausible for an "
+                         f"IMU; {hint}")
+    if med > 0.1:
+        unit, rate = guess(med)
+        warnings.append(f"{where}: median time step {med:g} s ({1 / med:.3g} Hz) is slow for an IMU"
+                        + (f"; if the times are in {unit} ({rate:.4g} Hz), convert them to seconds" if unit else ""))
+    big = np.flatnonzero(d > max_dt)
+    gaps = [(int(k) + 1, float(d[k])) for k in big]
+    if gaps:
+        pairs = [f"lines {lines[k - 1]}-{lines[k]}: {step:g} s" for k, step in gaps]
+        warnings.append(f"{where}: {len(gaps)} gap{'s' if len(gaps) > 1 else ''} longer than max_dt = {max_dt:g} s "
+                        f"({_lines_text(pairs)}): coasted across in steps of at most max_dt with the sample that "
+                        "ends each gap; the error grows there")
+    return gaps, warnings
+
+
+def coast_gaps(t, gyro, accel, gaps, max_dt):
+    """Insert coasting steps into gaps longer than ``max_dt``.
+
+    Each gap (t[k-1], t[k]] is split into ``ceil(step / max_dt)`` equal steps, all with row k's
+    rate and specific force (row k is the mean over the gap by the file's convention).
+
+    Returns
+    -------
+    t, gyro, accel : ndarray
+        The expanded record.
+    original : (M,) bool ndarray
+        True at the rows of the input (False at inserted steps).
+    """
+    if not gaps:
+        return t, gyro, accel, np.ones(len(t), bool)
+    reps = np.ones(len(t), dtype=np.int64)
+    for k, step in gaps:
+        reps[k] = int(math.ceil(step / (max_dt * (1 - 1e-9))))  # every sub-step strictly below max_dt
+    total = int(reps.sum()) - len(t)
+    if total > MAX_COAST_STEPS:
+        k, step = max(gaps, key=lambda g: g[1])
+        raise InputError(f"IMU: gaps would need {total} coasting steps of max_dt = {max_dt:g} s (longest {step:g} s "
+                         f"at row {k}); split the log at the gap or raise max_dt")
+    idx = np.repeat(np.arange(len(t)), reps)
+    original = np.ones(len(idx), bool)
+    tt = t[idx].copy()
+    pos = np.cumsum(reps) - 1  # position of each original row in the expanded record
+    for k, _ in gaps:
+        m = reps[k]
+        j = pos[k] - m + 1  # first inserted step
+        frac = np.arange(1, m) / m
+        tt[j:j + m - 1] = t[k - 1] + frac * (t[k] - t[k - 1])
+        original[j:j + m - 1] = False
+    return tt, gyro[idx], accel[idx], original
+
+
+def _window(t, align_time):
+    """Rows in the alignment window [t0, t0 + align_time] (at least 10 when there are)."""
+    n = int(np.searchsorted(t, t[0] + max(align_time, 0.0), side="right"))
+    return slice(1, max(n, min(len(t), 11)))  # row 0 only fixes the start time
+
+
+def check_gyro(gyro, t, align_time, where="IMU"):
+    """A warning when the rates look like deg/s (or None)."""
+    w = np.linalg.norm(gyro, axis=1)
+    mx = float(np.max(np.abs(gyro)))
+    rest = float(np.median(w[_window(t, align_time)]))
+    med = float(np.median(w))
+    if mx > 40.0 or med > 1.5 or rest > 0.1:
+        why = (f"max |gyro| {mx:.4g} rad/s is beyond any MEMS gyro's range" if mx > 40.0 else
+               f"median |gyro| {med:.4g} rad/s is implausibly fast" if med > 1.5 else
+               f"median |gyro| {rest:.4g} rad/s ({math.degrees(rest):.3g} deg/s) over the first {align_time:g} s, "
+               "where the filter levels at rest")
+        return (f"{where}: gyro_x/y/z look like deg/s, not rad/s ({why}); multiply by pi/180"
+                + ("" if mx > 40.0 or med > 1.5 else ", or start the log at rest"))
+    return None
+
+
+def check_accel(accel, where="IMU"):
+    """A warning when the specific force looks like g or mg, or is far from gravity (or None)."""
+    m = float(np.median(np.linalg.norm(accel, axis=1)))
+    if 0.5 <= m <= 2.0:
+        return f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); multiply by 9.80665"
+    if 500.0 <= m <= 2000.0:
+        return (f"{where}: accel_x/y/z look like milli-g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
+                "multiply by 0.00980665")
+    if not 6.0 <= m <= 14.0:
+        return f"{where}: median |accel| {m:.4g} m/s^2, far from gravity (~9.8): check the unit of accel_x/y/z"
+    return None
+
+
+def check_gravity(accel, t, align_time, where="IMU"):
+    """A warning when gravity at rest is not on -z of the forward-right-down body frame (or None).
+
+    At rest a forward-right-down IMU measures the specific force (0, 0, -g); a mean over the
+    alignment window more than 60 deg away from -z names the axis it appears on.
+    """
+    f = np.mean(accel[_window(t, align_time)], axis=0)
+    n = float(np.linalg.norm(f))
+    if not n > 0.5:
+        return None
+    if -f[2] / n >= 0.5:  # within 60 deg of -z
+        return None
+    ax = int(np.argmax(np.abs(f)))
+    sign = "+" if f[ax] > 0 else "-"
+    at = f"mean specific force over the first {align_time:g} s ({f[0]:.2f}, {f[1]:.2f}, {f[2]:.2f}) m/s^2"
+    if ax == 2:
+        return (f"{where}: gravity appears on +z ({at}; forward-right-down at rest sees (0, 0, -9.8)): is the IMU "
+                "upside down, its z axis up (forward-left-up: negate y and z), or the accelerometer giving gravity "
+                "instead of specific force (negate all three)?")
+    return (f"{where}: gravity appears on {sign}{'xyz'[ax]} ({at}; forward-right-down at rest sees (0, 0, -9.8)): "
+            "the IMU axes are not forward-right-down (reorder or negate the columns), or it is not level at rest")
+
+
+def check_magnetometer(mag, where="magnetometer"):
+    """A warning when a magnetometer (N, 3) is not in uT: T, G, mG or nT are named (or None).
+
+    The Earth's field is 22-67 uT at the surface.
+    """
+    m = float(np.median(np.linalg.norm(np.asarray(mag, float), axis=1)))
+    for lo, hi, unit, factor in ((5e-6, 2e-4, "tesla", "1e6"), (0.1, 1.0, "gauss", "100"),
+                                 (100.0, 1000.0, "milligauss", "0.1"), (5e3, 2e5, "nanotesla", "0.001")):
+        if lo <= m <= hi:
+            return f"{where}: median |mag| {m:.4g} looks like {unit}, not uT; multiply by {factor}"
+    if not 5.0 <= m <= 200.0:
+        return f"{where}: median |mag| {m:.4g}, expected 22-67 uT for the Earth's field: check the unit"
+    return None
+
+
+def check_latlon(lat_deg, lon_deg, where="GNSS"):
+    """A warning when every fix lies within +-pi/2, +-pi "degrees" of (0, 0): radians (or None)."""
+    if len(lat_deg) and np.all(np.abs(lat_deg) <= math.pi / 2) and np.all(np.abs(lon_deg) <= math.pi) \
+            and np.max(np.abs(np.concatenate([lat_deg, lon_deg]))) > 1e-3:
+        return (f"{where}: every lat/lon is within +-1.571/+-3.142, i.e. they look like radians "
+                f"(lat {np.median(lat_deg):.4f}, lon {np.median(lon_deg):.4f}); the columns are degrees")
+    return None
+
+
+def check_overlap(t_imu, t_gnss, where="GNSS"):
+    """A warning when the GNSS and IMU time ranges do not overlap (or None)."""
+    if len(t_gnss) and (t_gnss[-1] < t_imu[0] or t_gnss[0] > t_imu[-1]):
+        return (f"{where} times {t_gnss[0]:g} to {t_gnss[-1]:g} s and IMU times {t_imu[0]:g} to {t_imu[-1]:g} s "
+                "do not overlap: the files must share one clock, in seconds")
+    return None
+
+
+def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), align_time=2.0,
+                          imu="IMU", gnss="GNSS") -> list:
+    """The warnings of the checks above for one run (each at most once)."""
+    out = [check_gyro(gyro, t, align_time, imu), check_accel(accel, imu), check_gravity(accel, t, align_time, imu),
+           check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, np.asarray(gnss_t), gnss)]
+    return [w for w in out if w]
+
+
+def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
+    """Run the filter on the files and write ``out``.
+
+    Returns
+    -------
+    message : str
+        One-line summary.
+    ok : bool
+        Whether navigation started (any output rows).
+    summary : dict
+        Rows, navigation start, coasted gaps, gate rejections, warnings (for ``--json``).
+
+    ``warn(text)`` is called once per warning (default: collected in ``summary["warnings"]`` only).
+    """
     import quatnav
 
+    warnings = []
+
+    def note(text):
+        warnings.append(text)
+        if warn is not None:
+            warn(text)
+
     params = load_config(config) if config else {}
-    d_imu, _ = read_csv(imu, IMU_COLUMNS, what="IMU")
+    try:
+        f = quatnav.GpsInsFilter(**params)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"config {config}: {e}") from None
+    max_dt, align_time = float(f.params["max_dt"]), float(f.params["align_time"])
+    d_imu, lines_i = read_csv(imu, IMU_COLUMNS, what="IMU")
     if len(d_imu["time"]) < 2:
         raise InputError(f"IMU {imu}: needs at least two rows")
     d_g, lines_g = read_csv(gnss, GNSS_COLUMNS, GNSS_OPTIONAL, what="GNSS")
     for c, lim in (("lat", 90.0), ("lon", 360.0)):
         bad = np.flatnonzero(np.abs(d_g[c]) > lim)
         if len(bad):
-            raise InputError(f"GNSS {gnss}: line {lines_g[bad[0]]}, column {c!r}: {d_g[c][bad[0]]!r} is not "
+            raise InputError(f"GNSS {gnss}: line {lines_g[bad[0]]}, column {c!r}: {float(d_g[c][bad[0]])!r} is not "
                              f"a {'latitude' if c == 'lat' else 'longitude'} in degrees")
     for cols in (("v_n", "v_e", "v_d"), ("sigma_n", "sigma_e", "sigma_d"), ("sigma_vn", "sigma_ve", "sigma_vd")):
         a = np.column_stack([d_g[c] for c in cols])
@@ -226,15 +407,19 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None):
     if compass:
         d_c, _ = read_csv(compass, COMPASS_COLUMNS, what="COMPASS")
         kw.update(compass_t=d_c["time"], compass_yaw=np.radians(d_c["heading"]))
-    try:
-        f = quatnav.GpsInsFilter(**params)
-    except (TypeError, ValueError) as e:
-        raise InputError(f"config {config}: {e}") from None
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
-    r = f.run(t, gyro, accel, **kw)
-    nav = r.navigating
+    gaps, wt = check_imu_times(t, lines_i, max_dt, where=f"IMU {imu}")
+    for w in wt:
+        note(w)
+    for w in plausibility_warnings(t, gyro, accel, d_g["time"], d_g["lat"], d_g["lon"], align_time,
+                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}"):
+        note(w)
+    overlap = check_overlap(t, d_g["time"]) is None
+    tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt)
+    r = f.run(tt, gg, aa, **kw)
+    nav = r.navigating & original
     s = r.sigma[nav]
     cols = [r.t[nav], np.degrees(r.llh[nav, 0]), np.degrees(r.llh[nav, 1]), r.llh[nav, 2], *r.v_n[nav].T,
             *np.degrees(r.euler[nav]).T, *r.accel_bias[nav].T, *(r.gyro_bias[nav] / _DEG_H).T,
@@ -246,21 +431,31 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None):
     except OSError as e:
         raise InputError(f"output {out}: cannot write ({e.strerror})") from None
     rej = {k: v for k, v in r.rejections.items() if v}
-    msg = (f"wrote {out}: {int(nav.sum())} rows ({len(t)} IMU samples, navigation from t = "
-           f"{r.t[nav][0]:.3f} s)" if nav.any() else f"wrote {out}: 0 rows (navigation never started: "
-           "no GNSS fix after levelling, or no heading)")
+    n_nav = int(nav.sum())
+    if nav.any():
+        msg = f"wrote {out}: {n_nav} rows ({len(t)} IMU samples, navigation from t = {r.t[nav][0]:.3f} s)"
+    elif not overlap:
+        msg = f"wrote {out}: 0 rows (navigation never started: the GNSS and IMU times do not overlap)"
+    else:
+        msg = f"wrote {out}: 0 rows (navigation never started: no GNSS fix after levelling, or no heading)"
+    if gaps:
+        msg += f"; {len(gaps)} IMU gap{'s' if len(gaps) > 1 else ''} coasted"
     if rej:
         msg += "; gated out: " + ", ".join(f"{k} {v}" for k, v in rej.items())
-    return msg, bool(nav.any())
+    summary = {"output": str(out), "rows": n_nav, "imu_samples": int(len(t)),
+               "navigation_start_s": float(r.t[nav][0]) if nav.any() else None,
+               "coasted_gaps": [{"lines": [int(lines_i[k - 1]), int(lines_i[k])], "seconds": step} for k, step in gaps],
+               "gated_out": rej, "counters": r.counters, "warnings": warnings}
+    return msg, bool(nav.any()), summary
 
 
 def _run(args) -> int:
-    try:
-        msg, ok = run_files(args.imu, args.gnss, args.out, baro=args.baro, compass=args.compass, config=args.config)
-    except InputError as e:
-        print(f"quatnav ins run: error: {e}", file=sys.stderr)
-        return 2
+    prog = getattr(args, "_prog", "quatnav ins run")
+    msg, ok, summary = run_files(args.imu, args.gnss, args.out, baro=args.baro, compass=args.compass,
+                                 config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr))
     print(msg)
+    if args.json:
+        write_json(summary, args)
     return 0 if ok else 1
 
 
@@ -279,6 +474,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--compass", metavar="COMPASS.csv", help="compass headings (optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output CSV")
+    r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
     r.set_defaults(func=_run)
-    p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
+    p.set_defaults(func=None)
     return p
