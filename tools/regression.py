@@ -1,0 +1,670 @@
+#!/usr/bin/env python3
+"""Reference outputs of every filter on fixed inputs, so that a numerical change shows as a diff.
+
+    python3 tools/regression.py            # recompute every case, compare, print a table (exit 1 on any difference)
+    python3 tools/regression.py --update   # rewrite tests/regression/*.csv from the current code
+    python3 tools/regression.py -k gpsins  # only the cases whose name contains "gpsins"
+    python3 tools/regression.py --list     # the cases
+
+Each case is one filter configuration (:data:`CASES`) on one seeded scenario or one BROAD trial
+(:data:`SCENARIOS`). Its file ``tests/regression/<case>.csv`` holds a header of ``#`` lines (the
+call, the sha256 of the inputs, the sha256 of the outputs at every sample, a summary such as the
+aiding counters) and a CSV table of every ``stride``-th sample and the last one. Floats are written
+as the shortest decimal that reads back to the same value (float64 ``repr``; float32 the shortest
+``%.Ng`` that reads back through ``float32(float(text))``), so the text is equal exactly when the
+numbers are equal bit for bit; flags are unsigned integers. ``tests/python/test_regression.py``
+recomputes every case and requires the same file.
+
+The calling code of each filter lives in one small function below (``run_qekf``, ``run_euler``,
+``run_marg``, ``run_nav13``, ``run_gpsins``, ``run_strapdown``): an API change edits that function
+only; the references must not move when it does.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import functools
+import hashlib
+import math
+import sys
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+OUT_DIR = REPO / "tests" / "regression"
+REGENERATE = "python3 tools/regression.py --update"
+
+BROAD_TRIAL = "28_disturbed_stationary_magnet_A"
+
+
+# ------------------------------------------------------------------------------------------------
+# Inputs: seeded scenarios and one BROAD trial. Each returns a dict of named arrays and numbers;
+# its sha256 is written to the file, so a changed input is told apart from a changed filter.
+# ------------------------------------------------------------------------------------------------
+class DataMissing(Exception):
+    """The real data a case needs is not present (its test skips)."""
+
+
+def _align(sensor_index, values, imu_index):
+    """(N, 3) rows at the IMU samples, all-NaN where the sensor has no sample."""
+    n = len(imu_index)
+    out = np.full((n, 3), np.nan)
+    pos = np.searchsorted(imu_index, sensor_index)
+    ok = (pos < n) & (imu_index[np.minimum(pos, n - 1)] == sensor_index)
+    out[pos[ok]] = values[ok]
+    return out
+
+
+def scn_rotation():
+    from quatnav.demo import rotation_scenario
+    d = rotation_scenario(seed=0)
+    return {"dt": d.dt, "gyr": d.gyr, "acc": d.acc, "mag": d.mag}
+
+
+def _sim(name, seed=0):
+    from quatnav.sim import make_scenario
+    return make_scenario(name, seed=seed)
+
+
+def scn_handheld():
+    s = _sim("handheld_marg_disturbed")
+    return {"t": s.imu.t, "gyr": s.imu.gyro, "acc": s.imu.accel,
+            "mag": _align(s.mag.index, s.mag.mag, s.imu.index)}
+
+
+def scn_turn():
+    s = _sim("paper001_constant_turn")
+    return {"t": s.imu.t, "gyr": s.imu.gyro, "acc": s.imu.accel,
+            "mag": _align(s.mag.index, s.mag.mag, s.imu.index),
+            "gps_t": s.gps.t_valid, "gps_vel_n": s.gps.v_n,
+            "lever_arm_b": np.asarray(s.params["gps"]["lever_arm_b_m"], float),
+            "declination": float(np.radians(s.params["mag"]["declination_deg"]))}
+
+
+def scn_paper002():
+    """Paper 002's run with the paper's fixed initial errors (as ``quatnav experiment nav13``)."""
+    from quatnav import quaternion as Q
+    from quatnav.nav13 import initial_covariance
+    s = _sim("paper002_straight_then_circle")
+    tr, si = s.truth, s.params["initial_errors"]["si"]
+    d_rpy = np.array([si["roll"], si["pitch"], si["yaw"]])
+    q0 = Q.from_euler(tr.rpy[0] + d_rpy)
+    gyro = s.params["imu"]["gyro"]
+    accel = s.params["imu"]["accel"]
+    return {
+        # IMU row 0 is the reading at t[0], where the filter starts; row k >= 1 is the mean over
+        # (t[k-1], t[k]].
+        "t": s.imu.t[1:], "f_ib_b": s.imu.accel[1:], "omega_ib_b": s.imu.gyro[1:],
+        "vel_t": s.gps.t_valid, "vel": s.gps.v_n, "yaw_t": s.compass.t, "yaw": s.compass.yaw,
+        # The filter's initial state and covariance (computed here, so that they are part of the
+        # inputs' sha256): biases start at zero.
+        "v0": tr.v_n[0] + si["velocity"], "q0": q0, "P0": initial_covariance(q0, si["velocity"], d_rpy,
+                                                                              si["accel_bias"], si["gyro_bias"]),
+        "llh0": np.array([tr.lat[0], tr.lon[0], tr.h[0]]),
+        "accel_noise": accel["noise_density_ug_per_sqrt_hz"] * 1e-6 * 9.80665,
+        "gyro_noise": float(np.radians(gyro["noise_density_dps_per_sqrt_hz"])),
+        "vel_noise": s.params["gps"]["vel_sigma_m_s"], "yaw_noise": float(np.radians(s.params["compass"]["noise_deg"])),
+        # Strapdown: the truth state at t[0] integrated with the simulated (erroneous) IMU.
+        "q0_true": tr.q_nb[0], "v0_true": tr.v_n[0],
+    }
+
+
+def _paper004(name):
+    s = _sim(f"paper004_{name}")
+    return {"t": s.imu.t, "gyro": s.imu.gyro, "accel": s.imu.accel,
+            "gps_t": s.gps.t_valid, "gps_llh": np.column_stack([s.gps.lat, s.gps.lon, s.gps.h]),
+            "gps_vel": s.gps.v_n, "baro_t": s.baro.t, "baro_h": s.baro.h,
+            "compass_t": s.compass.t, "compass_yaw": s.compass.yaw,
+            "lever_arm_b": np.asarray(s.params["gps"]["lever_arm_b_m"], float)}
+
+
+def scn_broad():
+    from quatnav.datasets import broad
+    path = broad.default_dir() / f"{BROAD_TRIAL}.mat"
+    if not path.is_file():
+        raise DataMissing(f"BROAD trial not found: {path} (set QUATNAV_DATA)")
+    tr = broad.load_trial(path)
+    return {"dt": tr.dt, "gyr": tr.gyr, "acc": tr.acc, "mag": tr.mag}
+
+
+#: name -> (function, what it is, as written to the files)
+SCENARIOS: dict[str, tuple[Callable[[], dict], str]] = {
+    "rotation": (scn_rotation, "quatnav.demo.rotation_scenario(seed=0): 60 s random rotation, 100 Hz"),
+    "handheld": (scn_handheld, "quatnav.sim.make_scenario('handheld_marg_disturbed', seed=0): 70 s, 200 Hz, "
+                               "magnet-near events, linear accelerations"),
+    "turn": (scn_turn, "quatnav.sim.make_scenario('paper001_constant_turn', seed=0): 98 s, 100 Hz, GPS 20 Hz"),
+    "paper002": (scn_paper002, "quatnav.sim.make_scenario('paper002_straight_then_circle', seed=0): 200 s, 100 Hz, "
+                               "velocity and yaw 10 Hz; the paper's initial errors"),
+    "static": (functools.partial(_paper004, "static"),
+               "quatnav.sim.make_scenario('paper004_static', seed=0): 120 s, 50 Hz, GPS 5 Hz, altimeter, compass"),
+    "turntable": (functools.partial(_paper004, "turntable"),
+                  "quatnav.sim.make_scenario('paper004_turntable', seed=0): 78 s, 50 Hz, GPS 5 Hz, altimeter, compass"),
+    "walk": (functools.partial(_paper004, "walk"),
+             "quatnav.sim.make_scenario('paper004_walk', seed=0): 98 s, 50 Hz, GPS 5 Hz, altimeter, compass"),
+    "broad": (scn_broad, f"BROAD trial {BROAD_TRIAL} (/work/shared/data/broad, Laidig et al. 2021, CC BY 4.0), "
+                         "all samples, 285.7 Hz"),
+}
+
+
+@functools.lru_cache(maxsize=None)
+def scenario(name: str) -> dict:
+    return SCENARIOS[name][0]()
+
+
+# ------------------------------------------------------------------------------------------------
+# The filters: one function per filter. Each takes the scenario dict and its options and returns
+# (columns, summary): columns an ordered dict name -> (N,) array, summary a dict of plain values.
+# ------------------------------------------------------------------------------------------------
+def _cols(out: dict, prefix: str, a, names) -> None:
+    a = np.asarray(a)
+    if a.ndim == 1:
+        out[prefix] = a
+        return
+    if a.shape[1] != len(names):
+        raise ValueError(f"{prefix}: {a.shape[1]} columns, expected {len(names)}")
+    for j, n in enumerate(names):
+        out[f"{prefix}_{n}"] = a[:, j]
+
+
+WXYZ, XYZ, NED = ("w", "x", "y", "z"), ("x", "y", "z"), ("n", "e", "d")
+
+
+def _times_of(d):
+    return d["t"] if "t" in d else np.arange(len(d["gyr"])) * d["dt"]
+
+
+def _time_kw(d):
+    return {"t": d["t"]} if "t" in d else {"dt": d["dt"]}
+
+
+def run_qekf(d, dtype=np.float64, mag=True, **params):
+    import quatnav
+    r = quatnav.QuaternionEKF(dtype=dtype, **params).run(d["gyr"], d["acc"], d["mag"] if mag else None,
+                                                         on_invalid="skip", **_time_kw(d))
+    out = {"t": _times_of(d)}
+    _cols(out, "q", r.quat, WXYZ)
+    _cols(out, "bias", r.bias, XYZ)
+    _cols(out, "sigma", r.sigma, ("q0", "q1", "q2", "q3", "bx", "by", "bz"))
+    _cols(out, "att_sigma", r.att_sigma, XYZ)
+    out["flags"] = r.flags
+    return out, {}
+
+
+def run_euler(d, dtype=np.float64, mag=True, **params):
+    import quatnav
+    r = quatnav.EulerEKF(dtype=dtype, **params).run(d["gyr"], d["acc"], d["mag"] if mag else None,
+                                                    on_invalid="skip", **_time_kw(d))
+    out = {"t": _times_of(d)}
+    _cols(out, "q", r.quat, WXYZ)
+    _cols(out, "bias", r.bias, XYZ)
+    _cols(out, "sigma", r.sigma, ("roll", "pitch", "yaw", "bx", "by", "bz"))
+    _cols(out, "att_sigma", r.att_sigma, XYZ)
+    out["flags"] = r.flags
+    return out, {}
+
+
+def run_marg(d, dtype=np.float64, mag=True, gps=False, lever=False, declination=False, **params):
+    import quatnav
+    if declination:
+        params["declination"] = d["declination"]
+    if lever:
+        params["lever_arm_b"] = d["lever_arm_b"]
+    kw = dict(gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"]) if gps else {}
+    r = quatnav.MargFilter(dtype=dtype, **params).run(d["gyr"], d["acc"], d["mag"] if mag else None,
+                                                      on_invalid="skip", **_time_kw(d), **kw)
+    out = {"t": _times_of(d)}
+    _cols(out, "q", r.quat, WXYZ)
+    _cols(out, "bias", r.bias, XYZ)
+    _cols(out, "gps_acc", r.gps_acc_n, NED)
+    out["residual"] = r.residual
+    out["flags"] = r.flags
+    return out, {}
+
+
+def run_nav13(d, time_update="ekf", dtype=np.float64):
+    import quatnav
+    f = quatnav.NavFilter13(time_update, dtype=dtype, accel_noise=d["accel_noise"], gyro_noise=d["gyro_noise"],
+                            vel_noise=d["vel_noise"], yaw_noise=d["yaw_noise"])
+    lat, lon, h = d["llh0"]
+    f.reset(d["v0"], d["q0"], np.zeros(3), np.zeros(3), d["P0"], lat=lat, lon=lon, h=h)
+    r = f.run(d["f_ib_b"], d["omega_ib_b"], t=d["t"], vel_t=d["vel_t"], vel=d["vel"], yaw_t=d["yaw_t"], yaw=d["yaw"])
+    out = {"t": r.t}
+    _cols(out, "v", r.x[:, 0:3], NED)
+    _cols(out, "q", r.x[:, 3:7], WXYZ)
+    _cols(out, "ba", r.x[:, 7:10], XYZ)
+    _cols(out, "bg", r.x[:, 10:13], XYZ)
+    _cols(out, "sigma", r.sigma, ("vn", "ve", "vd", "q0", "q1", "q2", "q3", "bax", "bay", "baz", "bgx", "bgy", "bgz"))
+    _cols(out, "att_sigma", r.att_sigma, XYZ)
+    out["flags"] = r.flags
+    summary = {}
+    for kind in ("vel", "yaw"):
+        st = np.asarray(getattr(r, f"{kind}_status")).ravel()
+        codes, counts = np.unique(st, return_counts=True)
+        summary[f"{kind}_status"] = {str(int(c)): int(n) for c, n in zip(codes, counts)}
+        nis = np.asarray(getattr(r, f"{kind}_nis"), float)
+        summary[f"{kind}_nis_sum"] = math.fsum(nis[np.isfinite(nis)])  # exactly rounded: no numpy summation order
+    return out, summary
+
+
+def run_gpsins(d, dtype=np.float64, baro=True, compass=True, outage=False):
+    import quatnav
+    kw = dict(gps_t=d["gps_t"], gps_llh=d["gps_llh"], gps_vel=d["gps_vel"])
+    if baro:
+        kw.update(baro_t=d["baro_t"], baro_h=d["baro_h"])
+    if compass:
+        kw.update(compass_t=d["compass_t"], compass_yaw=d["compass_yaw"])
+    if outage:  # 10 s from the middle of the run, as quatnav experiment gpsins
+        t0 = float(d["t"][0] + 0.5 * (d["t"][-1] - d["t"][0]))
+        kw["outages"] = [(t0, t0 + 10.0)]
+    r = quatnav.GpsInsFilter(dtype=dtype, lever_arm_b=d["lever_arm_b"]).run(d["t"], d["gyro"], d["accel"], **kw)
+    out = {"t": r.t}
+    _cols(out, "llh", r.llh, ("lat", "lon", "h"))
+    _cols(out, "v", r.v_n, NED)
+    _cols(out, "q", r.q_nb, WXYZ)
+    _cols(out, "ba", r.accel_bias, XYZ)
+    _cols(out, "bg", r.gyro_bias, XYZ)
+    _cols(out, "sigma", r.sigma, ("pn", "pe", "pd", "vn", "ve", "vd", "psin", "psie", "psid",
+                                  "bax", "bay", "baz", "bgx", "bgy", "bgz"))
+    out["flags"] = r.flags
+    summary = {"counters": r.counters}
+    for aid in ("gps", "baro", "compass"):
+        nis = np.asarray(getattr(r, aid)["nis"], float)
+        summary[f"{aid}_nis_sum"] = math.fsum(nis[np.isfinite(nis)])
+    return out, summary
+
+
+def run_strapdown(d, dtype=np.float64):
+    from quatnav.strapdown import StrapdownState, strapdown_run_cpp
+    lat, lon, h = d["llh0"]
+    s0 = StrapdownState(np.asarray(d["q0_true"], float), np.asarray(d["v0_true"], float), float(lat), float(lon), float(h))
+    dt = np.diff(np.concatenate([[d["t"][0] - (d["t"][1] - d["t"][0])], d["t"]]))
+    r = strapdown_run_cpp(s0, d["omega_ib_b"], d["f_ib_b"], dt, dtype=dtype)
+    out = {"t": d["t"]}
+    out["lat"], out["lon"], out["h"] = r["lat"], r["lon"], r["h"]
+    _cols(out, "v", r["v_n"], NED)
+    _cols(out, "q", r["q_nb"], WXYZ)
+    codes = {"ok": 0, "non_finite": 2, "invalid_dt": 4, "numerical_failure": 8}
+    out["status"] = np.array([codes.get(s, 255) for s in r["status"]], dtype=np.uint32)
+    return out, {}
+
+
+# ------------------------------------------------------------------------------------------------
+# The cases.
+# ------------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class Case:
+    name: str          #: file stem: <filter>[-variant]_<scenario>
+    scenario: str      #: key of SCENARIOS
+    run: Callable      #: one of the run_* functions with its options bound
+    call: str          #: the call, in words, for the header
+    stride: int        #: every stride-th sample is written (and the last)
+
+
+def _case(name, scen, fn, call, stride, **opts):
+    return Case(name, scen, functools.partial(fn, **opts), call, stride)
+
+
+F32 = np.float32
+CASES: list[Case] = []
+for _scen, _stride in (("rotation", 50), ("broad", 400)):
+    for _tag, _opts, _call in (
+            ("qekf", {}, "QuaternionEKF()"),
+            ("qekf-6d", {"mag": False}, "QuaternionEKF(), no magnetometer"),
+            ("qekf-paper", {"paper": True}, "QuaternionEKF(paper=True)"),
+            ("qekf-paper-6d", {"paper": True, "mag": False}, "QuaternionEKF(paper=True), no magnetometer"),
+            ("qekf-f32", {"dtype": F32}, "QuaternionEKF(dtype=float32)"),
+            ("qekf-6d-f32", {"dtype": F32, "mag": False}, "QuaternionEKF(dtype=float32), no magnetometer"),
+            ("qekf-paper-f32", {"dtype": F32, "paper": True}, "QuaternionEKF(paper=True, dtype=float32)"),
+            ("qekf-paper-6d-f32", {"dtype": F32, "paper": True, "mag": False},
+             "QuaternionEKF(paper=True, dtype=float32), no magnetometer")):
+        if _scen == "broad" and _tag not in ("qekf", "qekf-paper", "qekf-f32"):
+            continue
+        CASES.append(_case(f"{_tag}_{_scen}", _scen, run_qekf, _call, _stride, **_opts))
+    CASES.append(_case(f"euler_{_scen}", _scen, run_euler, "EulerEKF()", _stride))
+    CASES.append(_case(f"marg_{_scen}", _scen, run_marg, "MargFilter()", _stride))
+    if _scen == "rotation":
+        CASES += [
+            _case("euler-6d_rotation", _scen, run_euler, "EulerEKF(), no magnetometer", _stride, mag=False),
+            _case("euler-f32_rotation", _scen, run_euler, "EulerEKF(dtype=float32)", _stride, dtype=F32),
+            _case("marg-bias_rotation", _scen, run_marg, "MargFilter(bias_gain=0.05)", _stride, bias_gain=0.05),
+            _case("marg-6d_rotation", _scen, run_marg, "MargFilter(), no magnetometer", _stride, mag=False),
+            _case("marg-f32_rotation", _scen, run_marg, "MargFilter(dtype=float32)", _stride, dtype=F32),
+        ]
+CASES += [
+    _case("qekf_handheld", "handheld", run_qekf, "QuaternionEKF()", 100),
+    _case("qekf-paper_handheld", "handheld", run_qekf, "QuaternionEKF(paper=True)", 100, paper=True),
+    _case("euler_handheld", "handheld", run_euler, "EulerEKF()", 100),
+    _case("marg-bias_handheld", "handheld", run_marg, "MargFilter(bias_gain=0.05)", 100, bias_gain=0.05),
+    _case("marg_turn", "turn", run_marg, "MargFilter(), no GPS", 70),
+    _case("marg-gps_turn", "turn", run_marg,
+          "MargFilter(declination=scenario's, lever_arm_b=scenario's, gps_acc_tau=0.05), GPS velocity", 70,
+          gps=True, lever=True, declination=True, gps_acc_tau=0.05),
+    _case("marg-gps-f32_turn", "turn", run_marg,
+          "MargFilter(declination=scenario's, lever_arm_b=scenario's, gps_acc_tau=0.05, dtype=float32), GPS velocity",
+          70, gps=True, lever=True, declination=True, gps_acc_tau=0.05, dtype=F32),
+]
+for _tu in ("ekf", "second_order", "ukf"):
+    _t = _tu.replace("_", "")
+    CASES.append(_case(f"nav13-{_t}_paper002", "paper002", run_nav13, f"NavFilter13({_tu!r}), velocity + yaw", 200,
+                       time_update=_tu))
+    CASES.append(_case(f"nav13-{_t}-f32_paper002", "paper002", run_nav13,
+                       f"NavFilter13({_tu!r}, dtype=float32), velocity + yaw", 200, time_update=_tu, dtype=F32))
+CASES += [
+    _case("strapdown_paper002", "paper002", run_strapdown, "strapdown_run_cpp from the true state", 200),
+    _case("strapdown-f32_paper002", "paper002", run_strapdown, "strapdown_run_cpp(dtype=float32) from the true state",
+          200, dtype=F32),
+]
+for _scen in ("static", "turntable", "walk"):
+    CASES.append(_case(f"gpsins_{_scen}", _scen, run_gpsins, "GpsInsFilter(lever_arm_b): GPS, altimeter, compass", 60))
+CASES += [
+    _case("gpsins-gps-only_walk", "walk", run_gpsins, "GpsInsFilter(lever_arm_b): GPS only", 60,
+          baro=False, compass=False),
+    _case("gpsins-no-compass_walk", "walk", run_gpsins, "GpsInsFilter(lever_arm_b): GPS, altimeter", 60, compass=False),
+    _case("gpsins-no-baro_walk", "walk", run_gpsins, "GpsInsFilter(lever_arm_b): GPS, compass", 60, baro=False),
+    _case("gpsins-outage_walk", "walk", run_gpsins,
+          "GpsInsFilter(lever_arm_b): GPS (10 s outage mid-run), altimeter, compass", 60, outage=True),
+    _case("gpsins-f32_walk", "walk", run_gpsins, "GpsInsFilter(lever_arm_b, dtype=float32): GPS, altimeter, compass",
+          60, dtype=F32),
+]
+CASES_BY_NAME = {c.name: c for c in CASES}
+assert len(CASES_BY_NAME) == len(CASES), "duplicate case names"
+
+
+# ------------------------------------------------------------------------------------------------
+# Writing: exact decimal text.
+# ------------------------------------------------------------------------------------------------
+def format_value(x, dtype) -> str:
+    """The shortest text that reads back to exactly ``x`` (see :func:`parse_value`)."""
+    dtype = np.dtype(dtype)
+    if dtype.kind in "ui":
+        return str(int(x))
+    if dtype.kind == "b":
+        return str(int(bool(x)))
+    if dtype == np.float32:
+        x = np.float32(x)
+        if not np.isfinite(x):
+            return repr(float(x))
+        with np.errstate(over="ignore"):  # a short text of a value near the maximum may read back as inf
+            for p in range(1, 10):
+                s = "%.*g" % (p, float(x))
+                y = np.float32(float(s))
+                if y == x and (x != 0 or np.signbit(y) == np.signbit(x)):
+                    return s
+        raise AssertionError(f"no 9-digit text for float32 {x!r}")  # pragma: no cover
+    if dtype == np.float64:
+        return repr(float(x))
+    raise TypeError(f"cannot write dtype {dtype}")
+
+
+def parse_value(s: str, dtype):
+    dtype = np.dtype(dtype)
+    if dtype.kind in "uib":
+        return int(s)
+    if dtype == np.float32:
+        return np.float32(float(s))
+    return float(s)
+
+
+def _digest(items) -> str:
+    h = hashlib.sha256()
+    for name, a in items:
+        if isinstance(a, dict):
+            h.update(f"{name}:dict;".encode())
+            h.update(_digest(sorted(a.items())).encode())
+            continue
+        a = np.ascontiguousarray(a)
+        if a.dtype == object:
+            raise TypeError(f"{name}: object array")
+        h.update(f"{name}:{a.dtype.str}:{a.shape};".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _summary_text(summary: dict, prefix="") -> list[str]:
+    lines = []
+    for k in sorted(summary):
+        v = summary[k]
+        if isinstance(v, dict):
+            lines += _summary_text(v, f"{prefix}{k}.")
+        elif isinstance(v, float):
+            lines.append(f"{prefix}{k}={v!r}")
+        else:
+            lines.append(f"{prefix}{k}={v}")
+    return lines
+
+
+def rows_of(n: int, stride: int) -> np.ndarray:
+    k = np.arange(0, n, stride)
+    return k if k[-1] == n - 1 else np.append(k, n - 1)
+
+
+@dataclasses.dataclass
+class Result:
+    header: list[str]
+    names: list[str]
+    columns: list[np.ndarray]  #: the written rows of every column
+    text: str
+
+
+def compute(case: Case) -> Result:
+    """Run one case (raises :class:`DataMissing` when its data is absent)."""
+    d = scenario(case.scenario)
+    inputs_sha = _digest(sorted((k, np.asarray(v)) for k, v in d.items()))
+    cols, summary = case.run(d)
+    n = len(next(iter(cols.values())))
+    for k, v in cols.items():
+        if v.shape != (n,):
+            raise ValueError(f"{case.name}: column {k} has shape {v.shape}, expected ({n},)")
+    outputs_sha = _digest(cols.items())
+    k = rows_of(n, case.stride)
+    names = ["k"] + list(cols)
+    columns = [k.astype(np.uint64)] + [np.asarray(v)[k] for v in cols.values()]
+    header = [f"quatnav reference outputs: {case.name} (regenerate: {REGENERATE}; see docs/DEVELOPING.md)",
+              f"filter: {case.call}",
+              f"inputs: {SCENARIOS[case.scenario][1]}",
+              f"inputs sha256: {inputs_sha}",
+              f"rows: k = 0, {case.stride}, {2 * case.stride}, ... and the last of {n} samples",
+              f"outputs sha256 (every sample): {outputs_sha}",
+              "types: " + ",".join(c.dtype.str.lstrip("<>|=") for c in columns)]
+    header += [f"summary: {s}" for s in _summary_text(summary)]
+    lines = [f"# {h}" for h in header] + [",".join(names)]
+    fmt = [c.dtype for c in columns]
+    for i in range(len(k)):
+        lines.append(",".join(format_value(c[i], f) for c, f in zip(columns, fmt)))
+    return Result(header, names, columns, "\n".join(lines) + "\n")
+
+
+# ------------------------------------------------------------------------------------------------
+# Comparing.
+# ------------------------------------------------------------------------------------------------
+def read(path: Path):
+    """(header lines without '# ', column names, list of column string lists)."""
+    header, body = [], []
+    for line in path.read_text().splitlines():
+        (header if line.startswith("#") else body).append(line)
+    header = [h[2:] if h.startswith("# ") else h[1:] for h in header]
+    names = body[0].split(",") if body else []
+    cells = [r.split(",") for r in body[1:]]
+    columns = [[r[j] if j < len(r) else "" for r in cells] for j in range(len(names))]
+    return header, names, columns
+
+
+def _header_field(header, key):
+    for h in header:
+        if h.startswith(key + ":"):
+            return h[len(key) + 1:].strip()
+    return None
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Element-wise: equal bit for bit (NaN equals NaN, -0.0 differs from 0.0)."""
+    a = np.asarray(a, np.float64)
+    b = np.asarray(b, np.float64)
+    both_nan = np.isnan(a) & np.isnan(b)
+    return both_nan | (a.view(np.uint64) == b.view(np.uint64))
+
+
+@dataclasses.dataclass
+class Difference:
+    column: str
+    first_row: int       #: sample index k of the first differing row
+    n_rows: int          #: differing rows
+    max_abs: float       #: largest |new - old| (NaN against a number: inf)
+    max_rel: float
+
+
+def compare(case: Case, path: Path | None = None) -> dict:
+    """Recompute ``case`` and compare with its file. Returns a dict with ``ok`` (bool), ``messages``
+    (list of str) and ``differences`` (list of :class:`Difference`)."""
+    path = path or OUT_DIR / f"{case.name}.csv"
+    res = compute(case)
+    out = {"ok": True, "messages": [], "differences": [], "result": res}
+    if not path.is_file():
+        out["ok"] = False
+        out["messages"].append(f"{path.relative_to(REPO) if path.is_relative_to(REPO) else path}: missing")
+        return out
+    old_text = path.read_text()
+    if old_text == res.text:
+        return out
+    out["ok"] = False
+    header, names, cols = read(path)
+    if _header_field(header, "inputs sha256") != _header_field(res.header, "inputs sha256"):
+        out["messages"].append("the inputs changed (scenario, simulator, data or numpy): the difference may not "
+                               "come from the filter")
+    if _header_field(header, "outputs sha256 (every sample)") != _header_field(res.header, "outputs sha256 (every sample)"):
+        out["messages"].append("outputs differ (sha256 over every sample)")
+    for key in ("filter", "rows", "types"):
+        if _header_field(header, key) != _header_field(res.header, key):
+            out["messages"].append(f"{key}: was {_header_field(header, key)!r}, now {_header_field(res.header, key)!r}")
+    old_sum = [h for h in header if h.startswith("summary:")]
+    new_sum = [h for h in res.header if h.startswith("summary:")]
+    for a, b in zip(old_sum, new_sum):
+        if a != b:
+            out["messages"].append(f"{a!r} -> {b!r}")
+    if len(old_sum) != len(new_sum):
+        out["messages"].append(f"summary lines: {len(old_sum)} -> {len(new_sum)}")
+    if names != res.names:
+        out["messages"].append(f"columns: was {names}, now {res.names}")
+    old_k = cols[0] if names and names[0] == "k" else []
+    new_k = [str(int(x)) for x in res.columns[0]]
+    if old_k != new_k:
+        out["messages"].append(f"rows: {len(old_k)} written before, {len(new_k)} now")
+        return out
+    for name, new in zip(res.names[1:], res.columns[1:]):
+        if name not in names:
+            continue
+        old_s = cols[names.index(name)]
+        try:
+            old = np.array([parse_value(s, new.dtype) for s in old_s])
+        except ValueError:
+            out["messages"].append(f"{name}: unreadable values in the file")
+            continue
+        if new.dtype.kind in "uib":
+            bad = old.astype(np.int64) != new.astype(np.int64)
+            diff = np.abs(old.astype(np.float64) - new.astype(np.float64))
+        else:
+            bad = ~_same(old, new)
+            with np.errstate(invalid="ignore"):
+                diff = np.abs(new.astype(np.float64) - old.astype(np.float64))
+            diff[np.isnan(diff) & bad] = np.inf
+        if bad.any():
+            i = np.flatnonzero(bad)
+            scale = np.maximum(np.abs(old.astype(np.float64)[i]), np.finfo(float).tiny)
+            with np.errstate(invalid="ignore"):
+                rel = np.nanmax(diff[i] / scale) if np.isfinite(diff[i]).any() else np.inf
+            out["differences"].append(Difference(name, int(res.columns[0][i[0]]), int(i.size),
+                                                 float(np.nanmax(diff[i])), float(rel)))
+    if not out["differences"] and not out["messages"]:
+        out["messages"].append("text differs (formatting or header)")
+    return out
+
+
+def report(case: Case, cmp: dict) -> str:
+    """Human-readable account of one comparison."""
+    lines = [f"{case.name}: tests/regression/{case.name}.csv differs from the current code"]
+    lines += [f"  {m}" for m in cmp["messages"]]
+    for d in cmp["differences"]:
+        lines.append(f"  column {d.column}: first at row k={d.first_row}, {d.n_rows} rows, "
+                     f"largest |diff| {d.max_abs:.3g} (relative {d.max_rel:.3g})")
+    lines.append(f"  if the change is intended: {REGENERATE} and say in the commit message why the numbers moved")
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------------------------
+# Command line.
+# ------------------------------------------------------------------------------------------------
+def _select(pattern):
+    cases = [c for c in CASES if pattern is None or pattern in c.name]
+    if not cases:
+        raise SystemExit(f"no case matches {pattern!r}")
+    return cases
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--update", action="store_true", help="rewrite the files from the current code")
+    ap.add_argument("-k", metavar="TEXT", help="only the cases whose name contains TEXT")
+    ap.add_argument("--list", action="store_true", help="list the cases and exit")
+    ap.add_argument("--dir", type=Path, default=OUT_DIR, help="where the files are (default tests/regression)")
+    args = ap.parse_args(argv)
+    cases = _select(args.k)
+    if args.list:
+        for c in cases:
+            print(f"{c.name:28s} {c.scenario:10s} {c.call}")
+        return 0
+    failed = 0
+    if args.update:
+        args.dir.mkdir(parents=True, exist_ok=True)
+        changed = []
+        for c in cases:
+            try:
+                res = compute(c)
+            except DataMissing as e:
+                print(f"{c.name}: skipped, file left as it is ({e})")
+                continue
+            p = args.dir / f"{c.name}.csv"
+            if not p.is_file() or p.read_text() != res.text:
+                p.write_text(res.text)
+                changed.append(c.name)
+        if args.k is None:
+            known = {f"{c.name}.csv" for c in CASES}
+            for p in sorted(args.dir.glob("*.csv")):
+                if p.name not in known:
+                    p.unlink()
+                    print(f"{p.name}: no such case any more, removed")
+        size = sum(p.stat().st_size for p in args.dir.glob("*.csv"))
+        print(f"{len(changed)} of {len(cases)} files rewritten ({', '.join(changed) or 'none'}); "
+              f"{size / 1e6:.2f} MB in {args.dir}")
+        return 0
+    print(f"{'case':28s} {'result':10s} {'column':14s} {'first k':>8s} {'rows':>6s} {'max |diff|':>11s} {'relative':>9s}")
+    details = []
+    for c in cases:
+        try:
+            cmp = compare(c, args.dir / f"{c.name}.csv")
+        except DataMissing as e:
+            print(f"{c.name:28s} {'skipped':10s} ({e})")
+            continue
+        if cmp["ok"]:
+            print(f"{c.name:28s} {'same':10s}")
+            continue
+        failed += 1
+        details.append(report(c, cmp))
+        if not cmp["differences"]:
+            print(f"{c.name:28s} {'DIFFERS':10s} {cmp['messages'][0] if cmp['messages'] else ''}")
+        for i, d in enumerate(cmp["differences"]):
+            print(f"{c.name if i == 0 else '':28s} {'DIFFERS' if i == 0 else '':10s} {d.column:14s} {d.first_row:8d} "
+                  f"{d.n_rows:6d} {d.max_abs:11.3g} {d.max_rel:9.3g}")
+    if details:
+        print()
+        print("\n\n".join(details))
+        print(f"\n{failed} of {len(cases)} cases differ; if intended: {REGENERATE}")
+        return 1
+    print(f"all {len(cases)} cases are the same as tests/regression/")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, str(REPO / "python"))  # the source tree's quatnav, not an installed one
+    sys.exit(main())
