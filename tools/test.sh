@@ -8,41 +8,32 @@
 #   5. cross-compiles every filter in float32 for a Cortex-M4F and compares it in QEMU with the
 #      host double run (cpp/examples/embedded/run.py; apt gcc-arm-none-eabi, qemu-system-arm),
 #   6. runs pytest on tests/python against the installed package.
-# Environment: PYTHON (default python3), QUATNAV_JOBS (default 2),
+# Environment: PYTHON (an interpreter to use as it is; default: a virtual environment in .venv,
+#              see tools/setup_env.sh), QUATNAV_JOBS (default 2),
 #              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan,
 #              QUATNAV_FUZZ_SECONDS=N (with clang) also fuzzes the filters for N s (tests/fuzz/run.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
-PY=${PYTHON:-python3}
 JOBS=${QUATNAV_JOBS:-2}
-export DEBIAN_FRONTEND=noninteractive
-
-SUDO=""
-if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null; then SUDO=sudo; fi
+source tools/setup_env.sh   # $PY: a virtual environment in .venv unless one is active (or PYTHON=...)
 
 # --- system packages -----------------------------------------------------------------------
 need=()
 [ -f /usr/include/gtest/gtest.h ] || need+=(libgtest-dev)
-command -v g++ >/dev/null || need+=(g++)
 if [ "${QUATNAV_FUZZ_SECONDS:-0}" -gt 0 ]; then   # libFuzzer: clang and its runtime
   command -v "${CXX_FUZZ:-clang++}" >/dev/null || need+=(clang)
   ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 \
     || [ "$(uname -m)" != x86_64 ] || need+=(libclang-rt-dev)
 fi
-if [ ${#need[@]} -gt 0 ]; then
-  echo "== installing Debian packages: ${need[*]}"
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq "${need[@]}" >/dev/null
-fi
+[ ${#need[@]} -eq 0 ] || apt_install "${need[@]}"
 
 # --- Python package and test dependencies ---------------------------------------------------
-echo "== installing quatnav with its test, eval and peers extras"
-"$PY" -m pip install -q --upgrade pip >/dev/null 2>&1 || true
-"$PY" -m pip install -q cmake ninja cmeel-eigen pybind11 scikit-build-core
-"$PY" -m pip install -q ".[sim,test,eval,peers]"
+pip_quiet cmake ninja cmeel-eigen pybind11 scikit-build-core
+pip_build ".[sim,test,eval,peers]"
 
 EIGEN_PREFIX=$("$PY" -m cmeel cmake)
+export CMAKE_GENERATOR=${CMAKE_GENERATOR:-Ninja}   # ninja comes from pip above; no make needed
 
 # --- C++ tests --------------------------------------------------------------------------------
 echo "== building the GoogleTest suite"
@@ -76,16 +67,7 @@ cmake --build build/consumer -j "$JOBS" >/dev/null
 ./build/consumer/quatnav_consumer
 
 # --- embedded baseline: float32 on a Cortex-M4F in QEMU (cpp/examples/embedded/run.py) ------
-emb=()
-command -v arm-none-eabi-g++ >/dev/null || emb+=(gcc-arm-none-eabi)
-dpkg -s libnewlib-arm-none-eabi >/dev/null 2>&1 || emb+=(libnewlib-arm-none-eabi)
-dpkg -s libstdc++-arm-none-eabi-newlib >/dev/null 2>&1 || emb+=(libstdc++-arm-none-eabi-newlib)
-command -v qemu-system-arm >/dev/null || emb+=(qemu-system-arm)
-if [ ${#emb[@]} -gt 0 ]; then
-  echo "== installing Debian packages: ${emb[*]}"
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${emb[@]}" >/dev/null
-fi
+apt_install gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
 echo "== embedded: cross-compile every filter for a Cortex-M4F, run it in QEMU, compare with the host"
 QUATNAV_JOBS="$JOBS" timeout 1500 "$PY" cpp/examples/embedded/run.py --check --opt O2 --report-dir build/embedded/report
 

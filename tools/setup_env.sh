@@ -1,0 +1,100 @@
+# Sourced by tools/demo.sh and tools/test.sh: choose the Python environment and install what a
+# fresh Debian machine lacks. After sourcing, $PY is the Python to use (inside a virtual
+# environment unless one was already active or PYTHON was given) and these functions exist:
+#   apt_install PKG...        install Debian packages that are missing (root or sudo)
+#   pip_quiet ARGS...         pip install, printing one line per package set
+#   pip_build ARGS...         pip install that builds quatnav: prints the compiler's progress
+#                             lines ([n/N] Building ...) and a status line every 15 s
+# Environment: PYTHON (use this interpreter as it is, no virtual environment),
+#              QUATNAV_VENV (default .venv in the repository).
+set -euo pipefail
+export DEBIAN_FRONTEND=noninteractive
+export PIP_DISABLE_PIP_VERSION_CHECK=1
+
+QUATNAV_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+SUDO=""
+if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null; then SUDO=sudo; fi
+_apt_updated=0
+
+apt_install() {
+  local missing=() p
+  for p in "$@"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if [ "$(id -u)" != 0 ] && [ -z "$SUDO" ]; then
+    echo "quatnav: missing Debian packages ${missing[*]}; install them as root (apt-get install ${missing[*]})" >&2
+    return 1
+  fi
+  echo "== installing Debian packages: ${missing[*]}"
+  if [ "$_apt_updated" = 0 ]; then $SUDO apt-get update -qq; _apt_updated=1; fi
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+_in_venv() {
+  "$1" -c 'import sys, os; sys.exit(0 if (sys.prefix != sys.base_prefix or os.environ.get("CONDA_PREFIX")) else 1)'
+}
+
+# --- the interpreter ---------------------------------------------------------------------------
+if ! command -v "${PYTHON:-python3}" >/dev/null; then
+  apt_install python3
+fi
+if [ -n "${PYTHON:-}" ]; then
+  PY=$PYTHON
+  echo "== using $PY as given by PYTHON"
+elif _in_venv python3; then
+  PY=$(command -v python3)
+  echo "== using the active environment $("$PY" -c 'import sys; print(sys.prefix)')"
+else
+  VENV=${QUATNAV_VENV:-$QUATNAV_ROOT/.venv}
+  if [ ! -x "$VENV/bin/python" ]; then
+    echo "== creating a virtual environment in $VENV (quatnav and its dependencies go there, not into the system Python)"
+    if ! python3 -m venv "$VENV" >/dev/null 2>&1; then
+      rm -rf "$VENV"
+      # Debian ships venv's pip wheels separately (python3-venv, or python3.X-venv).
+      pyver=$(python3 -c 'import sys; print(f"{sys.version_info[0]}.{sys.version_info[1]}")')
+      apt_install python3-venv "python$pyver-venv" || apt_install python3-venv
+      python3 -m venv "$VENV"
+    fi
+  else
+    echo "== using the virtual environment $VENV"
+  fi
+  PY=$VENV/bin/python
+fi
+# Console scripts and pip-installed tools (cmake, ninja, quatnav) of that environment come first.
+PATH="$(dirname "$("$PY" -c 'import sys; print(sys.executable)')"):$PATH"
+export PATH
+
+# --- the compiler and Python headers that building the extension needs ---------------------------
+_need=()
+command -v g++ >/dev/null || command -v c++ >/dev/null || _need+=(g++)
+if ! "$PY" -c 'import sysconfig, os, sys; sys.exit(0 if os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h")) else 1)'; then
+  _need+=(python3-dev)
+fi
+[ ${#_need[@]} -eq 0 ] || apt_install "${_need[@]}"
+
+pip_quiet() {
+  echo "== pip install $*"
+  "$PY" -m pip install -q "$@"
+}
+
+pip_build() {
+  local log start rc hb
+  log=$(mktemp "${TMPDIR:-/tmp}/quatnav-build.XXXXXX.log")
+  start=$SECONDS
+  echo "== pip install $* (compiles the C++ extension: about 2 minutes on 2 cores the first time; log $log)"
+  ( while sleep 15; do echo "   ... still building ($((SECONDS - start)) s)"; done ) &
+  hb=$!
+  set +e
+  "$PY" -m pip install -v "$@" 2>&1 | tee "$log" \
+    | awk '/^ *\[[0-9]+\/[0-9]+\] / {sub(/^ +/, "   "); print; fflush()}
+           /^ *(ERROR|error):|: error:|Successfully installed/ {print "   " $0; fflush()}'
+  rc=${PIPESTATUS[0]}
+  set -e
+  kill "$hb" 2>/dev/null; wait "$hb" 2>/dev/null || true
+  if [ "$rc" != 0 ]; then
+    echo "quatnav: pip install failed (exit $rc); the last lines of $log:" >&2
+    tail -n 40 "$log" >&2
+    return "$rc"
+  fi
+  echo "   built and installed in $((SECONDS - start)) s"
+  rm -f "$log"
+}
