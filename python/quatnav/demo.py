@@ -6,7 +6,11 @@ error of :class:`~quatnav.QuaternionEKF` (defaults, tuned for real data, and ``p
 the plain filter of paper 000), :class:`~quatnav.EulerEKF` and
 :class:`~quatnav.MargFilter` (paper defaults, which estimate no gyro bias, and with its bias
 integrator on); then :class:`~quatnav.NavFilter13` with its three time updates on paper
-002's simulated run, and :class:`~quatnav.GpsInsFilter` on paper 004's simulated runs. ``--plot`` writes a figure of the attitude errors.
+002's simulated run, and :class:`~quatnav.GpsInsFilter` on paper 004's simulated runs.
+``--plot FILE.png`` writes one figure of all three: the attitude filters' roll, pitch, yaw and
+gyro-bias errors against time, NavFilter13's attitude and velocity errors, and GpsInsFilter's
+horizontal position error and yaw error through its GPS outage, each with the part left out of
+the printed RMSE shaded.
 """
 from __future__ import annotations
 
@@ -45,6 +49,12 @@ def rotation_scenario(n: int = 6000, rate: float = 100.0, seed: int = 0, max_rat
     interval, ``q[k] = q[k-1] * exp(omega[k] dt)``, so a filter that integrates the gyro that
     way sees exact data. Noise values are standard deviations per sample (gyro_noise rad/s,
     acc_noise m/s^2, mag_noise uT); the field has intensity 50 uT and the given dip.
+
+    The default gyro bias, (0.02, -0.015, 0.01) rad/s = (1.15, -0.86, 0.57) deg/s (norm 1.54
+    deg/s, i.e. 5554 deg/h), is the turn-on offset of an uncalibrated consumer MEMS gyro (their
+    datasheets give initial zero-rate offsets of about 1 to 20 deg/s), small beside the motion (peak rate ``max_rate`` = 2 rad/s =
+    115 deg/s) but far beyond a navigation-grade gyro's bias, which is quoted in deg/h. It is
+    constant over the run, so an attitude filter that estimates no bias carries all of it.
     """
     rng = np.random.default_rng(seed)
     dt = 1.0 / rate
@@ -105,32 +115,39 @@ def run_demo(plot: str | None = None, seed: int = 0, quiet: bool = False) -> dic
         err = euler_errors_deg(r.quat, d.q_nb)
         settle = d.t >= 5.0
         rmse = np.sqrt(np.mean(err[settle] ** 2, axis=0))
-        bias_err = np.degrees(np.linalg.norm(r.bias[-1] - d.gyro_bias)) * 3600
+        bias_err = np.degrees(np.linalg.norm(r.bias[-1] - d.gyro_bias))
         results[name] = dict(roll_rmse_deg=rmse[0], pitch_rmse_deg=rmse[1], yaw_rmse_deg=rmse[2],
-                             bias_err_deg_h=bias_err, samples_per_s=len(d.t) / elapsed, result=r)
+                             bias_err_deg_s=bias_err, bias_err_deg_h=bias_err * 3600,
+                             samples_per_s=len(d.t) / elapsed, result=r)
     if not quiet:
-        print(f"quatnav demo: simulated rotation, {len(d.t)} samples at {1 / d.dt:.0f} Hz, "
-              f"gyro bias {np.degrees(d.gyro_bias) * 3600} deg/h (RMSE after 5 s)")
+        b = np.degrees(d.gyro_bias)
+        print(f"quatnav demo: simulated rotation, {len(d.t)} samples at {1 / d.dt:.0f} Hz, gyro bias "
+              f"[{' '.join(f'{x:+.2f}' for x in b)}] deg/s (|b| {np.linalg.norm(b):.2f} deg/s; RMSE after 5 s)")
         print(f"{'filter':<21}{'roll':>9}{'pitch':>9}{'yaw':>9}   {'|bias err|':>12}{'samples/s':>12}")
-        print(f"{'':<21}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[deg/h]':>12}")
+        print(f"{'':<21}{'[deg]':>9}{'[deg]':>9}{'[deg]':>9}   {'[deg/s]':>12}")
         for name, v in results.items():
             print(f"{name:<21}{v['roll_rmse_deg']:9.3f}{v['pitch_rmse_deg']:9.3f}{v['yaw_rmse_deg']:9.3f}   "
-                  f"{v['bias_err_deg_h']:12.1f}{v['samples_per_s']:12.3g}")
-    nav = _navigation_demo(seed, quiet)
+                  f"{v['bias_err_deg_s']:12.3f}{v['samples_per_s']:12.3g}")
+    attitude = dict(results)
+    nav_series = {} if plot else None
+    nav = _navigation_demo(seed, quiet, series=nav_series)
     if nav:
         results["navigation"] = nav
-    ins = _gpsins_demo(seed, quiet)
+    ins_series = {} if plot else None
+    ins = _gpsins_demo(seed, quiet, series=ins_series)
     if ins:
         results["gpsins"] = ins
     if plot:
-        _plot(d, {k: v for k, v in results.items() if k != "navigation"}, plot)
+        written = _plot(d, attitude, nav_series, ins_series, plot)
         if not quiet:
-            print(f"figure written to {plot}")
+            print()
+            print(f"figure written to {written}")
     return results
 
 
-def _navigation_demo(seed: int, quiet: bool) -> dict:
-    """NavFilter13 (paper 002) with its three time updates on the paper's simulated run."""
+def _navigation_demo(seed: int, quiet: bool, series: dict | None = None) -> dict:
+    """NavFilter13 (paper 002) with its three time updates on the paper's simulated run; with
+    ``series`` (a dict) also fills it with each time update's errors against time for the figure."""
     try:
         from .experiments import nav13 as X
         from .sim import make_scenario
@@ -151,6 +168,9 @@ def _navigation_demo(seed: int, quiet: bool) -> dict:
         vel = np.sqrt(np.mean(np.sum(err["state"][late, 0:3] ** 2, axis=1)))
         out[tu] = dict(roll_rmse_deg=rpy[0], pitch_rmse_deg=rpy[1], yaw_rmse_deg=rpy[2],
                        vel_rmse_m_s=vel, samples_per_s=len(res.t) / elapsed)
+        if series is not None:
+            series[tu] = dict(t=err["t"], rpy_deg=np.degrees(err["rpy"]),
+                              vel_m_s=np.linalg.norm(err["state"][:, 0:3], axis=1), window_s=(100.0, 200.0))
     if not quiet:
         print()
         print(f"NavFilter13 (paper 002): {X.SCENARIO}, seed {seed}, the paper's initial errors "
@@ -163,11 +183,17 @@ def _navigation_demo(seed: int, quiet: bool) -> dict:
     return out
 
 
-def _gpsins_demo(seed: int, quiet: bool) -> dict:
-    """GpsInsFilter (paper 004) on its three simulated scenarios, with a 10 s GPS outage."""
+def _gpsins_demo(seed: int, quiet: bool, series: dict | None = None) -> dict:
+    """GpsInsFilter (paper 004) on its three simulated scenarios, with a 10 s GPS outage; with
+    ``series`` (a dict) also fills it with each run's errors against time for the figure."""
     try:
         from .experiments import gpsins as G
-        out = {name: G.run_scenario(name, seed=seed) for name in ("static", "turntable", "walk")}
+        out = {name: G.run_scenario(name, seed=seed, keep_series=series is not None)
+               for name in ("static", "turntable", "walk")}
+        if series is not None:
+            for name, r in out.items():
+                o = r["outage"]
+                series[name] = dict(r.pop("series"), outage_window_s=(o["start_s"], o["start_s"] + o["length_s"]))
     except ImportError as exc:  # quatnav.sim needs scipy (extra [sim])
         if not quiet:
             print(f"(GPS/INS demo skipped: {exc})")
@@ -186,28 +212,140 @@ def _gpsins_demo(seed: int, quiet: bool) -> dict:
     return out
 
 
-def _plot(d: RotationData, results: dict, path: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+SETTLE_S = 5.0  # the attitude RMSE is taken after this time
+_AXIS_COLORS = {"roll": "#1b9e77", "pitch": "#d95f02", "yaw": "#7570b3"}
 
-    fig, axes = plt.subplots(4, 1, figsize=(9, 9), sharex=True)
+
+def _plot(d: RotationData, attitude: dict, nav: dict | None, ins: dict | None, path: str):
+    """The demo's figure: left the attitude filters on the simulated rotation (roll, pitch, yaw
+    and gyro-bias errors), right NavFilter13's and GpsInsFilter's errors when those ran; the part
+    of each run that the printed RMSE leaves out is shaded. Returns the path written."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from ._plotting import figure, legend_right, moving_rms, save
+
+    right = bool(nav) or bool(ins)
+    fig = figure((17.0, 12.5) if right else (9.5, 11.0))
+    if right:
+        left_fig, right_fig = fig.subfigures(1, 2, wspace=0.02)
+        rows = iter(right_fig.add_gridspec(2 * (bool(nav) + bool(ins)), 1))
+    else:
+        left_fig = fig
+    excluded = Patch(color="0.88", label=f"not in the RMSE (first {SETTLE_S:.0f} s)")
+
+    # Attitude filters on the simulated rotation.
+    ax0 = left_fig.add_subplot(4, 1, 1)
+    axl = [ax0] + [left_fig.add_subplot(4, 1, i, sharex=ax0) for i in (2, 3, 4)]
+    settle = d.t >= SETTLE_S
+    handles = []
+    for k, (name, v) in enumerate(attitude.items()):
+        err = euler_errors_deg(v["result"].quat, d.q_nb)
+        rmse = np.sqrt(np.mean(err[settle] ** 2, axis=0))
+        for i in range(3):
+            axl[i].plot(d.t, err[:, i], lw=0.6, color=f"C{k}")
+        berr = np.degrees(np.linalg.norm(v["result"].bias - d.gyro_bias, axis=1))
+        axl[3].plot(d.t, berr, lw=0.9, color=f"C{k}")
+        handles.append(Line2D([], [], color=f"C{k}", lw=1.5,
+                              label=f"{name}\n  RMSE {rmse[0]:.2f} / {rmse[1]:.2f} / {rmse[2]:.2f} deg"))
+    b = np.degrees(np.linalg.norm(d.gyro_bias))
+    axl[3].axhline(b, color="k", ls="--", lw=0.9)
+    handles.append(Line2D([], [], color="k", ls="--", lw=0.9, label=f"|true bias| = {b:.2f} deg/s\n"
+                                                                     "  (no bias estimate)"))
     for i, lab in enumerate(("roll", "pitch", "yaw")):
-        for name, v in results.items():
-            axes[i].plot(d.t, euler_errors_deg(v["result"].quat, d.q_nb)[:, i], lw=0.8, label=name)
-        axes[i].set_ylabel(f"{lab} error [deg]")
-        axes[i].grid(alpha=0.3)
-    for name, v in results.items():
-        axes[3].plot(d.t, np.degrees(np.linalg.norm(v["result"].bias - d.gyro_bias, axis=1)) * 3600, lw=0.8,
-                     label=name)
-    axes[3].set_ylabel("|bias error| [deg/h]")
-    axes[3].set_yscale("log")
-    axes[3].set_xlabel("time [s]")
-    axes[0].legend(loc="upper right")
-    fig.suptitle("quatnav demo: attitude filters on a simulated rotation")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+        axl[i].axhline(0.0, color="k", lw=0.5)
+        axl[i].set_ylabel(f"{lab} error [deg]")
+    axl[3].set_yscale("log")
+    axl[3].set_ylabel("|gyro bias error| [deg/s]")
+    axl[3].set_xlabel("time [s]")
+    for ax in axl:
+        ax.axvspan(d.t[0], SETTLE_S, color=excluded.get_facecolor(), lw=0, zorder=0)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.set_xlim(d.t[0], d.t[-1])
+    for ax in axl[:3]:
+        ax.tick_params(labelbottom=False)
+    axl[0].set_title(f"attitude filters, simulated rotation ({len(d.t)} samples at {1 / d.dt:.0f} Hz, "
+                     f"constant gyro bias {b:.2f} deg/s)", fontsize=10, loc="left")
+    legend_right(axl[0], handles + [excluded], [h.get_label() for h in handles + [excluded]],
+                 title="roll / pitch / yaw RMSE after 5 s", title_fontsize=8)
+
+    if nav:
+        from .experiments.nav13 import LABELS, STYLES
+        a1 = right_fig.add_subplot(next(rows))
+        a2 = right_fig.add_subplot(next(rows), sharex=a1)
+        for tu, s in nav.items():
+            t = s["t"]
+            n = max(1, int(round(1.0 / np.median(np.diff(t)))))  # samples in 1 s
+            for i, lab in enumerate(("roll", "pitch", "yaw")):
+                a1.plot(t, moving_rms(s["rpy_deg"][:, i], n), STYLES.get(tu, "-"), lw=1.0,
+                        color=_AXIS_COLORS[lab])
+            a2.plot(t, moving_rms(s["vel_m_s"], n), STYLES.get(tu, "-"), lw=1.0, color="0.2")
+        w0 = next(iter(nav.values()))["window_s"][0]
+        for ax in (a1, a2):
+            ax.set_yscale("log")
+            ax.axvspan(t[0], w0, color=excluded.get_facecolor(), lw=0, zorder=0)
+            ax.grid(True, which="major", alpha=0.3)
+            ax.set_xlim(0.0, t[-1])
+        a1.tick_params(labelbottom=False)
+        a1.set_ylabel("attitude error [deg]\n(1 s moving RMS)")
+        a2.set_ylabel("|velocity error| [m/s]\n(1 s moving RMS)")
+        a2.set_xlabel("time [s]")
+        a1.set_title("NavFilter13 (paper 002), straight then circle, the paper's initial errors",
+                     fontsize=10, loc="left")
+        h = [Line2D([], [], color=c, lw=1.5, label=lab) for lab, c in _AXIS_COLORS.items()]
+        h += [Line2D([], [], color="0.2", ls=STYLES.get(tu, "-"), lw=1.0, label=LABELS.get(tu, tu))
+              for tu in nav]
+        h.append(Patch(color=excluded.get_facecolor(), label=f"not in the RMSE (first {w0:.0f} s)"))
+        legend_right(a1, h, [x.get_label() for x in h], title="axis (colour), time update (line)",
+                     title_fontsize=8)
+
+    if ins:
+        g1 = right_fig.add_subplot(next(rows))
+        g2 = right_fig.add_subplot(next(rows), sharex=g1)
+        h = []
+        for k, (name, s) in enumerate(ins.items()):
+            e, (t0, t1) = s["outage"], s["outage_window_s"]
+            c = f"C{k + 5}"
+            x = e["t"] - t0
+            g1.plot(x, e["horiz"], color=c, lw=1.0)
+            g1.plot(x, e["sigma_h"], color=c, lw=0.8, ls="--")
+            g2.plot(x, e["euler_deg"][:, 2], color=c, lw=0.8)
+            g2.plot(x, 3 * e["sigma_psi_deg"][:, 2], color=c, lw=0.6, ls="--")
+            g2.plot(x, -3 * e["sigma_psi_deg"][:, 2], color=c, lw=0.6, ls="--")
+            h.append(Line2D([], [], color=c, lw=1.5, label=name))
+        span = t1 - t0
+        cb = {s.get("compass_bias_deg") for s in ins.values()}
+        if len(cb) == 1 and next(iter(cb)):
+            cb = next(iter(cb))
+            g2.axhline(cb, color="k", ls=":", lw=1.0)
+            h.append(Line2D([], [], color="k", ls=":", lw=1.0,
+                            label=f"compass bias {cb:g} deg\n  (not a filter state)"))
+        for ax in (g1, g2):
+            ax.axvspan(0.0, span, color="#f4d6a0", lw=0, zorder=0)
+            ax.grid(True, which="major", alpha=0.3)
+        g2.axhline(0.0, color="k", lw=0.5)
+        g1.tick_params(labelbottom=False)
+        g1.set_ylim(bottom=0.0)
+        g1.set_ylabel("horizontal position error [m]")
+        g2.set_ylabel("yaw error [deg]")
+        g2.set_xlabel("time from the start of the GPS outage [s]")
+        g1.set_title("GpsInsFilter (paper 004), simulated runs with a GPS outage mid-run",
+                     fontsize=10, loc="left")
+        h += [Line2D([], [], color="0.3", lw=0.8, ls="--", label="filter's 1-sigma (position),\n"
+                                                                   "3-sigma (yaw)"),
+              Patch(color="#f4d6a0", label=f"GPS outage ({span:.0f} s)")]
+        legend_right(g1, h, [x.get_label() for x in h], title="scenario", title_fontsize=8)
+        g2.set_ylim(*_symmetric_limits([s["outage"]["euler_deg"][:, 2] for s in ins.values()]))
+
+    fig.suptitle("quatnav demo: the filters on built-in simulated scenarios", fontsize=12)
+    return save(fig, path, dpi=110)
+
+
+def _symmetric_limits(series, pct: float = 99.5):
+    """Symmetric y limits that hold ``pct`` percent of every series' samples (the start of a run,
+    before the filter has converged, may leave the axis)."""
+    m = max(np.percentile(np.abs(s[np.isfinite(s)]), pct) for s in series)
+    return -1.3 * m, 1.3 * m
 
 
 def add_parser(sub) -> None:

@@ -48,7 +48,8 @@ def errors(s, r) -> dict:
     deul = r.euler[nav] - s.truth.rpy[i]
     deul = np.angle(np.exp(1j * deul))
     return dict(t=r.t[nav], horiz=np.hypot(dn, de), down=dd, euler_deg=np.degrees(deul),
-                sigma_h=np.hypot(r.sigma[nav, 0], r.sigma[nav, 1]))
+                sigma_h=np.hypot(r.sigma[nav, 0], r.sigma[nav, 1]),
+                sigma_psi_deg=np.degrees(r.sigma[nav, 6:9]))
 
 
 def _stats(x):
@@ -56,7 +57,11 @@ def _stats(x):
     return {"rms": float(np.sqrt(np.mean(x ** 2))), "max": float(np.max(x))}
 
 
-def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: float = 10.0) -> dict:
+def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: float = 10.0,
+                 keep_series: bool = False) -> dict:
+    """Run scenario ``paper004_<name>`` with every fix and with the outage; the summary (see the
+    module docstring). ``keep_series`` adds ``"series": {"gps": ..., "outage": ...}``, the
+    :func:`errors` of both runs against time (arrays, for :func:`plot`)."""
     import quatnav
 
     s = make_scenario(f"paper004_{name}", seed=seed)
@@ -82,7 +87,70 @@ def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: flo
                      "horizontal_error_at_end_m": float(e2["horiz"][m][-1]),
                      "horizontal_sigma_at_end_m": float(e2["sigma_h"][m][-1]),
                      "horizontal_rms_whole_run_m": _stats(e2["horiz"])["rms"]}
+    if keep_series:
+        out["series"] = {"gps": e, "outage": e2,
+                         "compass_bias_deg": float(s.params.get("compass", {}).get("bias_deg", 0.0))}
     return out
+
+
+def plot(res: dict, path) -> None:
+    """Figure of one :func:`run_scenario` result (run with ``keep_series=True``): horizontal and
+    vertical position error of the run with every fix and of the run with the outage (the two
+    are the same run until the outage starts), with the filter's one-sigma; roll, pitch and yaw
+    errors of the run with every fix with the filter's three-sigma."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from .._plotting import figure, legend_right, save
+    if "series" not in res:
+        raise ValueError("res: run run_scenario(..., keep_series=True) to plot it")
+    e, e2 = res["series"]["gps"], res["series"]["outage"]
+    o = res["outage"]
+    t0, t1 = o["start_s"], o["start_s"] + o["length_s"]
+    fig = figure((11.0, 8.5))
+    ax = [fig.add_subplot(3, 1, 1)]
+    ax += [fig.add_subplot(3, 1, k, sharex=ax[0]) for k in (2, 3)]
+    ax[0].plot(e["t"], e["horiz"], color="C0", lw=0.9)
+    ax[0].plot(e["t"], e["sigma_h"], color="C0", lw=0.8, ls="--")
+    ax[0].plot(e2["t"], e2["horiz"], color="C3", lw=0.9)
+    ax[0].plot(e2["t"], e2["sigma_h"], color="C3", lw=0.8, ls="--")
+    ax[0].set_ylim(bottom=0.0)
+    ax[0].set_ylabel("horizontal error [m]")
+    ax[1].plot(e["t"], e["down"], color="C0", lw=0.9)
+    ax[1].plot(e2["t"], e2["down"], color="C3", lw=0.9)
+    ax[1].axhline(0.0, color="k", lw=0.5)
+    ax[1].set_ylabel("down error [m]")
+    colors = {"roll": "#1b9e77", "pitch": "#d95f02", "yaw": "#7570b3"}
+    for j, (name, c) in enumerate(colors.items()):
+        ax[2].plot(e["t"], e["euler_deg"][:, j], color=c, lw=0.8)
+        ax[2].plot(e["t"], 3 * e["sigma_psi_deg"][:, j], color=c, lw=0.6, ls="--")
+        ax[2].plot(e["t"], -3 * e["sigma_psi_deg"][:, j], color=c, lw=0.6, ls="--")
+    cb = res["series"].get("compass_bias_deg", 0.0)
+    if cb:
+        ax[2].axhline(cb, color="k", ls=":", lw=1.0)
+    ax[2].axhline(0.0, color="k", lw=0.5)
+    m = max(np.percentile(np.abs(e["euler_deg"]), 99.5), abs(cb))
+    ax[2].set_ylim(-1.4 * m, 1.4 * m)  # the alignment's first second may leave the axis
+    ax[2].set_ylabel("attitude error [deg]")
+    ax[2].set_xlabel("time [s]")
+    for a in ax:
+        a.axvspan(t0, t1, color="#f4d6a0", lw=0, zorder=0)
+        a.grid(True, alpha=0.3)
+        a.set_xlim(res["navigating_from_s"], e["t"][-1])
+    for a in ax[:2]:
+        a.tick_params(labelbottom=False)
+    h = [Line2D([], [], color="C0", lw=1.5, label="every GPS fix"),
+         Line2D([], [], color="C3", lw=1.5, label=f"GPS outage {t0:.0f}-{t1:.0f} s"),
+         Line2D([], [], color="0.3", lw=0.8, ls="--", label="filter's 1-sigma"),
+         Patch(color="#f4d6a0", label="outage")]
+    legend_right(ax[0], h, [x.get_label() for x in h])
+    h = [Line2D([], [], color=c, lw=1.5, label=n) for n, c in colors.items()]
+    h.append(Line2D([], [], color="0.3", lw=0.6, ls="--", label="filter's 3-sigma"))
+    if cb:
+        h.append(Line2D([], [], color="k", ls=":", lw=1.0, label=f"compass bias {cb:g} deg\n(not a filter state)"))
+    legend_right(ax[2], h, [x.get_label() for x in h], title="run with every fix", title_fontsize=8)
+    fig.suptitle(f"GpsInsFilter (paper 004) on {res['scenario']}, seed {res['seed']}", fontsize=11)
+    save(fig, path)
 
 
 def run(args) -> int:
