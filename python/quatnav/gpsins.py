@@ -42,6 +42,25 @@ PARAM_NAMES = ("gyro_noise", "accel_noise", "gyro_bias_rw", "accel_bias_rw", "gy
                "gate_compass", "gps_reset_after", "align_time", "min_speed_for_heading", "heading_from_gps",
                "earth_rotation", "max_dt", "gyro_range", "acc_range", "cov_floor")
 
+#: Angle parameters (rad) and their accepted ranges; a value outside is most likely in degrees.
+ANGLE_LIMITS = {"declination": (-np.pi, np.pi), "compass_sigma": (0.0, 1.0),
+                "init_level_sigma": (0.0, np.pi / 2), "init_yaw_sigma": (0.0, np.pi)}
+_RANGE_TEXT = {-np.pi: "-pi", 0.0: "0", 1.0: "1", np.pi / 2: "pi/2", np.pi: "pi"}
+
+
+def _angle(value, name) -> float:
+    """An angle parameter in radians within :data:`ANGLE_LIMITS`; else a ValueError that names
+    the parameter and suggests ``np.radians`` when the value reads as degrees."""
+    v = _finite(value, name)
+    lo, hi = ANGLE_LIMITS[name]
+    if not lo <= v <= hi:
+        rng = f"[{_RANGE_TEXT[lo]}, {_RANGE_TEXT[hi]}]"
+        hint = (f"; angles are in radians: for {v:g} deg pass np.radians({v:g}) = {np.radians(v):.6g}"
+                if abs(v) > hi and abs(v) <= 360.0 else "")
+        raise ValueError(f"{name}: {v:g} is outside {rng} rad{hint}")
+    return v
+
+
 _STATUS = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated",
            "solve_failed", "rejected", "numerical_failure", "invalid_argument")
 
@@ -128,8 +147,8 @@ def _times(x, name):
     if bad.size:
         k = int(bad[0]) + 1
         kind = "duplicate" if d[bad[0]] == 0 else "unsorted"
-        raise ValueError(f"{name}: times must be strictly increasing ({kind}); row {k} ({a[k]!r}) "
-                         f"does not follow row {k - 1} ({a[k - 1]!r})")
+        raise ValueError(f"{name}: times must be strictly increasing ({kind}); row {k} ({float(a[k])!r}) "
+                         f"does not follow row {k - 1} ({float(a[k - 1])!r})")
     return a
 
 
@@ -187,8 +206,10 @@ class GpsInsFilter:
         ``accel_noise`` (m/s^2/sqrt(Hz)), ``gyro_bias_rw`` (rad/s/sqrt(s)), ``accel_bias_rw``
         (m/s^2/sqrt(s)), ``gyro_bias_tau``/``accel_bias_tau`` (s; 0: random walk),
         ``lever_arm_b`` (3,) m, ``gps_pos_sigma_h``/``_v`` (m), ``gps_vel_sigma`` (m/s),
-        ``baro_sigma`` (m), ``baro_rate_baseline`` (s), ``compass_sigma`` (rad), ``declination``
-        (rad), chi-square gates ``gate_*`` (0: off), ``align_time`` (s),
+        ``baro_sigma`` (m), ``baro_rate_baseline`` (s), ``compass_sigma`` (rad, [0, 1]),
+        ``declination`` (rad, [-pi, pi], east of true north), ``init_level_sigma`` (rad,
+        [0, pi/2]), ``init_yaw_sigma`` (rad, [0, pi]) (an angle outside its range raises
+        ``ValueError``: it was most likely given in degrees, use ``np.radians``), chi-square gates ``gate_*`` (0: off), ``align_time`` (s),
         ``min_speed_for_heading`` (m/s), ``heading_from_gps``, ``earth_rotation``, ``max_dt`` (s),
         ``gps_reset_after`` (consecutive gate rejections before a GPS reset; 0: never).
 
@@ -214,8 +235,8 @@ class GpsInsFilter:
                 if not isinstance(value, (bool, np.bool_)):
                     raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
                 value = bool(value)
-            elif name == "declination":
-                value = float(V.vector([value], "declination", 1)[0])
+            elif name in ANGLE_LIMITS:
+                value = _angle(value, name)
             else:
                 value = V.positive(value, name, allow_zero=True)
             setattr(p, name, value)
@@ -398,7 +419,8 @@ class GpsInsFilter:
             big = np.flatnonzero(np.diff(t) > float(self._f.params.max_dt))
             if big.size:
                 k = int(big[0]) + 1
-                raise ValueError(f"t: step {t[k] - t[k - 1]!r} s in row {k} exceeds max_dt={self._f.params.max_dt} s")
+                raise ValueError(f"t: step {float(t[k] - t[k - 1])!r} s in row {k} exceeds "
+                                 f"max_dt={float(self._f.params.max_dt)!r} s")
         if gps_t is None:
             gps_t = np.zeros(0)
             gps_llh = np.zeros((0, 3))

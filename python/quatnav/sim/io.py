@@ -15,6 +15,28 @@ CSV
   sensors present, columns :func:`csv_columns` ``(group)``;
 * ``run_meta.json``: the metadata.
 
+INS input (``quatnav ins run``)
+-------------------------------
+``save_ins_csv(scenario, "DIR")`` writes the files that ``quatnav ins run`` reads, in its columns
+and units (``quatnav ins run -h``), so a simulated run goes through the command line unchanged::
+
+    quatnav simulate paper004_walk --csv run/
+    quatnav ins run --imu run/imu.csv --gnss run/gnss.csv --baro run/baro.csv \
+                    --compass run/compass.csv --config run/config.toml --out run/out.csv
+
+* ``imu.csv``: ``time`` (s), ``gyro_x gyro_y gyro_z`` (rad/s), ``accel_x accel_y accel_z``
+  (m/s^2), the simulated (noisy, biased) IMU; row k is the mean over (time[k-1], time[k]];
+* ``gnss.csv``: ``time`` (time of validity, s), ``lat lon`` (deg), ``h`` (m) and ``v_n v_e v_d``
+  (m/s) of the antenna, ``sigma_n sigma_e sigma_d`` (m) and ``sigma_vn sigma_ve sigma_vd`` (m/s)
+  from the receiver's simulated noise;
+* ``baro.csv``: ``time``, ``h`` (m); ``compass.csv``: ``time``, ``heading`` (deg; the simulated
+  compass measures true heading, so the configuration leaves ``declination`` at 0);
+* ``config.toml``: ``[filter]`` with the antenna lever arm ``lever_arm_b`` (m);
+* ``truth.csv``: ``time, lat, lon`` (deg), ``h``, ``v_n v_e v_d``, ``roll pitch yaw`` (deg) at
+  every trajectory sample: the first columns of ``ins run``'s output, for comparison.
+
+Only the sensors of the scenario are written (a scenario without GPS gives no ``gnss.csv``).
+
 Column names are the field names; vectors get a suffix per component: ``_N, _E, _D`` for
 NED vectors (``*_n``), ``_x, _y, _z`` for body vectors (``*_b``) and sensor triads,
 ``_w, _x, _y, _z`` for quaternions and ``_roll, _pitch, _yaw`` for ``rpy``. Units are SI and
@@ -34,7 +56,7 @@ from .scenarios import Scenario
 from .sensors import BaroData, CompassData, GpsData, ImuData, MagData
 from .trajectory import Trajectory
 
-__all__ = ["save_npz", "load_npz", "save_csv", "load_csv", "csv_columns"]
+__all__ = ["save_npz", "load_npz", "save_csv", "load_csv", "csv_columns", "save_ins_csv", "TRUTH_COLUMNS"]
 
 _TYPES = {"imu": ImuData, "gps": GpsData, "mag": MagData, "baro": BaroData, "compass": CompassData}
 _SCALARS = {"truth": ("rate_hz", "earth_rate"), "imu": ("rate_hz",)}
@@ -198,3 +220,51 @@ def load_csv(path) -> Scenario:
             return a.astype(bool)
         return a
     return _build(meta, get)
+
+
+#: Columns of ``truth.csv`` written by :func:`save_ins_csv` (those of ``quatnav ins run``'s output).
+TRUTH_COLUMNS = ("time", "lat", "lon", "h", "v_n", "v_e", "v_d", "roll", "pitch", "yaw")
+
+
+def _write(path, header, cols, fmt):
+    np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header), comments="", fmt=fmt)
+    return Path(path)
+
+
+def save_ins_csv(scenario: Scenario, directory) -> list:
+    """Write the ``quatnav ins run`` input files of a scenario into ``directory`` (created).
+
+    See the module doc for the files, columns and units. Returns the paths written.
+    """
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    s, written = scenario, []
+    imu = s.imu
+    written.append(_write(d / "imu.csv", ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"),
+                          [imu.t, *np.asarray(imu.gyro).T, *np.asarray(imu.accel).T], "%.17g"))
+    spec = s.params.get("gps", {})
+    if s.gps is not None:
+        g = s.gps
+        k = len(g.t_valid)
+        sh, sv = float(spec.get("pos_sigma_h_m", 2.0)), float(spec.get("pos_sigma_v_m", 4.0))
+        svel = float(spec.get("vel_sigma_m_s", 0.1))
+        written.append(_write(d / "gnss.csv", ("time", "lat", "lon", "h", "v_n", "v_e", "v_d", "sigma_n", "sigma_e",
+                                                "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd"),
+                              [g.t_valid, np.degrees(g.lat), np.degrees(g.lon), g.h, *np.asarray(g.v_n).T,
+                               *(np.full(k, x) for x in (sh, sh, sv, svel, svel, svel))], "%.15g"))
+    if s.baro is not None:
+        written.append(_write(d / "baro.csv", ("time", "h"), [s.baro.t, s.baro.h], "%.10g"))
+    if s.compass is not None:
+        written.append(_write(d / "compass.csv", ("time", "heading"), [s.compass.t, np.degrees(s.compass.yaw)],
+                              "%.10g"))
+    lever = np.broadcast_to(np.asarray(spec.get("lever_arm_b_m", 0.0), float), (3,))
+    cfg = d / "config.toml"
+    cfg.write_text(f"# quatnav ins run configuration of the simulated scenario {s.name} (seed {s.seed})\n"
+                   "[filter]\n"
+                   f"lever_arm_b = [{', '.join(repr(float(x)) for x in lever)}]   # m, GPS antenna in the body frame\n")
+    written.append(cfg)
+    tr = s.truth
+    written.append(_write(d / "truth.csv", TRUTH_COLUMNS,
+                          [tr.t, np.degrees(tr.lat), np.degrees(tr.lon), tr.h, *np.asarray(tr.v_n).T,
+                           *np.degrees(np.asarray(tr.rpy)).T], "%.15g"))
+    return written
