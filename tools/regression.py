@@ -26,6 +26,7 @@ import dataclasses
 import functools
 import hashlib
 import math
+import os
 import sys
 from pathlib import Path
 from typing import Callable
@@ -122,7 +123,9 @@ def _paper004(name):
 
 def scn_broad():
     from quatnav.datasets import broad
-    path = broad.default_dir() / f"{BROAD_TRIAL}.mat"
+    # $QUATNAV_DATA, else ../shared/data beside this checkout (as tests/python/conftest.py; not
+    # relative to the package, which may be installed elsewhere).
+    path = Path(os.environ.get("QUATNAV_DATA", REPO.parent / "shared" / "data")) / "broad" / f"{BROAD_TRIAL}.mat"
     if not path.is_file():
         raise DataMissing(f"BROAD trial not found: {path} (set QUATNAV_DATA)")
     tr = broad.load_trial(path)
@@ -278,7 +281,8 @@ def run_gpsins(d, dtype=np.float64, baro=True, compass=True, outage=False):
 def run_strapdown(d, dtype=np.float64):
     from quatnav.strapdown import StrapdownState, strapdown_run_cpp
     lat, lon, h = d["llh0"]
-    s0 = StrapdownState(np.asarray(d["q0_true"], float), np.asarray(d["v0_true"], float), float(lat), float(lon), float(h))
+    s0 = StrapdownState(np.asarray(d["q0_true"], float), np.asarray(d["v0_true"], float),
+                        float(lat), float(lon), float(h))
     dt = np.diff(np.concatenate([[d["t"][0] - (d["t"][1] - d["t"][0])], d["t"]]))
     r = strapdown_run_cpp(s0, d["omega_ib_b"], d["f_ib_b"], dt, dtype=dtype)
     out = {"t": d["t"]}
@@ -533,7 +537,8 @@ def compare(case: Case, path: Path | None = None) -> dict:
     if _header_field(header, "inputs sha256") != _header_field(res.header, "inputs sha256"):
         out["messages"].append("the inputs changed (scenario, simulator, data or numpy): the difference may not "
                                "come from the filter")
-    if _header_field(header, "outputs sha256 (every sample)") != _header_field(res.header, "outputs sha256 (every sample)"):
+    key = "outputs sha256 (every sample)"
+    if _header_field(header, key) != _header_field(res.header, key):
         out["messages"].append("outputs differ (sha256 over every sample)")
     for key in ("filter", "rows", "types"):
         if _header_field(header, key) != _header_field(res.header, key):
@@ -561,7 +566,8 @@ def compare(case: Case, path: Path | None = None) -> dict:
         except ValueError:
             out["messages"].append(f"{name}: unreadable values in the file")
             continue
-        if new.dtype.kind in "uib":
+        integer = new.dtype.kind in "uib"
+        if integer:
             bad = old.astype(np.int64) != new.astype(np.int64)
             diff = np.abs(old.astype(np.float64) - new.astype(np.float64))
         else:
@@ -573,21 +579,29 @@ def compare(case: Case, path: Path | None = None) -> dict:
             i = np.flatnonzero(bad)
             scale = np.maximum(np.abs(old.astype(np.float64)[i]), np.finfo(float).tiny)
             with np.errstate(invalid="ignore"):
-                rel = np.nanmax(diff[i] / scale) if np.isfinite(diff[i]).any() else np.inf
+                rel = np.nan if integer else (np.nanmax(diff[i] / scale) if np.isfinite(diff[i]).any() else np.inf)
             out["differences"].append(Difference(name, int(res.columns[0][i[0]]), int(i.size),
                                                  float(np.nanmax(diff[i])), float(rel)))
+    if not out["differences"] and "outputs differ (sha256 over every sample)" in out["messages"]:
+        i = out["messages"].index("outputs differ (sha256 over every sample)")
+        out["messages"][i] = ("outputs differ only at samples not written to the file (sha256 over every sample); "
+                              "the written rows are the same")
     if not out["differences"] and not out["messages"]:
         out["messages"].append("text differs (formatting or header)")
+    out["path"] = path
     return out
 
 
 def report(case: Case, cmp: dict) -> str:
     """Human-readable account of one comparison."""
-    lines = [f"{case.name}: tests/regression/{case.name}.csv differs from the current code"]
+    path = cmp.get("path", OUT_DIR / f"{case.name}.csv")
+    shown = path.relative_to(REPO) if path.is_relative_to(REPO) else path
+    lines = [f"{case.name}: {shown} differs from the current code"]
     lines += [f"  {m}" for m in cmp["messages"]]
     for d in cmp["differences"]:
+        rel = "" if np.isnan(d.max_rel) else f" (relative {d.max_rel:.3g})"
         lines.append(f"  column {d.column}: first at row k={d.first_row}, {d.n_rows} rows, "
-                     f"largest |diff| {d.max_abs:.3g} (relative {d.max_rel:.3g})")
+                     f"largest |diff| {d.max_abs:.3g}{rel}")
     lines.append(f"  if the change is intended: {REGENERATE} and say in the commit message why the numbers moved")
     return "\n".join(lines)
 
@@ -612,7 +626,7 @@ def main(argv=None) -> int:
     cases = _select(args.k)
     if args.list:
         for c in cases:
-            print(f"{c.name:28s} {c.scenario:10s} {c.call}")
+            print(f"{c.name:32s} {c.scenario:10s} {c.call}")
         return 0
     failed = 0
     if args.update:
@@ -638,30 +652,33 @@ def main(argv=None) -> int:
         print(f"{len(changed)} of {len(cases)} files rewritten ({', '.join(changed) or 'none'}); "
               f"{size / 1e6:.2f} MB in {args.dir}")
         return 0
-    print(f"{'case':28s} {'result':10s} {'column':14s} {'first k':>8s} {'rows':>6s} {'max |diff|':>11s} {'relative':>9s}")
-    details = []
+    print(f"{'case':32s} {'result':10s} {'column':14s} {'first k':>8s} {'rows':>6s} {'max |diff|':>11s} "
+          f"{'relative':>9s}")
+    details, skipped = [], 0
     for c in cases:
         try:
             cmp = compare(c, args.dir / f"{c.name}.csv")
         except DataMissing as e:
-            print(f"{c.name:28s} {'skipped':10s} ({e})")
+            print(f"{c.name:32s} {'skipped':10s} ({e})")
+            skipped += 1
             continue
         if cmp["ok"]:
-            print(f"{c.name:28s} {'same':10s}")
+            print(f"{c.name:32s} {'same':10s}")
             continue
         failed += 1
         details.append(report(c, cmp))
         if not cmp["differences"]:
-            print(f"{c.name:28s} {'DIFFERS':10s} {cmp['messages'][0] if cmp['messages'] else ''}")
+            print(f"{c.name:32s} {'DIFFERS':10s} {cmp['messages'][0] if cmp['messages'] else ''}")
         for i, d in enumerate(cmp["differences"]):
-            print(f"{c.name if i == 0 else '':28s} {'DIFFERS' if i == 0 else '':10s} {d.column:14s} {d.first_row:8d} "
-                  f"{d.n_rows:6d} {d.max_abs:11.3g} {d.max_rel:9.3g}")
+            print(f"{c.name if i == 0 else '':32s} {'DIFFERS' if i == 0 else '':10s} {d.column:14s} {d.first_row:8d} "
+                  f"{d.n_rows:6d} {d.max_abs:11.3g} {'-' if np.isnan(d.max_rel) else format(d.max_rel, '9.3g'):>9s}")
     if details:
         print()
         print("\n\n".join(details))
         print(f"\n{failed} of {len(cases)} cases differ; if intended: {REGENERATE}")
         return 1
-    print(f"all {len(cases)} cases are the same as tests/regression/")
+    note = f"; {skipped} skipped (data absent)" if skipped else ""
+    print(f"all {len(cases) - skipped} compared cases are the same as the files in {args.dir}{note}")
     return 0
 
 

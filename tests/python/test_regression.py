@@ -127,3 +127,24 @@ def test_nan_against_a_number_and_signed_zero_are_differences(tmp_path):
     _edit(R.OUT_DIR / f"{case.name}.csv", f, 0, "bias_x", lambda s: "-0.0" if s == "0.0" else s)
     cmp = _compare(case, f)
     assert [d.column for d in cmp["differences"]] == ["bias_x"]
+
+
+def test_command_line_update_then_compare(tmp_path, capsys):
+    pytest.importorskip("quatnav.sim")
+    name = "marg-gps_turn"
+    assert R.main(["--update", "--dir", str(tmp_path), "-k", name]) == 0
+    assert (tmp_path / f"{name}.csv").read_text() == (R.OUT_DIR / f"{name}.csv").read_text()
+    assert R.main(["--dir", str(tmp_path), "-k", name]) == 0
+    _edit(R.OUT_DIR / f"{name}.csv", tmp_path / f"{name}.csv", 2, "residual", lambda s: "nan" if s != "nan" else "1.0")
+    capsys.readouterr()
+    assert R.main(["--dir", str(tmp_path), "-k", name]) == 1
+    out = capsys.readouterr().out
+    assert "DIFFERS" in out and "residual" in out and R.REGENERATE in out
+
+
+def test_recomputing_gives_the_same_text():
+    pytest.importorskip("quatnav.sim")
+    case = R.CASES_BY_NAME["nav13-ukf-f32_paper002"]
+    first = R.compute(case).text
+    R.scenario.cache_clear()  # the scenario is simulated again
+    assert R.compute(case).text == first
