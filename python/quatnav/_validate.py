@@ -12,6 +12,17 @@ import numpy as np
 ON_INVALID = ("raise", "skip")
 
 
+def num(x) -> str:
+    """A number as it should read in a message: ``4000.0``, not ``np.float64(4000.0)``."""
+    if isinstance(x, (bool, np.bool_)):
+        return str(bool(x))
+    if isinstance(x, (numbers.Integral, np.integer)):
+        return str(int(x))
+    if isinstance(x, (numbers.Real, np.floating)):
+        return repr(float(x))
+    return repr(x)
+
+
 def resolve_dtype(dtype) -> np.dtype:
     try:
         dt = np.dtype(dtype)
@@ -109,7 +120,19 @@ def positive(x, name: str, allow_zero: bool = False) -> float:
         raise TypeError(f"{name}: expected a real number, got {type(x).__name__}")
     v = float(x)
     if not np.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise ValueError(f"{name}: expected a {'non-negative' if allow_zero else 'positive'} finite number, got {x!r}")
+        raise ValueError(f"{name}: expected a {'non-negative' if allow_zero else 'positive'} finite number, got {num(x)}")
+    return v
+
+
+def angle(x, name: str, limit: float = np.pi) -> float:
+    """A finite angle in rad within [-limit, limit]; a value outside (for example degrees
+    passed where radians are expected) is refused with a hint."""
+    if isinstance(x, bool) or not isinstance(x, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"{name}: expected an angle in rad (a real number), got {type(x).__name__}")
+    v = float(x)
+    if not np.isfinite(v) or abs(v) > limit:
+        hint = f" (degrees? use np.radians({v:g}))" if np.isfinite(v) and abs(v) <= 360 else ""
+        raise ValueError(f"{name}: expected a finite angle in [-{limit:.4g}, {limit:.4g}] rad, got {v:g}{hint}")
     return v
 
 
@@ -134,8 +157,8 @@ def time_steps(n: int, dt=None, t=None, dtype=np.float64, max_dt: float | None =
         bad = np.flatnonzero(~(d > 0))
         if bad.size:
             k = int(bad[0]) + 1
-            raise ValueError(f"t: timestamps must be strictly increasing; row {k} ({ta[k]!r}) "
-                             f"does not follow row {k - 1} ({ta[k - 1]!r})")
+            raise ValueError(f"t: timestamps must be strictly increasing; row {k} ({num(ta[k])}) "
+                             f"does not follow row {k - 1} ({num(ta[k - 1])})")
         if n == 1:
             raise ValueError("t: one timestamp gives no step length; pass dt instead")
         steps = np.concatenate([d[:1], d])
@@ -150,12 +173,12 @@ def time_steps(n: int, dt=None, t=None, dtype=np.float64, max_dt: float | None =
             steps = da.astype(np.float64)
             bad = np.flatnonzero(~(np.isfinite(steps) & (steps > 0)))
             if bad.size:
-                raise ValueError(f"dt: expected positive finite steps; row {int(bad[0])} is {steps[bad[0]]!r}")
+                raise ValueError(f"dt: expected positive finite steps; row {int(bad[0])} is {num(steps[bad[0]])}")
     if max_dt is not None:
         big = np.flatnonzero(steps > max_dt)
         if big.size:
-            raise ValueError(f"{'t' if t is not None else 'dt'}: step {steps[big[0]]!r} s in row {int(big[0])} "
-                             f"exceeds max_dt={max_dt} s")
+            raise ValueError(f"{'t' if t is not None else 'dt'}: step {num(steps[big[0]])} s in row {int(big[0])} "
+                             f"exceeds max_dt={num(max_dt)} s")
     return np.ascontiguousarray(steps, dtype=dtype)
 
 

@@ -190,7 +190,7 @@ def _finite(x, name) -> float:
         raise TypeError(f"{name}: expected a real number, got {type(x).__name__}")
     v = float(x)
     if not np.isfinite(v):
-        raise ValueError(f"{name}: expected a finite number, got {x!r}")
+        raise ValueError(f"{name}: expected a finite number, got {V.num(x)}")
     return v
 
 
@@ -348,7 +348,7 @@ class GpsInsFilter:
         nan3 = np.full(3, np.nan, self.dtype)
         la, lo, hh = _finite(lat, "lat"), _finite(lon, "lon"), _finite(h, "h")
         if not abs(la) <= np.pi / 2:
-            raise ValueError(f"lat: expected |lat| <= pi/2 rad, got {lat!r}")
+            raise ValueError(f"lat: expected |lat| <= pi/2 rad, got {V.num(lat)}")
         v = nan3 if v_n is None else V.vector(v_n, "v_n", 3, self.dtype)
         ps = nan3 if pos_sigma is None else _sigmas(np.reshape(V._numeric(pos_sigma, "pos_sigma"), (1, -1))
                                                     if np.ndim(pos_sigma) == 1 else pos_sigma, "pos_sigma", 1,
