@@ -557,13 +557,18 @@ def compare(case: Case, path: Path | None = None) -> dict:
     if old_k != new_k:
         out["messages"].append(f"rows: {len(old_k)} written before, {len(new_k)} now")
         return out
+    # Each file's cells are read with that file's own types (a float32 result now returned as
+    # float64 with the same values is a change of type, not of value).
+    old_types = (_header_field(header, "types") or "").split(",")
     for name, new in zip(res.names[1:], res.columns[1:]):
         if name not in names:
             continue
-        old_s = cols[names.index(name)]
+        j = names.index(name)
+        old_s = cols[j]
         try:
-            old = np.array([parse_value(s, new.dtype) for s in old_s])
-        except ValueError:
+            t = np.dtype(old_types[j]) if len(old_types) == len(names) else new.dtype
+            old = np.array([parse_value(s, t) for s in old_s])
+        except (ValueError, TypeError):
             out["messages"].append(f"{name}: unreadable values in the file")
             continue
         integer = new.dtype.kind in "uib"
@@ -584,8 +589,10 @@ def compare(case: Case, path: Path | None = None) -> dict:
                                                  float(np.nanmax(diff[i])), float(rel)))
     if not out["differences"] and "outputs differ (sha256 over every sample)" in out["messages"]:
         i = out["messages"].index("outputs differ (sha256 over every sample)")
+        types_changed = _header_field(header, "types") != _header_field(res.header, "types")
         out["messages"][i] = ("outputs differ only at samples not written to the file (sha256 over every sample); "
-                              "the written rows are the same")
+                              "the written rows are the same" + (" (the sha256 covers the types too)"
+                                                                 if types_changed else ""))
     if not out["differences"] and not out["messages"]:
         out["messages"].append("text differs (formatting or header)")
     out["path"] = path

@@ -148,3 +148,24 @@ def test_recomputing_gives_the_same_text():
     first = R.compute(case).text
     R.scenario.cache_clear()  # the scenario is simulated again
     assert R.compute(case).text == first
+
+
+def test_a_change_of_type_with_the_same_values_is_not_a_change_of_value(tmp_path):
+    case = R.CASES_BY_NAME["qekf-f32_rotation"]
+    lines = (R.OUT_DIR / f"{case.name}.csv").read_text().splitlines()
+    first = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    j = lines[first].split(",").index("q_w")
+    t = next(i for i, line in enumerate(lines) if line.startswith("# types: "))
+    types = lines[t][len("# types: "):].split(",")
+    assert types[j] == "f4"
+    types[j] = "f8"
+    lines[t] = "# types: " + ",".join(types)
+    for i in range(first + 1, len(lines)):  # the same values written as float64
+        cells = lines[i].split(",")
+        cells[j] = repr(float(np.float32(float(cells[j]))))
+        lines[i] = ",".join(cells)
+    f = tmp_path / "x.csv"
+    f.write_text("\n".join(lines) + "\n")
+    cmp = _compare(case, f)
+    assert not cmp["ok"] and cmp["differences"] == []
+    assert any(m.startswith("types:") for m in cmp["messages"])
