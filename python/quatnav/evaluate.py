@@ -25,7 +25,7 @@ CC BY 4.0.
 from __future__ import annotations
 
 import importlib
-import json
+import os
 import sys
 from concurrent.futures import Executor
 from pathlib import Path
@@ -319,29 +319,61 @@ def _split(s: str) -> list[str]:
     return [x.strip() for x in s.split(",") if x.strip()] if s else []
 
 
+def _names(option: str, value: str, known: dict) -> list[str]:
+    """Names of a comma list option; ``none`` (or an empty list) selects nothing."""
+    names = _split(value)
+    if [n.lower() for n in names] == ["none"]:
+        return []
+    for n in names:
+        if n not in known:
+            from .cli import UsageError
+            raise UsageError(f"{option}: unknown name {n!r}; known: {', '.join(known)}, or none")
+    return names
+
+
+def _broad_dir(arg) -> Path:
+    """The BROAD folder of ``quatnav eval broad [DIR]``, or a UsageError saying what to give."""
+    from .cli import UsageError
+    from .datasets import broad
+    if arg is not None:
+        d = Path(arg)
+        if not d.is_dir():
+            raise UsageError(f"DIR {d}: {'not a directory' if d.exists() else 'no such directory'}; "
+                             "give the folder of the BROAD trial files (.mat/.hdf5)")
+        if not broad.list_trials(d):
+            raise UsageError(f"DIR {d}: no BROAD trials (.mat/.hdf5) in it; give the folder of the BROAD trial files")
+        return d
+    d = broad.default_dir()
+    if not d.is_dir() or not broad.list_trials(d):
+        src = "$QUATNAV_DATA/broad" if os.environ.get("QUATNAV_DATA") else "the default data folder"
+        raise UsageError(f"no DIR given and no BROAD trials in {d} ({src}): give DIR, the folder of the "
+                         "BROAD trial files, or set QUATNAV_DATA to the folder that holds broad/")
+    return d
+
+
 def _cmd_broad(args) -> int:
-    filters, peers = _split(args.filters), _split(args.peers)
-    for n in filters:
-        if n not in FILTERS:
-            raise SystemExit(f"--filters: unknown filter {n!r}; known: {', '.join(FILTERS)}")
-    for n in peers:
-        if n not in PEERS:
-            raise SystemExit(f"--peers: unknown peer {n!r}; known: {', '.join(PEERS)}")
+    from .cli import UsageError, write_json
+    filters = _names("--filters", args.filters, FILTERS)
+    peers = _names("--peers", args.peers, PEERS)
+    if not filters and not peers:
+        raise UsageError("--filters and --peers select nothing to run; give at least one filter or peer")
+    if args.jobs < 1:
+        raise UsageError(f"--jobs: expected a positive integer, got {args.jobs}")
+    directory = _broad_dir(args.dir)
     executor = None
-    if args.jobs and args.jobs > 1:
+    if args.jobs > 1:
         from concurrent.futures import ProcessPoolExecutor
         executor = ProcessPoolExecutor(max_workers=args.jobs)
     try:
-        res = evaluate(args.dir, filters, peers, executor=executor, progress=not args.quiet,
+        res = evaluate(directory, filters, peers, executor=executor, progress=not args.quiet,
                        keep_series=bool(args.plot))
     finally:
         if executor is not None:
             executor.shutdown()
+    if not res["algorithms"]:
+        raise UsageError("none of the selected algorithms can run here (" + "; ".join(res["notes"]) + ")")
     print(format_table(res))
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(_jsonable(res), f, indent=2)
-        print(f"wrote {args.json}")
+    write_json(_jsonable(res), args)
     if args.plot:
         for p in plot_results(res, args.plot):
             print(f"wrote {p}")
@@ -351,16 +383,25 @@ def _cmd_broad(args) -> int:
 
 def add_parser(sub) -> None:
     """Register ``quatnav eval broad ...`` on the CLI's subparsers."""
-    p = sub.add_parser("eval", help="evaluate filters on real datasets")
+    p = sub.add_parser("eval", help="evaluate filters on real datasets (see 'quatnav eval broad -h')")
     evsub = p.add_subparsers(dest="dataset", metavar="DATASET")
-    b = evsub.add_parser("broad", help="BROAD benchmark: filters and peers side by side")
-    b.add_argument("dir", nargs="?", default=None, help="folder of BROAD trials (default: shared data)")
-    b.add_argument("--filters", default="qekf", help="comma list of %s (default: qekf)" % ",".join(FILTERS))
+    b = evsub.add_parser("broad", help="BROAD benchmark: filters and peers side by side",
+                         description="BROAD benchmark (real IMU data with optical truth): quatnav's filters and "
+                                     "the peer libraries on every trial of DIR, BROAD's RMSE over the movement "
+                                     "phases per trial, per group and on average.",
+                         epilog="DIR defaults to $QUATNAV_DATA/broad (QUATNAV_DATA: the folder of the shared "
+                                "datasets; default ../shared/data next to the source tree). Needs scipy to read "
+                                "the .mat files: pip install 'quatnav[eval]'; peers: pip install 'quatnav[peers]' "
+                                "(a missing peer is skipped with a note).")
+    b.add_argument("dir", nargs="?", default=None, metavar="DIR",
+                   help="folder of the BROAD trial files (default: $QUATNAV_DATA/broad)")
+    b.add_argument("--filters", default="qekf",
+                   help="comma list of %s, or none (default: qekf)" % ",".join(FILTERS))
     b.add_argument("--peers", default="vqf,imufusion,madgwick",
-                   help="comma list of %s (default: all; missing packages are skipped)" % ",".join(PEERS))
-    b.add_argument("--json", default=None, help="write the results to this JSON file")
-    b.add_argument("--plot", default=None, help="write plots into this folder")
+                   help="comma list of %s, or none (default: all; missing packages are skipped)" % ",".join(PEERS))
+    b.add_argument("--json", default=None, metavar="FILE", help="write the results to this JSON file ('-': stdout)")
+    b.add_argument("--plot", default=None, metavar="DIR", help="write plots into this folder")
     b.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     b.add_argument("--quiet", action="store_true", help="no progress bar")
     b.set_defaults(func=_cmd_broad)
-    p.set_defaults(func=lambda a: (p.print_help(), 2)[1])
+    p.set_defaults(func=None)
