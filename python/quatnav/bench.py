@@ -14,10 +14,8 @@ Adding a filter is one :func:`register` call (see the bottom of this module).
 """
 from __future__ import annotations
 
-import argparse
 import datetime as _dt
 import gc
-import json
 import os
 import platform
 import statistics
@@ -300,11 +298,17 @@ def add_parser(sub) -> None:
                    help="also time the batch runs for N = 1e3 ... --max-n, with peak memory")
     p.add_argument("--max-n", type=float, default=1e7, help="largest N of --scaling (default 1e7)")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--json", metavar="FILE", default=None, help="write all figures to FILE as JSON")
+    p.add_argument("--json", metavar="FILE", default=None, help="write all figures to FILE as JSON ('-': stdout)")
+    p.epilog = ("The data comes from quatnav.sim (needs scipy: pip install 'quatnav[sim]'); the peers from "
+                "pip install 'quatnav[peers]' (a missing peer is listed as skipped).")
     p.set_defaults(func=_cli)
 
 
 def _cli(args) -> int:
+    from .cli import UsageError, write_json
+    for opt, v, lo in (("-n", args.n, 1), ("--repeat", args.repeat, 1), ("--max-n", args.max_n, 1e3)):
+        if not v >= lo:
+            raise UsageError(f"{opt}: expected at least {lo:g}, got {v:g}")
     info = machine_info()
     log = lambda s: print(s, file=sys.stderr, flush=True)  # noqa: E731
     print(f"quatnav bench  {info['date']}  {info['cpu']} ({info['cores']} cores)  "
@@ -322,19 +326,14 @@ def _cli(args) -> int:
         print()
         print(format_scaling(sc))
         out["scaling"] = sc
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(out, f, indent=1)
-        print(f"wrote {args.json}")
+    write_json(out, args)
     return 0
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="quatnav")
-    sub = parser.add_subparsers(dest="command")
-    add_parser(sub)
-    args = parser.parse_args(["bench"] + list(sys.argv[1:] if argv is None else argv))
-    return _cli(args)
+    """``python -m quatnav.bench [options]``: the same as ``quatnav bench [options]``."""
+    from . import cli
+    return cli.main(["bench"] + list(sys.argv[1:] if argv is None else argv))
 
 
 # ----------------------------------------------------------------------------------------------
