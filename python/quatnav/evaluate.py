@@ -122,6 +122,8 @@ def evaluate_trial(trial, name: str, params: dict | None = None, keep_series: bo
     if keep_series:
         e = M.error_quat(quat, trial.quat_ref)
         out["series_total_deg"] = np.degrees(M.total_error(e))
+        out["series_movement"] = np.asarray(trial.movement, bool)
+        out["series_rate_hz"] = float(trial.rate)
     return out
 
 
@@ -265,52 +267,70 @@ def _jsonable(results: dict) -> dict:
 
 
 def plot_results(results: dict, outdir) -> list[Path]:
-    """Write plots: total error over time per trial (needs ``keep_series``) and a bar chart of
-    the total RMSE per group. Returns the files written."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Write plots: total error over time per trial (needs ``keep_series``; RMS over 1 s windows
+    on a log axis, the rest phases that the RMSE leaves out shaded) and a bar chart of the total RMSE per group.
+    Returns the files written."""
+    from matplotlib.patches import Patch
+
+    from ._plotting import figure, legend_right, moving_rms, save
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     written = []
     algs = results["algorithms"]
+    cite = "BROAD (Laidig et al. 2021, CC BY 4.0)"
     for t, d in results["trials"].items():
-        series = {a: d["results"][a].get("series_total_deg") for a in algs}
-        if not any(s is not None for s in series.values()):
+        res = {a: d["results"][a] for a in algs if d["results"][a].get("series_total_deg") is not None}
+        if not res:
             continue
-        fig, ax = plt.subplots(figsize=(10, 4))
-        for a, s in series.items():
-            if s is not None:
-                ax.plot(np.arange(len(s)) / 285.714, s, lw=0.7,
-                        label=f"{a} ({d['results'][a]['total']:.2f} deg)")
-        ax.set_xlabel("time [s] (at BROAD's 285.7 Hz)")
-        ax.set_ylabel("total error [deg]")
-        ax.set_title(f"BROAD {t}")
-        ax.legend(fontsize=8)
-        ax.grid(alpha=0.3)
-        p = outdir / f"error_{t}.png"
-        fig.tight_layout()
-        fig.savefig(p, dpi=110)
-        plt.close(fig)
+        fig = figure((11.5, 4.2))
+        ax = fig.add_subplot()
+        first = next(iter(res.values()))
+        rate = first.get("series_rate_hz", 285.714)
+        lows = []
+        for k, (a, r) in enumerate(res.items()):
+            # RMS over 1 s windows: the instantaneous error dips towards zero whenever it changes
+            # sign in some axis, which a log axis would draw as a comb of spikes.
+            s = moving_rms(np.asarray(r["series_total_deg"], float), max(1, int(round(rate))))
+            tt = np.arange(len(s)) / rate
+            ax.plot(tt, s, lw=0.6, color=f"C{k}", label=f"{a} ({r['total']:.2f} deg)")
+            fin = s[np.isfinite(s) & (s > 0)]
+            if fin.size:
+                lows.append(np.percentile(fin, 1.0))
+        mov = first.get("series_movement")
+        handles, labels = ax.get_legend_handles_labels()
+        if mov is not None and not np.all(mov):
+            ax.fill_between(np.arange(len(mov)) / rate, 0, 1, where=~np.asarray(mov, bool), color="0.9",
+                            lw=0, step="mid", transform=ax.get_xaxis_transform(), zorder=0)
+            handles.append(Patch(color="0.9"))
+            labels.append("rest: not in the RMSE")
+        ax.set_yscale("log")
+        if lows:
+            ax.set_ylim(bottom=max(1e-3, 0.5 * min(lows)))
+        ax.set_xlim(0, len(first["series_total_deg"]) / rate)
+        ax.set_xlabel(f"time [s] ({rate:.1f} Hz)")
+        ax.set_ylabel("total attitude error [deg]\n(1 s moving RMS)")
+        ax.grid(True, which="major", alpha=0.35)
+        ax.grid(True, which="minor", alpha=0.12)
+        ax.set_title(f"{cite}: trial {t}", fontsize=10)
+        legend_right(ax, handles, labels, title="total RMSE in motion", title_fontsize=8)
+        p = save(fig, outdir / f"error_{t}.png")
         written.append(p)
     names = list(results["groups"]) + ["mean"]
     vals = {a: [results["groups"][g][a].get("total", np.nan) for g in results["groups"]] +
             [results["mean"][a]["total"]] for a in algs}
-    fig, ax = plt.subplots(figsize=(max(8, len(names) * 0.9), 4))
+    fig = figure((max(8, len(names) * 0.9) + 2.0, 4.5))
+    ax = fig.add_subplot()
     x = np.arange(len(names))
     wid = 0.8 / max(1, len(algs))
     for i, a in enumerate(algs):
         ax.bar(x + i * wid - 0.4 + wid / 2, vals[a], wid, label=a)
     ax.set_xticks(x)
     ax.set_xticklabels(names, rotation=30, ha="right")
-    ax.set_ylabel("total RMSE [deg]")
-    ax.set_title("BROAD: mean total RMSE per group (Laidig et al. 2021, CC BY 4.0)")
-    ax.legend(fontsize=8)
+    ax.set_ylabel("mean total RMSE [deg]")
+    ax.set_title(f"{cite}: mean total RMSE per group of trials", fontsize=10)
+    legend_right(ax)
     ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    p = outdir / "groups_total_rmse.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
+    p = save(fig, outdir / "groups_total_rmse.png")
     written.append(p)
     return written
 
