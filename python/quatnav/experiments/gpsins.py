@@ -9,8 +9,6 @@ outage with the filter's own one-sigma at its end.
 """
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 from ..sim.scenarios import make_scenario
@@ -19,9 +17,13 @@ SCENARIOS = ("static", "turntable", "walk")
 _A, _E2 = 6378137.0, 6.69437999014e-3  # WGS-84
 
 
+#: One line for ``quatnav experiment -h``.
+SUMMARY = "paper 004: GpsInsFilter on the simulated static, turntable or walk run; errors and drift over a GPS outage"
+
+
 def add_arguments(parser) -> None:
     parser.add_argument("--scenario", choices=SCENARIOS, default="walk", help="paper 004 scenario (default walk)")
-    parser.add_argument("--json", required=True, metavar="FILE", help="write the results here")
+    parser.add_argument("--json", metavar="FILE", help="write the results here ('-': stdout)")
     parser.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
     parser.add_argument("--outage-start", type=float, default=None,
                         help="GPS outage start (s); default: the middle of the run")
@@ -154,9 +156,11 @@ def plot(res: dict, path) -> None:
 
 
 def run(args) -> int:
+    from ..cli import UsageError, write_json
+    if not args.outage_length > 0:
+        raise UsageError(f"--outage-length: expected a positive number of seconds, got {args.outage_length:g}")
     res = run_scenario(args.scenario, args.seed, args.outage_start, args.outage_length)
-    with open(args.json, "w") as fh:
-        json.dump(res, fh, indent=2)
+    write_json(res, args)
     h, o = res["horizontal_m"], res["outage"]
     print(f"{res['scenario']} seed {res['seed']}: horizontal RMS {h['rms']:.2f} m, max {h['max']:.2f} m; "
           f"Euler RMS (deg) " + ", ".join(f"{k} {v['rms']:.2f}" for k, v in res["euler_deg"].items()))

@@ -19,8 +19,6 @@ benchmark's own figures (no heading-offset removal) for every filter and the pee
 """
 from __future__ import annotations
 
-import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -30,10 +28,14 @@ from .. import quaternion as Q
 FILTERS = ("marg", "marg_6d", "qekf")
 
 
+#: One line for ``quatnav experiment -h``.
+SUMMARY = "paper 001: MargFilter against the QuaternionEKF on the BROAD real-data trials (broad data)"
+
+
 def add_arguments(parser) -> None:
     parser.add_argument("--data", metavar="DIR", help="folder of the BROAD .mat files "
                         "(default: $QUATNAV_DATA/broad or ../shared/data/broad next to the repository)")
-    parser.add_argument("--json", metavar="FILE", help="write the figures to this JSON file")
+    parser.add_argument("--json", metavar="FILE", help="write the figures to this JSON file ('-': stdout)")
     parser.add_argument("--gain", type=float, default=1.0, help="MargFilter gain k of eq. (6), 1/s (default 1)")
 
 
@@ -81,11 +83,12 @@ def run_trial(tr: dict, gain: float = 1.0) -> dict:
 
 
 def run(args) -> int:
+    from ..cli import UsageError, write_json
     d = Path(args.data) if args.data else default_dir()
     files = sorted(d.glob("*.mat"))
     if not files:
-        print(f"marg-broad: no BROAD .mat files in {d}", file=sys.stderr)
-        return 2
+        raise UsageError(f"no BROAD .mat files in {d}: give --data DIR or set QUATNAV_DATA to the folder that "
+                         "holds broad/")
     trials = {}
     for f in files:
         trials[f.stem] = run_trial(load_trial(f), args.gain)
@@ -99,7 +102,5 @@ def run(args) -> int:
     for name, t in list(trials.items()) + [("mean", mean)]:
         print(f"{name:38s} " + " ".join(f"{t[k]['inclination_rmse_deg']:11.2f}" for k in FILTERS) + " " +
               " ".join(f"{t[k]['heading_rmse_deg']:11.2f}" for k in ("marg", "qekf")))
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump({"data": str(d), "gain_per_s": args.gain, "trials": trials, "mean": mean}, fh, indent=1)
+    write_json({"data": str(d), "gain_per_s": args.gain, "trials": trials, "mean": mean}, args)
     return 0

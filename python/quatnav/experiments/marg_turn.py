@@ -26,8 +26,6 @@ mean/std over seeds; the figure shows roll and pitch of one seed, before (dotted
 """
 from __future__ import annotations
 
-import json
-import sys
 
 import numpy as np
 
@@ -37,8 +35,13 @@ SCENARIO = "paper001_constant_turn"
 VARIANTS = ("uncorrected", "gps_no_lever", "corrected", "corrected_no_declination", "qekf")
 
 
+#: One line for ``quatnav experiment -h``.
+SUMMARY = ("paper 001: MargFilter roll/pitch in a constant-rate turn before and after the GPS-acceleration "
+           "correction, over seeds")
+
+
 def add_arguments(parser) -> None:
-    parser.add_argument("--json", metavar="FILE", help="write the figures to this JSON file")
+    parser.add_argument("--json", metavar="FILE", help="write the figures to this JSON file ('-': stdout)")
     parser.add_argument("--plot", metavar="FILE.png", help="write a figure like the paper's Fig. 4")
     parser.add_argument("--seeds", type=int, default=20, help="Monte Carlo runs, seeds 0..N-1 (default 20)")
     parser.add_argument("--gain", type=float, default=1.0, help="MargFilter gain k of eq. (6), 1/s (default 1)")
@@ -194,9 +197,9 @@ def plot(series, path) -> None:
 
 
 def run(args) -> int:
+    from ..cli import UsageError, write_json
     if args.seeds < 1:
-        print("marg-turn: --seeds must be >= 1", file=sys.stderr)
-        return 2
+        raise UsageError(f"--seeds: expected a positive integer, got {args.seeds}")
     res, first = monte_carlo(args.seeds, args.gain, args.gps_tau, keep_first=bool(args.plot))
     s = res["summary_rmse_deg"]
     print(f"{SCENARIO}: {args.seeds} seeds, gain k = {args.gain} 1/s; roll/pitch RMSE [deg], mean over seeds")
@@ -213,9 +216,7 @@ def run(args) -> int:
     for tau, row in dg["lag"].items():
         print(f"  tau {float(tau):5.2f} s: without lever-arm terms {row['without_lever']:+.3f}, "
               f"with {row['with_lever']:+.3f}")
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(res, fh, indent=1)
+    write_json(res, args)
     if args.plot:
         plot(first, args.plot)
     return 0

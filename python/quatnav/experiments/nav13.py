@@ -22,7 +22,6 @@ time (RMS over the runs), UKF solid, EKF dotted, second order dash-dotted as in 
 """
 from __future__ import annotations
 
-import json
 import time
 
 import numpy as np
@@ -39,9 +38,14 @@ LABELS = {"ekf": "EKF", "second_order": "second order (proposed)", "ukf": "UKF"}
 STYLES = {"ukf": "-", "ekf": ":", "second_order": "-."}
 
 
+#: One line for ``quatnav experiment -h``.
+SUMMARY = ("paper 002: EKF, second-order and unscented time updates of NavFilter13 on the straight-then-circle "
+           "simulation (RMSE, NEES, cost)")
+
+
 def add_arguments(parser) -> None:
     parser.add_argument("--runs", type=int, default=50, help="Monte Carlo runs (seeds 0..N-1), default 50")
-    parser.add_argument("--json", required=True, metavar="FILE", help="write the results here")
+    parser.add_argument("--json", metavar="FILE", help="write the results here ('-': stdout)")
     parser.add_argument("--plot", metavar="FILE.png", help="write the Fig. 1 reproduction here")
     parser.add_argument("--initial-errors", choices=("paper", "gaussian"), default="paper",
                         help="the paper's fixed initial errors (default) or Gaussian draws from P0")
@@ -230,8 +234,11 @@ def plot(mc: dict, path: str, runs: int, mode: str) -> None:
 
 
 def run(args) -> int:
+    from ..cli import UsageError, write_json
     if args.runs < 1:
-        raise SystemExit("--runs: expected a positive integer")
+        raise UsageError(f"--runs: expected a positive integer, got {args.runs}")
+    if args.cost_repeats < 1:
+        raise UsageError(f"--cost-repeats: expected a positive integer, got {args.cost_repeats}")
     t0 = time.time()
     # The cost first, while nothing else of ours runs; the three policies are interleaved.
     cost = dict(_core.nav13_time_update_cost_ns(repeats=args.cost_repeats, iterations=2000))
@@ -252,8 +259,7 @@ def run(args) -> int:
         "claims": claims(summary, cost),
         "wall_time_s": round(time.time() - t0, 1),
     }
-    with open(args.json, "w") as fh:
-        json.dump(result, fh, indent=2)
+    write_json(result, args)
     if args.plot:
         plot(mc, args.plot, args.runs, args.initial_errors)
     _print_table(result)

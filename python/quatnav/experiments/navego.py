@@ -20,17 +20,19 @@ run, the same for the GNSS fixes alone (position and velocity), and the gate rej
 """
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 _A, _E2 = 6378137.0, 6.69437999014e-3  # WGS-84
 
 
+#: One line for ``quatnav experiment -h``.
+SUMMARY = "paper 004 filter on NaveGo's synthetic ADIS16405 INS/GNSS run against its truth (navego_synthetic data)"
+
+
 def add_arguments(parser) -> None:
     parser.add_argument("--data", default=None, metavar="DIR",
-                        help="navego_synthetic folder (default <shared data>/navego_synthetic)")
-    parser.add_argument("--json", required=True, metavar="FILE", help="write the results here")
+                        help="navego_synthetic folder (default $QUATNAV_DATA/navego_synthetic)")
+    parser.add_argument("--json", metavar="FILE", help="write the results here ('-': stdout)")
     parser.add_argument("--plot", default=None, metavar="FILE.png", help="plot the errors here")
     parser.add_argument("--seconds", type=float, default=None, help="run only the first S seconds")
 
@@ -172,14 +174,15 @@ def plot(arrays, path) -> None:
 
 
 def run(args) -> int:
+    from ..cli import UsageError, write_json
+    if args.seconds is not None and not args.seconds > 0:
+        raise UsageError(f"--seconds: expected a positive number, got {args.seconds:g}")
     try:
         out, arrays = run_navego(args.data, args.seconds)
     except FileNotFoundError as exc:
-        import sys
-        print(f"error: {exc} (use --data DIR or set QUATNAV_DATA)", file=sys.stderr)
-        return 2
-    with open(args.json, "w") as fh:
-        json.dump(out, fh, indent=2)
+        raise UsageError(f"{exc} (use --data DIR or set QUATNAV_DATA to the folder that holds navego_synthetic/)") \
+            from None
+    write_json(out, args)
     if args.plot:
         plot(arrays, args.plot)
     a, g = out["ins_gnss"], out["gnss_only"]

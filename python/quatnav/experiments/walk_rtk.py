@@ -21,8 +21,6 @@ Four runs, each scored against the RTK-fixed epochs (Q = 1), horizontal and vert
 """
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
 from .navego import ned_error
@@ -30,10 +28,14 @@ from .navego import ned_error
 RUNS = ("rtk", "rtk_outages", "degraded", "degraded_outages")
 
 
+#: One line for ``quatnav experiment -h``.
+SUMMARY = "paper 004 filter on a real walk with RTK GNSS and simulated GNSS outages (gnss_imu_walk data)"
+
+
 def add_arguments(parser) -> None:
     parser.add_argument("--data", default=None, metavar="DIR",
-                        help="gnss_imu_walk folder (default <shared data>/gnss_imu_walk)")
-    parser.add_argument("--json", required=True, metavar="FILE", help="write the results here")
+                        help="gnss_imu_walk folder (default $QUATNAV_DATA/gnss_imu_walk)")
+    parser.add_argument("--json", metavar="FILE", help="write the results here ('-': stdout)")
     parser.add_argument("--plot", default=None, metavar="FILE.png", help="plot the errors here")
     parser.add_argument("--seed", type=int, default=0, help="seed of the added GNSS noise (default 0)")
     parser.add_argument("--noise-m", type=float, default=2.5, help="added GNSS position noise one-sigma, m (2.5)")
@@ -204,18 +206,20 @@ def plot(summary, arrays, path) -> None:
 
 
 def run(args) -> int:
+    from ..cli import UsageError, write_json
+    for opt, v in (("--outage-length", args.outage_length), ("--outage-period", args.outage_period)):
+        if not v > 0:
+            raise UsageError(f"{opt}: expected a positive number of seconds, got {v:g}")
     try:
         summary, arrays = run_walk(args.data, args.seed, args.noise_m, args.outage_first, args.outage_length,
                                    args.outage_period)
     except FileNotFoundError as exc:
-        import sys
-        print(f"error: {exc} (use --data DIR or set QUATNAV_DATA)", file=sys.stderr)
-        return 2
+        raise UsageError(f"{exc} (use --data DIR or set QUATNAV_DATA to the folder that holds gnss_imu_walk/)") \
+            from None
     if args.sweep:
         summary["outage_sweep"] = outage_sweep(args.data, seed=args.seed, noise_m=args.noise_m,
                                                length=args.outage_length, period=args.outage_period)
-    with open(args.json, "w") as fh:
-        json.dump(summary, fh, indent=2)
+    write_json(summary, args)
     if args.plot:
         plot(summary, arrays, args.plot)
     m = summary["mounting"]
