@@ -614,6 +614,58 @@ def report(case: Case, cmp: dict) -> str:
 
 
 # ------------------------------------------------------------------------------------------------
+# The environment the files were written in. Elsewhere the simulated inputs (numpy's vectorized
+# sin/cos differ in the last bit between CPU feature sets) or libm results may differ, which is
+# not a change of quatnav: the test then skips a differing case instead of failing.
+# ------------------------------------------------------------------------------------------------
+ENV_FILE = OUT_DIR / "environment.txt"
+
+
+def environment() -> dict:
+    """What besides quatnav decides the bits: machine, C library, numpy (version and the SIMD
+    features its dispatch uses) and scipy (the simulator)."""
+    import platform
+    env = {"machine": platform.machine(), "libc": " ".join(platform.libc_ver()) or "unknown",
+           "numpy": np.__version__}
+    core = getattr(np, "_core", None) or getattr(np, "core", None)
+    feats = getattr(getattr(core, "_multiarray_umath", None), "__cpu_features__", {})
+    env["numpy_simd"] = " ".join(sorted(k for k, v in feats.items() if v)) or "unknown"
+    try:
+        import scipy
+        env["scipy"] = scipy.__version__
+    except ImportError:
+        env["scipy"] = "absent"
+    return env
+
+
+def write_environment(path: Path = ENV_FILE) -> None:
+    lines = ["# The environment tests/regression/*.csv were written in (python3 tools/regression.py --update).",
+             "# Elsewhere the simulated inputs or libm results may differ in the last bits: the test then",
+             "# skips a differing case instead of failing (see docs/DEVELOPING.md)."]
+    lines += [f"{k}: {v}" for k, v in environment().items()]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def environment_differences(path: Path = ENV_FILE) -> list[str]:
+    """How this environment differs from the recorded one (empty: the same, or none recorded)."""
+    if not path.is_file():
+        return []
+    rec = dict(line.split(": ", 1) for line in path.read_text().splitlines() if ": " in line and
+               not line.startswith("#"))
+    out = []
+    for k, v in environment().items():
+        if rec.get(k) == v:
+            continue
+        if k == "numpy_simd" and k in rec:
+            there, here = set(rec[k].split()), set(v.split())
+            out.append(f"{k}: not here {' '.join(sorted(there - here)) or '-'}; "
+                       f"only here {' '.join(sorted(here - there)) or '-'}")
+        else:
+            out.append(f"{k}: {rec.get(k)!r} there, {v!r} here")
+    return out
+
+
+# ------------------------------------------------------------------------------------------------
 # Command line.
 # ------------------------------------------------------------------------------------------------
 def _select(pattern):
@@ -649,6 +701,11 @@ def main(argv=None) -> int:
             if not p.is_file() or p.read_text() != res.text:
                 p.write_text(res.text)
                 changed.append(c.name)
+        env_file = args.dir / ENV_FILE.name
+        old_env = env_file.read_text() if env_file.is_file() else None
+        write_environment(env_file)
+        if env_file.read_text() != old_env:
+            changed.append(env_file.name)
         if args.k is None:
             known = {f"{c.name}.csv" for c in CASES}
             for p in sorted(args.dir.glob("*.csv")):
@@ -656,7 +713,7 @@ def main(argv=None) -> int:
                     p.unlink()
                     print(f"{p.name}: no such case any more, removed")
         size = sum(p.stat().st_size for p in args.dir.glob("*.csv"))
-        print(f"{len(changed)} of {len(cases)} files rewritten ({', '.join(changed) or 'none'}); "
+        print(f"{len(changed)} files rewritten ({', '.join(changed) or 'none'}; {len(cases)} cases); "
               f"{size / 1e6:.2f} MB in {args.dir}")
         return 0
     print(f"{'case':32s} {'result':10s} {'column':14s} {'first k':>8s} {'rows':>6s} {'max |diff|':>11s} "
@@ -683,6 +740,10 @@ def main(argv=None) -> int:
         print()
         print("\n\n".join(details))
         print(f"\n{failed} of {len(cases)} cases differ; if intended: {REGENERATE}")
+        env = environment_differences(args.dir / ENV_FILE.name)
+        if env:
+            print("this environment differs from the one the files were written in, which may explain the "
+                  "differences:\n  " + "\n  ".join(env))
         return 1
     note = f"; {skipped} skipped (data absent)" if skipped else ""
     print(f"all {len(cases) - skipped} compared cases are the same as the files in {args.dir}{note}")
