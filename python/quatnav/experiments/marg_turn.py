@@ -174,26 +174,32 @@ def monte_carlo(seeds: int = 20, gain: float = 1.0, gps_tau: float = 0.05, keep_
 
 
 def plot(series, path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
+
+    from .._plotting import figure, legend_right, save
     t = series["t"]
-    fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    fig = figure((10.5, 6.5))
+    a0 = fig.add_subplot(2, 1, 1)
+    axes = [a0, fig.add_subplot(2, 1, 2, sharex=a0)]
+    turn_t = t[series["turn"]]
     for i, name in enumerate(("roll", "pitch")):
         ax = axes[i]
         ax.plot(t, series["est"]["uncorrected"][:, i], ":", color="tab:red", label="before correction")
-        ax.plot(t, series["est"]["corrected"][:, i], "-", color="tab:blue", label="after correction (eq. 7)")
+        ax.plot(t, series["est"]["corrected"][:, i], "-", color="tab:blue", lw=1.0, label="after correction (eq. 7)")
         ax.plot(t, series["truth"][:, i], "-", color="k", lw=0.8, label="truth")
         ax.set_ylabel(f"{name} [deg]")
         ax.grid(True, alpha=0.3)
-        turn_t = t[series["turn"]]
-        ax.axvspan(turn_t[0], turn_t[-1], color="0.9", zorder=0)
-    axes[0].legend(loc="best", fontsize=8)
-    axes[1].set_xlabel("time [s]  (shaded: constant-rate turn)")
-    fig.suptitle("paper 001 constant-rate turn: attitude before (dotted) and after (solid) the GPS correction")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+        ax.axvspan(turn_t[0], turn_t[-1], color="0.9", lw=0, zorder=0)
+        ax.set_xlim(t[0], t[-1])
+    axes[0].tick_params(labelbottom=False)
+    h, lab = axes[0].get_legend_handles_labels()
+    h.append(Patch(color="0.9"))
+    lab.append("constant-rate turn")
+    legend_right(axes[0], h, lab)
+    axes[1].set_xlabel("time [s]")
+    fig.suptitle("paper 001 constant-rate turn (seed 0): attitude before (dotted) and after (solid) the GPS "
+                 "correction", fontsize=11)
+    save(fig, path, dpi=120)
 
 
 def run(args) -> int:

@@ -204,33 +204,42 @@ def claims(summary: dict, cost: dict) -> dict:
 
 
 def plot(mc: dict, path: str, runs: int, mode: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    from .._plotting import figure, legend_right, save
     t = mc["t"]
-    fig, axes = plt.subplots(3, 2, figsize=(11, 8), sharex=True)
+    fig = figure((12.5, 8.5))
+    axes = np.empty((3, 2), dtype=object)
+    for i in range(3):
+        for j in range(2):
+            axes[i, j] = fig.add_subplot(3, 2, 2 * i + j + 1, sharex=axes[0, 0] if i or j else None)
     for tu in ("ukf", "ekf", "second_order"):
         rms_rpy = np.degrees(np.sqrt(np.mean(mc[tu]["rpy"] ** 2, axis=0)))
         rms_bg = np.sqrt(np.mean(mc[tu]["gyro_bias"] ** 2, axis=0)) / DEG_H
         for i, name in enumerate(("roll", "pitch", "yaw")):
             axes[i, 0].plot(t, rms_rpy[:, i], STYLES[tu], label=LABELS[tu])
-            axes[i, 0].set_ylabel(f"{name} error RMS (deg)")
+            axes[i, 0].set_ylabel(f"{name} error RMS [deg]")
             axes[i, 1].plot(t, rms_bg[:, i], STYLES[tu], label=LABELS[tu])
-            axes[i, 1].set_ylabel(f"gyro bias {'xyz'[i]} error RMS (deg/h)")
+            axes[i, 1].set_ylabel(f"gyro bias {'xyz'[i]} error RMS [deg/h]")
     for ax in axes.ravel():
-        ax.axvline(SPLIT_S, color="0.7", lw=0.8)
+        ax.axvline(SPLIT_S, color="0.5", lw=0.8)
         ax.set_yscale("log")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0, 0].legend(fontsize=8)
-    axes[0, 0].set_title("(a) attitude estimation error")
-    axes[0, 1].set_title("(b) gyro bias estimation error")
-    axes[2, 0].set_xlabel("time (s)")
-    axes[2, 1].set_xlabel("time (s)")
-    fig.suptitle(f"Paper 002 Fig. 1 reproduced: RMS over {runs} runs ({mode} initial errors); "
-                 "UKF solid, EKF dotted, second order dash-dotted", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+        ax.grid(True, which="major", alpha=0.35)
+        ax.grid(True, which="minor", alpha=0.12)
+        ax.set_xlim(0.0, t[-1])
+    for ax in axes[:2].ravel():
+        ax.tick_params(labelbottom=False)
+    h, lab = axes[0, 0].get_legend_handles_labels()
+    h.append(Line2D([], [], color="0.5", lw=0.8))
+    lab.append(f"{SPLIT_S:.0f} s: straight | circle\n(the two RMSE windows)")
+    legend_right(axes[0, 1], h, lab, title="time update", title_fontsize=8)
+    axes[0, 0].set_title("(a) attitude estimation error", fontsize=10)
+    axes[0, 1].set_title("(b) gyro bias estimation error", fontsize=10)
+    axes[2, 0].set_xlabel("time [s]")
+    axes[2, 1].set_xlabel("time [s]")
+    fig.suptitle(f"Paper 002 Fig. 1 reproduced: RMS over {runs} run{'s' if runs != 1 else ''} "
+                 f"({mode} initial errors)", fontsize=11)
+    save(fig, path, dpi=120)
 
 
 def run(args) -> int:

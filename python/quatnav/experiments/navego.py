@@ -147,30 +147,69 @@ def ned_to_dllh(d_n, llh) -> np.ndarray:
 
 
 def plot(arrays, path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Errors against ``ref.mat``: horizontal and vertical position (log axes, beside the GNSS
+    fixes' own errors), NED velocity and roll/pitch/yaw with the filter's sigmas. The attitude
+    axis holds the steady part (from when every attitude three-sigma has come within twice its
+    median over the run); the initial alignment's larger errors leave it."""
+    from matplotlib.lines import Line2D
+
+    from .._plotting import figure, legend_right, robust_limits, save
     t = arrays["t"]
-    fig, ax = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    sig = arrays["sigma"]
+    fig = figure((11.0, 11.0))
+    ax = [fig.add_subplot(4, 1, 1)]
+    ax += [fig.add_subplot(4, 1, k, sharex=ax[0]) for k in (2, 3, 4)]
+    gt, gdp = arrays["gnss_t"], arrays["gnss_dp"]
+    dp = arrays["dp"]
+    for a, e_ins, e_gnss, s1, what in (
+            (ax[0], np.hypot(dp[:, 0], dp[:, 1]), np.hypot(gdp[:, 0], gdp[:, 1]), np.hypot(sig[:, 0], sig[:, 1]),
+             "horizontal"),
+            (ax[1], np.abs(dp[:, 2]), np.abs(gdp[:, 2]), sig[:, 2], "vertical")):
+        a.plot(gt, e_gnss, ".", ms=1.5, color="0.6", alpha=0.5)
+        a.plot(t, e_ins, color="C0", lw=0.9)
+        a.plot(t, s1, color="C0", lw=0.8, ls="--")
+        a.set_yscale("log")
+        # Down to a fifth of the smallest one-sigma: the vertical error's zero crossings, which a
+        # log axis would draw as spikes to nothing, leave the axis.
+        a.set_ylim(bottom=max(1e-3, 0.2 * np.nanmin(s1)))
+        a.set_ylabel(f"|{what} position\nerror| [m]")
+    h = [Line2D([], [], color="0.6", ls="", marker=".", label="GNSS fixes (5 Hz)"),
+         Line2D([], [], color="C0", lw=1.5, label="INS/GNSS"),
+         Line2D([], [], color="C0", lw=0.8, ls="--", label="filter's 1-sigma")]
+    legend_right(ax[0], h, [x.get_label() for x in h])
     for k, c in enumerate("NED"):
-        ax[0].plot(arrays["gnss_t"], arrays["gnss_dp"][:, k], ".", ms=1, alpha=0.3, label=f"GNSS {c}")
-    for k, c in enumerate("NED"):
-        ax[0].plot(t, arrays["dp"][:, k], lw=1, label=f"INS/GNSS {c}")
-    ax[0].set_ylabel("position error (m)")
-    ax[0].legend(ncol=2, fontsize=7)
-    for k, c in enumerate("NED"):
-        ax[1].plot(t, arrays["dv"][:, k], lw=1, label=c)
-    ax[1].set_ylabel("velocity error (m/s)")
-    ax[1].legend(fontsize=7)
+        ax[2].plot(t, arrays["dv"][:, k], lw=0.7, label=c)
+    ax[2].axhline(0.0, color="k", lw=0.5)
+    lim = robust_limits(arrays["dv"][t >= t[0] + 5.0], 0.05, 99.95)
+    if lim:
+        ax[2].set_ylim(*lim)
+    ax[2].set_ylabel("velocity error [m/s]")
+    legend_right(ax[2])
+    colors = ("#1b9e77", "#d95f02", "#7570b3")
+    s3 = 3 * np.degrees(sig[:, 6:9])
+    steady = np.all(s3 <= 2 * np.median(s3, axis=0), axis=1)
+    t_steady = t[np.argmax(steady)] if steady.any() else t[0]
+    late = t >= t_steady
     for k, c in enumerate(("roll", "pitch", "yaw")):
-        ax[2].plot(t, arrays["deul"][:, k], lw=1, label=c)
-        ax[2].plot(t, 3 * np.degrees(arrays["sigma"][:, 6 + k]), "--", lw=0.6, color=f"C{k}")
-    ax[2].set_ylabel("attitude error (deg); dashed: 3 sigma")
-    ax[2].set_xlabel("time (s)")
-    ax[2].legend(fontsize=7)
-    fig.suptitle("quatnav GpsInsFilter on NaveGo synthetic (ADIS16405)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+        ax[3].plot(t, arrays["deul"][:, k], lw=0.8, color=colors[k], label=c)
+        ax[3].plot(t, s3[:, k], "--", lw=0.6, color=colors[k])
+        ax[3].plot(t, -s3[:, k], "--", lw=0.6, color=colors[k])
+    ax[3].plot([], [], "--", lw=0.6, color="0.3", label="filter's 3-sigma")
+    ax[3].axhline(0.0, color="k", lw=0.5)
+    m = max(np.max(np.abs(arrays["deul"][late])), np.max(s3[late]))
+    ax[3].set_ylim(-1.2 * m, 1.2 * m)
+    ax[3].set_ylabel("attitude error [deg]")
+    ax[3].set_title(f"attitude: the axis holds t >= {t_steady - t[0]:.0f} s; the initial alignment's larger "
+                    "errors leave it", fontsize=8, loc="left")
+    legend_right(ax[3])
+    ax[3].set_xlabel("time [s]")
+    for a in ax:
+        a.grid(True, which="major", alpha=0.3)
+        a.set_xlim(t[0], t[-1])
+    for a in ax[:3]:
+        a.tick_params(labelbottom=False)
+    fig.suptitle("quatnav GpsInsFilter on NaveGo's synthetic run (ADIS16405 200 Hz, GNSS 5 Hz)", fontsize=11)
+    save(fig, path)
 
 
 def run(args) -> int:

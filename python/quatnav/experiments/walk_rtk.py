@@ -185,24 +185,64 @@ def outage_sweep(directory=None, firsts=range(15, 46, 5), seed=0, noise_m=2.5, l
     return out
 
 
+def _spans(t, gap: float = 1.0):
+    """[(start, end), ...] of the runs of ``t`` (sorted) with no step longer than ``gap``."""
+    if len(t) == 0:
+        return []
+    cut = np.flatnonzero(np.diff(t) > gap)
+    return list(zip(t[np.r_[0, cut + 1]], t[np.r_[cut, len(t) - 1]]))
+
+
 def plot(summary, arrays, path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """Horizontal error at the RTK-fixed epochs (log axis) of the runs with outages, beside the
+    same GNSS without outages, with the filter's one-sigma; each outage is shaded only where
+    RTK-fixed epochs exist to score it."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from .._plotting import figure, legend_right, save
     t0 = summary["t0"]
-    fig, ax = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
-    for k, name in enumerate(("rtk_outages", "degraded_outages")):
-        a = arrays[name]
-        ax[k].plot(a["t"] - t0, a["hz"], ".", ms=2, label="horizontal error")
-        ax[k].plot(a["t"] - t0, a["sh"], "--", lw=0.8, label="filter 1-sigma")
-        for s, e in summary["outage_windows_s"]:
-            ax[k].axvspan(s, e, color="0.85")
-        ax[k].set_ylabel("m")
-        ax[k].set_title(name.replace("_", " ") + ": error at the RTK-fixed epochs (grey: GNSS outage)", fontsize=9)
-        ax[k].legend(fontsize=7)
-    ax[1].set_xlabel("time from the IMU start (s)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    panels = [(n, n.replace("_outages", "")) for n in ("rtk_outages", "degraded_outages") if n in arrays]
+    fig = figure((11.0, 3.6 * len(panels) + 0.8))
+    ax = []
+    for k, (name, base) in enumerate(panels):
+        a = fig.add_subplot(len(panels), 1, k + 1, sharex=ax[0] if ax else None)
+        ax.append(a)
+        r = arrays[name]
+        tr = r["t"] - t0
+        if base in arrays:
+            b = arrays[base]
+            a.plot(b["t"] - t0, b["hz"], ".", ms=1.5, color="0.6")
+        a.plot(tr, r["hz"], ".", ms=2.0, color="C0")
+        a.plot(tr, r["sh"], "-", lw=0.9, color="C1")
+        spans = _spans(tr)
+        for s0, s1 in summary["outage_windows_s"]:
+            for g0, g1 in spans:
+                lo, hi = max(s0, g0), min(s1, g1)
+                if hi > lo:
+                    a.axvspan(lo, hi, color="#f4d6a0", lw=0, zorder=0)
+        a.set_yscale("log")
+        a.set_ylabel("horizontal error [m]")
+        a.grid(True, which="major", alpha=0.35)
+        a.grid(True, which="minor", alpha=0.12)
+        what = "RTK GNSS" if base == "rtk" else f"GNSS with {summary['noise_m']:g} m noise added"
+        a.set_title(f"{what}, outages of {summary['outage_windows_s'][0][1] - summary['outage_windows_s'][0][0]:.0f} s"
+                    if summary["outage_windows_s"] else what, fontsize=9, loc="left")
+        h = [Line2D([], [], ls="", marker=".", color="C0", label="with outages"),
+             Line2D([], [], lw=0.9, color="C1", label="filter's 1-sigma"),
+             Line2D([], [], ls="", marker=".", color="0.6", label="without outages"),
+             Patch(color="#f4d6a0", label="GNSS outage (where\nRTK-fixed epochs exist)")]
+        legend_right(a, h, [x.get_label() for x in h], markerscale=3)
+    ends = [arrays[n]["t"] for n, _ in panels if len(arrays[n]["t"])]
+    if ends:
+        lo, hi = min(e[0] for e in ends) - t0, max(e[-1] for e in ends) - t0
+        ax[0].set_xlim(lo - 2.0, hi + 2.0)
+    ax[-1].set_xlabel(f"time from the IMU start [s] (RTK-fixed reference epochs only; the walk lasts "
+                      f"{summary['duration_s']:.0f} s)")
+    for a in ax[:-1]:
+        a.tick_params(labelbottom=False)
+    fig.suptitle("GpsInsFilter on the gnss_imu_walk data: horizontal error at the RTK-fixed epochs", fontsize=11)
+    save(fig, path)
 
 
 def run(args) -> int:
