@@ -264,8 +264,8 @@ def check_gyro(gyro, t, align_time, where="IMU"):
     if mx > 40.0 or med > 1.5 or rest > 0.1:
         why = (f"max |gyro| {mx:.4g} rad/s is beyond any MEMS gyro's range" if mx > 40.0 else
                f"median |gyro| {med:.4g} rad/s is implausibly fast" if med > 1.5 else
-               f"median |gyro| {rest:.4g} rad/s ({math.degrees(rest):.3g} deg/s) over the first {align_time:g} s, "
-               "where the filter levels at rest")
+               f"median |gyro| {rest:.4g} over the first {align_time:g} s, where the filter levels at rest: as rad/s "
+               f"that is {math.degrees(rest):.3g} deg/s, far above a gyro bias")
         return (f"{where}: gyro_x/y/z look like deg/s, not rad/s ({why}); multiply by pi/180"
                 + ("" if mx > 40.0 or med > 1.5 else ", or start the log at rest"))
     return None
@@ -370,6 +370,10 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
         if warn is not None:
             warn(text)
 
+    from pathlib import Path
+    parent = Path(out).resolve().parent
+    if not parent.is_dir():
+        raise InputError(f"output {out}: cannot write (no such directory: {parent})")
     params = load_config(config) if config else {}
     try:
         f = quatnav.GpsInsFilter(**params)
