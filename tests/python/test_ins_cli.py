@@ -1,5 +1,6 @@
 """``quatnav ins run``: CSV files written from the simulator's paper-004 walk, run in-process and
-once as a subprocess, checked against the truth; and every input-error path."""
+once as a subprocess, checked against the truth; every input-error path; the files of
+``quatnav simulate --csv DIR`` run unchanged; IMU gaps coasted; plausibility warnings."""
 import os
 import subprocess
 import sys
@@ -10,6 +11,8 @@ import pytest
 
 import quatnav
 from quatnav import cli, earth
+
+pytest.importorskip("pandas")
 from quatnav.sim.scenarios import make_scenario
 
 LEVER = (0.1, 0.0, -0.1)
@@ -58,7 +61,8 @@ def test_run_in_process_against_truth_and_api(walk, files, capsys):
     s = walk
     out = files["dir"] / "out.csv"
     assert cli.main(_args(files, out)) == 0
-    assert "wrote" in capsys.readouterr().out
+    cap = capsys.readouterr()
+    assert "wrote" in cap.out and cap.err == ""  # consistent input: no warning
     header, a = _read(out)
     from quatnav.ins_cli import OUTPUT_COLUMNS
     assert tuple(header) == OUTPUT_COLUMNS
@@ -213,3 +217,144 @@ def test_no_navigation_exits_1(files, tmp_path, capsys):
     from quatnav.ins_cli import OUTPUT_COLUMNS
     with open(out) as fh:
         assert fh.read().splitlines() == [",".join(OUTPUT_COLUMNS)]
+
+
+# --- simulate --csv DIR -> ins run ---------------------------------------------------------------
+def test_simulate_csv_dir_runs_through_ins_run(tmp_path, capsys):
+    """The files of 'quatnav simulate NAME --csv DIR' are the input of 'quatnav ins run' as they are;
+    its output against the simulated truth (truth.csv) is within the filter's own accuracy."""
+    d = tmp_path / "run"
+    assert cli.main(["simulate", "paper004_walk", "--seed", "3", "--csv", str(d)]) == 0
+    for f in ("imu.csv", "gnss.csv", "baro.csv", "compass.csv", "config.toml", "truth.csv"):
+        assert (d / f).stat().st_size > 0, f
+    out = d / "out.csv"
+    capsys.readouterr()
+    assert cli.main(["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"), "--baro",
+                     str(d / "baro.csv"), "--compass", str(d / "compass.csv"), "--config", str(d / "config.toml"),
+                     "--out", str(out)]) == 0
+    assert capsys.readouterr().err == ""  # no plausibility warning on consistent data
+    header, a = _read(out)
+    c = {n: a[:, i] for i, n in enumerate(header)}
+    th, tr = _read(d / "truth.csv")
+    assert th == ["time", "lat", "lon", "h", "v_n", "v_e", "v_d", "roll", "pitch", "yaw"]
+    i = np.searchsorted(tr[:, 0], c["time"])
+    assert np.allclose(tr[i, 0], c["time"], atol=1e-6)
+    lat = np.radians(tr[i, 1])
+    R_M, R_N = earth.radii(lat)
+    dn = np.radians(c["lat"] - tr[i, 1]) * (R_M + tr[i, 3])
+    de = np.radians(c["lon"] - tr[i, 2]) * (R_N + tr[i, 3]) * np.cos(lat)
+    assert len(a) > 0.9 * len(tr)
+    assert np.sqrt(np.mean(dn ** 2 + de ** 2)) < 2.0  # GNSS 2.5 m per axis
+    dv = np.column_stack([c[k] for k in ("v_n", "v_e", "v_d")]) - tr[i, 4:7]
+    assert np.sqrt(np.mean(np.sum(dv ** 2, axis=1))) < 0.3
+    yaw_err = np.degrees(np.angle(np.exp(1j * np.radians(c["yaw"] - tr[i, 9]))))
+    assert np.abs(yaw_err[len(i) // 5:]).max() < 5.0
+
+
+# --- gaps and plausibility warnings ----------------------------------------------------------------
+def _imu_table(fl):
+    lines = _lines(fl["imu"])
+    header = lines[0].split(",")
+    return header, np.loadtxt(fl["imu"], delimiter=",", skiprows=1)
+
+
+def _write_imu(tmp_path, fl, header, a, name="imu_mod.csv"):
+    p = _write(tmp_path / name, header, a.T, fmt="%.12g")
+    return dict(fl, imu=p)
+
+
+def _warnings(capsys):
+    err = capsys.readouterr().err
+    assert ": error: " not in err, err
+    return [ln for ln in err.splitlines() if ln.startswith("quatnav ins run: warning: ")]
+
+
+def test_gap_is_coasted_and_reported_with_file_lines(walk, files, tmp_path, capsys):
+    header, a = _imu_table(files)
+    k0 = 2500  # drop 3 s (150 samples at 50 Hz) in the middle of the walk
+    b = np.delete(a, np.s_[k0:k0 + 150], axis=0)
+    fl = _write_imu(tmp_path, files, header, b)
+    out = tmp_path / "o.csv"
+    assert cli.main(_args(fl, out)) == 0
+    w = _warnings(capsys)
+    assert len(w) == 1 and f"lines {k0 + 1}-{k0 + 2}: 3.02 s" in w[0] and "coasted" in w[0], w
+    _, o = _read(out)
+    t_in = b[:, header.index("time")]
+    assert np.all(np.isin(o[:, 0].round(6), t_in.round(6)))  # one row per file row, none for the coasting steps
+    s = walk
+    i = np.searchsorted(s.truth.t, o[:, 0])
+    lat = s.truth.lat[i]
+    R_M, R_N = earth.radii(lat)
+    dn = (np.radians(o[:, 1]) - lat) * R_M
+    de = (np.radians(o[:, 2]) - s.truth.lon[i]) * R_N * np.cos(lat)
+    assert np.sqrt(np.mean(dn ** 2 + de ** 2)) < 3.0  # the fixes during the gap still hold the position
+
+
+def test_no_warnings_on_the_simulated_scenarios():
+    from quatnav.ins_cli import plausibility_warnings
+    for name in ("paper004_static", "paper004_turntable", "paper004_walk", "paper002_straight_then_circle"):
+        s = make_scenario(name, seed=1)
+        g = s.gps
+        assert plausibility_warnings(s.imu.t, s.imu.gyro, s.imu.accel, g.t_valid, np.degrees(g.lat),
+                                     np.degrees(g.lon)) == [], name
+
+
+@pytest.mark.parametrize("change, expect", [
+    ("gyro_deg", "gyro_x/y/z look like deg/s"),
+    ("accel_g", "accel_x/y/z look like g, not m/s^2"),
+    ("accel_mg", "look like milli-g"),
+    ("z_up", "gravity appears on +z"),
+    ("x_down", "gravity appears on +x"),
+])
+def test_imu_plausibility_warnings(files, tmp_path, capsys, change, expect):
+    header, a = _imu_table(files)
+    g = [header.index(f"gyro_{x}") for x in "xyz"]
+    f = [header.index(f"accel_{x}") for x in "xyz"]
+    if change == "gyro_deg":
+        a[:, g] = np.degrees(a[:, g])
+    elif change == "accel_g":
+        a[:, f] /= 9.80665
+    elif change == "accel_mg":
+        a[:, f] *= 1000 / 9.80665
+    elif change == "z_up":  # forward-left-up
+        a[:, [g[1], g[2], f[1], f[2]]] *= -1
+    elif change == "x_down":  # z of the body along x of the file: rotate the axes
+        a[:, g] = a[:, [g[2], g[1], g[0]]] * [-1, 1, 1]
+        a[:, f] = a[:, [f[2], f[1], f[0]]] * [-1, 1, 1]
+    fl = _write_imu(tmp_path, files, header, a)
+    cli.main(_args(fl, tmp_path / "o.csv"))
+    w = _warnings(capsys)
+    hits = [x for x in w if expect in x]
+    assert len(hits) == 1, w  # printed once
+    assert "imu_mod.csv" in hits[0]
+
+
+def test_gnss_in_radians_and_times_that_do_not_overlap(files, tmp_path, capsys):
+    g = _lines(files["gnss"])
+    h = g[0].split(",")
+    a = np.loadtxt(files["gnss"], delimiter=",", skiprows=1)
+    r = a.copy()
+    r[:, [h.index("lat"), h.index("lon")]] = np.radians(r[:, [h.index("lat"), h.index("lon")]])
+    fl = dict(files, gnss=_write(tmp_path / "g_rad.csv", h, r.T, fmt="%.12g"))
+    cli.main(_args(fl, tmp_path / "o.csv"))
+    w = _warnings(capsys)
+    assert len([x for x in w if "look like radians" in x]) == 1, w
+    s = a.copy()
+    s[:, h.index("time")] += 1e5  # a different clock
+    fl = dict(files, gnss=_write(tmp_path / "g_late.csv", h, s.T, fmt="%.12g"))
+    assert cli.main(_args(fl, tmp_path / "o.csv")) == 1
+    cap = capsys.readouterr()
+    assert "do not overlap" in cap.err and cap.err.count("do not overlap") == 1
+    assert "navigation never started: the GNSS and IMU times do not overlap" in cap.out
+
+
+def test_magnetometer_units():
+    from quatnav.ins_cli import check_magnetometer
+    rng = np.random.default_rng(0)
+    m = rng.standard_normal((500, 3))
+    m = 48.0 * m / np.linalg.norm(m, axis=1, keepdims=True)  # uT
+    assert check_magnetometer(m) is None
+    for scale, unit in ((1e-6, "tesla"), (0.01, "gauss"), (10.0, "milligauss"), (1000.0, "nanotesla")):
+        w = check_magnetometer(m * scale)
+        assert w is not None and f"looks like {unit}" in w, (scale, w)
+    assert "check the unit" in check_magnetometer(m * 1e-3)
