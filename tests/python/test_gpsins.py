@@ -137,3 +137,32 @@ def test_experiment_cli_writes_json(tmp_path):
     assert res["horizontal_m"]["rms"] < 2.0 and res["horizontal_m"]["max"] < 6.0  # paper bound 30 m
     o = res["outage"]
     assert o["horizontal_error_at_end_m"] > o["horizontal_error_at_start_m"]
+
+
+@pytest.mark.parametrize("name, value", [("declination", 8.5), ("declination", -12.0), ("compass_sigma", 2.0),
+                                         ("init_level_sigma", 5.0), ("init_yaw_sigma", 10.0)])
+def test_angle_parameters_in_degrees_are_refused(name, value):
+    """Angles are radians: a value outside the parameter's range (most likely degrees) raises a
+    ValueError naming the parameter and the np.radians conversion; the range itself is accepted."""
+    with pytest.raises(ValueError, match=rf"^{name}: .* is outside .* rad; angles are in radians: .*np\.radians"):
+        quatnav.GpsInsFilter(**{name: value})
+    ok = float(np.radians(value)) if name == "declination" else 0.5 * abs(float(np.radians(value)))
+    assert quatnav.GpsInsFilter(**{name: ok}).params[name] == pytest.approx(ok)
+    for bad in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match=name):
+            quatnav.GpsInsFilter(**{name: bad})
+    with pytest.raises(ValueError, match=rf"{name}: .* is outside"):
+        quatnav.GpsInsFilter(**{name: -1e6})
+
+
+def test_messages_print_numbers_plainly():
+    t = np.array([0.0, 4000.0, 8000.0])
+    with pytest.raises(ValueError) as e:
+        quatnav.GpsInsFilter().run(t, np.zeros((3, 3)), np.tile([0.0, 0.0, -9.8], (3, 1)))
+    assert str(e.value) == "t: step 4000.0 s in row 1 exceeds max_dt=1.0 s"
+    with pytest.raises(ValueError) as e:
+        quatnav.GpsInsFilter().run(np.array([0.0, 0.2, 0.1]), np.zeros((3, 3)), np.zeros((3, 3)))
+    assert "row 2 (0.1) does not follow row 1 (0.2)" in str(e.value) and "np." not in str(e.value)
+    with pytest.raises(ValueError) as e:
+        quatnav.GpsInsFilter(max_dt=np.float64(-1.0))
+    assert str(e.value) == "max_dt: expected a non-negative finite number, got -1.0"

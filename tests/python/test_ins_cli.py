@@ -13,7 +13,7 @@ import quatnav
 from quatnav import cli, earth
 
 pytest.importorskip("pandas")
-from quatnav.sim.scenarios import make_scenario
+from quatnav.sim.scenarios import make_scenario  # noqa: E402
 
 LEVER = (0.1, 0.0, -0.1)
 PYTHON_DIR = str(Path(quatnav.__file__).resolve().parent.parent)
