@@ -95,7 +95,7 @@ def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: flo
     return out
 
 
-def plot(res: dict, path) -> None:
+def plot(res: dict, path):
     """Figure of one :func:`run_scenario` result (run with ``keep_series=True``): horizontal and
     vertical position error of the run with every fix and of the run with the outage (the two
     are the same run until the outage starts), with the filter's one-sigma; roll, pitch and yaw
@@ -153,6 +153,7 @@ def plot(res: dict, path) -> None:
     legend_right(ax[2], h, [x.get_label() for x in h], title="run with every fix", title_fontsize=8)
     fig.suptitle(f"GpsInsFilter (paper 004) on {res['scenario']}, seed {res['seed']}", fontsize=11)
     save(fig, path)
+    return fig
 
 
 def run(args) -> int:

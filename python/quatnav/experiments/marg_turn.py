@@ -173,7 +173,7 @@ def monte_carlo(seeds: int = 20, gain: float = 1.0, gps_tau: float = 0.05, keep_
     return res, first
 
 
-def plot(series, path) -> None:
+def plot(series, path):
     from matplotlib.patches import Patch
 
     from .._plotting import figure, legend_right, save
@@ -200,6 +200,7 @@ def plot(series, path) -> None:
     fig.suptitle("paper 001 constant-rate turn (seed 0): attitude before (dotted) and after (solid) the GPS "
                  "correction", fontsize=11)
     save(fig, path, dpi=120)
+    return fig
 
 
 def run(args) -> int:

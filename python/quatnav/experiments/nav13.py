@@ -203,7 +203,7 @@ def claims(summary: dict, cost: dict) -> dict:
     }
 
 
-def plot(mc: dict, path: str, runs: int, mode: str) -> None:
+def plot(mc: dict, path: str, runs: int, mode: str):
     from matplotlib.lines import Line2D
 
     from .._plotting import figure, legend_right, save
@@ -240,6 +240,7 @@ def plot(mc: dict, path: str, runs: int, mode: str) -> None:
     fig.suptitle(f"Paper 002 Fig. 1 reproduced: RMS over {runs} run{'s' if runs != 1 else ''} "
                  f"({mode} initial errors)", fontsize=11)
     save(fig, path, dpi=120)
+    return fig
 
 
 def run(args) -> int:

@@ -146,7 +146,7 @@ def ned_to_dllh(d_n, llh) -> np.ndarray:
     return np.array([d_n[0] / (rm + h), d_n[1] / ((rn + h) * np.cos(lat)), -d_n[2]])
 
 
-def plot(arrays, path) -> None:
+def plot(arrays, path):
     """Errors against ``ref.mat``: horizontal and vertical position (log axes, beside the GNSS
     fixes' own errors), NED velocity and roll/pitch/yaw with the filter's sigmas. The attitude
     axis holds the steady part (from when every attitude three-sigma has come within twice its
@@ -210,6 +210,7 @@ def plot(arrays, path) -> None:
         a.tick_params(labelbottom=False)
     fig.suptitle("quatnav GpsInsFilter on NaveGo's synthetic run (ADIS16405 200 Hz, GNSS 5 Hz)", fontsize=11)
     save(fig, path)
+    return fig
 
 
 def run(args) -> int:

@@ -193,7 +193,7 @@ def _spans(t, gap: float = 1.0):
     return list(zip(t[np.r_[0, cut + 1]], t[np.r_[cut, len(t) - 1]]))
 
 
-def plot(summary, arrays, path) -> None:
+def plot(summary, arrays, path):
     """Horizontal error at the RTK-fixed epochs (log axis) of the runs with outages, beside the
     same GNSS without outages, with the filter's one-sigma; each outage is shaded only where
     RTK-fixed epochs exist to score it."""
@@ -243,6 +243,7 @@ def plot(summary, arrays, path) -> None:
         a.tick_params(labelbottom=False)
     fig.suptitle("GpsInsFilter on the gnss_imu_walk data: horizontal error at the RTK-fixed epochs", fontsize=11)
     save(fig, path)
+    return fig
 
 
 def run(args) -> int:
