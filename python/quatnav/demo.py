@@ -352,4 +352,16 @@ def add_parser(sub) -> None:
     p = sub.add_parser("demo", help="run the filters on built-in simulated scenarios and print a table")
     p.add_argument("--plot", metavar="FILE.png", help="write a figure of the errors")
     p.add_argument("--seed", type=int, default=0)
-    p.set_defaults(func=lambda a: run_demo(plot=a.plot, seed=a.seed) and 0)
+    p.add_argument("--json", metavar="FILE", help="write the figures of the tables as JSON ('-': stdout)")
+    p.set_defaults(func=_cmd)
+
+
+def _cmd(args) -> int:
+    res = run_demo(plot=args.plot, seed=args.seed)
+    if args.json:
+        from .cli import write_json
+
+        def figures(d):
+            return {k: figures(v) if isinstance(v, dict) else v for k, v in d.items() if k != "result"}
+        write_json(figures(res), args)
+    return 0

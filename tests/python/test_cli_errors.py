@@ -247,3 +247,8 @@ def test_json_to_stdout(logs, tmp_path):
                     "--json", "-")
     d = json.loads(p.stdout)  # only the JSON document on stdout; the summary line went to stderr
     assert d["output"] == str(tmp_path / "o.csv") and "warnings" in d and "wrote" in p.stderr
+    p = quatnav_cli("demo", "--json", "-")
+    d = json.loads(p.stdout)
+    assert p.returncode == 0 and 0 < d["QuaternionEKF"]["roll_rmse_deg"] < 5 and "result" not in d["QuaternionEKF"]
+    p = quatnav_cli("simulate", "paper004_static", "--json", tmp_path / "s.json")
+    assert p.returncode == 0 and json.loads((tmp_path / "s.json").read_text())["sensors"]["imu"] > 0
