@@ -52,9 +52,10 @@ def rotation_scenario(n: int = 6000, rate: float = 100.0, seed: int = 0, max_rat
 
     The default gyro bias, (0.02, -0.015, 0.01) rad/s = (1.15, -0.86, 0.57) deg/s (norm 1.54
     deg/s, i.e. 5554 deg/h), is the turn-on offset of an uncalibrated consumer MEMS gyro (their
-    datasheets give initial zero-rate offsets of about 1 to 20 deg/s), small beside the motion (peak rate ``max_rate`` = 2 rad/s =
-    115 deg/s) but far beyond a navigation-grade gyro's bias, which is quoted in deg/h. It is
-    constant over the run, so an attitude filter that estimates no bias carries all of it.
+    datasheets give initial zero-rate offsets of about 1 to 20 deg/s): small beside the motion
+    (peak rate ``max_rate`` = 2 rad/s = 115 deg/s) but far beyond a navigation-grade gyro's bias,
+    which is quoted in deg/h. It is constant over the run, so an attitude filter that estimates
+    no bias carries all of it.
     """
     rng = np.random.default_rng(seed)
     dt = 1.0 / rate
