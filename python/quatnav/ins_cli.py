@@ -275,7 +275,8 @@ def check_accel(accel, where="IMU"):
     """A warning when the specific force looks like g or mg, or is far from gravity (or None)."""
     m = float(np.median(np.linalg.norm(accel, axis=1)))
     if 0.5 <= m <= 2.0:
-        return f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); multiply by 9.80665"
+        return (f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
+                "multiply by 9.80665")
     if 500.0 <= m <= 2000.0:
         return (f"{where}: accel_x/y/z look like milli-g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
                 "multiply by 0.00980665")

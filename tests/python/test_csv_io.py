@@ -77,9 +77,12 @@ def test_missing_and_duplicate_columns(tmp_path):
 
 def test_bad_cells_name_line_and_column(tmp_path):
     head = "time,gyro_x,accel_z\n"
-    _err(_write(tmp_path, head + "0,0,-9.8\n\n0.1,abc,-9.8\n"), match="line 4, column 'gyro_x': not a finite number ('abc')")
-    _err(_write(tmp_path, head + "0,0,-9.8\n0.1,nan,-9.8\n"), match="line 3, column 'gyro_x': not a finite number ('nan')")
-    _err(_write(tmp_path, head + "0,0,-9.8\n0.1,0,inf\n"), match="line 3, column 'accel_z': not a finite number ('inf')")
+    _err(_write(tmp_path, head + "0,0,-9.8\n\n0.1,abc,-9.8\n"),
+         match="line 4, column 'gyro_x': not a finite number ('abc')")
+    _err(_write(tmp_path, head + "0,0,-9.8\n0.1,nan,-9.8\n"),
+         match="line 3, column 'gyro_x': not a finite number ('nan')")
+    _err(_write(tmp_path, head + "0,0,-9.8\n0.1,0,inf\n"),
+         match="line 3, column 'accel_z': not a finite number ('inf')")
     _err(_write(tmp_path, head + "0,0,-9.8\n0.1,,-9.8\n"), match="line 3, column 'gyro_x': empty")
     _err(_write(tmp_path, head + "0,0,-9.8\n0.1,0\n"), match="line 3, column 'accel_z': empty (the line has 2 fields")
     _err(_write(tmp_path, head + "0,0,-9.8\n0.1,0,-9.8,7\n"), match="line 3: 4 fields, the header (line 1) has 3")
