@@ -358,3 +358,24 @@ def test_magnetometer_units():
         w = check_magnetometer(m * scale)
         assert w is not None and f"looks like {unit}" in w, (scale, w)
     assert "check the unit" in check_magnetometer(m * 1e-3)
+
+
+@pytest.mark.data
+def test_plausibility_on_real_logs(data_dir):
+    """No warning on NaveGo's run nor on the real walk in body axes; the walk's own sensor axes
+    (z up) and its file's unit (g) are named."""
+    from quatnav.datasets import gnss_imu_walk as W
+    from quatnav.datasets import navego
+    from quatnav.ins_cli import plausibility_warnings
+    for sub in ("navego_synthetic", "gnss_imu_walk"):
+        if not (data_dir / sub).is_dir():
+            pytest.skip(f"{sub} not in {data_dir}")
+    n = navego.load(data_dir / "navego_synthetic")
+    assert plausibility_warnings(n.imu_t, n.gyro, n.accel, n.gnss_t, *np.degrees(n.gnss_llh[:, :2]).T) == []
+    w = W.load(data_dir / "gnss_imu_walk")
+    ll = np.degrees(w.gnss_llh[:, :2]).T
+    assert plausibility_warnings(w.imu_t, W.to_body(w.gyro_s), W.to_body(w.accel_s), w.gnss_t, *ll) == []
+    raw = plausibility_warnings(w.imu_t, w.gyro_s, w.accel_s, w.gnss_t, *ll)
+    assert len(raw) == 1 and "gravity appears on +z" in raw[0]
+    in_g = plausibility_warnings(w.imu_t, w.gyro_s, w.accel_s / W.G0, w.gnss_t, *ll)
+    assert any("look like g, not m/s^2" in x for x in in_g)
