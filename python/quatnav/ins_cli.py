@@ -159,7 +159,6 @@ def load_config(path) -> dict:
 
 
 _UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1e-9))
-_G = 9.80665
 #: The most coasting steps inserted into one run (a longer gap is refused, not coasted).
 MAX_COAST_STEPS = 5_000_000
 
@@ -213,11 +212,12 @@ def check_imu_times(t, lines, max_dt, where="IMU"):
     return gaps, warnings
 
 
-def coast_gaps(t, gyro, accel, gaps, max_dt):
+def coast_gaps(t, gyro, accel, gaps, max_dt, lines=None, where="IMU"):
     """Insert coasting steps into gaps longer than ``max_dt``.
 
     Each gap (t[k-1], t[k]] is split into ``ceil(step / max_dt)`` equal steps, all with row k's
-    rate and specific force (row k is the mean over the gap by the file's convention).
+    rate and specific force (row k is the mean over the gap by the file's convention). ``lines``
+    (file line of each row) and ``where`` only serve the message when the gaps are too long.
 
     Returns
     -------
@@ -234,8 +234,9 @@ def coast_gaps(t, gyro, accel, gaps, max_dt):
     total = int(reps.sum()) - len(t)
     if total > MAX_COAST_STEPS:
         k, step = max(gaps, key=lambda g: g[1])
-        raise InputError(f"IMU: gaps would need {total} coasting steps of max_dt = {max_dt:g} s (longest {step:g} s "
-                         f"at row {k}); split the log at the gap or raise max_dt")
+        at = f"lines {lines[k - 1]}-{lines[k]}" if lines is not None else f"rows {k - 1}-{k}"
+        raise InputError(f"{where}: gaps would need {total} coasting steps of max_dt = {max_dt:g} s (longest "
+                         f"{step:g} s, {at}); split the log at the gap or raise max_dt")
     idx = np.repeat(np.arange(len(t)), reps)
     original = np.ones(len(idx), bool)
     tt = t[idx].copy()
@@ -422,7 +423,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
                                    imu=f"IMU {imu}", gnss=f"GNSS {gnss}"):
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
-    tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt)
+    tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
     r = f.run(tt, gg, aa, **kw)
     nav = r.navigating & original
     s = r.sigma[nav]

@@ -252,3 +252,10 @@ def test_json_to_stdout(logs, tmp_path):
     assert p.returncode == 0 and 0 < d["QuaternionEKF"]["roll_rmse_deg"] < 5 and "result" not in d["QuaternionEKF"]
     p = quatnav_cli("simulate", "paper004_static", "--json", tmp_path / "s.json")
     assert p.returncode == 0 and json.loads((tmp_path / "s.json").read_text())["sensors"]["imu"] > 0
+
+
+def test_ins_run_gap_too_long_to_coast(logs, tmp_path):
+    t = np.concatenate([np.arange(0, 5.0, 0.01), 5.0 + 1e7 + np.arange(0, 5.0, 0.01)])  # 116 days
+    imu = _imu_with_times(tmp_path, "imu.csv", t)
+    line = error_line(quatnav_cli("ins", "run", "--imu", imu, "--gnss", logs / "gnss.csv", "--out", tmp_path / "o.csv"))
+    assert "coasting steps" in line and "lines 501-502" in line and "split the log" in line, line
