@@ -158,7 +158,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _preflight(args) -> None:
-    """Checks that save the user a long run before a certain failure."""
+    """Checks common to every command, before it runs (and saves the user a long run before a
+    certain failure)."""
+    seed = getattr(args, "seed", None)
+    if isinstance(seed, int) and seed < 0:
+        raise UsageError(f"--seed: expected a non-negative integer, got {seed}")
     if getattr(args, "plot", None):
         import importlib.util
         if importlib.util.find_spec("matplotlib") is None:

@@ -86,6 +86,13 @@ def _imu_with_times(d, name, t):
     (("simulate", "paper004_walk", "--seed", "-1", "--out", "x.npz"), "--seed"),
     (("simulate", "paper004_walk"), "nothing to write"),
     (("bench", "-n", "0"), "-n: expected at least 1"),
+    (("demo", "--seed", "-1"), "--seed: expected a non-negative integer, got -1"),
+    (("experiment", "walk-rtk", "--seed", "-2"), "--seed: expected a non-negative integer, got -2"),
+    (("experiment", "gpsins", "--outage-start", "-50"), "--outage-start: the outage -50 to -40 s lies outside"),
+    (("experiment", "gpsins", "--outage-length", "0"), "--outage-length"),
+    (("experiment", "nav13", "--accel-noise-scale", "0"), "--accel-noise-scale"),
+    (("experiment", "navego", "--seconds", "-1"), "--seconds"),
+    (("experiment", "marg-turn", "--seeds", "1", "--gain", "-1"), "gain: expected a non-negative finite number"),
 ])
 def test_usage_errors_are_one_line(args, expect, tmp_path):
     line = error_line(quatnav_cli(*args, cwd=tmp_path))

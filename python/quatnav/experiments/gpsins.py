@@ -83,6 +83,9 @@ def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: flo
                                                      outages=[(t0, t1)], **_aids(s))
     e2 = errors(s, r2)
     m = (e2["t"] >= t0) & (e2["t"] < t1)
+    if not m.any():
+        raise ValueError(f"--outage-start: the outage {t0:g} to {t1:g} s lies outside the navigation "
+                         f"({e2['t'][0]:g} to {e2['t'][-1]:g} s of {s.name})")
     out["outage"] = {"start_s": t0, "length_s": outage_length,
                      "horizontal_error_at_start_m": float(e2["horiz"][m][0]),
                      "horizontal_error_max_m": float(e2["horiz"][m].max()),

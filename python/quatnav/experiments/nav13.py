@@ -249,6 +249,8 @@ def run(args) -> int:
         raise UsageError(f"--runs: expected a positive integer, got {args.runs}")
     if args.cost_repeats < 1:
         raise UsageError(f"--cost-repeats: expected a positive integer, got {args.cost_repeats}")
+    if not args.accel_noise_scale > 0:
+        raise UsageError(f"--accel-noise-scale: expected a positive number, got {args.accel_noise_scale:g}")
     t0 = time.time()
     # The cost first, while nothing else of ours runs; the three policies are interleaved.
     cost = dict(_core.nav13_time_update_cost_ns(repeats=args.cost_repeats, iterations=2000))
