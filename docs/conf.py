@@ -48,6 +48,7 @@ myst_enable_extensions = ["colon_fence"]
 suppress_warnings = ["ref.python"]
 autodoc_default_options = {"members": True, "member-order": "bysource", "undoc-members": False}
 autodoc_typehints = "description"
+autodoc_typehints_description_target = "documented"
 autodoc_class_signature = "mixed"
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True

@@ -8,6 +8,7 @@ would be reST errors; this hook (run before napoleon) turns them into what they 
 * A heading underlined with dashes that napoleon does not know (``Integration scheme (...)``)
   becomes a rubric, and a known section with a note in brackets
   (``Parameters (keyword, SI units; ...)``) becomes the plain section preceded by the note.
+* A class as a default value (``dtype=<class 'numpy.float64'>``) is shown by its name.
 * A re-exported constant (``quatnav.FLAGS``) gets the ``#:`` comment of the module that defines
   it instead of its type's docstring, and a dict of bits gets the list of its keys and bits.
 """
@@ -111,8 +112,19 @@ def process_docstring(app, what, name, obj, options, lines):
     lines[:] = [_escape_bars(line) for line in _paragraphs_in_parameters(_headings(lines))]
 
 
+_CLASS_REPR = re.compile(r"<class '([\w.]+)'>")
+
+
+def process_signature(app, what, name, obj, options, signature, return_annotation):
+    """A class as a default value reads as its name: ``dtype=numpy.float64``."""
+    if signature:
+        signature = _CLASS_REPR.sub(r"\1", signature)
+    return signature, return_annotation
+
+
 def setup(app):
     app.connect("autodoc-process-docstring", process_docstring, priority=100)  # before napoleon
+    app.connect("autodoc-process-signature", process_signature)
     custom = list(app.config.napoleon_custom_sections or [])
     if ("Parameters (continued)", "params_style") not in custom:
         app.config.napoleon_custom_sections = [*custom, ("Parameters (continued)", "params_style")]
