@@ -1,6 +1,7 @@
 """Every user mistake on the command line: one line on stderr naming what is wrong, exit status 2,
 no traceback; a genuine bug keeps its traceback. Each case runs ``python -m quatnav`` in a
 subprocess (a missing optional package is simulated by blocking its import in the subprocess)."""
+import importlib.util
 import json
 import os
 import subprocess
@@ -14,6 +15,8 @@ import quatnav
 
 PYTHON_DIR = str(Path(quatnav.__file__).resolve().parent.parent)
 IMU_HEADER = "time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z"
+needs_pandas = pytest.mark.skipif(importlib.util.find_spec("pandas") is None, reason="pandas (extra [io]) not installed")
+needs_scipy = pytest.mark.skipif(importlib.util.find_spec("scipy") is None, reason="scipy (extra [sim]) not installed")
 GNSS_HEADER = "time,lat,lon,h"
 
 # runs ``quatnav`` with the listed modules made unimportable (as if their extra were not installed)
@@ -100,6 +103,7 @@ def test_usage_errors_are_one_line(args, expect, tmp_path):
 
 
 # --- ins run -----------------------------------------------------------------------------------
+@needs_pandas
 @pytest.mark.parametrize("scale, unit", [(1e3, "milliseconds"), (1e6, "microseconds"), (1e9, "nanoseconds")])
 def test_ins_run_names_the_time_unit(logs, tmp_path, scale, unit):
     imu = _imu_with_times(tmp_path, "imu.csv", np.arange(0, 20.0, 0.01) * scale)
@@ -108,12 +112,14 @@ def test_ins_run_names_the_time_unit(logs, tmp_path, scale, unit):
     assert str(imu) in line
 
 
+@needs_pandas
 def test_ins_run_steps_of_1000_s(logs, tmp_path):
     imu = _imu_with_times(tmp_path, "imu.csv", np.arange(0, 50) * 1000.0)
     line = error_line(quatnav_cli("ins", "run", "--imu", imu, "--gnss", logs / "gnss.csv", "--out", tmp_path / "o.csv"))
     assert "median time step 1000 s" in line and "microseconds" in line, line
 
 
+@needs_pandas
 def test_ins_run_gap_is_coasted_not_an_error(logs, tmp_path):
     t = np.concatenate([np.arange(0, 10.0, 0.01), np.arange(14.0, 20.0, 0.01)])  # 4 s gap after line 1001
     imu = _imu_with_times(tmp_path, "imu.csv", t)
@@ -138,6 +144,7 @@ def test_ins_run_config_errors(logs, tmp_path, text, expect):
     assert expect in line and "c.toml" in line, line
 
 
+@needs_pandas
 def test_ins_run_missing_file_and_bad_cell(logs, tmp_path):
     line = error_line(quatnav_cli("ins", "run", "--imu", tmp_path / "nope.csv", "--gnss", logs / "gnss.csv",
                                   "--out", tmp_path / "o.csv"))
@@ -247,6 +254,8 @@ def test_help_documents_quatnav_data_and_experiments():
         assert experiments.summary(name) in line
 
 
+@needs_pandas
+@needs_scipy
 def test_json_to_stdout(logs, tmp_path):
     p = quatnav_cli("simulate", "--list", "--json", "-")
     assert p.returncode == 0 and "paper004_walk" in json.loads(p.stdout)
@@ -261,6 +270,7 @@ def test_json_to_stdout(logs, tmp_path):
     assert p.returncode == 0 and json.loads((tmp_path / "s.json").read_text())["sensors"]["imu"] > 0
 
 
+@needs_pandas
 def test_ins_run_gap_too_long_to_coast(logs, tmp_path):
     t = np.concatenate([np.arange(0, 5.0, 0.01), 5.0 + 1e7 + np.arange(0, 5.0, 0.01)])  # 116 days
     imu = _imu_with_times(tmp_path, "imu.csv", t)
