@@ -80,7 +80,8 @@ OUTPUT_COLUMNS = (
 EPILOG = """\
 input files: CSV, a header row of named columns in any order (case and surrounding spaces do
 not matter; extra columns ignored; lines starting with # skipped); delimiter , ; or tab; UTF-8
-(a byte-order mark is fine); times in s on one clock, strictly increasing in each file.
+(a byte-order mark is fine); times in s on one clock, strictly increasing in each file. Read
+with pandas: pip install 'quatnav[io]'.
   IMU      time, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s^2); body
            forward-right-down; row k = mean over (time[k-1], time[k]]
   GNSS     time, lat, lon (deg), h (m, antenna); optional v_n, v_e, v_d (m/s),
