@@ -22,17 +22,21 @@ _SECTIONS = ("Parameters", "Other Parameters", "Returns", "Yields", "Receives", 
              "Warning", "Warnings", "Keyword Arguments", "Args", "Arguments")
 _DASHES = re.compile(r"^\s*-{3,}\s*$")
 _NOTE_SECTION = re.compile(r"^(%s)\s*\((.+)\)\s*:?$" % "|".join(_SECTIONS))
-_LITERAL = re.compile(r"(``.+?``|`[^`]*`)")
-_ABS = re.compile(r"(?<![\\|])\|(?=\S)([^|`]*?\S)\|(?!\|)")
+_LITERAL = re.compile(r"(``.+?``|`[^`]*`)", re.S)  # inline literals and roles, also across lines
+_ABS = re.compile(r"(?<![\\|])\|(?=\S)([^|`\n]*?\S)\|(?!\|)")
 
 
-def _escape_bars(line: str) -> str:
-    if line.lstrip().startswith(("|", "+")):  # a line block or a table row: leave it
-        return line
-    parts = _LITERAL.split(line)
+def _escape_bars(lines: list[str]) -> list[str]:
+    parts = _LITERAL.split("\n".join(lines))
     for i in range(0, len(parts), 2):  # even indices: outside literals and roles
-        parts[i] = _ABS.sub(r"\\|\1\\|", parts[i])
-    return "".join(parts)
+        rows = parts[i].split("\n")
+        for j, row in enumerate(rows):
+            starts_line = j > 0 or i == 0 or parts[i - 1].endswith("\n")
+            if starts_line and row.lstrip().startswith(("|", "+")):
+                continue  # a line block or a table row: leave it
+            rows[j] = _ABS.sub(r"\\|\1\\|", row)
+        parts[i] = "\n".join(rows)
+    return "".join(parts).split("\n")
 
 
 def _headings(lines: list[str]) -> list[str]:
@@ -109,7 +113,7 @@ def process_docstring(app, what, name, obj, options, lines):
             lines[:] = _defining_comment(name, obj) or []
         if isinstance(obj, dict) and obj and all(isinstance(v, int) for v in obj.values()):
             lines += ["", *(f"* ``{k}``: bit {v.bit_length() - 1} (``{v:#x}``)" for k, v in obj.items())]
-    lines[:] = [_escape_bars(line) for line in _paragraphs_in_parameters(_headings(lines))]
+    lines[:] = _escape_bars(_paragraphs_in_parameters(_headings(lines)))
 
 
 _CLASS_REPR = re.compile(r"<class '([\w.]+)'>")
