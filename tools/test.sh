@@ -7,7 +7,8 @@
 #      does find_package(quatnav) (cpp/examples/consumer),
 #   5. cross-compiles every filter in float32 for a Cortex-M4F and compares it in QEMU with the
 #      host double run (cpp/examples/embedded/run.py; apt gcc-arm-none-eabi, qemu-system-arm),
-#   6. runs pytest on tests/python against the installed package.
+#   6. runs pytest on tests/python against the installed package,
+#   7. builds the documentation site with warnings as errors (tools/docs.sh).
 # Environment: PYTHON (an interpreter to use as it is; default: a virtual environment in .venv,
 #              see tools/setup_env.sh), QUATNAV_JOBS (default 2),
 #              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan,
@@ -74,3 +75,7 @@ QUATNAV_JOBS="$JOBS" timeout 1500 "$PY" cpp/examples/embedded/run.py --check --o
 # --- Python tests ---------------------------------------------------------------------------
 echo "== pytest"
 "$PY" -m pytest -q tests/python "$@"
+
+# --- documentation site (sphinx -W: a warning fails) ------------------------------------------
+echo "== documentation site"
+PYTHON="$PY" bash tools/docs.sh
