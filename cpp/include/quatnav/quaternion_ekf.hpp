@@ -60,6 +60,10 @@ template <class S> struct QuaternionEKFParams {
   S gyro_range = S(0);            ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
   S acc_range = S(0);             ///< accelerometer range per axis, unit of acc [m/s^2]; 0: unlimited
   S cov_floor = S(1e-12);         ///< eigenvalue floor of the error-state covariance (covariance.hpp) [rad^2, (rad/s)^2]; 0: off
+  /// Magnetic declination, east of true north [rad], in [-pi, pi]. 0 (the paper's frame): the
+  /// navigation frame's x axis is magnetic north. Otherwise x is true north: the reference
+  /// field points to heading `declination`, and initialize() adds it to the magnetic heading.
+  S declination = S(0);
 
   // --- robustness (each switched off by 0 / false) -------------------------------------------
   /// Magnetometer corrects heading only: a scalar update of the heading of the field's
@@ -413,7 +417,7 @@ template <class S> class QuaternionEKF {
     }
     const S sigma = params_.acc_noise + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
     const S gt = gate > S(0) ? gate : (recovering ? S(0) : params_.acc_gate);
-    res = update3(acc_used, S(0), S(-1), sigma, gt);
+    res = update3(acc_used, detail::qekf_h(st_.q, S(0), S(-1)), detail::qekf_H(st_.q, S(0), S(-1)), sigma, gt);
     if (res.status == Status::Ok) {
       st_.acc_reject_t = S(0);
     } else if (res.status == Status::Rejected) {
@@ -475,7 +479,10 @@ template <class S> class QuaternionEKF {
     if (params_.mag_heading_only) {
       res = update_heading(m, gt);
     } else {
-      res = update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gt);
+      Vec3<S> h;
+      Mat34<S> Hm;
+      mag_model(h, Hm);
+      res = update3(mag, h, Hm, params_.mag_noise, gt);
     }
     if (res.status == Status::Ok) {
       st_.mag_reject_t = S(0);
@@ -512,10 +519,13 @@ template <class S> class QuaternionEKF {
     st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
     Vec<S, 6> z, h;
     z << a, m;
-    h << detail::qekf_h(st_.q, S(0), S(-1)), detail::qekf_h(st_.q, st_.mag.ref[0], st_.mag.ref[2]);
     Mat<S, 6, 7> H = Mat<S, 6, 7>::Zero();
+    Vec3<S> hm;
+    Mat34<S> Hm;
+    mag_model(hm, Hm);
+    h << detail::qekf_h(st_.q, S(0), S(-1)), hm;
     H.template block<3, 4>(0, 0) = detail::qekf_H(st_.q, S(0), S(-1));
-    H.template block<3, 4>(3, 0) = detail::qekf_H(st_.q, st_.mag.ref[0], st_.mag.ref[2]);
+    H.template block<3, 4>(3, 0) = Hm;
     Vec<S, 6> r;
     r << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
         Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
@@ -569,7 +579,8 @@ template <class S> class QuaternionEKF {
     const Vec4<S> v = quat::right(st_.q).template middleCols<2>(1) * Jt;
     const S R = params_.mag_noise * params_.mag_noise / horiz2 +
                 S(4) * v.dot(st_.P.template topLeftCorner<4, 4>() * v);
-    const S y = quat::wrap_pi(-h);
+    // The field's heading is the declination (0: the frame's x is magnetic north).
+    const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
     Vec<S, 7> PHt;  // P H^T, H = [Hq 0]
     PHt.noalias() = st_.P.template leftCols<4>() * Hq.transpose();
     const S Sv = Hq.dot(PHt.template head<4>()) + R;
@@ -612,6 +623,10 @@ template <class S> class QuaternionEKF {
     Quat<S> q;
     Vec3<S> mref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
+    if (mag && params_.declination != S(0)) {
+      // Magnetic heading + declination = true heading (a rotation about the navigation down axis).
+      q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
+    }
     st_.q = q;
     st_.bias.setZero();
     st_.lp_init = false;
@@ -639,16 +654,34 @@ template <class S> class QuaternionEKF {
     return Status::Ok;
   }
 
-  UpdateResult<S, 3> update3(const Vec3<S>& v, S rx, S rz, S sigma, S gate) {
+  /// Field model of the 3-row magnetometer update (eq. 12 rows 4-6) and its Jacobian w.r.t. q.
+  /// The reference [rx, 0, rz] lies in the magnetic frame; with a declination d the filter's
+  /// frame is true north and h(q) = C_bn(q) Rz(d) r = C_bn(q_m) r with q_m = Rz(-d) * q, so
+  /// h and H are those of the paper at q_m, and H picks up the constant factor
+  /// d q_m / d q = left(Rz(-d)) (chain rule).
+  void mag_model(Vec3<S>& h, Mat34<S>& H) const {
+    const S rx = st_.mag.ref[0], rz = st_.mag.ref[2];
+    if (params_.declination == S(0)) {
+      h = detail::qekf_h(st_.q, rx, rz);
+      H = detail::qekf_H(st_.q, rx, rz);
+      return;
+    }
+    const Quat<S> qd = quat::from_rotvec(Vec3<S>(S(0), S(0), -params_.declination));
+    const Quat<S> qm = quat::mul(qd, st_.q);
+    h = detail::qekf_h(qm, rx, rz);
+    H = detail::qekf_H(qm, rx, rz) * quat::left(qd);
+  }
+
+  /// One 3-row direction update: the unit vector of v against the model h(q) with Jacobian Hq.
+  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& h, const Mat34<S>& Hq, S sigma, S gate) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
     Vec3<S> u;
     res.status = detail::unit_vector(v, u);
     if (res.status != Status::Ok) return res;
     Mat<S, 3, 7> H = Mat<S, 3, 7>::Zero();
-    H.template leftCols<4>() = detail::qekf_H(st_.q, rx, rz);
-    apply_correction<3, 0, 4>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - detail::qekf_h(st_.q, rx, rz)), res,
-                              gate);
+    H.template leftCols<4>() = Hq;
+    apply_correction<3, 0, 4>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
     return res;
   }
 

@@ -137,7 +137,7 @@ class QuaternionEKF(_Base):
                     acc_recovery_time=0.0, acc_lp_tau=3.0, mag_norm_tol=0.05, mag_dip_tol=0.05,
                     mag_gate=9.0, mag_settle_time=0.0, mag_ref_tau=30.0, mag_recovery_time=0.0,
                     rest_detection=True, rest_gyr_th=0.03, rest_acc_th=0.5, rest_time=1.5,
-                    rest_tau=0.5, rest_rate_noise=0.02)
+                    rest_tau=0.5, rest_rate_noise=0.02, declination=0.0)
     paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
                            init_att_sigma=0.05, init_bias_sigma=0.01, mag_heading_only=False, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
                            acc_recovery_time=0.0, acc_lp_tau=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0,
@@ -182,24 +182,39 @@ class QuaternionEKF(_Base):
 
     # --- model (eq. 6, 9, 10, 11, 12) ---------------------------------------------------
     @staticmethod
-    def h(q, rx, rz):
-        """eq. (12): C_bn(q) [r_x, 0, r_z] in the paper's quadratic form."""
+    def h(q, rx, rz, ry=0.0):
+        """eq. (12): C_bn(q) [r_x, r_y, r_z] in the paper's quadratic form (the paper has r_y = 0;
+        r_y != 0 is the reference field in a true-north frame, see ``declination``)."""
         q0, q1, q2, q3 = q
         return np.array([
-            rx * (1 - 2 * q2 * q2 - 2 * q3 * q3) + 2 * rz * (q1 * q3 - q0 * q2),
-            2 * rx * (q1 * q2 - q0 * q3) + 2 * rz * (q2 * q3 + q0 * q1),
-            2 * rx * (q1 * q3 + q0 * q2) + rz * (1 - 2 * q1 * q1 - 2 * q2 * q2),
+            rx * (1 - 2 * q2 * q2 - 2 * q3 * q3) + 2 * ry * (q1 * q2 + q0 * q3) + 2 * rz * (q1 * q3 - q0 * q2),
+            2 * rx * (q1 * q2 - q0 * q3) + ry * (1 - 2 * q1 * q1 - 2 * q3 * q3) + 2 * rz * (q2 * q3 + q0 * q1),
+            2 * rx * (q1 * q3 + q0 * q2) + 2 * ry * (q2 * q3 - q0 * q1) + rz * (1 - 2 * q1 * q1 - 2 * q2 * q2),
         ])
 
     @staticmethod
-    def H(q, rx, rz):
-        """dh/dq as printed under eq. (12) (acceleration rows: r = [0, 0, -1])."""
+    def H(q, rx, rz, ry=0.0):
+        """dh/dq as printed under eq. (12) (acceleration rows: r = [0, 0, -1]), plus the r_y terms."""
         q0, q1, q2, q3 = q
-        return np.array([
+        H = np.array([
             [-2 * rz * q2, 2 * rz * q3, -4 * rx * q2 - 2 * rz * q0, -4 * rx * q3 + 2 * rz * q1],
             [-2 * rx * q3 + 2 * rz * q1, 2 * rx * q2 + 2 * rz * q0, 2 * rx * q1 + 2 * rz * q3, -2 * rx * q0 + 2 * rz * q2],
             [2 * rx * q2, 2 * rx * q3 - 4 * rz * q1, 2 * rx * q0 - 4 * rz * q2, 2 * rx * q1],
         ])
+        if ry != 0.0:
+            H += ry * np.array([[2 * q3, 2 * q2, 2 * q1, 2 * q0],
+                                [0.0, -4 * q1, 0.0, -4 * q3],
+                                [-2 * q1, -2 * q0, 2 * q3, 2 * q2]])
+        return H
+
+    def mag_reference(self):
+        """The reference field (r_x, r_z, r_y) in the filter's frame: the learned [m_x, 0, m_z]
+        (magnetic north) turned by the declination about down when x is true north."""
+        rx, rz = self.mag_ref[0], self.mag_ref[2]
+        d = self.p.declination
+        if d == 0.0:
+            return rx, rz, 0.0
+        return rx * np.cos(d), rz, rx * np.sin(d)
 
     @staticmethod
     def propagate(q, bias, gyr, dt):
@@ -217,6 +232,9 @@ class QuaternionEKF(_Base):
         if out is None:
             return "zero_norm"
         self.q, mref = out
+        if mref is not None and self.p.declination != 0.0:
+            # magnetic heading + declination = true heading
+            self.q = Q.mul(Q.from_rotvec([0.0, 0.0, self.p.declination]), self.q)
         self.bias = np.zeros(3)
         self._reset_bookkeeping()
         self.flags = 0
@@ -356,7 +374,8 @@ class QuaternionEKF(_Base):
         if p.mag_heading_only:
             res = self.update_heading(m, gt)
         else:
-            res = self._update3(mag, self.mag_ref[0], self.mag_ref[2], p.mag_noise, gt)
+            rx, rz, ry = self.mag_reference()
+            res = self._update3(mag, rx, rz, p.mag_noise, gt, ry=ry)
         if res.status == "ok":
             self.mag_reject_t = 0.0
             if p.mag_ref_tau > 0 and dt > 0:
@@ -399,7 +418,7 @@ class QuaternionEKF(_Base):
         R = self.p.mag_noise**2 / horiz2 + Jt @ Sphi[:2, :2] @ Jt
         H = np.zeros(7)
         H[:4] = Hq
-        y = float(Q.wrap_pi(-h))
+        y = float(Q.wrap_pi(self.p.declination - h))  # the field's heading is the declination
         PHt = self.P @ H
         Sv = H @ PHt + R
         res = SimpleNamespace(status="ok", innovation=np.array([y, 0.0, 0.0]),
@@ -423,13 +442,13 @@ class QuaternionEKF(_Base):
         self.q, self.bias, self.P = qh, self.bias + dx[4:], P
         return res
 
-    def _update3(self, v, rx, rz, sigma, gate):
+    def _update3(self, v, rx, rz, sigma, gate, ry=0.0):
         status, u = _unit(v)
         if status != "ok":
             return SimpleNamespace(status=status)
         H = np.zeros((3, 7))
-        H[:, :4] = self.H(self.q, rx, rz)
-        return self._correct(H, np.eye(3) * sigma**2, u - self.h(self.q, rx, rz), gate)
+        H[:, :4] = self.H(self.q, rx, rz, ry)
+        return self._correct(H, np.eye(3) * sigma**2, u - self.h(self.q, rx, rz, ry), gate)
 
     def update_acc_mag(self, acc, mag, gate=0.0):
         sa, a = _unit(acc)
@@ -437,11 +456,11 @@ class QuaternionEKF(_Base):
         if sa != "ok" or sm != "ok":
             return SimpleNamespace(status=sa if sa != "ok" else sm)
         self._learn_mag_ref(Q.rotate(self.q, m))
-        rx, rz = self.mag_ref[0], self.mag_ref[2]
+        r = self.mag_reference()
         H = np.zeros((6, 7))
         H[:3, :4] = self.H(self.q, *GRAVITY_REF)
-        H[3:, :4] = self.H(self.q, rx, rz)
-        y = np.concatenate([a - self.h(self.q, *GRAVITY_REF), m - self.h(self.q, rx, rz)])
+        H[3:, :4] = self.H(self.q, *r)
+        y = np.concatenate([a - self.h(self.q, *GRAVITY_REF), m - self.h(self.q, *r)])
         R = np.diag([self.p.acc_noise**2] * 3 + [self.p.mag_noise**2] * 3)
         return self._correct(H, R, y, gate)
 
