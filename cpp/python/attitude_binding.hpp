@@ -2,11 +2,29 @@
 // methods, state get/set as dicts of arrays, and the batch run with the GIL released.
 #pragma once
 
+#include <quatnav/attitude.hpp>
 #include <quatnav/batch.hpp>
 
 #include "common.hpp"
 
 namespace quatnav_py {
+
+/// The magnetic field reference of a state dict (get_state / set_state).
+template <class S> void put_mag_ref(py::dict& d, const quatnav::MagRef<S>& m) {
+  d["mag_ref"] = quatnav::Vec3<S>(m.ref);
+  d["mag_sin_dip_sum"] = m.sin_dip_sum;
+  d["mag_ref_count"] = m.count;
+  d["mag_ref_fixed"] = m.fixed;
+}
+
+template <class S> quatnav::MagRef<S> get_mag_ref(const py::dict& d) {
+  quatnav::MagRef<S> m;
+  m.ref = d["mag_ref"].cast<quatnav::Vec3<S>>();
+  m.sin_dip_sum = d["mag_sin_dip_sum"].cast<S>();
+  m.count = d["mag_ref_count"].cast<std::uint32_t>();
+  m.fixed = d["mag_ref_fixed"].cast<bool>();
+  return m;
+}
 
 template <class F> struct AttitudeRun {
   static py::tuple run(F& f, const carray<typename F::Scalar>& gyr, const carray<typename F::Scalar>& acc,

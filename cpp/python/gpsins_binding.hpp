@@ -1,10 +1,13 @@
-// GpsInsFilter (paper 004) for float32 and float64, with its batch run (GIL released).
+// The binding of GpsInsFilter (paper 004) for one scalar type S, with its batch run (GIL
+// released). Instantiated once per S, in bind_gpsins_f64.cpp (with the float64 helper gpsins_F)
+// and bind_gpsins_f32.cpp (one translation unit each, so that they compile in parallel).
+#pragma once
+
 #include <quatnav/gps_ins.hpp>
 
 #include "common.hpp"
 
 namespace quatnav_py {
-namespace {
 
 template <class S> py::dict counters_dict(const quatnav::GpsInsCounters& c) {
   static const char* names[5] = {"gps_pos", "gps_vel", "baro", "baro_vd", "compass"};
@@ -280,30 +283,6 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
           py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"), py::arg("baro_h"),
           py::arg("compass_t"), py::arg("compass_yaw"),
           "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays.");
-}
-
-}  // namespace
-
-void bind_gpsins(py::module_& m) {
-  bind_gpsins_scalar<double>(m);
-  bind_gpsins_scalar<float>(m);
-  m.def("gpsins_F", [](const quatnav::Quat<double>& q, const quatnav::Vec3<double>& v, double lat, double lon,
-                       double h, const quatnav::Vec3<double>& f_b, bool earth_rotation, double accel_bias_tau,
-                       double gyro_bias_tau) {
-    quatnav::StrapdownState<double> s;
-    s.q_nb = q;
-    s.v_n = v;
-    s.lat = lat;
-    s.lon = lon;
-    s.h = h;
-    quatnav::GpsInsParams<double> p;
-    p.earth_rotation = earth_rotation;
-    p.accel_bias_tau = accel_bias_tau;
-    p.gyro_bias_tau = gyro_bias_tau;
-    return quatnav::Mat<double, 15, 15>(quatnav::detail::gpsins_F<double>(s, f_b, p));
-  }, py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("f_b"),
-     py::arg("earth_rotation") = true, py::arg("accel_bias_tau") = 0.0, py::arg("gyro_bias_tau") = 0.0,
-     "Error-state dynamics matrix F (15 x 15, float64) of GpsInsFilter at a nominal state.");
 }
 
 }  // namespace quatnav_py

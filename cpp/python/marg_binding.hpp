@@ -1,11 +1,13 @@
-// MargFilter (paper 001) for float32 and float64: steps, state as a dict, and the batch run with
-// GPS velocity fixes (GIL released).
+// The binding of MargFilter (paper 001) for one scalar type S: steps, state as a dict, and the
+// batch run with GPS velocity fixes (GIL released). Instantiated once per S, in bind_marg_f64.cpp
+// and bind_marg_f32.cpp (one translation unit each, so that they compile in parallel).
+#pragma once
+
 #include <quatnav/marg_filter.hpp>
 
 #include "common.hpp"
 
 namespace quatnav_py {
-namespace {
 
 template <class S> py::tuple marg_run(quatnav::MargFilter<S>& f, const carray<S>& t, const carray<S>& dt,
                                       const carray<S>& gyr, const carray<S>& acc, const py::object& mag_obj,
@@ -141,13 +143,6 @@ template <class S> void bind_marg_t(py::module_& m) {
       .def("run", &marg_run<S>, py::arg("t"), py::arg("dt"), py::arg("gyr"), py::arg("acc"), py::arg("mag"),
            py::arg("gps_t"), py::arg("gps_vel_n"),
            "Batch run (GIL released). Returns (quat, bias, gps_acc_n, residual, flags).");
-}
-
-}  // namespace
-
-void bind_marg(py::module_& m) {
-  bind_marg_t<double>(m);
-  bind_marg_t<float>(m);
 }
 
 }  // namespace quatnav_py

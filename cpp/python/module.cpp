@@ -2,21 +2,36 @@
 #include "common.hpp"
 
 namespace quatnav_py {
+// One translation unit each (bind_*.cpp), so that the filters compile in parallel.
 void bind_math(py::module_& m);
-void bind_attitude(py::module_& m);
+void bind_attitude(py::module_& m);  // QuaternionEKF
+void bind_euler(py::module_& m);
 void bind_strapdown(py::module_& m);
-void bind_marg(py::module_& m);
-void bind_nav13(py::module_& m);
-void bind_gpsins(py::module_& m);
+void bind_marg_f64(py::module_& m);
+void bind_marg_f32(py::module_& m);
+void bind_nav13_f64(py::module_& m);
+void bind_nav13_f32(py::module_& m);
+void bind_nav13_timing(py::module_& m);
+void bind_gpsins_f64(py::module_& m);
+void bind_gpsins_f32(py::module_& m);
+void bind_gpsins_F(py::module_& m);
 }  // namespace quatnav_py
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "quatnav compiled core (header-only C++ filters bound for float32 and float64)";
   m.attr("__version__") = QUATNAV_VERSION;
+  // The order of registration is that of the signatures' type names: a class is bound before
+  // the functions that take or return it.
   quatnav_py::bind_math(m);
   quatnav_py::bind_attitude(m);
+  quatnav_py::bind_euler(m);
   quatnav_py::bind_strapdown(m);
-  quatnav_py::bind_marg(m);
-  quatnav_py::bind_nav13(m);
-  quatnav_py::bind_gpsins(m);
+  quatnav_py::bind_marg_f64(m);
+  quatnav_py::bind_marg_f32(m);
+  quatnav_py::bind_nav13_f64(m);
+  quatnav_py::bind_nav13_f32(m);
+  quatnav_py::bind_nav13_timing(m);
+  quatnav_py::bind_gpsins_f64(m);
+  quatnav_py::bind_gpsins_f32(m);
+  quatnav_py::bind_gpsins_F(m);
 }

@@ -1,16 +1,14 @@
-// NavFilter13 (paper 002) for float32 and float64, one class per time update:
-// NavFilter13Ekf_f64, NavFilter13SecondOrder_f64, NavFilter13Ukf_f64 (and _f32), plus a timing
-// helper that measures the cost of one time update of each policy in the same run.
-#include <quatnav/nav_filter13.hpp>
+// The binding of NavFilter13 (paper 002) for one scalar type S, one class per time update:
+// NavFilter13Ekf_f64, NavFilter13SecondOrder_f64, NavFilter13Ukf_f64 (and _f32). Instantiated
+// once per S, in bind_nav13_f64.cpp (with the timing helper nav13_time_update_cost_ns) and
+// bind_nav13_f32.cpp (one translation unit each, so that they compile in parallel).
+#pragma once
 
-#include <algorithm>
-#include <chrono>
-#include <vector>
+#include <quatnav/nav_filter13.hpp>
 
 #include "common.hpp"
 
 namespace quatnav_py {
-namespace {
 
 template <class S> void bind_params(py::module_& m) {
   using P = quatnav::NavFilter13Params<S>;
@@ -153,66 +151,6 @@ template <class S> void bind_all(py::module_& m) {
   bind_filter<S, quatnav::TimeUpdate::Ekf>(m, "NavFilter13Ekf");
   bind_filter<S, quatnav::TimeUpdate::SecondOrder>(m, "NavFilter13SecondOrder");
   bind_filter<S, quatnav::TimeUpdate::Ukf>(m, "NavFilter13Ukf");
-}
-
-/// Median over `repeats` of the mean time (ns) of `iterations` consecutive time updates, the three
-/// policies interleaved within every repeat (double precision, a representative state and P).
-template <quatnav::TimeUpdate TU>
-double time_block(quatnav::NavFilter13<double, TU>& f, const quatnav::NavFilter13State<double>& s0, int iterations) {
-  f.set_state(s0);
-  const quatnav::Vec3<double> fb(0.05, -0.02, -9.79), wb(0.001, -0.002, 0.1);
-  const auto a = std::chrono::steady_clock::now();
-  for (int k = 0; k < iterations; ++k) f.predict(fb, wb, 0.01);
-  const auto b = std::chrono::steady_clock::now();
-  return std::chrono::duration<double, std::nano>(b - a).count() / iterations;
-}
-
-py::dict time_update_cost_ns(int repeats, int iterations) {
-  using namespace quatnav;
-  if (repeats < 1 || iterations < 1) throw py::value_error("repeats, iterations: expected positive integers");
-  NavFilter13<double, TimeUpdate::Ekf> fe;
-  NavFilter13<double, TimeUpdate::SecondOrder> fs;
-  NavFilter13<double, TimeUpdate::Ukf> fu;
-  const Quat<double> q = quat::from_euler(0.1, -0.1, 0.5);
-  Mat<double, 13, 13> P = Mat<double, 13, 13>::Zero();
-  P.block<3, 3>(0, 0).diagonal().setConstant(0.09);
-  const Mat43<double> X = quat::xi(q);
-  P.block<4, 4>(3, 3) = 0.25 * 0.03 * X * X.transpose();
-  P.block<3, 3>(7, 7).diagonal().setConstant(4e-4);
-  P.block<3, 3>(10, 10).diagonal().setConstant(1e-10);
-  fe.reset(Vec3<double>(1, 1, 0), q, Vec3<double>::Zero(), Vec3<double>::Zero(), P, 0.63, 2.2, 50);
-  const NavFilter13State<double> s0 = fe.state();
-  std::vector<double> te, ts, tu;
-  {
-    py::gil_scoped_release release;
-    for (int r = 0; r < repeats; ++r) {
-      te.push_back(time_block(fe, s0, iterations));
-      ts.push_back(time_block(fs, s0, iterations));
-      tu.push_back(time_block(fu, s0, iterations));
-    }
-  }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t k = v.size() / 2;
-    return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
-  };
-  py::dict d;
-  d["ekf"] = median(te);
-  d["second_order"] = median(ts);
-  d["ukf"] = median(tu);
-  d["repeats"] = repeats;
-  d["iterations"] = iterations;
-  return d;
-}
-
-}  // namespace
-
-void bind_nav13(py::module_& m) {
-  bind_all<double>(m);
-  bind_all<float>(m);
-  m.def("nav13_time_update_cost_ns", &time_update_cost_ns, py::arg("repeats") = 21, py::arg("iterations") = 2000,
-        "Cost of one NavFilter13 time update per policy (ns, float64): the median over `repeats` of the mean "
-        "over `iterations` consecutive predicts, the three policies interleaved in each repeat.");
 }
 
 }  // namespace quatnav_py
