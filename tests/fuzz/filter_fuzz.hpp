@@ -1,5 +1,5 @@
 // quatnav: the generic fault-injection driver shared by the libFuzzer targets (tests/fuzz/) and
-// the GoogleTest that replays random inputs under ctest (tests/cpp/test_robustness.cpp).
+// the GoogleTest that replays random inputs under ctest (tests/cpp/test_robustness/).
 //
 // A byte string is read as: filter parameters (valid, spread over decades), then a sequence of
 // operations (initialize, predict, updates, reset, set_state with arbitrary content), each with
