@@ -25,6 +25,7 @@ template <class S> void bind_qekf(py::module_& m) {
       .def_readwrite("gyro_range", &P::gyro_range)
       .def_readwrite("acc_range", &P::acc_range)
       .def_readwrite("cov_floor", &P::cov_floor)
+      .def_readwrite("declination", &P::declination)
 
       .def_readwrite("mag_heading_only", &P::mag_heading_only)
       .def_readwrite("gravity", &P::gravity)

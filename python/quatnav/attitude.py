@@ -72,6 +72,8 @@ class _AttitudeFilter:
     _param_names: tuple = ()
     _bool_params: tuple = ()
     _int_params: tuple = ("mag_ref_samples",)
+    #: Angles in rad, any sign, within [-pi, pi].
+    _angle_params: tuple = ()
     #: Parameters where 0 means "off" (unlimited range, no covariance floor).
     _zero_ok_params: tuple = ("gyro_range", "acc_range", "cov_floor")
     n_states: int = 0
@@ -90,6 +92,8 @@ class _AttitudeFilter:
                 if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
                     raise ValueError(f"{name}: expected a positive integer, got {value!r}")
                 setattr(p, name, int(value))
+            elif name in self._angle_params:
+                setattr(p, name, V.angle(value, name))
             elif name in self._bool_params:
                 if not isinstance(value, (bool, np.bool_)):
                     raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
@@ -303,6 +307,12 @@ class QuaternionEKF(_AttitudeFilter):
     cov_floor : float, default 1e-12
         Eigenvalue floor of the error-state covariance (rad^2 and (rad/s)^2): after every step
         an eigenvalue below it is raised to it (a healthy covariance is left untouched). 0: off.
+    declination : float, default 0
+        Magnetic declination, east of true north, rad in [-pi, pi] (use ``np.radians`` for
+        degrees). 0: the navigation frame's x axis is magnetic north, so the yaw is a magnetic
+        heading. Otherwise x is true north, like the navigation filters' NED frame: the
+        magnetometer's heading reference is turned by the declination and :meth:`initialize`
+        adds it to the magnetic heading.
 
     The default noise values are effective ones: they cover what the model leaves out
     (residual linear acceleration after the low-pass, field deviations, scale factors), so
@@ -361,8 +371,9 @@ class QuaternionEKF(_AttitudeFilter):
                     "init_bias_sigma", "mag_ref_samples", "max_dt", "gyro_range", "acc_range", "cov_floor", "mag_heading_only", "gravity", "acc_adapt",
                     "acc_reject", "acc_gate", "acc_recovery_time", "acc_lp_tau", "mag_norm_tol", "mag_dip_tol",
                     "mag_gate", "mag_settle_time", "mag_ref_tau", "mag_recovery_time", "rest_detection", "rest_gyr_th",
-                    "rest_acc_th", "rest_time", "rest_tau", "rest_rate_noise")
+                    "rest_acc_th", "rest_time", "rest_tau", "rest_rate_noise", "declination")
     _bool_params = ("mag_heading_only", "rest_detection")
+    _angle_params = ("declination",)
     _zero_ok_params = ("gyro_range", "acc_range", "cov_floor", "gravity", "acc_adapt", "acc_reject", "acc_gate", "acc_recovery_time", "acc_lp_tau",
                        "mag_norm_tol", "mag_dip_tol", "mag_gate", "mag_settle_time", "mag_ref_tau",
                        "mag_recovery_time", "rest_rate_noise")
