@@ -87,7 +87,7 @@ def scn_turn():
 def scn_paper002():
     """Paper 002's run with the paper's fixed initial errors (as ``quatnav experiment nav13``)."""
     from quatnav import quaternion as Q
-    from quatnav.nav13 import initial_covariance
+    from quatnav.filters.nav13 import initial_covariance
     s = _sim("paper002_straight_then_circle")
     tr, si = s.truth, s.params["initial_errors"]["si"]
     d_rpy = np.array([si["roll"], si["pitch"], si["yaw"]])

@@ -8,10 +8,10 @@ from . import _core
 from . import quaternion
 from . import earth, strapdown
 from . import datasets, metrics  # noqa: F401  (BROAD loader and benchmark metrics)
-from .attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
-from .marg import MARG_FLAGS, MargFilter, MargResult
-from .nav13 import NavFilter13, NavResult
-from .gpsins import GpsInsFilter, GpsInsResult
+from .filters.attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
+from .filters.marg import MARG_FLAGS, MargFilter, MargResult
+from .filters.nav13 import NavFilter13, NavResult
+from .filters.gpsins import GpsInsFilter, GpsInsResult
 
 __version__ = _core.__version__
 

@@ -138,7 +138,7 @@ def load_config(path) -> dict:
         raise InputError(f"config {path}: cannot open ({e.strerror})") from None
     except toml.TOMLDecodeError as e:
         raise InputError(f"config {path}: not valid TOML ({e})") from None
-    from .gpsins import PARAM_NAMES
+    from .filters.gpsins import PARAM_NAMES
     unknown = [k for k in doc if k != "filter"]
     if unknown:
         raise InputError(f"config {path}: unknown table or key {unknown[0]!r} (expected a [filter] table)")

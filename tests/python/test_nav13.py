@@ -9,7 +9,7 @@ import pytest
 
 import quatnav
 from quatnav import quaternion as Q
-from quatnav.nav13 import initial_covariance, euler_rate_matrix
+from quatnav.filters.nav13 import initial_covariance, euler_rate_matrix
 from quatnav.reference import nav13 as R
 
 LAT, LON, H = np.radians(36.37), np.radians(127.36), 50.0

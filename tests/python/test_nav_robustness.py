@@ -14,8 +14,8 @@ from hypothesis import strategies as st  # noqa: E402
 from hypothesis.extra import numpy as hnp  # noqa: E402
 
 import quatnav  # noqa: E402
-from quatnav.gpsins import GPSINS_FLAGS  # noqa: E402
-from quatnav.nav13 import NAV13_FLAGS, initial_covariance  # noqa: E402
+from quatnav.filters.gpsins import GPSINS_FLAGS  # noqa: E402
+from quatnav.filters.nav13 import NAV13_FLAGS, initial_covariance  # noqa: E402
 
 SETTINGS = settings(max_examples=25, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

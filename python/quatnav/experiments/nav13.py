@@ -28,7 +28,7 @@ import numpy as np
 
 from .. import _core
 from .. import quaternion as Q
-from ..nav13 import TIME_UPDATES, NavFilter13, initial_covariance
+from ..filters.nav13 import TIME_UPDATES, NavFilter13, initial_covariance
 
 SCENARIO = "paper002_straight_then_circle"
 SPLIT_S = 100.0

@@ -1,4 +1,4 @@
-"""Reference (numpy) QuaternionEKF and EulerEKF of paper 000; see quatnav.attitude."""
+"""Reference (numpy) QuaternionEKF and EulerEKF of paper 000; see quatnav.filters.attitude."""
 from __future__ import annotations
 
 from types import SimpleNamespace

@@ -1,4 +1,4 @@
-"""Reference (numpy) MargFilter of paper 001; see quatnav.marg and marg_filter.hpp.
+"""Reference (numpy) MargFilter of paper 001; see quatnav.filters.marg and marg_filter.hpp.
 
 Gauss-Newton attitude from gravity and field (eq. 1-5) blended with gyro integration (eq. 6),
 the accelerometer corrected by the GPS antenna acceleration and the lever-arm terms (eq. 7,

@@ -1,4 +1,4 @@
-"""Reference (numpy) 13-state navigation filter of paper 002; see :mod:`quatnav.nav13`.
+"""Reference (numpy) 13-state navigation filter of paper 002; see :mod:`quatnav.filters.nav13`.
 
 Written to be read next to ``cpp/include/quatnav/nav_filter13.hpp`` (same algorithm, same
 method names; the tests compare the two step by step). State ``x = [v_n, q_nb, b_a, b_g]``.

@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core, _validate as V
-from . import quaternion as Q
+from .. import _core, _validate as V
+from .. import quaternion as Q
 from .attitude import FLAGS as _ATT_FLAGS
 
 __all__ = ["MargFilter", "MargResult", "MARG_FLAGS"]

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core, _validate as V
-from . import quaternion as Q
+from .. import _core, _validate as V
+from .. import quaternion as Q
 
 __all__ = ["NavFilter13", "NavResult", "NAV13_FLAGS", "TIME_UPDATES", "STATUS_NAMES", "initial_covariance"]
 

@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core, _validate as V
-from . import quaternion as Q
+from .. import _core, _validate as V
+from .. import quaternion as Q
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GPSINS_FLAGS", "STATE_NAMES", "PARAM_NAMES"]
 

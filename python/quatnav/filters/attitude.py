@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core, _validate as V
-from . import quaternion as Q
+from .. import _core, _validate as V
+from .. import quaternion as Q
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS"]
 
