@@ -49,7 +49,7 @@ def nees_runs(cls, runs=20, n=3000, **kw):
     for seed in range(runs):
         d = rotation_scenario(n=n, seed=100 + seed, **kw)
         f = cls(paper=True, gyro_noise=0.005 * np.sqrt(d.dt), gyro_bias_noise=1e-6, acc_noise=0.05 / 9.80665,
-                mag_noise=0.5 / 50.0, init_bias_sigma=0.03)
+                mag_noise=0.5 / 50.0, init_gyro_bias_sigma=0.03)
         f.run(d.gyr[:1], d.acc[:1], d.mag[:1], dt=d.dt)  # initialize from the first sample
         rows = []
         for k in range(1, n):

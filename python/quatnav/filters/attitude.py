@@ -6,108 +6,55 @@ batch runs execute in C++ with the GIL released. Plain numpy twins live in
 """
 from __future__ import annotations
 
-import numbers
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from .. import _core, _validate as V
+from .. import _validate as V
 from .. import quaternion as Q
+from ._base import Filter, FilterResult, check_imu_order, check_swapped, times_of
+from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS"]
 
 #: Bits of :attr:`AttitudeResult.flags` (the C++ ``quatnav::flags`` constants).
-FLAGS = {
-    "initialized": 1 << 0,
-    "predict_skipped": 1 << 1,
-    "acc_skipped": 1 << 2,
-    "mag_skipped": 1 << 3,
-    "acc_rejected": 1 << 4,
-    "mag_rejected": 1 << 5,
-    "solve_failed": 1 << 6,
-    "singular": 1 << 7,
-    "at_rest": 1 << 8,
-    "no_mag": 1 << 9,
-    "saturated": 1 << 10,
-}
+FLAGS = ATTITUDE_FLAGS
 
 
-@dataclass
-class AttitudeResult:
-    """Output of an attitude filter's :meth:`run`.
+@dataclass(repr=False, eq=False)
+class AttitudeResult(FilterResult):
+    """Output of :meth:`QuaternionEKF.run` and :meth:`EulerEKF.run`: the fields of
+    :class:`~quatnav.FilterResult` (``quat``, ``bias``, ``sigma`` of the filter's states,
+    ``flags`` of :data:`FLAGS`; no aids) and
 
     Attributes
     ----------
-    quat : (N, 4) ndarray
-        ``q_nb`` [w, x, y, z] after each sample (navigation frame NED, x magnetic north).
-    bias : (N, 3) ndarray
-        Gyro bias estimate, rad/s.
-    sigma : (N, n_states) ndarray
-        One-sigma of every state (square roots of the covariance diagonal).
     att_sigma : (N, 3) ndarray
         One-sigma of the attitude error as a body-frame rotation vector, rad.
-    flags : (N,) uint32 ndarray
-        Bits of :data:`FLAGS` per sample.
     """
 
-    quat: np.ndarray
-    bias: np.ndarray
-    sigma: np.ndarray
-    att_sigma: np.ndarray
-    flags: np.ndarray
-    skipped_rows: dict = field(default_factory=dict)
-
-    @property
-    def euler(self) -> np.ndarray:
-        """(N, 3) ZYX Euler angles [roll, pitch, yaw], rad."""
-        return Q.to_euler(self.quat)
-
-    def flag(self, name: str) -> np.ndarray:
-        """Boolean (N,) array: where flag ``name`` (a key of :data:`FLAGS`) is set."""
-        return (self.flags & FLAGS[name]) != 0
+    FLAGS: ClassVar[dict] = ATTITUDE_FLAGS
+    att_sigma: np.ndarray | None = None
 
 
-class _AttitudeFilter:
+class _AttitudeFilter(Filter):
     _core_name: str = ""
-    _param_names: tuple = ()
-    _bool_params: tuple = ()
-    _int_params: tuple = ("mag_ref_samples",)
-    #: Angles in rad, any sign, within [-pi, pi].
-    _angle_params: tuple = ()
-    #: Parameters where 0 means "off" (unlimited range, no covariance floor).
-    _zero_ok_params: tuple = ("gyro_range", "acc_range", "cov_floor")
     n_states: int = 0
+    _sigma_names: tuple = ()
 
-    def __init__(self, dtype=np.float64, **params):
-        self.dtype = V.resolve_dtype(dtype)
-        suffix = "_f32" if self.dtype == np.float32 else "_f64"
-        p = getattr(_core, self._core_name + "Params" + suffix)()
-        if params.pop("paper", False) and hasattr(type(p), "paper"):
-            p = type(p).paper()  # filters without extras are the paper's filter already
-        for name, value in params.items():
-            if name not in self._param_names:
-                raise TypeError(f"{type(self).__name__}: unknown parameter {name!r}; "
-                                f"known: {', '.join(self._param_names)}")
-            if name in self._int_params:
-                if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                    raise ValueError(f"{name}: expected a positive integer, got {value!r}")
-                setattr(p, name, int(value))
-            elif name in self._angle_params:
-                setattr(p, name, V.angle(value, name))
-            elif name in self._bool_params:
-                if not isinstance(value, (bool, np.bool_)):
-                    raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
-                setattr(p, name, bool(value))
-            else:
-                setattr(p, name, V.positive(value, name, allow_zero=name in self._zero_ok_params))
-        self._f = getattr(_core, self._core_name + suffix)(p)
+    def _make(self, p):
+        core = self._core_module()
+        if self._opts.get("paper") and hasattr(getattr(core, self._core_params + self._suffix), "paper"):
+            p = self._core_struct(getattr(core, self._core_params + self._suffix).paper())
+        return getattr(core, self._core_name + self._suffix)(p)
+
+    @staticmethod
+    def _core_module():
+        from ._base import core
+        return core()
 
     # -- parameters and state -------------------------------------------------------------
-    @property
-    def params(self) -> dict:
-        p = self._f.params
-        return {name: getattr(p, name) for name in self._param_names}
-
     @property
     def quat(self) -> np.ndarray:
         """Current ``q_nb`` [w, x, y, z]."""
@@ -126,47 +73,6 @@ class _AttitudeFilter:
     def attitude_covariance(self) -> np.ndarray:
         """3x3 covariance of the body-frame attitude error rotation vector, rad^2."""
         return np.asarray(self._f.attitude_covariance, dtype=float)
-
-    @property
-    def initialized(self) -> bool:
-        return bool(self._f.initialized)
-
-    def get_state(self) -> dict:
-        """A copy of the complete state; :meth:`set_state` restores it exactly."""
-        return {k: (np.array(v) if isinstance(v, np.ndarray) else v) for k, v in self._f.get_state().items()}
-
-    def set_state(self, state: dict) -> None:
-        if not isinstance(state, dict):
-            raise TypeError(f"state: expected a dict from get_state(), got {type(state).__name__}")
-        current = self._f.get_state()
-        missing = [k for k in current if k not in state]
-        if missing:
-            raise ValueError(f"state: missing keys {missing}")
-        clean = {}
-        for key, ref in current.items():
-            name, value = f"state[{key!r}]", state[key]
-            if isinstance(ref, np.ndarray):
-                a = V._numeric(value, name)
-                if a.shape != ref.shape:
-                    raise ValueError(f"{name}: expected shape {ref.shape}, got {a.shape}")
-                clean[key] = np.ascontiguousarray(a, dtype=self.dtype)
-            elif isinstance(ref, (bool, np.bool_)):
-                if not isinstance(value, (bool, np.bool_)):
-                    raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
-                clean[key] = bool(value)
-            elif isinstance(ref, (int, np.integer)):
-                if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-                    raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
-                if not 0 <= int(value) < 2**32:
-                    raise ValueError(f"{name}: expected an integer in [0, 2**32), got {value!r}")
-                clean[key] = int(value)
-            else:
-                if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
-                    raise TypeError(f"{name}: expected a real number, got {type(value).__name__}")
-                clean[key] = float(value)
-        status = self._f.set_state(clean)
-        if status != "ok":
-            raise ValueError(f"state: refused ({status})")
 
     def set_mag_dip(self, dip: float) -> None:
         """Fix the reference field ``[cos(dip), 0, sin(dip)]`` (dip positive down, rad)."""
@@ -219,8 +125,13 @@ class _AttitudeFilter:
             raise ValueError(f"{what}: the filter is not initialized (call initialize or reset first)")
 
     # -- batch ---------------------------------------------------------------------------
-    def run(self, gyr, acc, mag=None, dt=None, t=None, on_invalid: str = "raise") -> AttitudeResult:
-        """Run the filter over N samples (in C++, GIL released).
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, on_invalid: str = "raise") -> AttitudeResult:
+        """Run the filter over N samples (in C++, GIL released), continuing from the current state.
+
+        A new filter starts uninitialized and initializes itself on the first sample (tilt from
+        the accelerometer, heading from the magnetometer); a second call continues where the
+        first ended (its first step uses ``dt[0]``, or ``t[1] - t[0]``). For an unrelated log use
+        a new filter.
 
         Parameters
         ----------
@@ -232,10 +143,10 @@ class _AttitudeFilter:
             Magnetic field (any unit; normalized). Rows that are entirely NaN mean "no
             magnetometer sample" (sensors at different rates). Without ``mag`` the filter runs
             in 6D mode and heading is free.
-        dt : float or (N,) array_like, optional
-            Step length in seconds; or
-        t : (N,) array_like, optional
-            Strictly increasing timestamps, seconds.
+        t : (N,) array_like, keyword
+            Strictly increasing timestamps, seconds; or
+        dt : float or (N,) array_like, keyword
+            Step length in seconds (``t`` is then ``0`` and the cumulated steps).
         on_invalid : {"raise", "skip"}
             "raise": the first non-finite or zero-norm row raises ``ValueError`` naming the
             argument and row. "skip": such samples skip the affected update; the result's
@@ -249,12 +160,13 @@ class _AttitudeFilter:
         """
         mode = V.on_invalid(on_invalid)
         strict = mode == "raise"
-        g = V.vectors(gyr, "gyr", dtype=self.dtype, finite=strict)
+        g = V.vectors(check_imu_order(gyr, acc), "gyr", dtype=self.dtype, finite=strict)
         n = g.shape[0]
         a = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
         m = None
         if mag is not None:
             m = V.vectors(mag, "mag", n=n, dtype=self.dtype, finite=strict, allow_nan_rows=True)
+        check_swapped(g, a)
         if strict:
             V.nonzero_rows(a, "acc")
             if m is not None:
@@ -267,7 +179,8 @@ class _AttitudeFilter:
             rows = np.flatnonzero(flags & FLAGS[name])
             if rows.size:
                 skipped[name] = rows
-        return AttitudeResult(quat, bias, sigma, att_sigma, flags, skipped)
+        return AttitudeResult(type(self).__name__, times_of(n, t, steps), quat, bias, sigma, flags,
+                              skipped_rows=skipped, sigma_names=self._sigma_names, att_sigma=att_sigma)
 
 
 class QuaternionEKF(_AttitudeFilter):
@@ -291,7 +204,7 @@ class QuaternionEKF(_AttitudeFilter):
         Standard deviation of each component of the normalized magnetometer (dimensionless).
     init_att_sigma : float, default 0.5 [0.05]
         Attitude one-sigma after :meth:`initialize`, rad.
-    init_bias_sigma : float, default 0.1 [0.01]
+    init_gyro_bias_sigma : float, default 0.1 [0.01]
         Gyro-bias one-sigma after :meth:`initialize`, rad/s.
     mag_ref_samples : int, default 100
         Magnetometer samples over which the dip of the reference field is averaged (unless
@@ -367,16 +280,10 @@ class QuaternionEKF(_AttitudeFilter):
     """
 
     _core_name = "QuaternionEKF"
-    _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "mag_ref_samples", "max_dt", "gyro_range", "acc_range", "cov_floor", "mag_heading_only", "gravity", "acc_adapt",
-                    "acc_reject", "acc_gate", "acc_recovery_time", "acc_lp_tau", "mag_norm_tol", "mag_dip_tol",
-                    "mag_gate", "mag_settle_time", "mag_ref_tau", "mag_recovery_time", "rest_detection", "rest_gyr_th",
-                    "rest_acc_th", "rest_time", "rest_tau", "rest_rate_noise", "declination")
-    _bool_params = ("mag_heading_only", "rest_detection")
-    _angle_params = ("declination",)
-    _zero_ok_params = ("gyro_range", "acc_range", "cov_floor", "gravity", "acc_adapt", "acc_reject", "acc_gate", "acc_recovery_time", "acc_lp_tau",
-                       "mag_norm_tol", "mag_dip_tol", "mag_gate", "mag_settle_time", "mag_ref_tau",
-                       "mag_recovery_time", "rest_rate_noise")
+    _core_params = "QuaternionEKFParams"
+    PARAMS = QEKF_PARAMS
+    FLAGS = ATTITUDE_FLAGS
+    _sigma_names = ("q0", "q1", "q2", "q3", "bx", "by", "bz")
     n_states = 7
 
     @property
@@ -419,9 +326,10 @@ class EulerEKF(_AttitudeFilter):
     """
 
     _core_name = "EulerEKF"
-    _param_names = ("gyro_noise", "gyro_bias_noise", "acc_noise", "mag_noise", "init_att_sigma",
-                    "init_bias_sigma", "mag_ref_samples", "max_dt", "singular_cos", "gyro_range",
-                    "acc_range", "cov_floor")
+    _core_params = "EulerEKFParams"
+    PARAMS = EULER_PARAMS
+    FLAGS = ATTITUDE_FLAGS
+    _sigma_names = ("roll", "pitch", "yaw", "bx", "by", "bz")
     n_states = 6
 
     @property

@@ -1,0 +1,309 @@
+"""The tables of the filters, in one place: statuses, flag bits and constructor parameters.
+
+Each filter has one flag table (name -> bit of its results' ``flags``) and one parameter table
+(a tuple of :class:`Param`: Python name, default, unit, meaning, check, and
+the C++ ``Params`` field it sets). The filter classes, their signatures and docstrings, ``repr``
+and ``docs/PARAMETERS.md`` (checked by a test) come from these tables; a test checks the defaults
+against the C++ ``Params`` structs.
+"""
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .. import _validate as V
+
+__all__ = ["STATUS_NAMES", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "QEKF_PARAMS",
+           "EULER_PARAMS", "MARG_PARAMS", "NAV13_PARAMS", "GPSINS_PARAMS", "FLAG_TABLES", "PARAM_TABLES"]
+
+#: ``quatnav::Status`` names by code (the ``status`` arrays of :class:`~quatnav.AidResult`).
+STATUS_NAMES = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated", "solve_failed",
+                "rejected", "numerical_failure", "invalid_argument")
+
+#: QuaternionEKF and EulerEKF (``quatnav::flags``).
+ATTITUDE_FLAGS = {
+    "initialized": 1 << 0, "predict_skipped": 1 << 1, "acc_skipped": 1 << 2, "mag_skipped": 1 << 3,
+    "acc_rejected": 1 << 4, "mag_rejected": 1 << 5, "solve_failed": 1 << 6, "singular": 1 << 7,
+    "at_rest": 1 << 8, "no_mag": 1 << 9, "saturated": 1 << 10,
+}
+
+#: MargFilter: the attitude flags plus two of its own (``quatnav::marg_flags``).
+MARG_FLAGS = dict(ATTITUDE_FLAGS, gps_corrected=1 << 16, gn_not_converged=1 << 17)
+
+#: NavFilter13 (``quatnav::nav13_flags``); the aid names are those of ``run``.
+NAV13_FLAGS = {
+    "predict_skipped": 1 << 1, "solve_failed": 1 << 6, "saturated": 1 << 10,
+    "gps_vel_used": 1 << 16, "gps_vel_rejected": 1 << 17, "gps_vel_skipped": 1 << 18,
+    "yaw_used": 1 << 19, "yaw_rejected": 1 << 20, "yaw_skipped": 1 << 21,
+}
+
+#: GpsInsFilter (``quatnav::gpsins_flags``).
+GPSINS_FLAGS = {
+    "aligning": 1 << 0, "levelled": 1 << 1, "navigating": 1 << 2, "initialized": 1 << 3,
+    "predict_skipped": 1 << 4, "gps_pos_used": 1 << 5, "gps_pos_rejected": 1 << 6,
+    "gps_vel_used": 1 << 7, "gps_vel_rejected": 1 << 8, "baro_used": 1 << 9,
+    "baro_rejected": 1 << 10, "baro_vd_used": 1 << 11, "baro_vd_rejected": 1 << 12,
+    "compass_used": 1 << 13, "compass_rejected": 1 << 14, "aid_skipped": 1 << 15,
+    "gps_reset": 1 << 16, "saturated": 1 << 17,
+}
+
+
+@dataclass(frozen=True)
+class Param:
+    """One constructor parameter: its name, default, unit, check and one-line meaning.
+
+    ``kind``: ``"pos"`` (> 0), ``"pos0"`` (>= 0), ``"real"`` (finite), ``"int1"`` (integer >= 1),
+    ``"iter"`` (integer 1..100), ``"bool"``, ``"angle"`` (rad within ``limits``, a value that reads
+    as degrees gets the ``np.radians`` hint), ``"vec3"``, ``"choice"`` (one of ``limits``).
+    ``core``: the C++ ``Params`` field it sets (None: used by the Python wrapper itself).
+    """
+
+    name: str
+    default: Any
+    unit: str
+    doc: str
+    kind: str = "pos"
+    core: str | None = "same"
+    limits: tuple | None = None
+
+    @property
+    def core_name(self) -> str | None:
+        return self.name if self.core == "same" else self.core
+
+    def check(self, value, dtype=np.float64):
+        k, name = self.kind, self.name
+        if k in ("pos", "pos0"):
+            return V.positive(value, name, allow_zero=k == "pos0")
+        if k == "real":
+            if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+                raise TypeError(f"{name}: expected a real number, got {type(value).__name__}")
+            if not np.isfinite(float(value)):
+                raise ValueError(f"{name}: expected a finite number, got {value!r}")
+            return float(value)
+        if k in ("int1", "iter"):
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+                raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
+            lo, hi = (1, 100) if k == "iter" else (1, None)
+            if value < lo or (hi is not None and value > hi):
+                raise ValueError(f"{name}: expected an integer in {lo}..{hi or 'inf'}, got {value!r}")
+            return int(value)
+        if k == "bool":
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{name}: expected a bool, got {type(value).__name__}")
+            return bool(value)
+        if k == "angle":
+            return _angle(value, name, self.limits)
+        if k == "vec3":
+            return V.vector(value, name, 3, dtype=dtype)
+        if k == "choice":
+            if value not in self.limits:
+                raise ValueError(f"{name}: expected one of {self.limits}, got {value!r}")
+            return value
+        raise AssertionError(k)  # pragma: no cover - a table entry of an unknown kind
+
+    def same(self, a, b) -> bool:
+        return bool(np.all(np.asarray(a) == np.asarray(b))) if self.kind == "vec3" else a == b
+
+
+_RANGE_TEXT = {-np.pi: "-pi", 0.0: "0", 1.0: "1", np.pi / 2: "pi/2", np.pi: "pi"}
+
+
+def _angle(value, name, limits) -> float:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"{name}: expected an angle in rad (a real number), got {type(value).__name__}")
+    v = float(value)
+    lo, hi = limits
+    if not np.isfinite(v):
+        raise ValueError(f"{name}: expected a finite angle in rad, got {v!r}")
+    if not lo <= v <= hi:
+        rng = f"[{_RANGE_TEXT.get(lo, f'{lo:g}')}, {_RANGE_TEXT.get(hi, f'{hi:g}')}]"
+        hint = (f"; angles are in radians: for {v:g} deg pass np.radians({v:g}) = {np.radians(v):.6g}"
+                if abs(v) <= 360.0 else "")
+        raise ValueError(f"{name}: {v:g} is outside {rng} rad{hint}")
+    return v
+
+
+_p = Param
+
+
+_PI = np.pi
+
+# Shared entries: one name, one unit, one meaning in every filter that has them.
+def _gyro_noise(d):
+    return _p("gyro_noise", d, "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")
+
+
+def _gyro_bias_noise(d, kind="pos", core="same"):
+    return _p("gyro_bias_noise", d, "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density", kind, core)
+
+
+def _max_dt():
+    return _p("max_dt", 1.0, "s", "longest accepted IMU step")
+
+
+def _ranges():
+    return (_p("gyro_range", 0.0, "rad/s", "gyro range per axis: a reading at or above it is saturated "
+               "and its step skipped (0: unlimited)", "pos0"),
+            _p("acc_range", 0.0, "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)", "pos0"))
+
+
+def _cov_floor(d):
+    return _p("cov_floor", d, "state units^2", "eigenvalue floor of the error covariance (0: off)", "pos0")
+
+
+_MAG_REF = _p("mag_ref_samples", 100, "1", "magnetometer samples over which the reference dip is averaged", "int1")
+
+#: QuaternionEKF (``QuaternionEKF<S>::Params``); defaults chosen on BROAD.
+QEKF_PARAMS = (
+    _p("paper", False, "-", "start from the paper's values (plain filter of paper 000, robustness off); "
+       "the other arguments are applied on top", "bool", None),
+    _gyro_noise(0.01),
+    _gyro_bias_noise(1e-4),
+    _p("acc_noise", 0.3, "1 (normalized)", "std of each component of the normalized accelerometer"),
+    _p("mag_noise", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer"),
+    _p("init_att_sigma", 0.5, "rad", "attitude one-sigma after initialize"),
+    _p("init_gyro_bias_sigma", 0.1, "rad/s", "gyro-bias one-sigma after initialize", core="init_bias_sigma"),
+    _MAG_REF,
+    _max_dt(),
+    *_ranges(),
+    _cov_floor(1e-12),
+    _p("mag_heading_only", True, "-", "the magnetometer corrects heading only (False: 3-row update)", "bool"),
+    _p("gravity", 9.81, "m/s^2", "magnitude of gravity for the acceleration tests", "pos0"),
+    _p("acc_adapt", 0.0, "1", "adaptive accelerometer noise: std acc_noise + acc_adapt * ||a|-g|/g", "pos0"),
+    _p("acc_reject", 0.0, "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)", "pos0"),
+    _p("acc_gate", 0.0, "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)", "pos0"),
+    _p("acc_recovery_time", 0.0, "s", "after this long with every accelerometer update rejected, accept "
+       "again (0: never)", "pos0"),
+    _p("acc_lp_tau", 3.0, "s", "low-pass time constant of the accelerometer in a quasi-inertial frame "
+       "(0: off)", "pos0"),
+    _p("mag_norm_tol", 0.05, "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)", "pos0"),
+    _p("mag_dip_tol", 0.05, "rad", "reject the magnetometer when its dip differs from the reference by more "
+       "(0: off)", "pos0"),
+    _p("mag_gate", 9.0, "1 (chi-square)", "NIS gate of the magnetometer update (0: off)", "pos0"),
+    _p("mag_settle_time", 0.0, "s", "after a disturbance, the field must pass the tests this long", "pos0"),
+    _p("mag_ref_tau", 30.0, "s", "time constant with which the reference norm and dip follow the field",
+       "pos0"),
+    _p("mag_recovery_time", 0.0, "s", "after this long with every sample disturbed, the field becomes the "
+       "reference (0: never)", "pos0"),
+    _p("rest_detection", True, "-", "detect rest and use it as a zero-rate measurement of the gyro bias",
+       "bool"),
+    _p("rest_gyr_th", 0.03, "rad/s", "rest: largest deviation of the low-passed gyro"),
+    _p("rest_acc_th", 0.5, "m/s^2", "rest: largest deviation of the low-passed accelerometer"),
+    _p("rest_time", 1.5, "s", "rest: shortest duration"),
+    _p("rest_tau", 0.5, "s", "rest: low-pass time constant"),
+    _p("rest_rate_noise", 0.02, "rad/s", "std of the residual rate at rest", "pos0"),
+    _p("declination", 0.0, "rad", "magnetic declination, east of true north (0: x is magnetic north)",
+       "angle", limits=(-_PI, _PI)),
+)
+
+#: EulerEKF (``EulerEKF<S>::Params``); the paper's values.
+EULER_PARAMS = (
+    _p("paper", False, "-", "accepted as in QuaternionEKF; the defaults are the paper's values already",
+       "bool", None),
+    _gyro_noise(0.005),
+    _gyro_bias_noise(1e-5),
+    _p("acc_noise", 0.05, "1 (normalized)", "std of each component of the normalized accelerometer"),
+    _p("mag_noise", 0.1, "1 (normalized)", "std of each component of the normalized magnetometer"),
+    _p("init_att_sigma", 0.05, "rad", "one-sigma of each Euler angle after initialize"),
+    _p("init_gyro_bias_sigma", 0.01, "rad/s", "gyro-bias one-sigma after initialize", core="init_bias_sigma"),
+    _MAG_REF,
+    _max_dt(),
+    _p("singular_cos", 0.02, "1", "|cos(pitch)| below which the Euler parametrization is flagged singular"),
+    *_ranges(),
+    _cov_floor(1e-12),
+)
+
+#: MargFilter (``MargFilter<S>::Params``).
+MARG_PARAMS = (
+    _p("gain", 1.0, "1/s", "k of eq. (6): pull towards the Gauss-Newton attitude (0: gyro only)", "pos0"),
+    _p("bias_gain", 0.0, "1/s^2", "gyro-bias integral gain (0: no bias estimate)", "pos0"),
+    _p("gn_max_iter", 3, "1", "Gauss-Newton iterations per update, at most", "iter"),
+    _p("gn_tol", 1e-6, "1", "the iteration stops when |dq| is below it"),
+    _p("gravity", 9.80665, "m/s^2", "magnitude of gravity in eq. (7)"),
+    _p("lever_arm_b", (0.0, 0.0, 0.0), "m", "GPS antenna relative to the IMU, body FRD", "vec3"),
+    _p("gps_correction", True, "-", "apply eq. (7) when a GPS acceleration is available", "bool"),
+    _p("gps_acc_tau", 0.05, "s", "low-pass time constant of the GPS acceleration", "pos0"),
+    _p("omega_dot_tau", 0.1, "s", "low-pass time constant of the angular acceleration", "pos0"),
+    _p("gps_timeout", 0.5, "s", "a GPS acceleration older than this is not used"),
+    _max_dt(),
+    _MAG_REF,
+    _p("declination", 0.0, "rad", "magnetic declination, east of true north (GPS velocities are rotated "
+       "into the magnetic frame)", "angle", limits=(-_PI, _PI)),
+)
+
+#: NavFilter13 (``NavFilter13Params<S>``); the paper's values.
+NAV13_PARAMS = (
+    _p("time_update", "ekf", "-", "'ekf', 'second_order' (eq. 16-17) or 'ukf' (25 sigma points)", "choice",
+       None, limits=("ekf", "second_order", "ukf")),
+    _p("acc_noise", 2.942e-5, "m/s^2/sqrt(Hz)", "accelerometer white-noise density (velocity random walk)",
+       "pos0", "accel_noise"),
+    _p("gyro_noise", 1.4544e-7, "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)", "pos0"),
+    _p("acc_bias_noise", 0.0, "m/s^3/sqrt(Hz)", "accelerometer-bias random-walk density", "pos0",
+       "accel_bias_noise"),
+    _gyro_bias_noise(0.0, "pos0"),
+    _p("gps_vel_sigma", 0.03048, "m/s", "one-sigma of each measured velocity component", core="vel_noise"),
+    _p("yaw_sigma", 0.034906585, "rad", "one-sigma of the measured yaw", core="yaw_noise"),
+    _p("gate_gps_vel", 0.0, "1 (chi-square, 3 dof)", "NIS gate of the velocity update (0: off)", "pos0", None),
+    _p("gate_yaw", 0.0, "1 (chi-square, 1 dof)", "NIS gate of the yaw update (0: off)", "pos0", None),
+    _p("ukf_alpha", 1.0, "1", "unscented transform: alpha"),
+    _p("ukf_beta", 2.0, "1", "unscented transform: beta", "pos0"),
+    _p("ukf_kappa", 0.0, "1", "unscented transform: kappa (alpha^2 (12 + kappa) must be positive)", "real"),
+    _max_dt(),
+    *_ranges(),
+    _cov_floor(0.0),
+    _p("earth_rotation", True, "-", "include the Earth rate, transport rate and Coriolis terms", "bool"),
+)
+
+#: GpsInsFilter (``GpsInsParams<S>``).
+GPSINS_PARAMS = (
+    _p("gyro_noise", 0.00087, "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)", "pos0"),
+    _p("acc_noise", 0.002, "m/s^2/sqrt(Hz)", "accelerometer white-noise density (velocity random walk)", "pos0",
+       "accel_noise"),
+    _gyro_bias_noise(1e-5, "pos0", "gyro_bias_rw"),
+    _p("acc_bias_noise", 1e-4, "m/s^3/sqrt(Hz)", "accelerometer-bias random-walk density", "pos0",
+       "accel_bias_rw"),
+    _p("gyro_bias_tau", 0.0, "s", "Gauss-Markov time constant of the gyro bias (0: random walk)", "pos0"),
+    _p("acc_bias_tau", 0.0, "s", "Gauss-Markov time constant of the accelerometer bias (0: random walk)",
+       "pos0", "accel_bias_tau"),
+    _p("init_gyro_bias_sigma", 0.005, "rad/s", "gyro-bias one-sigma at the start of navigation", "pos0"),
+    _p("init_acc_bias_sigma", 0.1, "m/s^2", "accelerometer-bias one-sigma at the start of navigation", "pos0",
+       "init_accel_bias_sigma"),
+    _p("init_level_sigma", 0.035, "rad", "roll/pitch one-sigma after the alignment", "angle",
+       limits=(0.0, _PI / 2)),
+    _p("init_yaw_sigma", 0.175, "rad", "yaw one-sigma after the alignment", "angle", limits=(0.0, _PI)),
+    _p("init_vel_sigma", 0.5, "m/s", "velocity one-sigma at the start of navigation", "pos0"),
+    _p("gps_pos_sigma_h", 2.5, "m", "horizontal one-sigma of a GPS position (per-fix sigma overrides)", "pos0"),
+    _p("gps_pos_sigma_v", 5.0, "m", "vertical one-sigma of a GPS position", "pos0"),
+    _p("gps_vel_sigma", 0.1, "m/s", "one-sigma of each GPS velocity component", "pos0"),
+    _p("lever_arm_b", (0.0, 0.0, 0.0), "m", "GPS antenna relative to the IMU, body FRD", "vec3"),
+    _p("baro_sigma", 0.5, "m", "one-sigma of an altimeter height", "pos0"),
+    _p("baro_rate_baseline", 1.0, "s", "baseline of the altimeter's vertical-velocity difference", "pos0"),
+    _p("baro_vd_sigma", 0.1, "m/s", "one-sigma of the altimeter's vertical velocity", "pos0"),
+    _p("baro_offset_fixes", 100.0, "1", "GPS fixes over which the altimeter offset is averaged", "pos0"),
+    _p("compass_sigma", 0.035, "rad", "one-sigma of a compass heading", "angle", limits=(0.0, 1.0)),
+    _p("declination", 0.0, "rad", "magnetic declination, east of true north (added to compass headings)",
+       "angle", limits=(-_PI, _PI)),
+    _p("gate_gps_pos", 21.108, "1 (chi-square, 3 dof)", "NIS gate of the GPS position (0: off)", "pos0"),
+    _p("gate_gps_vel", 21.108, "1 (chi-square, 3 dof)", "NIS gate of the GPS velocity (0: off)", "pos0"),
+    _p("gate_baro", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the altimeter (0: off)", "pos0"),
+    _p("gate_compass", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the compass (0: off)", "pos0"),
+    _p("gps_reset_after", 5.0, "1", "consecutive gate rejections before a GPS reset (0: never)", "pos0"),
+    _p("align_time", 2.0, "s", "duration of the static alignment", "pos0"),
+    _p("min_speed_for_heading", 1.0, "m/s", "GPS speed above which the heading comes from the GPS track",
+       "pos0"),
+    _p("heading_from_gps", True, "-", "initialize the heading from the GPS track (without compass)", "bool"),
+    _p("earth_rotation", True, "-", "include the Earth rate, transport rate and Coriolis terms", "bool"),
+    _max_dt(),
+    *_ranges(),
+    _cov_floor(0.0),
+)
+
+#: Filter name -> flag table.
+FLAG_TABLES = {"QuaternionEKF": ATTITUDE_FLAGS, "EulerEKF": ATTITUDE_FLAGS, "MargFilter": MARG_FLAGS,
+               "NavFilter13": NAV13_FLAGS, "GpsInsFilter": GPSINS_FLAGS}
+#: Filter name -> parameter table.
+PARAM_TABLES = {"QuaternionEKF": QEKF_PARAMS, "EulerEKF": EULER_PARAMS, "MargFilter": MARG_PARAMS,
+                "NavFilter13": NAV13_PARAMS, "GpsInsFilter": GPSINS_PARAMS}
