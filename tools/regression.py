@@ -214,7 +214,7 @@ def run_marg(d, dtype=np.float64, mag=True, gps=False, lever=False, declination=
         params["declination"] = d["declination"]
     if lever:
         params["lever_arm_b"] = d["lever_arm_b"]
-    kw = dict(gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"]) if gps else {}
+    kw = dict(gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"])) if gps else {}
     r = quatnav.MargFilter(dtype=dtype, **params).run(d["gyr"], d["acc"], d["mag"] if mag else None,
                                                       on_invalid="skip", **_time_kw(d), **kw)
     out = {"t": _times_of(d)}

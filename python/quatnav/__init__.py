@@ -8,6 +8,7 @@ from . import _core
 from . import quaternion
 from . import earth, strapdown
 from . import datasets, metrics  # noqa: F401  (BROAD loader and benchmark metrics)
+from .filters._base import Aid, AidResult, FilterResult
 from .filters.attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 from .filters.marg import MARG_FLAGS, MargFilter, MargResult
 from .filters.nav13 import NavFilter13, NavResult
@@ -15,7 +16,7 @@ from .filters.gpsins import GpsInsFilter, GpsInsResult
 
 __version__ = _core.__version__
 
-__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
+__all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
 __all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]
 __all__ += ["NavFilter13", "NavResult"]
 __all__ += ["GpsInsFilter", "GpsInsResult"]

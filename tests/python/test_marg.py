@@ -98,7 +98,7 @@ def test_cpp_matches_reference_step_by_step(with_mag):
     assert j > 100 and rc.gps_corrected
     # The batch run is the same loop.
     out = quatnav.MargFilter(**params).run(d["gyr"], d["acc"], d["mag"] if with_mag else None, t=d["t"],
-                                           gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+                                           gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"]))
     ref_out = RefMarg(**params).run(d["gyr"], d["acc"], d["mag"] if with_mag else None, dt=d["dt"], t=d["t"],
                                     gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
     np.testing.assert_allclose(out.quat, ref_out.quat, atol=1e-9)
@@ -109,7 +109,7 @@ def test_cpp_matches_reference_step_by_step(with_mag):
 
 def test_tracks_attitude_with_correction_and_float32_close():
     d = _synthetic(n=3000, seed=2)
-    kw = dict(t=d["t"], gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+    kw = dict(t=d["t"], gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"]))
     with_gps = quatnav.MargFilter(**PARAMS).run(d["gyr"], d["acc"], d["mag"], **kw)
     without = quatnav.MargFilter(**PARAMS).run(d["gyr"], d["acc"], d["mag"], t=d["t"])
     f32 = quatnav.MargFilter(dtype=np.float32, **PARAMS).run(d["gyr"], d["acc"], d["mag"], **kw)
@@ -123,17 +123,17 @@ def test_tracks_attitude_with_correction_and_float32_close():
 
 def test_split_run_and_state_round_trip():
     d = _synthetic(n=800, seed=3, rate=64.0)  # exact times: the split sees the same steps
-    full = quatnav.MargFilter(**PARAMS).run(d["gyr"], d["acc"], d["mag"], t=d["t"], gps_vel_n=d["gps_vel_n"],
-                                            gps_t=d["gps_t"])
+    full = quatnav.MargFilter(**PARAMS).run(d["gyr"], d["acc"], d["mag"], t=d["t"],
+                                            gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"]))
     h = 377
     gsplit = np.searchsorted(d["gps_t"], d["t"][h - 1], side="right")
     a = quatnav.MargFilter(**PARAMS)
-    first = a.run(d["gyr"][:h], d["acc"][:h], d["mag"][:h], t=d["t"][:h], gps_vel_n=d["gps_vel_n"][:gsplit],
-                  gps_t=d["gps_t"][:gsplit])
+    first = a.run(d["gyr"][:h], d["acc"][:h], d["mag"][:h], t=d["t"][:h],
+                  gps_vel=quatnav.Aid(d["gps_t"][:gsplit], d["gps_vel_n"][:gsplit]))
     b = quatnav.MargFilter(**PARAMS)
     b.set_state(a.get_state())
-    second = b.run(d["gyr"][h:], d["acc"][h:], d["mag"][h:], t=d["t"][h:], gps_vel_n=d["gps_vel_n"][gsplit:],
-                   gps_t=d["gps_t"][gsplit:])
+    second = b.run(d["gyr"][h:], d["acc"][h:], d["mag"][h:], t=d["t"][h:],
+                   gps_vel=quatnav.Aid(d["gps_t"][gsplit:], d["gps_vel_n"][gsplit:]))
     np.testing.assert_array_equal(np.vstack([first.quat, second.quat]), full.quat)
     s = a.get_state()
     assert set(s) >= {"quat", "bias", "gps_acc_n", "gps_fixes", "time_since_gps"}
@@ -188,7 +188,7 @@ def test_constant_turn_correction_gains():
 def test_bad_input_names_argument_and_row():
     d = _synthetic(n=50)
     f = quatnav.MargFilter()
-    kw = dict(t=d["t"], gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+    kw = dict(t=d["t"], gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"]))
     acc = d["acc"].copy()
     acc[7] = np.nan
     with pytest.raises(ValueError, match=r"acc: non-finite value in row 7"):
@@ -196,18 +196,20 @@ def test_bad_input_names_argument_and_row():
     acc[7] = 0
     with pytest.raises(ValueError, match=r"acc: zero-norm vector in row 7"):
         f.run(d["gyr"], acc, **kw)
-    with pytest.raises(ValueError, match=r"gps_t: times must be strictly increasing; row 3"):
+    with pytest.raises(ValueError, match=r"gps_vel.t: times must be strictly increasing \(duplicate\); row 3"):
         gt = d["gps_t"].copy()
         gt[3] = gt[2]
-        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel_n=d["gps_vel_n"], gps_t=gt)
-    with pytest.raises(ValueError, match=r"gps_vel_n: non-finite value in row 2"):
+        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel=quatnav.Aid(gt, d["gps_vel_n"]))
+    with pytest.raises(ValueError, match=r"gps_vel.value: non-finite value in row 2"):
         gv = d["gps_vel_n"].copy()
         gv[2, 1] = np.inf
-        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel_n=gv, gps_t=d["gps_t"])
-    with pytest.raises(ValueError, match=r"gps_t: expected shape"):
-        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"][:-1])
-    with pytest.raises(ValueError, match="give both or neither"):
-        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel_n=d["gps_vel_n"])
+        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel=quatnav.Aid(d["gps_t"], gv))
+    with pytest.raises(ValueError, match=r"gps_vel.value: expected .* rows"):
+        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel=quatnav.Aid(d["gps_t"][:-1], d["gps_vel_n"]))
+    with pytest.raises(TypeError, match=r"gps_vel: expected quatnav.Aid"):
+        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel=d["gps_vel_n"])
+    with pytest.raises(ValueError, match=r"gps_vel.sigma: this filter takes no per-sample sigma"):
+        f.run(d["gyr"], d["acc"], t=d["t"], gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"], np.ones_like(d["gps_vel_n"])))
     with pytest.raises(ValueError, match=r"gyr: expected shape \(N, 3\)"):
         f.run(d["gyr"][:, :2], d["acc"], **kw)
     with pytest.raises(ValueError, match="dt: expected positive finite steps; row 4"):
@@ -242,36 +244,3 @@ def test_bad_input_names_argument_and_row():
     out = f.run(d["gyr"], acc, t=d["t"], on_invalid="skip")
     assert list(out.skipped_rows["acc_skipped"]) == [7]
     assert np.all(np.isfinite(out.quat))
-
-
-def test_lever_arm_in_run_replaces_parameter_and_keeps_state():
-    f = quatnav.MargFilter(gain=1.5)
-    f.initialize([0, 0, -G0])
-    s = f.get_state()
-    d = _synthetic(n=20)
-    f.run(d["gyr"], d["acc"], t=d["t"], lever_arm_b=[1.0, 2.0, 3.0])
-    assert f.params["gain"] == 1.5
-    np.testing.assert_array_equal(f.params["lever_arm_b"], [1.0, 2.0, 3.0])
-    assert s["initialized"]
-
-
-def _broad_dir():
-    import os
-    from pathlib import Path
-    root = Path(os.environ.get("QUATNAV_DATA", Path(__file__).resolve().parents[2].parent / "shared" / "data"))
-    return root / "broad"
-
-
-def test_broad_slow_rotation_inclination():
-    """Real data (BROAD trial 02, no GPS): the Gauss-Newton filter tracks inclination within a
-    few degrees, like the QuaternionEKF."""
-    path = _broad_dir() / "02_undisturbed_slow_rotation_B.mat"
-    if not path.is_file():
-        pytest.skip(f"BROAD data not found at {path.parent} (set QUATNAV_DATA)")
-    from quatnav.experiments import marg_broad
-    tr = marg_broad.load_trial(path)
-    assert tr["gyr"].shape == tr["acc"].shape == tr["mag"].shape and tr["movement"].any()
-    out = marg_broad.run_trial(tr)
-    assert out["marg"]["inclination_rmse_deg"] < 3.0
-    assert out["marg_6d"]["inclination_rmse_deg"] < 3.0
-    assert out["marg"]["heading_rmse_deg"] < 10.0

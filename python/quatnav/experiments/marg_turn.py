@@ -72,12 +72,12 @@ def _tilt_errors(quat, q_true):
 
 def run_seed(s, gain: float = 1.0, gps_tau: float = 0.05, keep_series: bool = False) -> dict:
     """Run every variant on one scenario; return the RMSE figures (deg) and optionally series."""
-    from .. import MargFilter, QuaternionEKF
+    from .. import Aid, MargFilter, QuaternionEKF
     d = _inputs(s)
     t = d["t"]
     est = {}
     est["uncorrected"] = MargFilter(gain=gain).run(d["gyr"], d["acc"], d["mag"], t=t).quat
-    gps = dict(gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+    gps = dict(gps_vel=Aid(d["gps_t"], d["gps_vel_n"]))
     mf = dict(gain=gain, gps_acc_tau=gps_tau)
     est["gps_no_lever"] = MargFilter(declination=d["declination"], **mf).run(
         d["gyr"], d["acc"], d["mag"], t=t, **gps).quat
@@ -119,7 +119,7 @@ def diagnose_lever_arm(s, gps_taus=(0.02, 0.05, 0.1, 0.2), gain: float = 1.0) ->
       lagged vector points behind the true one, an along-track error of a_c * yaw_rate * lag of
       opposite sign to the neglected lever-arm term, so the two partly cancel.
     """
-    from .. import MargFilter
+    from .. import Aid, MargFilter
     tr = s.truth
     lever = np.asarray(s.params["gps"]["lever_arm_b_m"], float)
     dec = float(np.radians(s.params["mag"]["declination_deg"]))
@@ -132,11 +132,11 @@ def diagnose_lever_arm(s, gps_taus=(0.02, 0.05, 0.1, 0.2), gain: float = 1.0) ->
         kw = dict(gain=gain, declination=dec, gps_acc_tau=0.0, gn_max_iter=10, gn_tol=1e-12)
         if lev:
             kw["lever_arm_b"] = lever
-        q = MargFilter(**kw).run(w, tr.f_ib_b, mag, t=tr.t, gps_vel_n=v_ant, gps_t=tr.t).quat
+        q = MargFilter(**kw).run(w, tr.f_ib_b, mag, t=tr.t, gps_vel=Aid(tr.t, v_ant)).quat
         e = np.degrees(_tilt_errors(q, tr.q_nb))[turn]
         out["exact"]["with_lever" if lev else "without_lever"] = float(np.sqrt(np.mean(np.sum(e**2, axis=1))))
     d = _inputs(s)
-    gps = dict(gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+    gps = dict(gps_vel=Aid(d["gps_t"], d["gps_vel_n"]))
     turn_imu = np.abs(d["rate_z"]) > 0.5 * np.abs(d["rate_z"]).max()
     for tau in gps_taus:
         row = {}
