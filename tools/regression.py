@@ -228,25 +228,26 @@ def run_marg(d, dtype=np.float64, mag=True, gps=False, lever=False, declination=
 
 def run_nav13(d, time_update="ekf", dtype=np.float64):
     import quatnav
-    f = quatnav.NavFilter13(time_update, dtype=dtype, accel_noise=d["accel_noise"], gyro_noise=d["gyro_noise"],
-                            vel_noise=d["vel_noise"], yaw_noise=d["yaw_noise"])
+    f = quatnav.NavFilter13(time_update=time_update, dtype=dtype, acc_noise=d["accel_noise"],
+                            gyro_noise=d["gyro_noise"], gps_vel_sigma=d["vel_noise"], yaw_sigma=d["yaw_noise"])
     lat, lon, h = d["llh0"]
     f.reset(d["v0"], d["q0"], np.zeros(3), np.zeros(3), d["P0"], lat=lat, lon=lon, h=h)
-    r = f.run(d["f_ib_b"], d["omega_ib_b"], t=d["t"], vel_t=d["vel_t"], vel=d["vel"], yaw_t=d["yaw_t"], yaw=d["yaw"])
+    r = f.run(d["omega_ib_b"], d["f_ib_b"], t=d["t"], gps_vel=quatnav.Aid(d["vel_t"], d["vel"]),
+              yaw=quatnav.Aid(d["yaw_t"], d["yaw"]))
     out = {"t": r.t}
-    _cols(out, "v", r.x[:, 0:3], NED)
-    _cols(out, "q", r.x[:, 3:7], WXYZ)
-    _cols(out, "ba", r.x[:, 7:10], XYZ)
-    _cols(out, "bg", r.x[:, 10:13], XYZ)
+    _cols(out, "v", r.velocity, NED)
+    _cols(out, "q", r.quat, WXYZ)
+    _cols(out, "ba", r.acc_bias, XYZ)
+    _cols(out, "bg", r.bias, XYZ)
     _cols(out, "sigma", r.sigma, ("vn", "ve", "vd", "q0", "q1", "q2", "q3", "bax", "bay", "baz", "bgx", "bgy", "bgz"))
     _cols(out, "att_sigma", r.att_sigma, XYZ)
     out["flags"] = r.flags
     summary = {}
-    for kind in ("vel", "yaw"):
-        st = np.asarray(getattr(r, f"{kind}_status")).ravel()
+    for kind, aid in (("vel", "gps_vel"), ("yaw", "yaw")):  # the files' summary keys
+        st = np.asarray(r.aids[aid].status).ravel()
         codes, counts = np.unique(st, return_counts=True)
         summary[f"{kind}_status"] = {str(int(c)): int(n) for c, n in zip(codes, counts)}
-        nis = np.asarray(getattr(r, f"{kind}_nis"), float)
+        nis = np.asarray(r.aids[aid].nis, float)
         summary[f"{kind}_nis_sum"] = math.fsum(nis[np.isfinite(nis)])  # exactly rounded: no numpy summation order
     return out, summary
 

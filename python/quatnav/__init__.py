@@ -11,12 +11,13 @@ from . import datasets, metrics  # noqa: F401  (BROAD loader and benchmark metri
 from .filters._base import Aid, AidResult, FilterResult
 from .filters.attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 from .filters.marg import MARG_FLAGS, MargFilter, MargResult
-from .filters.nav13 import NavFilter13, NavResult
+from .filters._base import NavResult
+from .filters.nav13 import NavFilter13, NavFilter13Result
 from .filters.gpsins import GpsInsFilter, GpsInsResult
 
 __version__ = _core.__version__
 
 __all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
 __all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]
-__all__ += ["NavFilter13", "NavResult"]
+__all__ += ["NavFilter13", "NavFilter13Result", "NavResult"]
 __all__ += ["GpsInsFilter", "GpsInsResult"]

@@ -35,13 +35,13 @@ def _imu(rng, n):
 def test_cpp_matches_reference_step_by_step(tu):
     rng = np.random.default_rng(1)
     start = _start(rng)
-    cpp = quatnav.NavFilter13(tu)
+    cpp = quatnav.NavFilter13(time_update=tu)
     ref = R.NavFilter13(tu)
     cpp.reset(*start, lat=LAT, lon=LON, h=H)
     ref.reset(*start, LAT, LON, H)
     t, f, w = _imu(rng, 40)
     for k in range(len(t)):
-        assert cpp.predict(f[k], w[k], 0.01) == "ok"
+        assert cpp.predict(w[k], f[k], 0.01) == "ok"
         ref.predict(f[k], w[k], 0.01)
         if k % 5 == 4:
             v_meas = np.array([1.8, 0.9, 0.0]) + 0.03 * rng.standard_normal(3)
@@ -68,10 +68,10 @@ def test_policies_differ_where_they_should():
     t, f, w = _imu(rng, 20)
     xs = {}
     for tu in POLICIES:
-        flt = quatnav.NavFilter13(tu)
+        flt = quatnav.NavFilter13(time_update=tu)
         flt.reset(*start, lat=LAT, lon=LON, h=H)
         for k in range(len(t)):
-            flt.predict(f[k], w[k], 0.01)
+            flt.predict(w[k], f[k], 0.01)
         xs[tu] = flt.x
     # With a 10-20 deg attitude uncertainty the mean corrections are visible in the velocity.
     assert np.linalg.norm(xs["ekf"][:3] - xs["second_order"][:3]) > 1e-4
@@ -122,38 +122,38 @@ def test_batch_run_matches_steps_and_split_state(tu):
     vel = np.tile([1.8, 0.9, 0.0], (len(vel_t), 1)) + 0.03 * rng.standard_normal((len(vel_t), 3))
     yaw_t = t[4::10]
     yaw = np.radians(45.0) + 0.03 * rng.standard_normal(len(yaw_t))
-    a = quatnav.NavFilter13(tu)
+    a = quatnav.NavFilter13(time_update=tu)
     a.reset(*start, lat=LAT, lon=LON, h=H)
     s0 = a.get_state()
-    res = a.run(f, w, t=t, vel_t=vel_t, vel=vel, yaw_t=yaw_t, yaw=yaw, return_covariance=True)
+    res = a.run(w, f, t=t, gps_vel=quatnav.Aid(vel_t, vel), yaw=quatnav.Aid(yaw_t, yaw), return_covariance=True)
     assert res.x.shape == (120, 13) and res.P.shape == (120, 13, 13)
-    assert np.all(res.vel_status == 0) and np.all(res.yaw_status == 0)
-    assert res.flag("vel_updated").sum() == len(vel_t)
+    assert np.all(res.aids["gps_vel"].status == 0) and np.all(res.aids["yaw"].status == 0)
+    assert res.flag("gps_vel_used").sum() == len(vel_t)
     # The same by steps.
-    b = quatnav.NavFilter13(tu)
+    b = quatnav.NavFilter13(time_update=tu)
     b.set_state(s0)
     d = np.diff(t)
     steps = np.concatenate([d[:1], d])  # the step lengths run() derives from t
     iv = iy = 0
     for k in range(len(t)):
-        b.predict(f[k], w[k], steps[k])
+        b.predict(w[k], f[k], steps[k])
         while iv < len(vel_t) and vel_t[iv] <= t[k] + 1e-6:
-            assert b.update_velocity(vel[iv]).nis == res.vel_nis[iv]
+            assert b.update_velocity(vel[iv]).nis == res.aids["gps_vel"].nis[iv]
             iv += 1
         while iy < len(yaw_t) and yaw_t[iy] <= t[k] + 1e-6:
-            assert b.update_yaw(yaw[iy]).nis == res.yaw_nis[iy]
+            assert b.update_yaw(yaw[iy]).nis == res.aids["yaw"].nis[iy]
             iy += 1
         np.testing.assert_array_equal(b.x, res.x[k])
     # Split run: first half, save, restore into a new filter, second half.
-    c = quatnav.NavFilter13(tu)
+    c = quatnav.NavFilter13(time_update=tu)
     c.set_state(s0)
     m = 60
-    r1 = c.run(f[:m], w[:m], t=t[:m], vel_t=vel_t[vel_t <= t[m - 1]], vel=vel[vel_t <= t[m - 1]],
-               yaw_t=yaw_t[yaw_t <= t[m - 1]], yaw=yaw[yaw_t <= t[m - 1]])
-    d = quatnav.NavFilter13(tu)
+    v1, y1 = vel_t <= t[m - 1], yaw_t <= t[m - 1]
+    r1 = c.run(w[:m], f[:m], t=t[:m], gps_vel=quatnav.Aid(vel_t[v1], vel[v1]), yaw=quatnav.Aid(yaw_t[y1], yaw[y1]))
+    d = quatnav.NavFilter13(time_update=tu)
     d.set_state(c.get_state())
-    r2 = d.run(f[m:], w[m:], t=t[m:], vel_t=vel_t[vel_t > t[m - 1]], vel=vel[vel_t > t[m - 1]],
-               yaw_t=yaw_t[yaw_t > t[m - 1]], yaw=yaw[yaw_t > t[m - 1]])
+    r2 = d.run(w[m:], f[m:], t=t[m:], gps_vel=quatnav.Aid(vel_t[~v1], vel[~v1]),
+               yaw=quatnav.Aid(yaw_t[~y1], yaw[~y1]))
     np.testing.assert_array_equal(np.vstack([r1.x, r2.x]), res.x)
 
 
@@ -166,9 +166,9 @@ def test_float32_tracks_float64(tu):
     vel = np.tile([1.8, 0.9, 0.0], (len(vel_t), 1))
     out = {}
     for dt in (np.float64, np.float32):
-        flt = quatnav.NavFilter13(tu, dtype=dt)
+        flt = quatnav.NavFilter13(time_update=tu, dtype=dt)
         flt.reset(*start, lat=LAT, lon=LON, h=H)
-        out[dt] = flt.run(f, w, t=t, vel_t=vel_t, vel=vel, yaw_t=vel_t, yaw=np.full(len(vel_t), 0.8))
+        out[dt] = flt.run(w, f, t=t, gps_vel=quatnav.Aid(vel_t, vel), yaw=quatnav.Aid(vel_t, np.full(len(vel_t), 0.8)))
     assert out[np.float32].x.dtype == np.float32
     assert np.abs(out[np.float32].x[:, :3] - out[np.float64].x[:, :3]).max() < 1e-3
     ang = Q.angle_between(out[np.float32].quat.astype(float), out[np.float64].quat)
@@ -177,35 +177,39 @@ def test_float32_tracks_float64(tu):
 
 def test_validation_names_argument_and_row():
     with pytest.raises(ValueError, match="time_update"):
-        quatnav.NavFilter13("particle")
+        quatnav.NavFilter13(time_update="particle")
+    with pytest.raises(TypeError, match="keyword-only"):
+        quatnav.NavFilter13("ekf")
     with pytest.raises(TypeError, match="dtype"):
-        quatnav.NavFilter13("ekf", dtype=np.int32)
+        quatnav.NavFilter13(dtype=np.int32)
     with pytest.raises(TypeError, match="unknown parameter"):
-        quatnav.NavFilter13("ekf", gyro_nois=1.0)
-    with pytest.raises(ValueError, match="vel_noise"):
-        quatnav.NavFilter13("ekf", vel_noise=-1.0)
+        quatnav.NavFilter13(gyro_nois=1.0)
+    with pytest.raises(ValueError, match="gps_vel_sigma"):
+        quatnav.NavFilter13(gps_vel_sigma=-1.0)
     with pytest.raises(ValueError, match="ukf_alpha"):
-        quatnav.NavFilter13("ukf", ukf_alpha=1.0, ukf_kappa=-12.0)
-    flt = quatnav.NavFilter13("ekf")
+        quatnav.NavFilter13(time_update="ukf", ukf_alpha=1.0, ukf_kappa=-12.0)
+    flt = quatnav.NavFilter13()
     with pytest.raises(ValueError, match="not initialized"):
-        flt.predict([0, 0, -9.8], [0, 0, 0], 0.01)
+        flt.predict([0, 0, 0], [0, 0, -9.8], 0.01)
     rng = np.random.default_rng(6)
     flt.reset(*_start(rng), lat=LAT, lon=LON, h=H)
     before = flt.get_state()
     t, f, w = _imu(rng, 10)
     f[3, 1] = np.nan
-    with pytest.raises(ValueError, match=r"f_ib_b: non-finite value in row 3"):
-        flt.run(f, w, t=t)
-    with pytest.raises(ValueError, match=r"omega_ib_b: expected 10 rows"):
+    with pytest.raises(ValueError, match=r"acc: non-finite value in row 3"):
+        flt.run(w, f, t=t)
+    with pytest.raises(ValueError, match=r"acc: expected 10 rows"):
         flt.run(w, w[:5], t=t)
-    with pytest.raises(ValueError, match=r"vel: non-finite value in row 1"):
-        flt.run(w, w, t=t, vel_t=t[:2], vel=[[1, 2, 3], [np.inf, 0, 0]])
-    with pytest.raises(ValueError, match="vel_t: times must be non-decreasing"):
-        flt.run(w, w, t=t, vel_t=t[[3, 1]], vel=[[1, 2, 3], [1, 2, 3]])
-    with pytest.raises(ValueError, match="yaw_t, yaw"):
-        flt.run(w, w, t=t, yaw_t=t[:2])
+    with pytest.raises(ValueError, match=r"gps_vel.value: non-finite value in row 1"):
+        flt.run(w, w, t=t, gps_vel=quatnav.Aid(t[:2], [[1, 2, 3], [np.inf, 0, 0]]))
+    with pytest.raises(ValueError, match=r"gps_vel.t: times must be non-decreasing"):
+        flt.run(w, w, t=t, gps_vel=quatnav.Aid(t[[3, 1]], [[1, 2, 3], [1, 2, 3]]))
+    with pytest.raises(ValueError, match=r"yaw.value: expected 2 rows"):
+        flt.run(w, w, t=t, yaw=quatnav.Aid(t[:2], [0.1]))
+    with pytest.raises(TypeError, match=r"gps_vel: expected quatnav.Aid"):
+        flt.run(w, w, t=t, gps_vel=(t[:2], [[1, 2, 3], [1, 2, 3]]))
     with pytest.raises(ValueError, match="dt"):
-        flt.predict([0, 0, -9.8], [0, 0, 0], 0.0)
+        flt.predict([0, 0, 0], [0, 0, -9.8], 0.0)
     with pytest.raises(ValueError, match="yaw"):
         flt.update_yaw(np.nan)
     with pytest.raises(ValueError, match="state"):
@@ -216,7 +220,7 @@ def test_validation_names_argument_and_row():
 
 
 def test_yaw_innovation_wraps():
-    flt = quatnav.NavFilter13("ekf")
+    flt = quatnav.NavFilter13()
     q = Q.from_euler([0.0, 0.0, np.radians(179.0)])
     flt.reset([0, 0, 0], q, lat=LAT, lon=LON, h=H)
     r = flt.update_yaw(np.radians(-179.0))

@@ -66,7 +66,7 @@ def nav13_logs(draw):
 
 
 def _nav13(time_update, dtype):
-    f = quatnav.NavFilter13(time_update, dtype=dtype, gyro_range=20.0, acc_range=150.0, accel_noise=1e-3,
+    f = quatnav.NavFilter13(time_update=time_update, dtype=dtype, gyro_range=20.0, acc_range=150.0, acc_noise=1e-3,
                             gyro_noise=1e-4)
     q = quatnav.quaternion.from_euler([0.1, 0.2, 0.3])
     f.reset([0.1, 0.0, 0.0], q, P=initial_covariance(q, 0.1, [0.01, 0.01, 0.02], 0.01, 1e-3),
@@ -83,11 +83,12 @@ def test_nav13_run_raises_or_stays_finite(time_update, dtype, on_invalid, log):
     fb, wb, t, (vel_t, vel), (yaw_t, yaw) = log
     f = _nav13(time_update, dtype)
     try:
-        res = f.run(fb, wb, t=t, vel_t=vel_t, vel=vel, yaw_t=yaw_t, yaw=yaw, on_invalid=on_invalid)
+        res = f.run(wb, fb, t=t, gps_vel=None if vel_t is None else quatnav.Aid(vel_t, vel),
+                    yaw=None if yaw_t is None else quatnav.Aid(yaw_t, yaw), on_invalid=on_invalid)
     except (ValueError, TypeError) as exc:
-        assert _arg(str(exc)) in {"f_ib_b", "omega_ib_b", "t", "vel_t", "vel", "yaw_t", "yaw"}, str(exc)
+        assert _arg(str(exc)) in {"acc", "gyr", "t", "gps_vel.t", "gps_vel.value", "yaw.t", "yaw.value"}, str(exc)
         if on_invalid == "skip":  # only the timestamps may raise in skip mode
-            assert _arg(str(exc)) in {"t", "vel_t", "yaw_t"}, str(exc)
+            assert _arg(str(exc)) in {"t", "gps_vel.t", "yaw.t"}, str(exc)
         return
     assert np.isfinite(res.x).all() and np.isfinite(res.sigma).all()
     assert np.all(np.abs(np.linalg.norm(res.x[:, 3:7], axis=1) - 1) < 1e-3)
@@ -115,7 +116,7 @@ def test_nav13_steps_refuse_or_keep_state_finite(time_update, dtype, ops):
         before = f.get_state()
         try:
             if op == "predict":
-                status = f.predict([0.3, -0.2, -9.8] if np.isfinite(v).all() else v, v, s)
+                status = f.predict(v, [0.3, -0.2, -9.8] if np.isfinite(v).all() else v, s)
             elif op == "update_velocity":
                 status = f.update_velocity(v).status
             elif op == "update_yaw":
@@ -123,7 +124,7 @@ def test_nav13_steps_refuse_or_keep_state_finite(time_update, dtype, ops):
             else:
                 status = f.update_velocity_yaw(v, s).status
         except (ValueError, TypeError) as exc:
-            assert _arg(str(exc)) in {"f_ib_b", "omega_ib_b", "dt", "v_n", "yaw"}, str(exc)
+            assert _arg(str(exc)) in {"gyr", "acc", "dt", "v_n", "yaw"}, str(exc)
             status = "raised"
         after = f.get_state()
         if status not in ("ok", "rejected"):

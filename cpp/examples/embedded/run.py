@@ -539,13 +539,13 @@ def python_nav_run(name, kind, d):
     if kind == "nav13":
         tu = name.split("-")[1]
         tu = {"Ekf": "ekf", "SecondOrder": "second_order", "Ukf": "ukf"}[tu]
-        f = quatnav.NavFilter13(tu, dtype=np.float64, accel_noise=float(f32(x["accel_noise"][1])),
-                                gyro_noise=float(f32(x["gyro_noise"][1])), vel_noise=float(f32(x["vel_noise"][1])),
-                                yaw_noise=float(f32(x["yaw_noise"][1])))
+        f = quatnav.NavFilter13(time_update=tu, dtype=np.float64, acc_noise=float(f32(x["accel_noise"][1])),
+                                gyro_noise=float(f32(x["gyro_noise"][1])), gps_vel_sigma=float(f32(x["vel_noise"][1])),
+                                yaw_sigma=float(f32(x["yaw_noise"][1])))
         f.reset(f32(x["x0_v"][1]), f32(x["x0_q"][1]), np.zeros(3), np.zeros(3), f32(x["P0"][1]),
                 lat=float(d["llh0"][0]), lon=float(d["llh0"][1]), h=float(d["llh0"][2]))
-        r = f.run(acc[1:], gyr[1:], t=t[1:], vel_t=t[x["vel_k"][1]], vel=f32(x["vel"][1]),
-                  yaw_t=t[x["yaw_k"][1]], yaw=f32(x["yaw"][1]))
+        r = f.run(gyr[1:], acc[1:], t=t[1:], gps_vel=quatnav.Aid(t[x["vel_k"][1]], f32(x["vel"][1])),
+                  yaw=quatnav.Aid(t[x["yaw_k"][1]], f32(x["yaw"][1])))
         # sample 0 is the reset and its aids, which run() applies before its first sample
         return np.vstack([np.full(4, np.nan), r.quat])
     f = quatnav.GpsInsFilter(dtype=np.float64, lever_arm_b=tuple(f32(x["lever_arm_b"][1])))

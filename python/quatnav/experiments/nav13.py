@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import _core
 from .. import quaternion as Q
+from ..filters._base import Aid
 from ..filters.nav13 import TIME_UPDATES, NavFilter13, initial_covariance
 
 SCENARIO = "paper002_straight_then_circle"
@@ -87,14 +88,14 @@ def run_filter(scn, time_update: str, start, dtype=np.float64, return_covariance
     ``accel_noise_scale`` multiplies the filter's accelerometer noise density (1: the paper's
     value, with which the NEES exceeds its bounds in the vertical channel; see docs/NAV13.md)."""
     tr, imu = scn.truth, scn.imu
-    flt = NavFilter13(time_update, dtype=dtype, accel_noise=accel_noise_scale * _density(scn, "accel"),
-                      gyro_noise=_density(scn, "gyro"), vel_noise=scn.params["gps"]["vel_sigma_m_s"],
-                      yaw_noise=np.radians(scn.params["compass"]["noise_deg"]))
+    flt = NavFilter13(time_update=time_update, dtype=dtype, acc_noise=accel_noise_scale * _density(scn, "accel"),
+                      gyro_noise=_density(scn, "gyro"), gps_vel_sigma=scn.params["gps"]["vel_sigma_m_s"],
+                      yaw_sigma=np.radians(scn.params["compass"]["noise_deg"]))
     flt.reset(*start, lat=tr.lat[0], lon=tr.lon[0], h=tr.h[0])
     # IMU row 0 is the instantaneous reading at t[0], where the filter starts; row k >= 1 is the
     # mean over (t[k-1], t[k]].
-    return flt.run(imu.accel[1:], imu.gyro[1:], t=imu.t[1:], vel_t=scn.gps.t_valid, vel=scn.gps.v_n,
-                   yaw_t=scn.compass.t, yaw=scn.compass.yaw, return_covariance=return_covariance)
+    return flt.run(imu.gyro[1:], imu.accel[1:], t=imu.t[1:], gps_vel=Aid(scn.gps.t_valid, scn.gps.v_n),
+                   yaw=Aid(scn.compass.t, scn.compass.yaw), return_covariance=return_covariance)
 
 
 def _density(scn, which):
@@ -111,8 +112,8 @@ def errors(scn, res) -> dict:
     q_true = scn.truth.q_nb[idx]
     e_rpy = Q.wrap_pi(Q.to_euler(res.quat) - scn.truth.rpy[idx])
     dth = Q.to_rotvec(Q.mul(Q.conj(res.quat), q_true))
-    e = np.hstack([scn.truth.v_n[idx] - res.v_n, dth, scn.imu.accel_bias[1:] - res.accel_bias,
-                   scn.imu.gyro_bias[1:] - res.gyro_bias])
+    e = np.hstack([scn.truth.v_n[idx] - res.velocity, dth, scn.imu.accel_bias[1:] - res.acc_bias,
+                   scn.imu.gyro_bias[1:] - res.bias])
     return {"t": res.t, "rpy": e_rpy, "gyro_bias": -e[:, 9:12], "accel_bias": -e[:, 6:9], "state": e}
 
 
@@ -150,7 +151,8 @@ def monte_carlo(runs: int, seed: int = 0, mode: str = "paper", policies=TIME_UPD
             out[tu]["gyro_bias"].append(err["gyro_bias"][::decimate])
             if with_nees:
                 sel = slice(decimate - 1, None, decimate)
-                sub = type(res)(**{**res.__dict__, "t": res.t[sel], "x": res.x[sel], "P": res.P[sel]})
+                sub = type(res)(**{**res.__dict__, "t": res.t[sel], "x": res.x[sel], "P": res.P[sel],
+                                       "quat": res.quat[sel]})
                 out[tu]["nees"].append(nees(sub, {"state": err["state"][sel]}))
             t = err["t"][::decimate]
         if progress:

@@ -23,7 +23,7 @@ from .. import _validate as V
 from .. import quaternion as Q
 from .tables import STATUS_NAMES
 
-__all__ = ["Aid", "AidResult", "FilterResult", "Filter", "core"]
+__all__ = ["Aid", "AidResult", "FilterResult", "NavResult", "Filter", "core"]
 
 
 def core():
@@ -249,6 +249,56 @@ class FilterResult:
         aids = ", ".join(f"{k}: {len(v.t)}" for k, v in self.aids.items()) or "none"
         flags = ", ".join(self.flags_seen()) or "none"
         return f"<{type(self).__name__} of {self.filter}: {n} samples, {span}; aids {aids}; flags seen: {flags}>"
+
+
+@dataclass(repr=False, eq=False)
+class NavResult(FilterResult):
+    """Output of a navigation filter's ``run``: the fields of :class:`FilterResult` and
+
+    Attributes
+    ----------
+    velocity : (N, 3) ndarray
+        NED velocity of the IMU, m/s.
+    acc_bias : (N, 3) ndarray
+        Accelerometer bias estimate, m/s^2.
+    position : (N, 3) ndarray or None
+        Geodetic position of the IMU ``[lat (rad), lon (rad), h (m)]`` where the filter estimates
+        it (GpsInsFilter); None otherwise.
+    att_sigma : (N, 3) ndarray or None
+        One-sigma of the attitude error, rad (body-frame rotation vector for NavFilter13; the
+        NED psi angles are the ``sigma`` columns of GpsInsFilter).
+    """
+
+    velocity: np.ndarray | None = None
+    acc_bias: np.ndarray | None = None
+    position: np.ndarray | None = None
+    att_sigma: np.ndarray | None = None
+
+    @property
+    def lat(self) -> np.ndarray | None:
+        """(N,) latitude, rad (None without :attr:`position`)."""
+        return None if self.position is None else self.position[:, 0]
+
+    @property
+    def lon(self) -> np.ndarray | None:
+        """(N,) longitude, rad."""
+        return None if self.position is None else self.position[:, 1]
+
+    @property
+    def h(self) -> np.ndarray | None:
+        """(N,) height above the ellipsoid, m."""
+        return None if self.position is None else self.position[:, 2]
+
+    def _columns(self) -> dict:
+        cols = {}
+        if self.position is not None:
+            cols.update(lat=self.position[:, 0], lon=self.position[:, 1], h=self.position[:, 2])
+        for i, c in enumerate("ned"):
+            cols[f"v_{c}"] = self.velocity[:, i]
+        cols.update(super()._columns())
+        for i, c in enumerate("xyz"):
+            cols[f"acc_bias_{c}"] = self.acc_bias[:, i]
+        return cols
 
 
 # ------------------------------------------------------------------------------------------------

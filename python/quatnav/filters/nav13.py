@@ -9,42 +9,22 @@ equations and every deviation from the paper are documented in
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from .. import _core, _validate as V
+from .. import _validate as V
 from .. import quaternion as Q
+from ._base import (Filter, NavResult, AidResult, aid_times, check_aid, check_imu_order, check_swapped, core,
+                    skipped_imu_rows)
+from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES
 
-__all__ = ["NavFilter13", "NavResult", "NAV13_FLAGS", "TIME_UPDATES", "STATUS_NAMES", "initial_covariance"]
+__all__ = ["NavFilter13", "NavFilter13Result", "NAV13_FLAGS", "TIME_UPDATES", "initial_covariance"]
 
 TIME_UPDATES = ("ekf", "second_order", "ukf")
 _CORE = {"ekf": "NavFilter13Ekf", "second_order": "NavFilter13SecondOrder", "ukf": "NavFilter13Ukf"}
-
-#: ``quatnav::Status`` names by code (the ``*_status`` arrays of :class:`NavResult`).
-STATUS_NAMES = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated", "solve_failed",
-                "rejected", "numerical_failure", "invalid_argument")
-
 _STATUS_CODE = {name: i for i, name in enumerate(STATUS_NAMES)}
-
-#: Bits of :attr:`NavResult.flags`.
-NAV13_FLAGS = {
-    "predict_skipped": 1 << 1,
-    "solve_failed": 1 << 6,
-    "saturated": 1 << 10,
-    "vel_updated": 1 << 16,
-    "vel_rejected": 1 << 17,
-    "vel_skipped": 1 << 18,
-    "yaw_updated": 1 << 19,
-    "yaw_rejected": 1 << 20,
-    "yaw_skipped": 1 << 21,
-}
-
-_PARAMS = ("accel_noise", "gyro_noise", "accel_bias_noise", "gyro_bias_noise", "vel_noise", "yaw_noise",
-           "ukf_alpha", "ukf_beta", "ukf_kappa", "max_dt", "gyro_range", "acc_range", "cov_floor",
-           "earth_rotation")
-_ZERO_OK = ("accel_bias_noise", "gyro_bias_noise", "accel_noise", "gyro_noise", "ukf_beta", "gyro_range",
-            "acc_range", "cov_floor")
 
 
 def euler_rate_matrix(rpy) -> np.ndarray:
@@ -83,150 +63,55 @@ def initial_covariance(q_nb, vel_sigma, euler_sigma, accel_bias_sigma, gyro_bias
     return P
 
 
-@dataclass
-class NavResult:
-    """Output of :meth:`NavFilter13.run`.
+@dataclass(repr=False, eq=False)
+class NavFilter13Result(NavResult):
+    """Output of :meth:`NavFilter13.run`: the fields of :class:`~quatnav.NavResult` (``position``
+    is None: the filter carries its position for the Earth terms only) and
 
     Attributes
     ----------
-    t : (N,) ndarray
-        Time of each IMU sample (end of its interval), s.
     x : (N, 13) ndarray
         State ``[v_n (m/s), q_nb, b_a (m/s^2), b_g (rad/s)]`` after each sample and the
         measurements applied with it.
-    sigma : (N, 13) ndarray
-        Square roots of the covariance diagonal.
-    att_sigma : (N, 3) ndarray
-        One-sigma of the attitude error as a body-frame rotation vector, rad.
     P : (N, 13, 13) ndarray or None
         Covariances (only with ``return_covariance=True``).
-    flags : (N,) uint32 ndarray
-        Bits of :data:`NAV13_FLAGS`.
-    vel_innovation, vel_nis, vel_status : (K, 3), (K,), (K,) uint8
-        Per velocity measurement: innovation (m/s), normalized innovation squared, status code
-        (index into :data:`STATUS_NAMES`).
-    yaw_innovation, yaw_nis, yaw_status : (M,), (M,), (M,) uint8
-        Per yaw measurement: innovation (rad, wrapped), NIS, status code.
+
+    ``aids["gps_vel"]`` (innovation (K, 3), m/s) and ``aids["yaw"]`` (innovation (M, 1), rad,
+    wrapped) hold the per-measurement diagnostics.
     """
 
-    t: np.ndarray
-    x: np.ndarray
-    sigma: np.ndarray
-    att_sigma: np.ndarray
-    P: np.ndarray | None
-    flags: np.ndarray
-    vel_innovation: np.ndarray
-    vel_nis: np.ndarray
-    vel_status: np.ndarray
-    yaw_innovation: np.ndarray
-    yaw_nis: np.ndarray
-    yaw_status: np.ndarray
-    skipped_rows: dict = field(default_factory=dict)
-
-    @property
-    def v_n(self) -> np.ndarray:
-        """(N, 3) NED velocity, m/s."""
-        return self.x[:, 0:3]
-
-    @property
-    def quat(self) -> np.ndarray:
-        """(N, 4) ``q_nb`` [w, x, y, z]."""
-        return self.x[:, 3:7]
-
-    @property
-    def accel_bias(self) -> np.ndarray:
-        """(N, 3) accelerometer bias, m/s^2."""
-        return self.x[:, 7:10]
-
-    @property
-    def gyro_bias(self) -> np.ndarray:
-        """(N, 3) gyro bias, rad/s."""
-        return self.x[:, 10:13]
-
-    @property
-    def euler(self) -> np.ndarray:
-        """(N, 3) ZYX Euler angles [roll, pitch, yaw], rad."""
-        return Q.to_euler(self.quat)
-
-    def flag(self, name: str) -> np.ndarray:
-        """Boolean (N,) array: where flag ``name`` (a key of :data:`NAV13_FLAGS`) is set."""
-        return (self.flags & NAV13_FLAGS[name]) != 0
+    FLAGS: ClassVar[dict] = NAV13_FLAGS
+    x: np.ndarray | None = None
+    P: np.ndarray | None = None
 
 
-class NavFilter13:
+class NavFilter13(Filter):
     """13-state navigation filter ``[v_n, q_nb, b_a, b_g]`` of paper 002.
 
     Mechanization eq. (1)-(3) with Earth rate, transport rate and WGS-84 gravity at a carried
     position (integrated from the estimated velocity; :meth:`set_position` replaces it), one Euler
     step per IMU sample; NED-velocity and yaw updates (eq. 13-14, 21-23).
 
-    Parameters
-    ----------
-    time_update : {"ekf", "second_order", "ukf"}
-        ``"ekf"``: f(x_mean) and F P F^T + G Q G^T. ``"second_order"``: the mean corrected by
-        1/2 sum_ij P_ij d2f/dx_i dx_j (eq. 16-17), covariance as the EKF. ``"ukf"``: unscented
-        transform in a 12-dimensional attitude-error state (25 sigma points).
-    dtype : float64 or float32
-        Precision of the C++ filter.
-    accel_noise : float, default 2.942e-5
-        Accelerometer white-noise density, m/s^2/sqrt(Hz) (the paper's (30 ug)^2 per 100 Hz sample).
-    gyro_noise : float, default 1.4544e-7
-        Gyro white-noise density, rad/s/sqrt(Hz) (the paper's (0.3 deg/h)^2 per 100 Hz sample).
-    accel_bias_noise, gyro_bias_noise : float, default 0
-        Bias random-walk densities, m/s^3/sqrt(Hz) and rad/s^2/sqrt(Hz) (the paper: constant biases).
-    vel_noise : float, default 0.03048
-        One-sigma of each measured velocity component, m/s (0.1 ft/s).
-    yaw_noise : float, default 0.0349
-        One-sigma of the measured yaw, rad (2 deg).
-    ukf_alpha, ukf_beta, ukf_kappa : float, default 1, 2, 0
-        Unscented transform parameters (lambda = alpha^2 (12 + kappa) - 12 must exceed -12).
-    max_dt : float, default 1
-        Longest accepted IMU step, s.
-    gyro_range, acc_range : float, default 0
-        Sensor ranges per axis, rad/s and m/s^2: an IMU sample with any ``|w_i| >= gyro_range``
-        or ``|f_i| >= acc_range`` is saturated and its predict is skipped (status
-        ``"saturated"``). 0: unlimited.
-    cov_floor : float, default 0
-        Eigenvalue floor of the 12-state error covariance ``[dv, dtheta, db_a, db_g]``, applied
-        only when that covariance is not positive definite above it. 0: off.
-    earth_rotation : bool, default True
-        Include the Earth rate, transport rate and Coriolis terms.
+    ``run`` continues from the current state: call :meth:`reset` first (the navigation filters
+    start from a given state), and again (or use a new filter) for an unrelated log. The
+    parameters' ``time_update``: ``"ekf"``: f(x_mean) and F P F^T + G Q G^T; ``"second_order"``:
+    the mean corrected by 1/2 sum_ij P_ij d2f/dx_i dx_j (eq. 16-17), covariance as the EKF;
+    ``"ukf"``: unscented transform in a 12-dimensional attitude-error state (25 sigma points).
     """
 
-    def __init__(self, time_update: str = "ekf", dtype=np.float64, **params):
-        if time_update not in TIME_UPDATES:
-            raise ValueError(f"time_update: expected one of {TIME_UPDATES}, got {time_update!r}")
-        self.time_update = time_update
-        self.dtype = V.resolve_dtype(dtype)
-        suffix = "_f32" if self.dtype == np.float32 else "_f64"
-        p = getattr(_core, "NavFilter13Params" + suffix)()
-        for name, value in params.items():
-            if name not in _PARAMS:
-                raise TypeError(f"NavFilter13: unknown parameter {name!r}; known: {', '.join(_PARAMS)}")
-            if name == "earth_rotation":
-                if not isinstance(value, (bool, np.bool_)):
-                    raise TypeError(f"earth_rotation: expected a bool, got {type(value).__name__}")
-                setattr(p, name, bool(value))
-            elif name == "ukf_kappa":  # may be negative; checked with alpha below
-                k = V._numeric(value, name)
-                if k.ndim != 0 or not np.isfinite(k):
-                    raise ValueError(f"{name}: expected a finite number, got {value!r}")
-                setattr(p, name, float(k))
-            else:
-                setattr(p, name, V.positive(value, name, allow_zero=name in _ZERO_OK))
-        self._f = getattr(_core, _CORE[time_update] + suffix)(p)
-        if not self._f.params_valid:
+    PARAMS = NAV13_PARAMS
+    FLAGS = NAV13_FLAGS
+    _core_params = "NavFilter13Params"
+
+    def _make(self, p):
+        f = getattr(core(), _CORE[self._opts["time_update"]] + self._suffix)(p)
+        if not f.params_valid:
             raise ValueError("ukf_alpha, ukf_kappa: alpha^2 (12 + kappa) must be positive")
-
-    # -- parameters and state ---------------------------------------------------------------
-    @property
-    def params(self) -> dict:
-        p = self._f.params
-        return {name: getattr(p, name) for name in _PARAMS}
+        return f
 
     @property
-    def initialized(self) -> bool:
-        return bool(self._f.initialized)
+    def time_update(self) -> str:
+        return self._opts["time_update"]
 
     @property
     def x(self) -> np.ndarray:
@@ -258,20 +143,6 @@ class NavFilter13:
     def error_covariance(self) -> np.ndarray:
         """(12, 12) covariance of ``[dv, dtheta, db_a, db_g]`` (dtheta: body-frame attitude error, rad)."""
         return np.asarray(self._f.error_covariance, dtype=float)
-
-    def get_state(self) -> dict:
-        """A copy of the complete state; :meth:`set_state` restores it exactly."""
-        return {k: (np.array(v) if isinstance(v, np.ndarray) else v) for k, v in self._f.get_state().items()}
-
-    def set_state(self, state: dict) -> None:
-        if not isinstance(state, dict):
-            raise TypeError(f"state: expected a dict from get_state(), got {type(state).__name__}")
-        missing = [k for k in self._f.get_state() if k not in state]
-        if missing:
-            raise ValueError(f"state: missing keys {missing}")
-        status = self._f.set_state(state)
-        if status != "ok":
-            raise ValueError(f"state: refused ({status})")
 
     def reset(self, v_n, q_nb, accel_bias=None, gyro_bias=None, P=None, lat=0.0, lon=0.0, h=0.0) -> None:
         """Start from a given state.
@@ -318,10 +189,10 @@ class NavFilter13:
             raise ValueError(f"lat, lon, h: refused ({status})")
 
     # -- single steps ----------------------------------------------------------------------------
-    def predict(self, f_ib_b, omega_ib_b, dt: float) -> str:
-        """Time update with one IMU sample: specific force (m/s^2), angular rate (rad/s), ``dt`` (s)."""
-        fb = V.vector(f_ib_b, "f_ib_b", dtype=self.dtype)
-        wb = V.vector(omega_ib_b, "omega_ib_b", dtype=self.dtype)
+    def predict(self, gyr, acc, dt: float) -> str:
+        """Time update with one IMU sample: angular rate (rad/s), specific force (m/s^2), ``dt`` (s)."""
+        wb = V.vector(gyr, "gyr", dtype=self.dtype)
+        fb = V.vector(acc, "acc", dtype=self.dtype)
         d = V.positive(dt, "dt")
         status = self._f.predict(fb, wb, d)
         if status == "not_initialized":
@@ -356,89 +227,85 @@ class NavFilter13:
             raise ValueError(f"{what}: the filter is not initialized (call reset first)")
 
     # -- batch -----------------------------------------------------------------------------------
-    def run(self, f_ib_b, omega_ib_b, t=None, dt=None, vel_t=None, vel=None, yaw_t=None, yaw=None,
-            gate_vel: float = 0.0, gate_yaw: float = 0.0, return_covariance: bool = False,
-            on_invalid: str = "raise") -> NavResult:
-        """Run the filter over N IMU samples and the measurements that fall among them (in C++).
+    def run(self, gyr, acc, *, t=None, dt=None, gps_vel=None, yaw=None, return_covariance: bool = False,
+            on_invalid: str = "raise") -> NavFilter13Result:
+        """Run the filter over N IMU samples and the measurements that fall among them (in C++),
+        continuing from the current state (given by :meth:`reset`).
 
         Parameters
         ----------
-        f_ib_b : (N, 3) array_like
-            Measured specific force, m/s^2 (mean over each sample interval).
-        omega_ib_b : (N, 3) array_like
-            Measured angular rate, rad/s.
-        t : (N,) array_like, optional
+        gyr : (N, 3) array_like
+            Measured angular rate, rad/s (mean over each sample interval).
+        acc : (N, 3) array_like
+            Measured specific force, m/s^2.
+        t : (N,) array_like, keyword
             Strictly increasing end time of every IMU sample, s; the state given to :meth:`reset`
             is at ``t[0] - (t[1] - t[0])``. Or
-        dt : float or (N,) array_like, optional
+        dt : float or (N,) array_like, keyword
             Step lengths, s (then ``t = cumsum(dt)``, the state at time 0).
-        vel_t, vel : (K,), (K, 3) array_like, optional
-            Times (s, non-decreasing) and NED velocities (m/s).
-        yaw_t, yaw : (M,), (M,) array_like, optional
-            Times (s, non-decreasing) and yaw angles (rad).
-        gate_vel, gate_yaw : float
-            Chi-square gates on the NIS (0: no gate).
+        gps_vel : Aid, optional
+            ``Aid(t, v_n)``: times (K,), s, non-decreasing, and NED velocities (K, 3), m/s (one-sigma:
+            the ``gps_vel_sigma`` parameter; gate ``gate_gps_vel``).
+        yaw : Aid, optional
+            ``Aid(t, yaw)``: times (M,), s, non-decreasing, and yaw angles (M,), rad (``yaw_sigma``,
+            ``gate_yaw``).
         return_covariance : bool
             Also return the (N, 13, 13) covariances.
         on_invalid : {"raise", "skip"}
             "raise": the first non-finite IMU or measurement row raises ``ValueError`` naming the
             argument and row. "skip": such rows skip their step (an IMU row its predict, a
-            measurement its update) and are reported in ``flags``, the per-measurement statuses
-            and ``skipped_rows`` (keys ``"predict_skipped"``, ``"saturated"`` (IMU rows),
-            ``"vel"``, ``"yaw"`` (measurement rows)). Timestamps must be finite and ordered in
+            measurement its update) and are reported in ``flags``, the aids' statuses and
+            ``skipped_rows`` (keys ``"predict_skipped"``, ``"saturated"`` (IMU rows),
+            ``"gps_vel"``, ``"yaw"`` (measurement rows)). Timestamps must be finite and ordered in
             both modes. A saturated IMU row (``gyro_range`` / ``acc_range``) is skipped and
             reported in both modes.
 
         Returns
         -------
-        NavResult
+        NavFilter13Result
         """
         mode = V.on_invalid(on_invalid)
         strict = mode == "raise"
         self._require_init("run")
-        fb = V.vectors(f_ib_b, "f_ib_b", dtype=self.dtype, finite=strict)
-        n = fb.shape[0]
-        wb = V.vectors(omega_ib_b, "omega_ib_b", n=n, dtype=self.dtype, finite=strict)
+        wb = V.vectors(check_imu_order(gyr, acc), "gyr", dtype=self.dtype, finite=strict)
+        n = wb.shape[0]
+        fb = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
+        check_swapped(wb, fb)
         steps = V.time_steps(n, dt=dt, t=t, dtype=np.float64, max_dt=float(self._f.params.max_dt))
         times = np.asarray(t, dtype=np.float64) if t is not None else np.cumsum(steps)
-        vt, vv = self._measurements(vel_t, vel, "vel_t", "vel", 3, strict)
-        yt, yv = self._measurements(yaw_t, yaw, "yaw_t", "yaw", 1, strict)
+        vt, vv = self._measurements(check_aid(gps_vel, "gps_vel"), "gps_vel", 3, strict)
+        yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)
         out = self._f.run(fb, wb, times.astype(self.dtype), steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
-                          float(V.positive(gate_vel, "gate_vel", allow_zero=True)),
-                          float(V.positive(gate_yaw, "gate_yaw", allow_zero=True)), bool(return_covariance))
+                          float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance))
         flags = out["flags"]
-        skipped = {}
-        for name in ("predict_skipped", "saturated"):
-            rows = np.flatnonzero(flags & NAV13_FLAGS[name])
-            if rows.size:
-                skipped[name] = rows
-        for name, status in (("vel", out["vel_status"]), ("yaw", out["yaw_status"])):
+        skipped = skipped_imu_rows(flags, NAV13_FLAGS)
+        for name, status in (("gps_vel", out["vel_status"]), ("yaw", out["yaw_status"])):
             # Updates refused for their input (not the gate, not the not-yet-reached ones).
             rows = np.flatnonzero(np.isin(status, [_STATUS_CODE["non_finite"], _STATUS_CODE["numerical_failure"],
                                                    _STATUS_CODE["solve_failed"]]))
             if rows.size:
                 skipped[name] = rows
-        return NavResult(t=times, x=out["x"], sigma=out["sigma"], att_sigma=out["att_sigma"], P=out["P"],
-                         flags=flags, vel_innovation=out["vel_innovation"], vel_nis=out["vel_nis"],
-                         vel_status=out["vel_status"], yaw_innovation=out["yaw_innovation"], yaw_nis=out["yaw_nis"],
-                         yaw_status=out["yaw_status"], skipped_rows=skipped)
+        aids = {}
+        if gps_vel is not None:
+            aids["gps_vel"] = AidResult(vt.astype(np.float64), out["vel_innovation"], out["vel_nis"], out["vel_status"])
+        if yaw is not None:
+            aids["yaw"] = AidResult(yt.astype(np.float64), np.asarray(out["yaw_innovation"]).reshape(-1, 1),
+                                    out["yaw_nis"], out["yaw_status"])
+        x = out["x"]
+        return NavFilter13Result("NavFilter13", times, x[:, 3:7], x[:, 10:13], out["sigma"], flags, aids=aids,
+                                 skipped_rows=skipped, sigma_names=_SIGMA_NAMES, velocity=x[:, 0:3],
+                                 acc_bias=x[:, 7:10], att_sigma=out["att_sigma"], x=x, P=out["P"])
 
-    def _measurements(self, times, values, tname, vname, cols, strict=True):
-        if (times is None) != (values is None):
-            raise ValueError(f"{tname}, {vname}: give both or neither")
-        if times is None:
+    def _measurements(self, aid, name, cols, strict=True):
+        if aid is None:
             return np.zeros(0, self.dtype), np.zeros((0, cols), self.dtype)
-        ta = V._numeric(times, tname).astype(np.float64)
-        if ta.ndim != 1:
-            raise ValueError(f"{tname}: expected shape (K,), got {ta.shape}")
-        r = V.first_bad_row(ta)
-        if r is not None:
-            raise ValueError(f"{tname}: non-finite value in row {r}")
-        bad = np.flatnonzero(np.diff(ta) < 0)
-        if bad.size:
-            raise ValueError(f"{tname}: times must be non-decreasing; row {int(bad[0]) + 1} precedes row {int(bad[0])}")
-        va = np.asarray(values)
+        tname, vname = f"{name}.t", f"{name}.value"
+        ta = aid_times(aid.t, tname, strict_increasing=False)
+        va = np.asarray(aid.value)
         if cols == 1 and va.ndim == 1:
             va = va[:, None]
         va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict)
         return ta.astype(self.dtype), va
+
+
+_SIGMA_NAMES = ("v_n", "v_e", "v_d", "q0", "q1", "q2", "q3", "ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z")
