@@ -254,28 +254,30 @@ def run_nav13(d, time_update="ekf", dtype=np.float64):
 
 def run_gpsins(d, dtype=np.float64, baro=True, compass=True, outage=False):
     import quatnav
-    kw = dict(gps_t=d["gps_t"], gps_llh=d["gps_llh"], gps_vel=d["gps_vel"])
+    kw = dict(gps_pos=quatnav.Aid(d["gps_t"], d["gps_llh"]), gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel"]))
     if baro:
-        kw.update(baro_t=d["baro_t"], baro_h=d["baro_h"])
+        kw.update(baro=quatnav.Aid(d["baro_t"], d["baro_h"]))
     if compass:
-        kw.update(compass_t=d["compass_t"], compass_yaw=d["compass_yaw"])
+        kw.update(compass=quatnav.Aid(d["compass_t"], d["compass_yaw"]))
     if outage:  # 10 s from the middle of the run, as quatnav experiment gpsins
         t0 = float(d["t"][0] + 0.5 * (d["t"][-1] - d["t"][0]))
         kw["outages"] = [(t0, t0 + 10.0)]
-    r = quatnav.GpsInsFilter(dtype=dtype, lever_arm_b=d["lever_arm_b"]).run(d["t"], d["gyro"], d["accel"], **kw)
+    r = quatnav.GpsInsFilter(dtype=dtype, lever_arm_b=d["lever_arm_b"]).run(d["gyro"], d["accel"], t=d["t"], **kw)
     out = {"t": r.t}
-    _cols(out, "llh", r.llh, ("lat", "lon", "h"))
-    _cols(out, "v", r.v_n, NED)
-    _cols(out, "q", r.q_nb, WXYZ)
-    _cols(out, "ba", r.accel_bias, XYZ)
-    _cols(out, "bg", r.gyro_bias, XYZ)
+    _cols(out, "llh", r.position, ("lat", "lon", "h"))
+    _cols(out, "v", r.velocity, NED)
+    _cols(out, "q", r.quat, WXYZ)
+    _cols(out, "ba", r.acc_bias, XYZ)
+    _cols(out, "bg", r.bias, XYZ)
     _cols(out, "sigma", r.sigma, ("pn", "pe", "pd", "vn", "ve", "vd", "psin", "psie", "psid",
                                   "bax", "bay", "baz", "bgx", "bgy", "bgz"))
     out["flags"] = r.flags
     summary = {"counters": r.counters}
-    for aid in ("gps", "baro", "compass"):
-        nis = np.asarray(getattr(r, aid)["nis"], float)
-        summary[f"{aid}_nis_sum"] = math.fsum(nis[np.isfinite(nis)])
+    for key, aids in (("gps", ("gps_pos", "gps_vel")), ("baro", ("baro", "baro_vd")), ("compass", ("compass",))):
+        # the files' sums run over the C++ (K, 2) tables row by row: position, velocity of each fix
+        nis = np.column_stack([r.aids[a].nis for a in aids if a in r.aids]).ravel() if any(
+            a in r.aids for a in aids) else np.zeros(0)
+        summary[f"{key}_nis_sum"] = math.fsum(nis[np.isfinite(nis)])
     return out, summary
 
 

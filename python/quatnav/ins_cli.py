@@ -30,7 +30,7 @@ The TOML configuration has one table, ``[filter]``, whose keys are the parameter
 
     [filter]
     gyro_noise = 8.7e-4          # rad/s/sqrt(Hz)
-    accel_noise = 2.0e-3         # m/s^2/sqrt(Hz)
+    acc_noise = 2.0e-3           # m/s^2/sqrt(Hz)
     lever_arm_b = [0.1, 0.0, -0.1]   # m, antenna in the body frame
     gps_pos_sigma_h = 2.5        # m, when a fix gives none
     gate_gps_pos = 21.108        # chi-square gate (3 dof); 0 switches it off
@@ -404,16 +404,16 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
             neg = np.flatnonzero((a <= 0).any(axis=1))
             if len(neg):
                 raise InputError(f"GNSS {gnss}: line {lines_g[neg[0]]}: {'/'.join(cols)} must be positive")
-    kw = dict(gps_t=d_g["time"], gps_llh=np.column_stack([np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"]]),
-              gps_vel=np.column_stack([d_g[c] for c in ("v_n", "v_e", "v_d")]),
-              gps_pos_sigma=np.column_stack([d_g[c] for c in ("sigma_n", "sigma_e", "sigma_d")]),
-              gps_vel_sigma=np.column_stack([d_g[c] for c in ("sigma_vn", "sigma_ve", "sigma_vd")]))
+    kw = dict(gps_pos=quatnav.Aid(d_g["time"], np.column_stack([np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"]]),
+                                  np.column_stack([d_g[c] for c in ("sigma_n", "sigma_e", "sigma_d")])),
+              gps_vel=quatnav.Aid(d_g["time"], np.column_stack([d_g[c] for c in ("v_n", "v_e", "v_d")]),
+                                  np.column_stack([d_g[c] for c in ("sigma_vn", "sigma_ve", "sigma_vd")])))
     if baro:
         d_b, _ = read_csv(baro, BARO_COLUMNS, what="BARO")
-        kw.update(baro_t=d_b["time"], baro_h=d_b["h"])
+        kw.update(baro=quatnav.Aid(d_b["time"], d_b["h"]))
     if compass:
         d_c, _ = read_csv(compass, COMPASS_COLUMNS, what="COMPASS")
-        kw.update(compass_t=d_c["time"], compass_yaw=np.radians(d_c["heading"]))
+        kw.update(compass=quatnav.Aid(d_c["time"], np.radians(d_c["heading"])))
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
@@ -425,11 +425,11 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
-    r = f.run(tt, gg, aa, **kw)
+    r = f.run(gg, aa, t=tt, **kw)
     nav = r.navigating & original
     s = r.sigma[nav]
-    cols = [r.t[nav], np.degrees(r.llh[nav, 0]), np.degrees(r.llh[nav, 1]), r.llh[nav, 2], *r.v_n[nav].T,
-            *np.degrees(r.euler[nav]).T, *r.accel_bias[nav].T, *(r.gyro_bias[nav] / _DEG_H).T,
+    cols = [r.t[nav], np.degrees(r.lat[nav]), np.degrees(r.lon[nav]), r.h[nav], *r.velocity[nav].T,
+            *np.degrees(r.euler[nav]).T, *r.acc_bias[nav].T, *(r.bias[nav] / _DEG_H).T,
             *s[:, 0:6].T, *np.degrees(s[:, 6:9]).T, *s[:, 9:12].T, *(s[:, 12:15] / _DEG_H).T]
     table = np.column_stack(cols) if nav.any() else np.zeros((0, len(OUTPUT_COLUMNS)))
     fmt = ["%.6f", "%.10f", "%.10f"] + ["%.6g"] * (len(OUTPUT_COLUMNS) - 3)

@@ -7,6 +7,8 @@ import quatnav
 from quatnav import reference as R
 from quatnav.sim.scenarios import make_scenario
 
+from _aids import as_aids
+
 LEVER = (0.1, 0.0, -0.1)
 
 
@@ -24,8 +26,8 @@ def _horizontal_error(s, r):
     sl2 = np.sin(s.truth.lat[i]) ** 2
     rm = a * (1 - e2) / (1 - e2 * sl2) ** 1.5
     rn = a / np.sqrt(1 - e2 * sl2)
-    dn = (r.llh[nav, 0] - s.truth.lat[i]) * (rm + s.truth.h[i])
-    de = (r.llh[nav, 1] - s.truth.lon[i]) * (rn + s.truth.h[i]) * np.cos(s.truth.lat[i])
+    dn = (r.lat[nav] - s.truth.lat[i]) * (rm + s.truth.h[i])
+    de = (r.lon[nav] - s.truth.lon[i]) * (rn + s.truth.h[i]) * np.cos(s.truth.lat[i])
     return nav, i, np.hypot(dn, de)
 
 
@@ -37,17 +39,17 @@ def walk():
 def test_cpp_matches_reference_step_by_step(walk):
     s, n = walk, 1500  # alignment, levelling and ~25 s of navigation with every aid
     kw = _aids(s)
-    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
     ref = R.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
     assert r.navigating.sum() > 1000
-    np.testing.assert_array_equal(np.isnan(r.llh), np.isnan(ref["llh"]))
+    np.testing.assert_array_equal(np.isnan(r.position), np.isnan(ref["llh"]))
     nav = r.navigating
-    np.testing.assert_allclose(r.llh[nav, :2], ref["llh"][nav, :2], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(r.llh[nav, 2], ref["llh"][nav, 2], rtol=0, atol=1e-7)
-    np.testing.assert_allclose(r.v_n[nav], ref["v_n"][nav], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(r.q_nb[nav], ref["q_nb"][nav], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(r.gyro_bias, ref["gyro_bias"], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(r.accel_bias, ref["accel_bias"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.position[nav, :2], ref["llh"][nav, :2], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(r.h[nav], ref["llh"][nav, 2], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(r.velocity[nav], ref["v_n"][nav], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.quat[nav], ref["q_nb"][nav], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.bias, ref["gyro_bias"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.acc_bias, ref["accel_bias"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(r.sigma[nav], ref["sigma"][nav], rtol=1e-7, atol=1e-12)
     np.testing.assert_array_equal(r.flags & 0xF, ref["flags"] & 0xF)  # phase bits; the reference keeps no aid bits
 
@@ -55,7 +57,7 @@ def test_cpp_matches_reference_step_by_step(walk):
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_walk_position_error_bounded(walk, dtype):
     s = walk
-    r = quatnav.GpsInsFilter(dtype=dtype, lever_arm_b=LEVER).run(s.imu.t, s.imu.gyro, s.imu.accel, **_aids(s))
+    r = quatnav.GpsInsFilter(dtype=dtype, lever_arm_b=LEVER).run(s.imu.gyro, s.imu.accel, t=s.imu.t, **as_aids(_aids(s)))
     nav, i, err = _horizontal_error(s, r)
     assert nav.mean() > 0.9
     assert np.sqrt(np.mean(err ** 2)) < 2.0  # GPS sigma 2.5 m; paper's bound is 30 m
@@ -69,8 +71,8 @@ def test_walk_position_error_bounded(walk, dtype):
 def test_gps_outage_sigma_grows_and_error_stays_consistent(walk):
     s = walk
     t0, t1 = 30.0, 40.0
-    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t, s.imu.gyro, s.imu.accel,
-                                                     outages=[(t0, t1)], **_aids(s))
+    r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro, s.imu.accel, t=s.imu.t,
+                                                     outages=[(t0, t1)], **as_aids(_aids(s)))
     nav, i, err = _horizontal_error(s, r)
     t = r.t
     sig_h = np.hypot(r.sigma[:, 0], r.sigma[:, 1])
@@ -90,14 +92,14 @@ def test_position_nees_within_chi2_bounds():
     nees = []
     for seed in range(4):
         s = make_scenario("paper004_walk", seed=seed)
-        r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t, s.imu.gyro, s.imu.accel, **_aids(s))
+        r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro, s.imu.accel, t=s.imu.t, **as_aids(_aids(s)))
         nav, i, _ = _horizontal_error(s, r)
         a, e2 = 6378137.0, 6.69437999014e-3
         sl2 = np.sin(s.truth.lat[i]) ** 2
         rm = a * (1 - e2) / (1 - e2 * sl2) ** 1.5
         rn = a / np.sqrt(1 - e2 * sl2)
-        dn = (r.llh[nav, 0] - s.truth.lat[i]) * (rm + s.truth.h[i])
-        de = (r.llh[nav, 1] - s.truth.lon[i]) * (rn + s.truth.h[i]) * np.cos(s.truth.lat[i])
+        dn = (r.lat[nav] - s.truth.lat[i]) * (rm + s.truth.h[i])
+        de = (r.lon[nav] - s.truth.lon[i]) * (rn + s.truth.h[i]) * np.cos(s.truth.lat[i])
         # horizontal position, 2 dof (diagonal sigmas), one sample every 5 s to limit correlation
         k = np.arange(0, len(dn), 250)
         nees.append((dn[k] / r.sigma[nav, 0][k]) ** 2 + (de[k] / r.sigma[nav, 1][k]) ** 2)
@@ -112,19 +114,23 @@ def test_bad_input_raises_naming_argument(walk):
     f = quatnav.GpsInsFilter()
     gyro = s.imu.gyro[:100].copy()
     gyro[10, 1] = np.nan
-    with pytest.raises(ValueError, match="gyro"):
-        f.run(s.imu.t[:100], gyro, s.imu.accel[:100])
-    with pytest.raises(ValueError, match="accel"):
-        f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100, :2])
+    with pytest.raises(ValueError, match="gyr: non-finite value in row 10"):
+        f.run(gyro, s.imu.accel[:100], t=s.imu.t[:100])
+    with pytest.raises(ValueError, match="acc"):
+        f.run(s.imu.gyro[:100], s.imu.accel[:100, :2], t=s.imu.t[:100])
     t = s.imu.t[:100].copy()
     t[50] = t[49]
-    with pytest.raises(ValueError, match="t"):
-        f.run(t, s.imu.gyro[:100], s.imu.accel[:100])
-    with pytest.raises(ValueError, match="gps_llh"):
-        f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100], gps_t=[0.5, 1.0])
-    with pytest.raises(ValueError, match="gps_t"):
-        f.run(s.imu.t[:100], s.imu.gyro[:100], s.imu.accel[:100], gps_t=[1.0, 0.5],
-              gps_llh=np.zeros((2, 3)))
+    with pytest.raises(ValueError, match="t: times must be strictly increasing"):
+        f.run(s.imu.gyro[:100], s.imu.accel[:100], t=t)
+    with pytest.raises(ValueError, match="gps_pos.value"):
+        f.run(s.imu.gyro[:100], s.imu.accel[:100], t=s.imu.t[:100], gps_pos=quatnav.Aid([0.5, 1.0], np.zeros((3, 3))))
+    with pytest.raises(ValueError, match="gps_pos.t"):
+        f.run(s.imu.gyro[:100], s.imu.accel[:100], t=s.imu.t[:100], gps_pos=quatnav.Aid([1.0, 0.5], np.zeros((2, 3))))
+    with pytest.raises(ValueError, match="gps_vel.t: expected the times of gps_pos"):
+        f.run(s.imu.gyro[:100], s.imu.accel[:100], t=s.imu.t[:100], gps_pos=quatnav.Aid([0.5, 1.0], np.zeros((2, 3))),
+              gps_vel=quatnav.Aid([0.5, 1.1], np.zeros((2, 3))))
+    with pytest.raises(ValueError, match="gps_vel: needs gps_pos"):
+        f.run(s.imu.gyro[:100], s.imu.accel[:100], t=s.imu.t[:100], gps_vel=quatnav.Aid([0.5, 1.0], np.zeros((2, 3))))
 
 
 def test_experiment_cli_writes_json(tmp_path):
@@ -158,11 +164,11 @@ def test_angle_parameters_in_degrees_are_refused(name, value):
 def test_messages_print_numbers_plainly():
     t = np.array([0.0, 4000.0, 8000.0])
     with pytest.raises(ValueError) as e:
-        quatnav.GpsInsFilter().run(t, np.zeros((3, 3)), np.tile([0.0, 0.0, -9.8], (3, 1)))
+        quatnav.GpsInsFilter().run(np.zeros((3, 3)), np.tile([0.0, 0.0, -9.8], (3, 1)), t=t)
     assert str(e.value) == "t: step 4000.0 s in row 1 exceeds max_dt=1.0 s"
     with pytest.raises(ValueError) as e:
-        quatnav.GpsInsFilter().run(np.array([0.0, 0.2, 0.1]), np.zeros((3, 3)), np.zeros((3, 3)))
+        quatnav.GpsInsFilter().run(np.zeros((3, 3)), np.zeros((3, 3)), t=np.array([0.0, 0.2, 0.1]))
     assert "row 2 (0.1) does not follow row 1 (0.2)" in str(e.value) and "np." not in str(e.value)
     with pytest.raises(ValueError) as e:
         quatnav.GpsInsFilter(max_dt=np.float64(-1.0))
-    assert str(e.value) == "max_dt: expected a non-negative finite number, got -1.0"
+    assert str(e.value) == "max_dt: expected a positive finite number, got -1.0"

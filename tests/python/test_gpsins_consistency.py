@@ -50,9 +50,9 @@ def _matched(traj, seed, compass_bias_deg=0.0):
 
 def _filter_params():
     # noise densities of the simulated sensors; constant biases: a tiny random walk
-    return dict(lever_arm_b=LEVER, gyro_noise=np.radians(0.05), accel_noise=200.0 * 9.80665e-6,
-                init_gyro_bias_sigma=G_BIAS_SIGMA, init_accel_bias_sigma=A_BIAS_SIGMA,
-                gyro_bias_rw=1e-7, accel_bias_rw=1e-6, compass_sigma=np.radians(2.0), baro_sigma=0.5)
+    return dict(lever_arm_b=LEVER, gyro_noise=np.radians(0.05), acc_noise=200.0 * 9.80665e-6,
+                init_gyro_bias_sigma=G_BIAS_SIGMA, init_acc_bias_sigma=A_BIAS_SIGMA,
+                gyro_bias_noise=1e-7, acc_bias_noise=1e-6, compass_sigma=np.radians(2.0), baro_sigma=0.5)
 
 
 def _error_state(f, traj, k_traj, imu, k_imu):
@@ -62,7 +62,7 @@ def _error_state(f, traj, k_traj, imu, k_imu):
     R_M, R_N = (float(x) for x in earth.radii(lt))
     dp = [(lat - lt) * (R_M + ht), (lon - traj.lon[k_traj]) * (R_N + ht) * np.cos(lt), -(h - ht)]
     dv = f.v_n - traj.v_n[k_traj]
-    E = Q.to_rotmat(f.q_nb) @ Q.to_rotmat(traj.q_nb[k_traj]).T  # exp([psi x])
+    E = Q.to_rotmat(f.quat) @ Q.to_rotmat(traj.q_nb[k_traj]).T  # exp([psi x])
     psi = Q.to_rotvec(Q.from_rotmat(E))
     return np.concatenate([dp, dv, psi, f.accel_bias - imu.accel_bias[k_imu], f.gyro_bias - imu.gyro_bias[k_imu]])
 
@@ -73,17 +73,17 @@ def _nees_samples(use_baro):
     for seed in range(3):
         imu, gps, baro, cmp_ = _matched(traj, seed)
         f = quatnav.GpsInsFilter(**_filter_params())
-        aids = dict(gps_t=gps.t_valid, gps_llh=np.column_stack([gps.lat, gps.lon, gps.h]), gps_vel=gps.v_n,
-                    compass_t=cmp_.t, compass_yaw=cmp_.yaw)
+        aids = dict(gps_pos=quatnav.Aid(gps.t_valid, np.column_stack([gps.lat, gps.lon, gps.h])),
+                    gps_vel=quatnav.Aid(gps.t_valid, gps.v_n), compass=quatnav.Aid(cmp_.t, cmp_.yaw))
         if use_baro:
-            aids.update(baro_t=baro.t, baro_h=baro.h)
+            aids.update(baro=quatnav.Aid(baro.t, baro.h))
         # Run in pieces (overlapping by one sample: a piece's first sample only fixes its start
         # time, so the pieces give exactly the one-run result) and read the full covariance at
         # each piece's end, every 4 s once the prior has been forgotten (20 s).
         ends = np.searchsorted(imu.t, np.arange(20.0, imu.t[-1], 4.0))
         k0 = 0
         for k1 in ends:
-            f.run(imu.t[k0:k1 + 1], imu.gyro[k0:k1 + 1], imu.accel[k0:k1 + 1], **aids)
+            f.run(imu.gyro[k0:k1 + 1], imu.accel[k0:k1 + 1], t=imu.t[k0:k1 + 1], **aids)
             k0 = k1
             assert f.navigating
             e = _error_state(f, traj, imu.index[k1], imu, k1)
@@ -139,10 +139,10 @@ def test_static_alignment_level_and_heading():
     traj = make_scenario("paper004_static", seed=0, duration=20.0).truth
     imu, gps, _, cmp_ = _matched(traj, seed=5, compass_bias_deg=1.0)
     f = quatnav.GpsInsFilter(**_filter_params())
-    r = f.run(imu.t, imu.gyro, imu.accel, gps_t=gps.t_valid, gps_llh=np.column_stack([gps.lat, gps.lon, gps.h]),
-              gps_vel=gps.v_n, compass_t=cmp_.t, compass_yaw=cmp_.yaw)
+    r = f.run(imu.gyro, imu.accel, t=imu.t, gps_pos=quatnav.Aid(gps.t_valid, np.column_stack([gps.lat, gps.lon, gps.h])),
+              gps_vel=quatnav.Aid(gps.t_valid, gps.v_n), compass=quatnav.Aid(cmp_.t, cmp_.yaw))
     k = int(np.argmax(~r.flag("aligning")))  # the sample where levelling happened
-    assert k > 0 and r.flag("aligning")[k - 1] and np.isfinite(r.q_nb[k]).all()
+    assert k > 0 and r.flag("aligning")[k - 1] and np.isfinite(r.quat[k]).all()
     rpy = r.euler[k]
     truth = traj.rpy[imu.index[k]]
     g = 9.80  # about the normal gravity at 36 deg N, 50 m (only the direction matters)

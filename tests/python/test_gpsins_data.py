@@ -131,7 +131,7 @@ def test_walk_gate_lockout_recovery(walk):
     """With the filter's default (low) process noise the cm-level fixes are gate-rejected; before
     the reset the filter never accepted a fix again and drifted by hundreds of metres."""
     from quatnav.experiments.walk_rtk import WALK_PARAMS, run_walk
-    low = dict(gyro_noise=8.7e-4, accel_noise=2e-3, gyro_bias_rw=1e-5, accel_bias_rw=1e-4)
+    low = dict(gyro_noise=8.7e-4, acc_noise=2e-3, gyro_bias_noise=1e-5, acc_bias_noise=1e-4)
     s0, _ = run_walk(walk.path, runs=("rtk",), params=dict(low, gps_reset_after=0))
     s1, _ = run_walk(walk.path, runs=("rtk",), params=low)
     assert s0["rtk"]["all_fixed"]["horizontal_m"]["max"] > 50

@@ -69,15 +69,15 @@ def test_run_in_process_against_truth_and_api(walk, files, capsys):
     c = {n: a[:, i] for i, n in enumerate(header)}
     # same numbers as the Python API on the same data (up to the CSV's printed digits)
     r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(
-        s.imu.t, s.imu.gyro, s.imu.accel, gps_t=s.gps.t_valid,
-        gps_llh=np.column_stack([s.gps.lat, s.gps.lon, s.gps.h]), gps_vel=s.gps.v_n, baro_t=s.baro.t,
-        baro_h=s.baro.h, compass_t=s.compass.t, compass_yaw=s.compass.yaw)
+        s.imu.gyro, s.imu.accel, t=s.imu.t, gps_pos=quatnav.Aid(s.gps.t_valid, np.column_stack([s.gps.lat, s.gps.lon, s.gps.h])),
+        gps_vel=quatnav.Aid(s.gps.t_valid, s.gps.v_n), baro=quatnav.Aid(s.baro.t, s.baro.h),
+        compass=quatnav.Aid(s.compass.t, s.compass.yaw))
     nav = r.navigating
     assert len(a) == nav.sum() > 0.9 * len(s.imu.t)
     np.testing.assert_allclose(c["time"], r.t[nav], atol=1e-6)
-    np.testing.assert_allclose(np.radians(c["lat"]), r.llh[nav, 0], atol=1e-9)  # ~1 cm
+    np.testing.assert_allclose(np.radians(c["lat"]), r.lat[nav], atol=1e-9)  # ~1 cm
     np.testing.assert_allclose(c["yaw"], np.degrees(r.euler[nav, 2]), atol=1e-3)
-    np.testing.assert_allclose(c["gyro_bias_z_deg_h"], np.degrees(r.gyro_bias[nav, 2]) * 3600, rtol=1e-5)
+    np.testing.assert_allclose(c["gyro_bias_z_deg_h"], np.degrees(r.bias[nav, 2]) * 3600, rtol=1e-5)
     np.testing.assert_allclose(c["sigma_psi_d_deg"], np.degrees(r.sigma[nav, 8]), rtol=1e-5)
     # against the truth: horizontal position within the filter's own sigma
     i = np.searchsorted(s.truth.t, c["time"])

@@ -549,10 +549,11 @@ def python_nav_run(name, kind, d):
         # sample 0 is the reset and its aids, which run() applies before its first sample
         return np.vstack([np.full(4, np.nan), r.quat])
     f = quatnav.GpsInsFilter(dtype=np.float64, lever_arm_b=tuple(f32(x["lever_arm_b"][1])))
-    r = f.run(t, gyr, acc, gps_t=t[x["gps_k"][1]], gps_llh=x["gps_llh"][1], gps_vel=f32(x["gps_vel"][1]),
-              baro_t=t[x["baro_k"][1]], baro_h=f32(x["baro_h"][1]), compass_t=t[x["compass_k"][1]],
-              compass_yaw=f32(x["compass"][1]))
-    return np.asarray(r.q_nb, float)
+    tg = t[x["gps_k"][1]]
+    r = f.run(gyr, acc, t=t, gps_pos=quatnav.Aid(tg, x["gps_llh"][1]), gps_vel=quatnav.Aid(tg, f32(x["gps_vel"][1])),
+              baro=quatnav.Aid(t[x["baro_k"][1]], f32(x["baro_h"][1])),
+              compass=quatnav.Aid(t[x["compass_k"][1]], f32(x["compass"][1])))
+    return np.asarray(r.quat, float)
 
 
 # --------------------------------------------------------------------------------------------

@@ -31,9 +31,10 @@ def add_arguments(parser) -> None:
 
 
 def _aids(s):
-    return dict(gps_t=s.gps.t_valid, gps_llh=np.column_stack([s.gps.lat, s.gps.lon, s.gps.h]),
-                gps_vel=s.gps.v_n, baro_t=s.baro.t, baro_h=s.baro.h, compass_t=s.compass.t,
-                compass_yaw=s.compass.yaw)
+    from .. import Aid
+    return dict(gps_pos=Aid(s.gps.t_valid, np.column_stack([s.gps.lat, s.gps.lon, s.gps.h])),
+                gps_vel=Aid(s.gps.t_valid, s.gps.v_n), baro=Aid(s.baro.t, s.baro.h),
+                compass=Aid(s.compass.t, s.compass.yaw))
 
 
 def errors(s, r) -> dict:
@@ -44,9 +45,9 @@ def errors(s, r) -> dict:
     sl2 = np.sin(lat) ** 2
     rm = _A * (1 - _E2) / (1 - _E2 * sl2) ** 1.5
     rn = _A / np.sqrt(1 - _E2 * sl2)
-    dn = (r.llh[nav, 0] - lat) * (rm + h)
-    de = (r.llh[nav, 1] - s.truth.lon[i]) * (rn + h) * np.cos(lat)
-    dd = -(r.llh[nav, 2] - h)
+    dn = (r.lat[nav] - lat) * (rm + h)
+    de = (r.lon[nav] - s.truth.lon[i]) * (rn + h) * np.cos(lat)
+    dd = -(r.h[nav] - h)
     deul = r.euler[nav] - s.truth.rpy[i]
     deul = np.angle(np.exp(1j * deul))
     return dict(t=r.t[nav], horiz=np.hypot(dn, de), down=dd, euler_deg=np.degrees(deul),
@@ -70,7 +71,7 @@ def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: flo
     lever = tuple(s.params.get("gps", {}).get("lever_arm_b_m", (0.1, 0.0, -0.1))) \
         if isinstance(s.params.get("gps"), dict) else (0.1, 0.0, -0.1)
     f = quatnav.GpsInsFilter(lever_arm_b=lever)
-    r = f.run(s.imu.t, s.imu.gyro, s.imu.accel, **_aids(s))
+    r = f.run(s.imu.gyro, s.imu.accel, t=s.imu.t, **_aids(s))
     e = errors(s, r)
     out = {"scenario": s.name, "seed": seed, "duration_s": float(s.imu.t[-1] - s.imu.t[0]),
            "navigating_from_s": float(e["t"][0]),
@@ -79,7 +80,7 @@ def run_scenario(name: str, seed: int = 0, outage_start=None, outage_length: flo
            "rejections": r.rejections}
     t0 = float(s.imu.t[0] + 0.5 * (s.imu.t[-1] - s.imu.t[0])) if outage_start is None else float(outage_start)
     t1 = t0 + outage_length
-    r2 = quatnav.GpsInsFilter(lever_arm_b=lever).run(s.imu.t, s.imu.gyro, s.imu.accel,
+    r2 = quatnav.GpsInsFilter(lever_arm_b=lever).run(s.imu.gyro, s.imu.accel, t=s.imu.t,
                                                      outages=[(t0, t1)], **_aids(s))
     e2 = errors(s, r2)
     m = (e2["t"] >= t0) & (e2["t"] < t1)

@@ -9,7 +9,7 @@ Third-party evidence: :class:`quatnav.GpsInsFilter` on NaveGo's ADIS16405 IMU (2
   own ``ins_gnss`` starts: attitude from the dataset's ``ini_align``, one-sigma
   ``ini_align_err``, position and velocity from the first GNSS fix.
 * Noise from the ADIS16405 profile (already SI in the file): ``gyro_noise = arw``
-  (rad/s/sqrt(Hz)), ``accel_noise = vrw`` (m/s^2/sqrt(Hz)); the biases are a constant turn-on
+  (rad/s/sqrt(Hz)), ``acc_noise = vrw`` (m/s^2/sqrt(Hz)); the biases are a constant turn-on
   part (``gb_sta``/``ab_sta``, used as initial one-sigma, as NaveGo does) plus a Gauss-Markov
   part (``gb_dyn``/``ab_dyn``, correlation ``gb_corr``/``ab_corr``); they are modelled as one
   random walk with the Gauss-Markov driving noise ``sigma sqrt(2 / tau)`` (a decaying
@@ -57,11 +57,11 @@ def filter_params(d) -> dict:
     from ..datasets.navego import gm_driving_noise
     p = d.imu_profile
     return dict(
-        gyro_noise=float(np.mean(p["arw"])), accel_noise=float(np.mean(p["vrw"])),
-        gyro_bias_rw=gm_driving_noise(np.mean(p["gb_dyn"]), np.mean(p["gb_corr"])),
-        accel_bias_rw=gm_driving_noise(np.mean(p["ab_dyn"]), np.mean(p["ab_corr"])),
-        gyro_bias_tau=0.0, accel_bias_tau=0.0,
-        init_gyro_bias_sigma=float(np.mean(p["gb_sta"])), init_accel_bias_sigma=float(np.mean(p["ab_sta"])),
+        gyro_noise=float(np.mean(p["arw"])), acc_noise=float(np.mean(p["vrw"])),
+        gyro_bias_noise=gm_driving_noise(np.mean(p["gb_dyn"]), np.mean(p["gb_corr"])),
+        acc_bias_noise=gm_driving_noise(np.mean(p["ab_dyn"]), np.mean(p["ab_corr"])),
+        gyro_bias_tau=0.0, acc_bias_tau=0.0,
+        init_gyro_bias_sigma=float(np.mean(p["gb_sta"])), init_acc_bias_sigma=float(np.mean(p["ab_sta"])),
         init_level_sigma=float(max(d.ini_align_err[0], d.ini_align_err[1])),
         init_yaw_sigma=float(d.ini_align_err[2]),
         gps_pos_sigma_h=float(d.gnss_pos_sigma[0]), gps_pos_sigma_v=float(d.gnss_pos_sigma[2]),
@@ -82,7 +82,7 @@ def run_navego(directory=None, seconds=None):
     f = quatnav.GpsInsFilter(**params)
     sig = np.array([d.gnss_pos_sigma[0], d.gnss_pos_sigma[1], d.gnss_pos_sigma[2]] + [params["gps_vel_sigma"]] * 3
                    + [params["init_level_sigma"]] * 2 + [params["init_yaw_sigma"]]
-                   + [params["init_accel_bias_sigma"]] * 3 + [params["init_gyro_bias_sigma"]] * 3)
+                   + [params["init_acc_bias_sigma"]] * 3 + [params["init_gyro_bias_sigma"]] * 3)
     # Start at the first fix (t = 0), as NaveGo does: attitude from ini_align, the IMU position
     # from the antenna fix less the lever arm (zero here).
     q0 = Q.from_euler(d.ini_align)
@@ -90,10 +90,11 @@ def run_navego(directory=None, seconds=None):
     l_n = Q.rotate(q0, d.lever_arm_b) if np.any(d.lever_arm_b) else np.zeros(3)
     llh0 = llh0 + ned_to_dllh(-l_n, llh0)
     f.initialize(q0, d.gnss_vel[0], llh0, P=np.diag(sig ** 2))
-    r = f.run(t, gyro, accel, gps_t=d.gnss_t[gm], gps_llh=d.gnss_llh[gm], gps_vel=d.gnss_vel[gm])
+    r = f.run(gyro, accel, t=t, gps_pos=quatnav.Aid(d.gnss_t[gm], d.gnss_llh[gm]),
+              gps_vel=quatnav.Aid(d.gnss_t[gm], d.gnss_vel[gm]))
     i = np.searchsorted(d.ref_t, t)
-    dp = ned_error(r.llh, d.ref_llh[i])
-    dv = r.v_n - d.ref_vel[i]
+    dp = ned_error(r.position, d.ref_llh[i])
+    dv = r.velocity - d.ref_vel[i]
     de = np.degrees(np.angle(np.exp(1j * (r.euler - d.ref_rpy[i]))))
     j = np.searchsorted(d.ref_t, d.gnss_t[gm] - 1e-9)
     gdp = ned_error(d.gnss_llh[gm], d.ref_llh[j])
@@ -127,9 +128,9 @@ def run_navego(directory=None, seconds=None):
             k: float(np.mean(np.abs(e) <= 3 * r.sigma[:, c]))
             for k, e, c in (("pos_n", dp[:, 0], 0), ("pos_e", dp[:, 1], 1), ("pos_d", dp[:, 2], 2),
                             ("vel_n", dv[:, 0], 3), ("vel_e", dv[:, 1], 4), ("vel_d", dv[:, 2], 5))},
-        "final_bias": {"gyro_dps": list(map(float, np.degrees(r.gyro_bias[-1]))),
+        "final_bias": {"gyro_dps": list(map(float, np.degrees(r.bias[-1]))),
                        "gyro_in_data_dps": list(map(float, np.degrees(bg_true))),
-                       "accel_mps2": list(map(float, r.accel_bias[-1]))},
+                       "accel_mps2": list(map(float, r.acc_bias[-1]))},
         "rejections": {k: int(v) for k, v in r.rejections.items()},
         "gate_lockout_resets": {k: int(r.counters[k].get("resets", 0)) for k in ("gps_pos", "gps_vel")},
         "accepted": {k: int(v["accepted"]) for k, v in r.counters.items()},

@@ -50,8 +50,8 @@ def add_arguments(parser) -> None:
 #: Filter parameters for the walk (the measured sensor noise at rest is far lower, 5e-5 rad/s/sqrt(Hz)
 #: and 9e-4 m/s^2/sqrt(Hz); the process noise also covers scale-factor and misalignment errors
 #: at the walk's ~1 rad/s rates and the antenna swinging about the IMU).
-WALK_PARAMS = dict(gyro_noise=2e-3, accel_noise=5e-2, gyro_bias_rw=1e-4, accel_bias_rw=1e-3,
-                   init_gyro_bias_sigma=0.01, init_accel_bias_sigma=0.2, init_yaw_sigma=0.4,
+WALK_PARAMS = dict(gyro_noise=2e-3, acc_noise=5e-2, gyro_bias_noise=1e-4, acc_bias_noise=1e-3,
+                   init_gyro_bias_sigma=0.01, init_acc_bias_sigma=0.2, init_yaw_sigma=0.4,
                    gps_vel_sigma=0.1, align_time=5.0, min_speed_for_heading=0.8)
 
 
@@ -90,7 +90,7 @@ def _interp_llh(t, llh, tq):
 def score(w, r, outages=()):
     """Errors of a run at the RTK-fixed epochs: horizontal and down (m), and per outage."""
     ref = w.fixed & (w.gnss_t > r.t[0])
-    est = _interp_llh(r.t, r.llh, w.gnss_t[ref])
+    est = _interp_llh(r.t, r.position, w.gnss_t[ref])
     sig = np.column_stack([np.interp(w.gnss_t[ref], r.t, r.sigma[:, c]) for c in range(3)])
     ok = np.isfinite(est[:, 0])
     tref = w.gnss_t[ref][ok]
@@ -147,14 +147,14 @@ def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, perio
         llh, vel, ps, vs = rng_gnss[noisy]
         outs = windows if name.endswith("outages") else ()
         f = quatnav.GpsInsFilter(**fp)
-        r = f.run(t, gyro, accel, gps_t=w.gnss_t[g], gps_llh=llh[g], gps_vel=vel[g], gps_pos_sigma=ps[g],
-                  gps_vel_sigma=vs[g], outages=outs)
+        r = f.run(gyro, accel, t=t, gps_pos=quatnav.Aid(w.gnss_t[g], llh[g], ps[g]),
+                  gps_vel=quatnav.Aid(w.gnss_t[g], vel[g], vs[g]), outages=outs)
         s, a = score(w, r, outs)
         nav = r.navigating
         s["navigating_from_s"] = float(r.t[nav][0] - t[0]) if nav.any() else None
         s["rejections"] = {k: int(v) for k, v in r.rejections.items()}
         s["gate_lockout_resets"] = {k: int(r.counters[k].get("resets", 0)) for k in ("gps_pos", "gps_vel")}
-        nis = r.gps["nis"][:, 0]
+        nis = r.aids["gps_pos"].nis
         s["gps_pos_nis_mean"] = float(np.nanmean(nis)) if np.isfinite(nis).any() else None
         if noisy:
             e = ned_error(llh[g & w.fixed], w.gnss_llh[g & w.fixed])
