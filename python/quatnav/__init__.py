@@ -4,7 +4,8 @@ Conventions: Hamilton quaternions ``[w, x, y, z]``; ``q_nb`` rotates body vector
 navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, yaw]``. See
 :mod:`quatnav.quaternion`.
 """
-from . import _core
+import importlib
+
 from . import quaternion
 from . import earth, strapdown
 from . import datasets, metrics  # noqa: F401  (BROAD loader and benchmark metrics)
@@ -15,7 +16,17 @@ from .filters._base import NavResult
 from .filters.nav13 import NavFilter13, NavFilter13Result
 from .filters.gpsins import GpsInsFilter, GpsInsResult
 
-__version__ = _core.__version__
+
+
+def __getattr__(name):
+    # The compiled module loads when a filter is first used (or when asked for here), so that the
+    # numpy parts import without it.
+    if name == "_core":
+        return importlib.import_module("quatnav._core")
+    if name == "__version__":
+        return importlib.import_module("quatnav._core").__version__
+    raise AttributeError(f"module 'quatnav' has no attribute {name!r}")
+
 
 __all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
 __all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]

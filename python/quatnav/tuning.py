@@ -8,7 +8,7 @@ parameter set used on all trials). The work is spread through any
 Example, local::
 
     from quatnav import tuning
-    res = tuning.tune(tuning.grid(acc_noise=[0.05, 0.1, 0.2], gyro_noise=[5e-4, 1e-3]))
+    res = tuning.tune(tuning.grid(acc_sigma=[0.05, 0.1, 0.2], gyro_noise=[5e-4, 1e-3]))
     print(res.best, res.best_score)
 
 Example, many machines with dask.distributed (``pip install distributed``; not a quatnav

@@ -48,8 +48,8 @@ def nees_runs(cls, runs=20, n=3000, **kw):
     out = []
     for seed in range(runs):
         d = rotation_scenario(n=n, seed=100 + seed, **kw)
-        f = cls(paper=True, gyro_noise=0.005 * np.sqrt(d.dt), gyro_bias_noise=1e-6, acc_noise=0.05 / 9.80665,
-                mag_noise=0.5 / 50.0, init_gyro_bias_sigma=0.03)
+        f = cls(paper=True, gyro_noise=0.005 * np.sqrt(d.dt), gyro_bias_noise=1e-6, acc_sigma=0.05 / 9.80665,
+                mag_sigma=0.5 / 50.0, init_gyro_bias_sigma=0.03)
         f.run(d.gyr[:1], d.acc[:1], d.mag[:1], dt=d.dt)  # initialize from the first sample
         rows = []
         for k in range(1, n):
@@ -96,8 +96,8 @@ def test_nees_within_chi_square_bounds(cls, max_rate):
 
 def test_gyro_bias_estimated_within_three_sigma():
     d = rotation_scenario(n=12_000, seed=11, gyro_bias=(0.03, -0.02, 0.015))
-    r = quatnav.QuaternionEKF(paper=True, gyro_noise=0.005 * np.sqrt(d.dt), acc_noise=0.05 / 9.80665,
-                              mag_noise=0.01).run(d.gyr, d.acc, d.mag, dt=d.dt)
+    r = quatnav.QuaternionEKF(paper=True, gyro_noise=0.005 * np.sqrt(d.dt), acc_sigma=0.05 / 9.80665,
+                              mag_sigma=0.01).run(d.gyr, d.acc, d.mag, dt=d.dt)
     err = r.bias[-1] - d.gyro_bias
     assert np.all(np.abs(err) < 3 * r.sigma[-1, 4:]), (err, r.sigma[-1, 4:])
     assert np.all(np.abs(err) < 0.1 * np.abs(d.gyro_bias))
@@ -278,8 +278,8 @@ def test_single_step_bad_input_raises_and_leaves_state(cls, small):
 def test_parameters_checked():
     with pytest.raises(TypeError, match="unknown parameter 'gyro_nois'"):
         quatnav.QuaternionEKF(gyro_nois=1.0)
-    with pytest.raises(ValueError, match="acc_noise: expected a positive"):
-        quatnav.QuaternionEKF(acc_noise=-1.0)
+    with pytest.raises(ValueError, match="acc_sigma: expected a positive"):
+        quatnav.QuaternionEKF(acc_sigma=-1.0)
     with pytest.raises(TypeError, match="dtype"):
         quatnav.QuaternionEKF(dtype=np.int32)
     with pytest.raises(ValueError, match="state: missing keys"):

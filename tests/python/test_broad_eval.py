@@ -192,7 +192,7 @@ def test_cli_eval_broad(synthetic_dir, tmp_path, capsys):
 
 def test_tuning_picks_lowest_mean(synthetic_dir):
     d, _ = synthetic_dir
-    sets = quatnav.tuning.grid(acc_noise=[0.05, 5.0], mag_noise=[0.1])
+    sets = quatnav.tuning.grid(acc_sigma=[0.05, 5.0], mag_sigma=[0.1])
     assert len(sets) == 2
     with ThreadPoolExecutor(max_workers=2) as ex:
         res = quatnav.tuning.tune(sets, directory=d, executor=ex)

@@ -158,7 +158,7 @@ def test_rest_not_detected_while_turning():
     assert not r.flag("at_rest").any()
 
 
-ROBUST = dict(paper=True, mag_heading_only=True, acc_noise=0.05, acc_lp_tau=1.0, acc_adapt=5.0, acc_reject=1.0, acc_recovery_time=0.5,
+ROBUST = dict(paper=True, mag_heading_only=True, acc_sigma=0.05, acc_lp_tau=1.0, acc_adapt=5.0, acc_reject=1.0, acc_recovery_time=0.5,
               mag_norm_tol=0.1, mag_dip_tol=0.1, mag_gate=16.0, mag_settle_time=0.2, mag_ref_tau=2.0,
               mag_recovery_time=1.0, rest_detection=True, gyro_noise=0.002)
 
@@ -174,7 +174,8 @@ def test_cpp_matches_reference_with_robustness(extra):
     if "paper" not in extra:
         kw.pop("paper")  # the reference's and the wrapper's defaults are the robust ones
     c = quatnav.QuaternionEKF(**kw).run(gyr, acc, mag, dt=dt)
-    r = reference.QuaternionEKF(**kw).run(gyr, acc, mag, dt=dt)
+    names = {p.name: p.core_name or p.name for p in quatnav.QuaternionEKF.PARAMS}  # the twin keeps the C++ names
+    r = reference.QuaternionEKF(**{names[k]: v for k, v in kw.items()}).run(gyr, acc, mag, dt=dt)
     np.testing.assert_allclose(c.quat, r.quat, atol=1e-9)
     np.testing.assert_allclose(c.bias, r.bias, atol=1e-9)
     np.testing.assert_allclose(c.sigma, r.sigma, atol=1e-9)
@@ -216,7 +217,7 @@ def test_parameter_validation():
         quatnav.QuaternionEKF(acc_rejection=1.0)
     p = quatnav.QuaternionEKF(paper=True).params
     assert p["mag_heading_only"] is False and p["rest_detection"] is False and p["acc_lp_tau"] == 0
-    assert p["gyro_noise"] == pytest.approx(0.005) and p["acc_noise"] == pytest.approx(0.05)
+    assert p["gyro_noise"] == pytest.approx(0.005) and p["acc_sigma"] == pytest.approx(0.05)
     d = quatnav.QuaternionEKF().params
     assert d["mag_heading_only"] is True and d["rest_detection"] is True and d["acc_lp_tau"] > 0
     ref = reference.QuaternionEKF()

@@ -26,7 +26,6 @@ import time
 
 import numpy as np
 
-from .. import _core
 from .. import quaternion as Q
 from ..filters._base import Aid
 from ..filters.nav13 import TIME_UPDATES, NavFilter13, initial_covariance
@@ -255,7 +254,8 @@ def run(args) -> int:
         raise UsageError(f"--accel-noise-scale: expected a positive number, got {args.accel_noise_scale:g}")
     t0 = time.time()
     # The cost first, while nothing else of ours runs; the three policies are interleaved.
-    cost = dict(_core.nav13_time_update_cost_ns(repeats=args.cost_repeats, iterations=2000))
+    from ..filters._base import core
+    cost = dict(core().nav13_time_update_cost_ns(repeats=args.cost_repeats, iterations=2000))
     mc = monte_carlo(args.runs, seed=args.seed, mode=args.initial_errors, with_nees=True,
                      accel_noise_scale=args.accel_noise_scale,
                      progress=lambda r, n: print(f"run {r}/{n}", flush=True) if r % 10 == 0 or r == n else None)

@@ -441,6 +441,11 @@ def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
                         "gyroscope first")
 
 
+def no_mag(mag, filter_name: str) -> None:
+    if mag is not None:
+        raise TypeError(f"mag: {filter_name} takes no magnetometer; the times are keywords: run(gyr, acc, *, t=...)")
+
+
 def times_of(n: int, t, steps) -> np.ndarray:
     """The result's times: ``t`` as given, or 0 and the cumulated steps after the first."""
     if t is not None:

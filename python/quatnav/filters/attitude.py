@@ -198,9 +198,9 @@ class QuaternionEKF(_AttitudeFilter):
         Gyro white-noise density, rad/s/sqrt(Hz).
     gyro_bias_noise : float, default 1e-4 [1e-5]
         Gyro bias random-walk density, rad/s^2/sqrt(Hz).
-    acc_noise : float, default 0.3 [0.05]
+    acc_sigma : float, default 0.3 [0.05]
         Standard deviation of each component of the normalized accelerometer (dimensionless).
-    mag_noise : float, default 1.0 [0.1]
+    mag_sigma : float, default 1.0 [0.1]
         Standard deviation of each component of the normalized magnetometer (dimensionless).
     init_att_sigma : float, default 0.5 [0.05]
         Attitude one-sigma after :meth:`initialize`, rad.
@@ -242,7 +242,7 @@ class QuaternionEKF(_AttitudeFilter):
     gravity : float, default 9.81
         Magnitude of gravity, m/s^2.
     acc_adapt : float, default 0
-        Adaptive accelerometer noise: std ``acc_noise + acc_adapt * ||a| - g| / g``.
+        Adaptive accelerometer noise: std ``acc_sigma + acc_adapt * ||a| - g| / g``.
     acc_reject : float, default 0
         Reject the accelerometer update when ``||a| - g|`` exceeds this, m/s^2.
     acc_gate : float, default 0

@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import _validate as V
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    skipped_imu_rows, times_of)
+                    no_mag, skipped_imu_rows, times_of)
 from .tables import GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GPSINS_FLAGS", "STATE_NAMES", "PARAM_NAMES"]
@@ -246,7 +246,7 @@ class GpsInsFilter(Filter):
         return self._f.update_compass(_finite(heading, "heading"))
 
     # --- batch --------------------------------------------------------------------------------
-    def run(self, gyr, acc, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
             outages=(), on_invalid: str = "raise") -> GpsInsResult:
         """Run over an IMU record and aiding records at their own times (C++ loop, GIL released).
 
@@ -256,6 +256,9 @@ class GpsInsFilter(Filter):
             Body rate omega_ib_b, rad/s (sample k: the mean over ``(t[k-1], t[k]]``).
         acc : (N, 3) array_like
             Specific force f_ib_b, m/s^2.
+        mag : None
+            The filter uses no magnetometer (heading from the compass aid or the GPS track); a
+            value is a TypeError.
         t : (N,) array_like, keyword
             IMU times, s, strictly increasing; or
         dt : float or (N,) array_like, keyword
@@ -291,6 +294,7 @@ class GpsInsFilter(Filter):
         """
         strict = V.on_invalid(on_invalid) == "raise"
         gyr = check_imu_order(gyr, acc)
+        no_mag(mag, "GpsInsFilter")
         if t is not None and dt is None:
             t = aid_times(t, "t")
             n = len(t)

@@ -16,8 +16,8 @@ import numpy as np
 
 from .. import _validate as V
 from .. import quaternion as Q
-from ._base import (Filter, NavResult, AidResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    skipped_imu_rows)
+from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
+                    no_mag, skipped_imu_rows)
 from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES
 
 __all__ = ["NavFilter13", "NavFilter13Result", "NAV13_FLAGS", "TIME_UPDATES", "initial_covariance"]
@@ -227,7 +227,7 @@ class NavFilter13(Filter):
             raise ValueError(f"{what}: the filter is not initialized (call reset first)")
 
     # -- batch -----------------------------------------------------------------------------------
-    def run(self, gyr, acc, *, t=None, dt=None, gps_vel=None, yaw=None, return_covariance: bool = False,
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_vel=None, yaw=None, return_covariance: bool = False,
             on_invalid: str = "raise") -> NavFilter13Result:
         """Run the filter over N IMU samples and the measurements that fall among them (in C++),
         continuing from the current state (given by :meth:`reset`).
@@ -238,6 +238,9 @@ class NavFilter13(Filter):
             Measured angular rate, rad/s (mean over each sample interval).
         acc : (N, 3) array_like
             Measured specific force, m/s^2.
+        mag : None
+            The filter uses no magnetometer (its place in the shape shared by every filter); a
+            value is a TypeError.
         t : (N,) array_like, keyword
             Strictly increasing end time of every IMU sample, s; the state given to :meth:`reset`
             is at ``t[0] - (t[1] - t[0])``. Or
@@ -268,6 +271,7 @@ class NavFilter13(Filter):
         strict = mode == "raise"
         self._require_init("run")
         wb = V.vectors(check_imu_order(gyr, acc), "gyr", dtype=self.dtype, finite=strict)
+        no_mag(mag, "NavFilter13")
         n = wb.shape[0]
         fb = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
         check_swapped(wb, fb)

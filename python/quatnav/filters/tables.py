@@ -162,8 +162,10 @@ QEKF_PARAMS = (
        "the other arguments are applied on top", "bool", None),
     _gyro_noise(0.01),
     _gyro_bias_noise(1e-4),
-    _p("acc_noise", 0.3, "1 (normalized)", "std of each component of the normalized accelerometer"),
-    _p("mag_noise", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer"),
+    _p("acc_sigma", 0.3, "1 (normalized)", "std of each component of the normalized accelerometer",
+       core="acc_noise"),
+    _p("mag_sigma", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer",
+       core="mag_noise"),
     _p("init_att_sigma", 0.5, "rad", "attitude one-sigma after initialize"),
     _p("init_gyro_bias_sigma", 0.1, "rad/s", "gyro-bias one-sigma after initialize", core="init_bias_sigma"),
     _MAG_REF,
@@ -172,7 +174,7 @@ QEKF_PARAMS = (
     _cov_floor(1e-12),
     _p("mag_heading_only", True, "-", "the magnetometer corrects heading only (False: 3-row update)", "bool"),
     _p("gravity", 9.81, "m/s^2", "magnitude of gravity for the acceleration tests", "pos0"),
-    _p("acc_adapt", 0.0, "1", "adaptive accelerometer noise: std acc_noise + acc_adapt * ||a|-g|/g", "pos0"),
+    _p("acc_adapt", 0.0, "1", "adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g", "pos0"),
     _p("acc_reject", 0.0, "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)", "pos0"),
     _p("acc_gate", 0.0, "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)", "pos0"),
     _p("acc_recovery_time", 0.0, "s", "after this long with every accelerometer update rejected, accept "
@@ -205,8 +207,10 @@ EULER_PARAMS = (
        "bool", None),
     _gyro_noise(0.005),
     _gyro_bias_noise(1e-5),
-    _p("acc_noise", 0.05, "1 (normalized)", "std of each component of the normalized accelerometer"),
-    _p("mag_noise", 0.1, "1 (normalized)", "std of each component of the normalized magnetometer"),
+    _p("acc_sigma", 0.05, "1 (normalized)", "std of each component of the normalized accelerometer",
+       core="acc_noise"),
+    _p("mag_sigma", 0.1, "1 (normalized)", "std of each component of the normalized magnetometer",
+       core="mag_noise"),
     _p("init_att_sigma", 0.05, "rad", "one-sigma of each Euler angle after initialize"),
     _p("init_gyro_bias_sigma", 0.01, "rad/s", "gyro-bias one-sigma after initialize", core="init_bias_sigma"),
     _MAG_REF,
@@ -307,3 +311,35 @@ FLAG_TABLES = {"QuaternionEKF": ATTITUDE_FLAGS, "EulerEKF": ATTITUDE_FLAGS, "Mar
 #: Filter name -> parameter table.
 PARAM_TABLES = {"QuaternionEKF": QEKF_PARAMS, "EulerEKF": EULER_PARAMS, "MargFilter": MARG_PARAMS,
                 "NavFilter13": NAV13_PARAMS, "GpsInsFilter": GPSINS_PARAMS}
+
+
+def parameters_table_markdown() -> str:
+    """The table of ``docs/PARAMETERS.md``: one row per parameter name, its unit and meaning, and
+    its default in each filter that has it (a test checks that the page holds this text)."""
+    short = {"QuaternionEKF": "QEKF", "EulerEKF": "Euler", "MargFilter": "MARG", "NavFilter13": "Nav13",
+             "GpsInsFilter": "GPS/INS"}
+    rows: dict = {}
+    for f, table in PARAM_TABLES.items():
+        for p in table:
+            rows.setdefault(p.name, {"p": p, "filters": {}})["filters"][f] = p
+    out = ["| name | unit | meaning | " + " | ".join(short.values()) + " |", "|---|---|---|" + "---|" * len(short)]
+    for name, r in rows.items():
+        p0 = r["p"]
+        notes = []
+        cells = []
+        for f, label in short.items():
+            p = r["filters"].get(f)
+            if p is None:
+                cells.append("")
+                continue
+            cells.append("[0, 0, 0]" if isinstance(p.default, tuple) else repr(p.default))
+            if p.core_name is None:
+                notes.append(f"{label}: Python only")
+            elif p.core_name != name:
+                notes.append(f"{label}: C++ `{p.core_name}`")
+        doc = (p0.doc[0].upper() + p0.doc[1:]).replace("|", "\\|")
+        if notes:
+            doc += " (" + "; ".join(notes) + ")"
+        unit = p0.unit.replace("|", "\\|")
+        out.append(f"| `{name}` | {unit} | {doc} | " + " | ".join(cells) + " |")
+    return "\n".join(out)

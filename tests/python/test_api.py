@@ -1,0 +1,241 @@
+"""The one API of the five filters, tested once for all: run(gyr, acc, mag=None, *, t, dt, <aids>,
+on_invalid), keyword-only constructors from one parameter table, one result base class with
+flag decoding, per-aid diagnostics, to_dataframe and a short repr, and run continuing from the
+filter's state."""
+import inspect
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import quatnav
+from quatnav import Aid
+from quatnav.filters.tables import FLAG_TABLES, PARAM_TABLES, STATUS_NAMES
+from quatnav.sim.scenarios import make_scenario
+
+NAMES = ("QuaternionEKF", "EulerEKF", "MargFilter", "NavFilter13", "GpsInsFilter")
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def scn():
+    return make_scenario("paper004_static", seed=0, duration=12.0)
+
+
+def _log(name, s):
+    """(new filter, gyr, acc, t, aid keywords, expected aid diagnostics) for one filter."""
+    imu, g = s.imu, s.gps
+    llh = np.column_stack([g.lat, g.lon, g.h])
+    if name == "NavFilter13":
+        tr = s.truth
+
+        def make(**kw):
+            f = quatnav.NavFilter13(**kw)
+            f.reset(tr.v_n[0], tr.q_nb[0], lat=tr.lat[0], lon=tr.lon[0], h=tr.h[0])
+            return f
+        aids = dict(gps_vel=Aid(g.t_valid, g.v_n), yaw=Aid(s.compass.t, s.compass.yaw))
+        return make, imu.gyro[1:], imu.accel[1:], imu.t[1:], aids, {"gps_vel", "yaw"}
+    cls = getattr(quatnav, name)
+    if name == "GpsInsFilter":
+        aids = dict(gps_pos=Aid(g.t_valid, llh), gps_vel=Aid(g.t_valid, g.v_n), baro=Aid(s.baro.t, s.baro.h),
+                    compass=Aid(s.compass.t, s.compass.yaw))
+        return cls, imu.gyro, imu.accel, imu.t, aids, {"gps_pos", "gps_vel", "baro", "baro_vd", "compass"}
+    if name == "MargFilter":
+        return cls, imu.gyro, imu.accel, imu.t, dict(gps_vel=Aid(g.t_valid, g.v_n)), set()
+    return cls, imu.gyro, imu.accel, imu.t, {}, set()
+
+
+def _cls(name):
+    return getattr(quatnav, name)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_run_signature_has_one_shape(name):
+    sig = inspect.signature(_cls(name).run)
+    ps = list(sig.parameters.values())[1:]
+    assert [p.name for p in ps[:2]] == ["gyr", "acc"]
+    assert all(p.kind == p.POSITIONAL_OR_KEYWORD for p in ps[:2])
+    rest = [p for p in ps[2:] if p.kind != p.KEYWORD_ONLY]
+    assert [p.name for p in rest] == ["mag"] and rest[0].default is None  # None where there is none
+    kw = {p.name: p for p in ps if p.kind == p.KEYWORD_ONLY}
+    assert {"t", "dt", "on_invalid"} <= set(kw)
+    assert kw["t"].default is None and kw["dt"].default is None and kw["on_invalid"].default == "raise"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_t_and_dt_are_exclusive(name, scn):
+    make, gyr, acc, t, _, _ = _log(name, scn)
+    with pytest.raises(ValueError, match="dt, t"):
+        make().run(gyr[:50], acc[:50], t=t[:50], dt=0.02)
+    with pytest.raises(ValueError, match="dt, t"):
+        make().run(gyr[:50], acc[:50])
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_old_argument_orders_are_refused(name, scn):
+    make, gyr, acc, t, _, _ = _log(name, scn)
+    with pytest.raises(TypeError, match="gyr"):  # GpsInsFilter's old order: times first
+        make().run(t, gyr, acc)
+    with pytest.raises(TypeError, match="gyr"):  # NavFilter13's old order: specific force first
+        make().run(acc, gyr, t=t)
+    with pytest.raises(TypeError):  # times are keywords only
+        make().run(gyr, acc, None, t)
+    with pytest.raises(TypeError, match="gps_t"):  # old aid keywords are not accepted
+        make().run(gyr, acc, t=t, gps_t=t[::10])
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_result_fields_flags_aids_dataframe_and_repr(name, scn):
+    make, gyr, acc, t, aids, expected_aids = _log(name, scn)
+    r = make().run(gyr, acc, t=t, **aids)
+    n = len(t)
+    assert isinstance(r, quatnav.FilterResult) and r.filter == name and len(r) == n
+    np.testing.assert_array_equal(r.t, t)
+    assert r.quat.shape == (n, 4) and r.bias.shape == (n, 3) and r.euler.shape == (n, 3)
+    assert r.flags.shape == (n,) and r.flags.dtype == np.uint32
+    if name == "MargFilter":
+        assert r.sigma is None
+    else:
+        assert r.sigma.shape == (n, len(r.sigma_names)) and len(r.sigma_names) >= 6
+    if name in ("NavFilter13", "GpsInsFilter"):
+        assert isinstance(r, quatnav.NavResult)
+        assert r.velocity.shape == (n, 3) and r.acc_bias.shape == (n, 3)
+    if name == "GpsInsFilter":
+        assert r.position.shape == (n, 3) and r.lat.shape == (n,) and r.h.shape == (n,)
+    assert set(r.aids) == expected_aids
+    for key, a in r.aids.items():
+        k = len(a.t)
+        assert k > 0 and a.innovation.shape[0] == k and a.innovation.ndim == 2
+        assert a.nis.shape == (k,) and a.status.shape == (k,) and a.status.dtype == np.uint8
+        assert set(a.status_names) <= set(STATUS_NAMES) and a.accepted.any(), (key, a.counts())
+        assert np.isfinite(a.nis[a.accepted]).all()
+        assert len(a.to_dataframe()) == k
+    # Flags: every name of the filter's table decodes; an unknown one lists the known ones.
+    table = FLAG_TABLES[name]
+    assert r.FLAGS is table
+    for flag, bit in table.items():
+        np.testing.assert_array_equal(r.flag(flag), (r.flags & bit) != 0)
+    assert set(r.flags_seen()) <= set(table) and r.flags_seen()
+    with pytest.raises(KeyError, match="known: " + ", ".join(list(table)[:2])):
+        r.flag("no_such_flag")
+    df = r.to_dataframe()
+    assert len(df) == n and df.index.name == "t"
+    assert {"q_w", "q_x", "q_y", "q_z", "roll", "pitch", "yaw", "bias_x", "flags"} <= set(df.columns)
+    if name in ("NavFilter13", "GpsInsFilter"):
+        assert {"v_n", "v_e", "v_d", "acc_bias_z"} <= set(df.columns)
+    np.testing.assert_array_equal(df["q_w"].to_numpy(), r.quat[:, 0])
+    text = repr(r)
+    assert len(text) < 400 and name in text and f"{n} samples" in text and "\n" not in text
+    for key in expected_aids:
+        assert key in text
+
+
+def test_to_dataframe_without_pandas_names_the_extra(scn, monkeypatch):
+    r = quatnav.QuaternionEKF().run(scn.imu.gyro[:20], scn.imu.accel[:20], t=scn.imu.t[:20])
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match=r"pip install 'quatnav\[io\]'"):
+        r.to_dataframe()
+
+
+def _split_aids(aids, t_end, before):
+    out = {}
+    for k, a in aids.items():
+        m = a.t <= t_end if before else a.t > t_end
+        out[k] = Aid(a.t[m], np.asarray(a.value)[m])
+    return out
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_run_continues_from_the_state(name, scn):
+    """run() continues where the filter stands: two calls on one object give the one-call result
+    (GpsInsFilter: the second log starts with the last sample of the first, which only fixes the
+    clock); a new object starts afresh."""
+    make, gyr, acc, t, aids, _ = _log(name, scn)
+    t = t[0] + np.arange(len(t)) / 128.0  # exact steps: each part derives the same step lengths
+    whole = make().run(gyr, acc, t=t, **aids)
+    f = make()
+    h = len(t) // 2
+    a = f.run(gyr[:h], acc[:h], t=t[:h], **_split_aids(aids, t[h - 1], True))
+    k0 = h - 1 if name == "GpsInsFilter" else h
+    b = f.run(gyr[k0:], acc[k0:], t=t[k0:], **_split_aids(aids, t[h - 1], False))
+    both = np.vstack([a.quat, b.quat[h - k0:]])
+    np.testing.assert_array_equal(both, whole.quat)
+    again = f.run(gyr[:h], acc[:h], t=t[-1] + np.arange(1, h + 1) / 128.0)
+    fresh = make().run(gyr[:h], acc[:h], t=t[-1] + np.arange(1, h + 1) / 128.0)
+    assert not np.array_equal(again.quat, fresh.quat, equal_nan=True)  # the same object carries its state on
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_constructor_signature_repr_and_unknown_names(name):
+    cls = _cls(name)
+    table = PARAM_TABLES[name]
+    assert cls.PARAMS is table
+    sig = inspect.signature(cls)
+    names = [p.name for p in table] + ["dtype"]
+    assert list(sig.parameters) == names
+    assert all(p.kind == p.KEYWORD_ONLY for p in sig.parameters.values())
+    for p in table:
+        d = sig.parameters[p.name].default
+        assert d == p.default or np.array_equal(d, p.default), p.name
+        assert p.name in cls.__doc__, p.name  # the docstring's Parameters section
+    assert repr(cls()) == f"{name}()"
+    assert repr(cls(max_dt=0.5)) == f"{name}(max_dt=0.5)"
+    assert repr(cls(max_dt=1.0, dtype=np.float32)) == f"{name}(dtype=np.float32)"  # 1.0 is the default
+    with pytest.raises(TypeError, match=r"unknown parameter 'gyro_bias_rw'; known: " + table[0].name):
+        cls(gyro_bias_rw=1e-5)
+    with pytest.raises(TypeError, match="keyword-only"):
+        cls(0.01)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_table_defaults_equal_the_cpp_defaults(name):
+    f = _cls(name)()
+    for p in PARAM_TABLES[name]:
+        v = f.params[p.name]
+        if p.kind == "vec3":
+            np.testing.assert_array_equal(v, p.default)
+        elif isinstance(p.default, float):
+            assert v == pytest.approx(p.default, rel=1e-7), p.name
+        else:
+            assert v == p.default, p.name
+
+
+def test_one_vocabulary_of_shared_parameter_names():
+    """A parameter name means one thing with one unit in every filter that has it."""
+    seen = {}
+    for name, table in PARAM_TABLES.items():
+        for p in table:
+            if p.name in seen:
+                assert p.unit == seen[p.name].unit, (name, p.name)
+            seen[p.name] = p
+    for old in ("gyro_bias_rw", "accel_noise", "accel_bias_rw", "accel_bias_noise", "init_bias_sigma", "vel_noise"):
+        assert old not in seen
+
+
+def test_parameters_page_lists_every_parameter():
+    text = (REPO / "docs" / "PARAMETERS.md").read_text()
+    for name, table in PARAM_TABLES.items():
+        assert f"`{name}`" in text
+        for p in table:
+            assert f"`{p.name}`" in text, (name, p.name)
+    from quatnav.filters.tables import parameters_table_markdown
+    assert parameters_table_markdown() in text  # regenerate the table from the tables when they change
+    assert "PARAMETERS" in (REPO / "docs" / "index.md").read_text()
+
+
+def test_aid_is_refused_in_other_forms(scn):
+    make, gyr, acc, t, aids, _ = _log("GpsInsFilter", scn)
+    with pytest.raises(TypeError, match=r"gps_pos: expected quatnav.Aid"):
+        make().run(gyr, acc, t=t, gps_pos=(aids["gps_pos"].t, aids["gps_pos"].value))
+    with pytest.raises(ValueError, match=r"baro.sigma: this filter takes no per-sample sigma"):
+        make().run(gyr, acc, t=t, baro=Aid(scn.baro.t, scn.baro.h, np.ones(len(scn.baro.t))))
+
+
+def test_compiled_module_loads_on_first_use():
+    code = ("import sys, quatnav; assert 'quatnav._core' not in sys.modules, 'eager'; "
+            "f = quatnav.QuaternionEKF(); assert 'quatnav._core' in sys.modules; print(quatnav.__version__)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       env={"PYTHONPATH": str(REPO / "python"), "PATH": ""})
+    assert p.returncode == 0, p.stderr
