@@ -5,7 +5,8 @@ import time
 import numpy as np
 
 from quatnav.sim import Cruise, Turn, make_trajectory
-from quatnav.strapdown import StrapdownState, strapdown_run, strapdown_run_cpp
+from quatnav.core.strapdown import StrapdownState, strapdown_run
+from quatnav.filters.strapdown import strapdown_run_cpp
 
 
 def timed(fn, repeat=3):

@@ -86,7 +86,7 @@ def scn_turn():
 
 def scn_paper002():
     """Paper 002's run with the paper's fixed initial errors (as ``quatnav experiment nav13``)."""
-    from quatnav import quaternion as Q
+    from quatnav.core import quaternion as Q
     from quatnav.filters.nav13 import initial_covariance
     s = _sim("paper002_straight_then_circle")
     tr, si = s.truth, s.params["initial_errors"]["si"]
@@ -282,7 +282,8 @@ def run_gpsins(d, dtype=np.float64, baro=True, compass=True, outage=False):
 
 
 def run_strapdown(d, dtype=np.float64):
-    from quatnav.strapdown import StrapdownState, strapdown_run_cpp
+    from quatnav.core.strapdown import StrapdownState
+    from quatnav.filters.strapdown import strapdown_run_cpp
     lat, lon, h = d["llh0"]
     s0 = StrapdownState(np.asarray(d["q0_true"], float), np.asarray(d["v0_true"], float),
                         float(lat), float(lon), float(h))

@@ -4,10 +4,11 @@
     PYTHONPATH=python python tools/sim_consistency.py
 """
 import numpy as np
-from quatnav import earth, quaternion as quat
+from quatnav.core import earth, quaternion as quat
 from quatnav.sim import make_scenario, allan_deviation, allan_readout, units
 from quatnav.sim.sensors import GyroSpec, AccelSpec, _triad
-from quatnav.strapdown import StrapdownState, strapdown_run, strapdown_run_cpp
+from quatnav.core.strapdown import StrapdownState, strapdown_run
+from quatnav.filters.strapdown import strapdown_run_cpp
 for name in ["paper002_straight_then_circle", "paper001_constant_turn", "paper004_turntable", "paper004_walk", "handheld_marg_disturbed"]:
     tr = make_scenario(name, 0).truth
     s = StrapdownState(tr.q_nb[0], tr.v_n[0], tr.lat[0], tr.lon[0], tr.h[0])

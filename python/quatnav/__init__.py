@@ -2,13 +2,11 @@
 
 Conventions: Hamilton quaternions ``[w, x, y, z]``; ``q_nb`` rotates body vectors into the
 navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, yaw]``. See
-:mod:`quatnav.quaternion`.
+:mod:`quatnav.core.quaternion`.
 """
 import importlib
 
-from . import quaternion
-from . import earth, strapdown
-from . import datasets, metrics  # noqa: F401  (BROAD loader and benchmark metrics)
+from . import core, datasets, metrics  # noqa: F401  (numpy core, BROAD loader and benchmark metrics)
 from .filters._base import Aid, AidResult, FilterResult
 from .filters.attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 from .filters.marg import MARG_FLAGS, MargFilter, MargResult
@@ -28,7 +26,7 @@ def __getattr__(name):
     raise AttributeError(f"module 'quatnav' has no attribute {name!r}")
 
 
-__all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "quaternion", "earth", "strapdown", "__version__"]
+__all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "core", "__version__"]
 __all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]
 __all__ += ["NavFilter13", "NavFilter13Result", "NavResult"]
 __all__ += ["GpsInsFilter", "GpsInsResult"]

@@ -305,7 +305,7 @@ def add_parser(sub) -> None:
 
 
 def _cli(args) -> int:
-    from .cli import UsageError, write_json
+    from .cliutil import UsageError, write_json
     for opt, v, lo in (("-n", args.n, 1), ("--repeat", args.repeat, 1), ("--max-n", args.max_n, 1e3)):
         if not v >= lo:
             raise UsageError(f"{opt}: expected at least {lo:g}, got {v:g}")
@@ -341,7 +341,7 @@ def main(argv=None) -> int:
 # ----------------------------------------------------------------------------------------------
 def _quatnav(cls_name: str, dtype, **params):
     def make(d: MargData):
-        from . import attitude
+        from .filters import attitude
         cls = getattr(attitude, cls_name)
         return lambda: cls(dtype=dtype, **params).run(d.gyr, d.acc, d.mag, dt=d.dt)
     return make
@@ -420,7 +420,7 @@ def _qekf_model(d: MargData):
         return H
 
     def Qn(q):
-        from . import quaternion as Q
+        from .core import quaternion as Q
         X = Q.xi(q)
         out = np.zeros((7, 7))
         out[:4, :4] = d.dt * p.gyro_noise**2 / 4 * X @ X.T + 1e-12 * np.eye(4)

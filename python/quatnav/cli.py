@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import linecache
 import os
 import sys
 from pathlib import Path
 
-__all__ = ["UsageError", "main", "build_parser", "write_json", "missing_extra"]
+__all__ = ["main", "build_parser"]
+
+from .cliutil import _EXTRAS, UsageError, missing_extra
 
 EPILOG = """\
 environment:
@@ -29,34 +30,11 @@ environment:
 exit status: 0 success, 1 ran but produced nothing useful (e.g. 'ins run': navigation never
 started), 2 a user error (one line on stderr)"""
 
-#: optional package -> extra of ``pip install 'quatnav[EXTRA]'`` that provides it, per command
-#: (``None``: any command). scipy is in both [sim] and [eval]; the command decides which to name.
-_EXTRAS = {
-    "scipy": {"simulate": "sim", "bench": "sim", None: "eval"},
-    "matplotlib": {None: "eval"}, "h5py": {None: "eval"}, "tqdm": {None: "eval"},
-    "pandas": {None: "io"},
-    "vqf": {None: "peers"}, "imufusion": {None: "peers"}, "ahrs": {None: "peers"}, "filterpy": {None: "peers"},
-}
-
-
-class UsageError(Exception):
-    """A mistake of the user (bad argument, bad input file): :func:`main` prints its message as
-    one line and exits with status 2."""
-
-
 class _Parser(argparse.ArgumentParser):
     """ArgumentParser whose errors are one line: ``PROG: error: MESSAGE (see 'PROG -h')``."""
 
     def error(self, message):  # noqa: D401 - argparse API
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} -h')\n")
-
-
-def missing_extra(module: str, command: str | None = None) -> str | None:
-    """The extra that provides ``module`` (top-level name), for ``command``; None if not optional."""
-    table = _EXTRAS.get(module.split(".")[0])
-    if table is None:
-        return None
-    return table.get(command, table[None])
 
 
 def _missing_module(exc: ImportError) -> str | None:
@@ -89,37 +67,6 @@ def _raised_by_quatnav(exc: BaseException) -> bool:
 
 def _plain(msg: str) -> str:
     return " ".join(str(msg).split())  # one line whatever the exception's text
-
-
-def write_json(obj, args, path: str | None = None) -> None:
-    """Write ``obj`` as JSON to ``path`` (default ``args.json``); ``-`` is standard output.
-
-    With ``--json -`` :func:`main` sends the command's human-readable output to stderr, so that
-    stdout holds only the JSON document.
-    """
-    dest = path if path is not None else getattr(args, "json", None)
-    if not dest:
-        return
-    text = json.dumps(obj, indent=1, default=_json_default, allow_nan=True)
-    if dest == "-":
-        out = getattr(args, "_json_stdout", None) or sys.stdout
-        out.write(text + "\n")
-        out.flush()
-        return
-    with open(dest, "w") as fh:
-        fh.write(text + "\n")
-    print(f"wrote {dest}")
-
-
-def _json_default(o):
-    import numpy as np
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, Path):
-        return str(o)
-    raise TypeError(f"cannot write {type(o).__name__} as JSON")
 
 
 def _leaf_progs(parser) -> None:

@@ -11,7 +11,7 @@ trials. How each peer is fed (checked on the data: each mapping gives the peer's
 a fraction of a degree of the reference, any other mapping gives tens of degrees):
 
 * ``vqf``: ``vqf.VQF(Ts)`` 9D, gyro rad/s, acc m/s^2, mag as is; ``quat9D`` is ENU (earth
-  frame y = magnetic north), converted with :func:`quatnav.quaternion.enu_to_ned`.
+  frame y = magnetic north), converted with :func:`quatnav.core.quaternion.enu_to_ned`.
 * ``imufusion``: ``imufusion.Ahrs`` with ``convention = CONVENTION_NED``, sample period set,
   gyro in deg/s, acc in g; its quaternion is then NED directly.
 * ``madgwick``: ``ahrs.filters.Madgwick`` (default gain), gyro rad/s, acc m/s^2, mag; its earth
@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from . import metrics as M
-from . import quaternion as Q
+from .core import quaternion as Q
 
 __all__ = ["FILTERS", "PEERS", "run_algorithm", "evaluate_trial", "evaluate", "format_table",
            "available", "add_parser", "plot_results"]
@@ -346,14 +346,14 @@ def _names(option: str, value: str, known: dict) -> list[str]:
         return []
     for n in names:
         if n not in known:
-            from .cli import UsageError
+            from .cliutil import UsageError
             raise UsageError(f"{option}: unknown name {n!r}; known: {', '.join(known)}, or none")
     return names
 
 
 def _broad_dir(arg) -> Path:
     """The BROAD folder of ``quatnav eval broad [DIR]``, or a UsageError saying what to give."""
-    from .cli import UsageError
+    from .cliutil import UsageError
     from .datasets import broad
     if arg is not None:
         d = Path(arg)
@@ -372,7 +372,7 @@ def _broad_dir(arg) -> Path:
 
 
 def _cmd_broad(args) -> int:
-    from .cli import UsageError, write_json
+    from .cliutil import UsageError, write_json
     filters = _names("--filters", args.filters, FILTERS)
     peers = _names("--peers", args.peers, PEERS)
     if not filters and not peers:

@@ -60,7 +60,7 @@ import sys
 
 import numpy as np
 
-from .cli import UsageError, write_json
+from .cliutil import UsageError, write_json
 from .csvio import CsvError, read_table
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")

@@ -239,3 +239,35 @@ def test_compiled_module_loads_on_first_use():
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        env={"PYTHONPATH": str(REPO / "python"), "PATH": ""})
     assert p.returncode == 0, p.stderr
+
+
+def test_numpy_parts_import_without_the_compiled_module():
+    """quatnav.core, quatnav.reference, quatnav.sim and quatnav.datasets work where quatnav._core
+    cannot be imported (a meta-path blocker); a filter then fails with the import error."""
+    code = """
+import sys
+class Block:
+    def find_spec(self, name, path=None, target=None):
+        if name == "quatnav._core":
+            raise ImportError("blocked: no compiled module")
+sys.meta_path.insert(0, Block())
+import numpy as np
+import quatnav, quatnav.core, quatnav.reference, quatnav.sim, quatnav.datasets
+from quatnav.core import quaternion as Q, earth, strapdown
+q = Q.from_euler([0.1, 0.2, 0.3]); assert abs(Q.to_euler(q)[2] - 0.3) < 1e-12
+assert earth.radii(0.5)[0] > 6.3e6
+s = quatnav.sim.make_scenario("paper004_static", seed=0, duration=3.0)
+r = quatnav.reference.QuaternionEKF().run(s.imu.gyro[:50], s.imu.accel[:50], None, dt=0.01)
+assert np.isfinite(r.quat).all()
+assert "quatnav._core" not in sys.modules
+try:
+    quatnav.QuaternionEKF()
+except ImportError as e:
+    assert "blocked" in str(e)
+else:
+    raise SystemExit("the filter ran without its compiled module")
+print("ok")
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       env={"PYTHONPATH": str(REPO / "python"), "PATH": ""})
+    assert p.returncode == 0 and p.stdout.strip() == "ok", p.stderr

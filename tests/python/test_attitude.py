@@ -4,7 +4,7 @@ import pytest
 from scipy import stats
 
 import quatnav
-from quatnav import quaternion as Q
+from quatnav.core import quaternion as Q
 from quatnav import reference
 from quatnav.demo import rotation_scenario
 

@@ -11,7 +11,7 @@ import quatnav.cli
 import quatnav.evaluate
 import quatnav.tuning
 from quatnav import metrics as M
-from quatnav import quaternion as Q
+from quatnav.core import quaternion as Q
 from quatnav.datasets import broad
 
 DATA = Path(os.environ.get("QUATNAV_DATA", Path(__file__).resolve().parents[2].parent / "shared" / "data"))

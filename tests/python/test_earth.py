@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from quatnav import earth
+from quatnav.core import earth
 
 
 def test_constants():

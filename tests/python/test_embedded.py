@@ -42,7 +42,7 @@ def _script():
 def test_attitude_difference_measure():
     run = _script()
     import numpy as np
-    from quatnav import quaternion as quat
+    from quatnav.core import quaternion as quat
 
     q = quat.from_rotvec(np.array([[0.0, 0.0, 0.0], [0.1, -0.2, 0.3]]))
     dq = quat.from_rotvec(np.array([[1e-6, 0.0, 0.0], [0.0, 0.02, 0.0]]))

@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 import quatnav
-from quatnav import earth
-from quatnav import quaternion as Q
+from quatnav.core import earth
+from quatnav.core import quaternion as Q
 from quatnav.sim import sensors as SS
 from quatnav.sim.scenarios import make_scenario
 

@@ -44,7 +44,7 @@ def test_navego_loader_fields_units_and_time(navego):
     np.testing.assert_allclose(d.imu_profile["arw"], np.radians(2.0) / 60.0, rtol=1e-6)
     np.testing.assert_allclose(d.imu_profile["vrw"], 0.2 / 60.0, rtol=1e-6)
     # the reference DCM is body-to-NED, row-major, and agrees with the Euler angles
-    from quatnav import quaternion as Q
+    from quatnav.core import quaternion as Q
     for i in (0, 20000, 60000):
         np.testing.assert_allclose(Q.to_rotmat(Q.from_euler(d.ref_rpy[i])), d.ref_C_nb[i], atol=1e-9)
 

@@ -23,10 +23,10 @@ import math
 import numpy as np
 import pytest
 
-from quatnav import earth
-from quatnav import quaternion as Q
+from quatnav.core import earth
+from quatnav.core import quaternion as Q
 from quatnav.reference.gpsins import GpsInsParams, gpsins_F
-from quatnav.strapdown import StrapdownState
+from quatnav.core.strapdown import StrapdownState
 
 
 def _radii(lat, lat_frozen):

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import quatnav
-from quatnav import cli, earth
+from quatnav import cli
+from quatnav.core import earth
 
 pytest.importorskip("pandas")
 from quatnav.sim.scenarios import make_scenario  # noqa: E402

@@ -6,7 +6,7 @@ import pytest
 from scipy import stats
 
 import quatnav
-from quatnav import quaternion as Q
+from quatnav.core import quaternion as Q
 from quatnav.reference import MargFilter as RefMarg
 from quatnav.reference import marg as refm
 

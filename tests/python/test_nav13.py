@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import quatnav
-from quatnav import quaternion as Q
+from quatnav.core import quaternion as Q
 from quatnav.filters.nav13 import initial_covariance, euler_rate_matrix
 from quatnav.reference import nav13 as R
 

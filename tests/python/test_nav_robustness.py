@@ -70,7 +70,7 @@ def nav13_logs(draw):
 def _nav13(time_update, dtype):
     f = quatnav.NavFilter13(time_update=time_update, dtype=dtype, gyro_range=20.0, acc_range=150.0, acc_noise=1e-3,
                             gyro_noise=1e-4)
-    q = quatnav.quaternion.from_euler([0.1, 0.2, 0.3])
+    q = quatnav.core.quaternion.from_euler([0.1, 0.2, 0.3])
     f.reset([0.1, 0.0, 0.0], q, P=initial_covariance(q, 0.1, [0.01, 0.01, 0.02], 0.01, 1e-3),
             lat=LAT, lon=LON, h=H)
     return f
@@ -203,7 +203,7 @@ def test_gpsins_run_raises_or_stays_finite(dtype, on_invalid, log):
                     min_size=1, max_size=25))
 def test_gpsins_steps_refuse_or_keep_state_finite(dtype, ops):
     f = _gpsins(dtype)
-    f._f.initialize(quatnav.quaternion.from_euler([0.1, 0.2, 0.3]).astype(dtype), np.zeros(3, dtype), LAT, LON, H,
+    f._f.initialize(quatnav.core.quaternion.from_euler([0.1, 0.2, 0.3]).astype(dtype), np.zeros(3, dtype), LAT, LON, H,
                     np.zeros(3, dtype), np.zeros(3, dtype), np.diag(np.full(15, 1e-2)).astype(dtype))
     for op, v, s in ops:
         before = f.get_state()

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import quatnav
-from quatnav import quaternion as Q
+from quatnav.core import quaternion as Q
 from quatnav import reference
 
 G = 9.81

@@ -1,10 +1,10 @@
-"""quatnav.quaternion (numpy) and the C++ helpers against scipy's Rotation."""
+"""quatnav.core.quaternion (numpy) and the C++ helpers against scipy's Rotation."""
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
 from quatnav import _core
-from quatnav import quaternion as Q
+from quatnav.core import quaternion as Q
 
 rng = np.random.default_rng(7)
 QS = Q.normalize(rng.standard_normal((50, 4)))

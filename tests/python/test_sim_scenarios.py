@@ -4,7 +4,7 @@ import json
 import numpy as np
 import pytest
 
-from quatnav import earth
+from quatnav.core import earth
 from quatnav.sim import list_scenarios, load_csv, load_npz, make_scenario, save_csv, save_npz
 from quatnav.sim import units
 from quatnav.sim.io import csv_columns

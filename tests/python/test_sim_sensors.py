@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from quatnav import earth
-from quatnav import quaternion as quat
+from quatnav.core import earth
+from quatnav.core import quaternion as quat
 from quatnav.sim import (AccelSpec, BaroSpec, CompassSpec, GpsSpec, GyroSpec, ImuSpec,
                          MagDisturbance, MagSpec, Rest, Cruise, Turn, allan_deviation, allan_readout,
                          make_trajectory, simulate_baro, simulate_compass, simulate_gps,

@@ -2,10 +2,12 @@
 import numpy as np
 import pytest
 
-from quatnav import _core, earth
-from quatnav import quaternion as quat
+from quatnav import _core
+from quatnav.core import earth
+from quatnav.core import quaternion as quat
 from quatnav.sim import Climb, CoordinatedTurn, Cruise, Rotate, Rest, Turn, make_trajectory
-from quatnav.strapdown import StrapdownState, strapdown_run, strapdown_run_cpp, strapdown_step
+from quatnav.core.strapdown import StrapdownState, strapdown_run, strapdown_step
+from quatnav.filters.strapdown import strapdown_run_cpp
 
 
 def att_err_deg(a, b):

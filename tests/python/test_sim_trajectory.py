@@ -2,11 +2,11 @@
 import numpy as np
 import pytest
 
-from quatnav import earth
-from quatnav import quaternion as quat
+from quatnav.core import earth
+from quatnav.core import quaternion as quat
 from quatnav.sim import (Accelerate, Climb, CoordinatedTurn, Cruise, RandomMotion, Rest, Rotate,
                          Turn, WaypointPath, make_trajectory, trajectory_from_waypoints)
-from quatnav.strapdown import StrapdownState, strapdown_run, strapdown_step
+from quatnav.core.strapdown import StrapdownState, strapdown_run, strapdown_step
 
 
 def att_err_deg(a, b):

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import quaternion as Q
+from ..core import quaternion as Q
 
 __all__ = ["Trial", "load_trial", "list_trials", "load_trial_info", "enu_to_ned", "default_dir"]
 

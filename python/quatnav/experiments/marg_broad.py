@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import quaternion as Q
+from ..core import quaternion as Q
 
 FILTERS = ("marg", "marg_6d", "qekf")
 
@@ -83,7 +83,7 @@ def run_trial(tr: dict, gain: float = 1.0) -> dict:
 
 
 def run(args) -> int:
-    from ..cli import UsageError, write_json
+    from ..cliutil import UsageError, write_json
     d = Path(args.data) if args.data else default_dir()
     files = sorted(d.glob("*.mat"))
     if not files:

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import quaternion as Q
+from ..core import quaternion as Q
 
 SCENARIO = "paper001_constant_turn"
 VARIANTS = ("uncorrected", "gps_no_lever", "corrected", "corrected_no_declination", "qekf")
@@ -204,7 +204,7 @@ def plot(series, path):
 
 
 def run(args) -> int:
-    from ..cli import UsageError, write_json
+    from ..cliutil import UsageError, write_json
     if args.seeds < 1:
         raise UsageError(f"--seeds: expected a positive integer, got {args.seeds}")
     res, first = monte_carlo(args.seeds, args.gain, args.gps_tau, keep_first=bool(args.plot))

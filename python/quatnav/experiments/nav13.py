@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 
-from .. import quaternion as Q
+from ..core import quaternion as Q
 from ..filters._base import Aid
 from ..filters.nav13 import TIME_UPDATES, NavFilter13, initial_covariance
 
@@ -245,7 +245,7 @@ def plot(mc: dict, path: str, runs: int, mode: str):
 
 
 def run(args) -> int:
-    from ..cli import UsageError, write_json
+    from ..cliutil import UsageError, write_json
     if args.runs < 1:
         raise UsageError(f"--runs: expected a positive integer, got {args.runs}")
     if args.cost_repeats < 1:

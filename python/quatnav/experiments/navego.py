@@ -71,7 +71,7 @@ def filter_params(d) -> dict:
 def run_navego(directory=None, seconds=None):
     """Run the filter on the NaveGo data; returns (summary dict, arrays dict)."""
     import quatnav
-    from .. import quaternion as Q
+    from ..core import quaternion as Q
     from ..datasets import navego
 
     d = navego.load(directory)
@@ -215,7 +215,7 @@ def plot(arrays, path):
 
 
 def run(args) -> int:
-    from ..cli import UsageError, write_json
+    from ..cliutil import UsageError, write_json
     if args.seconds is not None and not args.seconds > 0:
         raise UsageError(f"--seconds: expected a positive number, got {args.seconds:g}")
     try:

@@ -20,7 +20,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _validate as V
-from .. import quaternion as Q
+from ..core import quaternion as Q
 from .tables import STATUS_NAMES
 
 __all__ = ["Aid", "AidResult", "FilterResult", "NavResult", "Filter", "core"]

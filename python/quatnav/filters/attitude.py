@@ -12,7 +12,7 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from .. import quaternion as Q
+from ..core import quaternion as Q
 from ._base import Filter, FilterResult, check_imu_order, check_swapped, times_of
 from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 

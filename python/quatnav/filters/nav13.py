@@ -15,7 +15,7 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from .. import quaternion as Q
+from ..core import quaternion as Q
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
                     no_mag, skipped_imu_rows)
 from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES

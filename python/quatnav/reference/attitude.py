@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .. import quaternion as Q
+from ..core import quaternion as Q
 from .kalman import kalman_correct
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED

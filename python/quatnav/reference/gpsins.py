@@ -15,9 +15,9 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from .. import earth
-from .. import quaternion as Q
-from ..strapdown import StrapdownState, strapdown_step
+from ..core import earth
+from ..core import quaternion as Q
+from ..core.strapdown import StrapdownState, strapdown_step
 from .kalman import kalman_correct
 
 __all__ = ["GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING"]

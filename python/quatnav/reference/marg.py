@@ -10,7 +10,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .. import quaternion as Q
+from ..core import quaternion as Q
 from .attitude import _unit, attitude_from_acc_mag
 
 

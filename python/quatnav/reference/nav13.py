@@ -9,8 +9,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .. import earth
-from .. import quaternion as Q
+from ..core import earth
+from ..core import quaternion as Q
 from .kalman import kalman_correct
 
 TIME_UPDATES = ("ekf", "second_order", "ukf")

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli import UsageError, write_json
+from ..cliutil import UsageError, write_json
 
 
 def add_parser(subparsers):

@@ -32,8 +32,8 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .. import earth
-from .. import quaternion as quat
+from ..core import earth
+from ..core import quaternion as quat
 from . import units
 from .trajectory import Trajectory
 

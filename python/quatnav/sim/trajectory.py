@@ -12,7 +12,7 @@ the velocity ``v_n(tau)`` with respect to the Earth. From these two functions al
 2. latitude, longitude and height are integrated from ``v_n`` with Simpson's rule on a grid of
    half the sample period (cumulative, O(h^4) at every grid point), iterating the weak
    dependence of the radii on latitude;
-3. with the Earth model of :mod:`quatnav.earth`::
+3. with the Earth model of :mod:`quatnav.core.earth`::
 
        omega_ib_b = omega_nb_b + C_bn (omega_ie_n + omega_en_n)
        f_ib_b     = C_bn (a_n + (2 omega_ie_n + omega_en_n) x v_n - g_n)
@@ -25,7 +25,7 @@ the velocity ``v_n(tau)`` with respect to the Earth. From these two functions al
 
 A real IMU reports increments or interval means; the simulated IMU (:mod:`quatnav.sim.sensors`)
 reports the interval mean ``dtheta_b / dt`` and ``dv_b / dt``, which is what
-:func:`quatnav.strapdown.strapdown_step` expects. Segment boundaries are placed on the sample
+:func:`quatnav.core.strapdown.strapdown_step` expects. Segment boundaries are placed on the sample
 grid (durations are rounded to whole samples) so no interval straddles a change of segment.
 
 Segments
@@ -48,8 +48,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .. import earth
-from .. import quaternion as quat
+from ..core import earth
+from ..core import quaternion as quat
 
 __all__ = [
     "MotionState", "Segment", "Rest", "Accelerate", "Cruise", "Turn", "CoordinatedTurn", "Climb",
@@ -603,7 +603,7 @@ class Trajectory:
     lat, lon : (N,) rad, geodetic
     h : (N,) m, above the ellipsoid
     pos_n : (N, 3) m, local NED position with respect to the start (small-displacement
-        conversion of :func:`quatnav.earth.geodetic_to_ned`)
+        conversion of :func:`quatnav.core.earth.geodetic_to_ned`)
     v_n : (N, 3) m/s, velocity with respect to the Earth in NED
     a_n : (N, 3) m/s^2, dv_n/dt
     q_nb : (N, 4) attitude [w, x, y, z], body to NED

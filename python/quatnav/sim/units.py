@@ -23,7 +23,7 @@ magnetic field                 uT                                      T
 speed                          ft/s                                    m/s
 =============================  ======================================  ===========================
 
-One "g" here is the conventional standard gravity 9.80665 m/s^2 (:data:`quatnav.earth.STANDARD_GRAVITY`),
+One "g" here is the conventional standard gravity 9.80665 m/s^2 (:data:`quatnav.core.earth.STANDARD_GRAVITY`),
 not local gravity.
 
 White noise given as a density ``N`` (per sqrt(Hz)) becomes a per-sample standard deviation
@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 
-from ..earth import STANDARD_GRAVITY
+from ..core.earth import STANDARD_GRAVITY
 
 DEG = math.pi / 180.0  #: rad per degree
 HOUR = 3600.0  #: s per hour
