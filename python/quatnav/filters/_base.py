@@ -435,7 +435,9 @@ def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
         ng = np.linalg.norm(g.astype(np.float64), axis=1)
         na = np.linalg.norm(a.astype(np.float64), axis=1)
         ng, na = ng[np.isfinite(ng)], na[np.isfinite(na)]
-    if ng.size and na.size and 7.0 < np.median(ng) < 12.5 and np.median(na) < 3.0:
+    # Gravity within 10 %, and a rate below 3 rad/s where the specific force should be (in m/s^2
+    # or in g): a gyro whose median reads 9-10.8 rad/s with such an accelerometer is swapped.
+    if ng.size and na.size and 8.8 < np.median(ng) < 10.8 and np.median(na) < 3.0:
         raise TypeError(f"gyr: median norm {np.median(ng):.3g} (rad/s) looks like specific force in m/s^2 and "
                         f"acc's {np.median(na):.3g} like an angular rate: the order is run(gyr, acc, ...), "
                         "gyroscope first")

@@ -215,7 +215,7 @@ EULER_PARAMS = (
     _p("init_gyro_bias_sigma", 0.01, "rad/s", "gyro-bias one-sigma after initialize", core="init_bias_sigma"),
     _MAG_REF,
     _max_dt(),
-    _p("singular_cos", 0.02, "1", "|cos(pitch)| below which the Euler parametrization is flagged singular"),
+    _p("singular_cos", 0.02, "1", "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it"),
     *_ranges(),
     _cov_floor(1e-12),
 )
