@@ -6,7 +6,7 @@ navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, y
 """
 import importlib
 
-from . import core, datasets, metrics  # noqa: F401  (numpy core, BROAD loader and benchmark metrics)
+from . import core, datasets, evaluation  # noqa: F401  (numpy core, dataset loaders, BROAD metrics)
 from .filters._base import Aid, AidResult, FilterResult
 from .filters.attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
 from .filters.marg import MARG_FLAGS, MargFilter, MargResult

@@ -93,9 +93,9 @@ def build_parser() -> argparse.ArgumentParser:
     sim_cli.add_parser(sub)
     from . import experiments
     experiments.add_parser(sub)
-    from . import bench
+    from .evaluation import bench
     bench.add_parser(sub)
-    from . import evaluate
+    from .evaluation import evaluate
     evaluate.add_parser(sub)
     from . import ins_cli
     ins_cli.add_parser(sub)

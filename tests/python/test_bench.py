@@ -4,7 +4,7 @@ import json
 import numpy as np
 import pytest
 
-from quatnav import bench
+from quatnav.evaluation import bench
 
 
 def test_marg_data_is_consistent():

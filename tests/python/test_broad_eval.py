@@ -8,9 +8,9 @@ import pytest
 
 import quatnav
 import quatnav.cli
-import quatnav.evaluate
-import quatnav.tuning
-from quatnav import metrics as M
+import quatnav.evaluation.evaluate
+import quatnav.evaluation.tuning
+from quatnav.evaluation import metrics as M
 from quatnav.core import quaternion as Q
 from quatnav.datasets import broad
 
@@ -156,22 +156,22 @@ def test_loader_on_synthetic(synthetic_dir):
 
 def test_evaluate_and_table_on_synthetic(synthetic_dir):
     d, _ = synthetic_dir
-    res = quatnav.evaluate.evaluate(d, filters=("qekf", "euler-ekf"), peers=())
+    res = quatnav.evaluation.evaluate.evaluate(d, filters=("qekf", "euler-ekf"), peers=())
     assert res["algorithms"] == ["qekf", "euler-ekf"]
     for t in res["trials"].values():
         assert t["results"]["qekf"]["total"] < 3.0
         assert 0 <= t["results"]["qekf"]["within_3sigma"] <= 1
     assert res["mean"]["qekf"]["total"] == pytest.approx(
         np.mean([t["results"]["qekf"]["total"] for t in res["trials"].values()]))
-    text = quatnav.evaluate.format_table(res)
+    text = quatnav.evaluation.evaluate.format_table(res)
     assert "mean total" in text and "qekf" in text
 
 
 def test_missing_filter_is_skipped_with_note(synthetic_dir, monkeypatch):
     d, _ = synthetic_dir
-    monkeypatch.setitem(quatnav.evaluate.FILTERS, "nope", "NoSuchFilter")
-    monkeypatch.setitem(quatnav.evaluate.PEERS, "nopeer", "no_such_module_xyz")
-    res = quatnav.evaluate.evaluate(d, filters=("qekf", "nope"), peers=("nopeer",))
+    monkeypatch.setitem(quatnav.evaluation.evaluate.FILTERS, "nope", "NoSuchFilter")
+    monkeypatch.setitem(quatnav.evaluation.evaluate.PEERS, "nopeer", "no_such_module_xyz")
+    res = quatnav.evaluation.evaluate.evaluate(d, filters=("qekf", "nope"), peers=("nopeer",))
     assert res["algorithms"] == ["qekf"]
     assert len(res["notes"]) == 2
 
@@ -192,10 +192,10 @@ def test_cli_eval_broad(synthetic_dir, tmp_path, capsys):
 
 def test_tuning_picks_lowest_mean(synthetic_dir):
     d, _ = synthetic_dir
-    sets = quatnav.tuning.grid(acc_sigma=[0.05, 5.0], mag_sigma=[0.1])
+    sets = quatnav.evaluation.tuning.grid(acc_sigma=[0.05, 5.0], mag_sigma=[0.1])
     assert len(sets) == 2
     with ThreadPoolExecutor(max_workers=2) as ex:
-        res = quatnav.tuning.tune(sets, directory=d, executor=ex)
+        res = quatnav.evaluation.tuning.tune(sets, directory=d, executor=ex)
     scores = [r[0] for r in res.ranking]
     assert scores == sorted(scores)
     assert res.best_score == scores[0]
@@ -225,8 +225,8 @@ def test_peer_mappings_on_broad():
     """Each peer's frame mapping puts it within a few degrees of the reference."""
     t = broad.load_trial(broad.list_trials(BROAD)[0])
     for name in ("vqf", "imufusion"):
-        ok, _ = quatnav.evaluate.available(name)
+        ok, _ = quatnav.evaluation.evaluate.available(name)
         if not ok:
             continue
-        r = quatnav.evaluate.evaluate_trial(t, name)
+        r = quatnav.evaluation.evaluate.evaluate_trial(t, name)
         assert r["total"] < 5.0, name

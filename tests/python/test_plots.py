@@ -160,7 +160,7 @@ def _broad_results(rate=100.0, n=3000):
 
 
 def test_broad_figures_from_results(tmp_path):
-    from quatnav.evaluate import plot_results
+    from quatnav.evaluation.evaluate import plot_results
     files = plot_results(_broad_results(), tmp_path / "plots")
     assert [f.name for f in files] == ["error_01_synthetic.png", "groups_total_rmse.png"]
     for f in files:
@@ -170,7 +170,7 @@ def test_broad_figures_from_results(tmp_path):
 def test_broad_per_trial_figure_log_axis(tmp_path, monkeypatch):
     """The per-trial figure is on a log axis whose range holds both a 0.7 deg and a 30 deg curve."""
     import quatnav._plotting as P
-    from quatnav.evaluate import plot_results
+    from quatnav.evaluation.evaluate import plot_results
     made = []
     real = P.figure
     monkeypatch.setattr(P, "figure", lambda *a, **k: made.append(real(*a, **k)) or made[-1])
@@ -184,7 +184,7 @@ def test_broad_per_trial_figure_log_axis(tmp_path, monkeypatch):
 
 
 def test_broad_figure_on_a_real_trial(data_dir, tmp_path):
-    from quatnav import evaluate
+    from quatnav.evaluation import evaluate
     src = data_dir / "broad"
     trial = src / "02_undisturbed_slow_rotation_B.mat"
     if not trial.exists():

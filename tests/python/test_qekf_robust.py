@@ -37,13 +37,13 @@ def simulate(n=3000, rate=100.0, seed=0, rot_rate=None, lin_acc=None, mag_dist=N
 
 
 def tilt_err_deg(q_est, q_true):
-    e = quatnav.metrics.error_quat(q_est, q_true)
-    return np.degrees(quatnav.metrics.inclination_error(e))
+    e = quatnav.evaluation.metrics.error_quat(q_est, q_true)
+    return np.degrees(quatnav.evaluation.metrics.inclination_error(e))
 
 
 def heading_err_deg(q_est, q_true):
-    e = quatnav.metrics.error_quat(q_est, q_true)
-    return np.degrees(quatnav.metrics.heading_error(e))
+    e = quatnav.evaluation.metrics.error_quat(q_est, q_true)
+    return np.degrees(quatnav.evaluation.metrics.heading_error(e))
 
 
 def wobble(k):
@@ -204,7 +204,7 @@ def test_float32_close_to_float64_with_defaults():
     quat, gyr, acc, mag, dt = simulate(n=1500, rot_rate=wobble, seed=9)
     r64 = quatnav.QuaternionEKF().run(gyr, acc, mag, dt=dt)
     r32 = quatnav.QuaternionEKF(dtype=np.float32).run(gyr, acc, mag, dt=dt)
-    ang = np.degrees(quatnav.metrics.total_error(quatnav.metrics.error_quat(r32.quat, r64.quat)))
+    ang = np.degrees(quatnav.evaluation.metrics.total_error(quatnav.evaluation.metrics.error_quat(r32.quat, r64.quat)))
     assert ang.max() < 0.05
 
 
@@ -232,5 +232,5 @@ def test_default_consistency_on_simulated_data():
     """With honest noise the default filter's attitude error stays within its 3 sigma."""
     quat, gyr, acc, mag, dt = simulate(n=3000, rot_rate=wobble, seed=10, bias=(0.005, -0.004, 0.003))
     r = quatnav.QuaternionEKF().run(gyr, acc, mag, dt=dt)
-    frac = quatnav.metrics.sigma_consistency(r.quat[500:], quat[500:], r.att_sigma[500:])
+    frac = quatnav.evaluation.metrics.sigma_consistency(r.quat[500:], quat[500:], r.att_sigma[500:])
     assert frac > 0.95

@@ -7,7 +7,7 @@ Each trial holds IMU data (gyro rad/s, accelerometer m/s^2, magnetometer uT) at 
 an optical reference ``opt_quat`` (sensor to earth, earth frame ENU, NaN where the markers were
 lost). The dataset's earth frame is already aligned with the magnetometer's (y = magnetic
 north): the benchmark compares estimates with the reference without any heading alignment
-(its ``calculateErrorQuatEarth``), and so does :mod:`quatnav.metrics`. :func:`load_trial`
+(its ``calculateErrorQuatEarth``), and so does :mod:`quatnav.evaluation.metrics`. :func:`load_trial`
 converts the reference to quatnav's NED convention (x = magnetic north, z down) with
 :func:`enu_to_ned`; the body frame is the sensor's own.
 """

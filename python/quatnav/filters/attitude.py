@@ -275,7 +275,7 @@ class QuaternionEKF(_AttitudeFilter):
     dtype : float64 or float32
         Precision of the C++ filter.
 
-    The defaults of the robustness parameters were chosen with :mod:`quatnav.tuning` on the
+    The defaults of the robustness parameters were chosen with :mod:`quatnav.evaluation.tuning` on the
     BROAD benchmark (one set for all trials); see ``docs/broad.md``.
     """
 

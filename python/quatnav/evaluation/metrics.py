@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .core import quaternion as Q
+from ..core import quaternion as Q
 
 __all__ = ["error_quat", "total_error", "heading_error", "inclination_error", "rmse",
            "attitude_rmse_deg", "body_error_rotvec", "sigma_consistency"]

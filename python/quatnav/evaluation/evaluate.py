@@ -3,7 +3,7 @@
 ``quatnav eval broad DIR [--filters qekf,euler-ekf,marg] [--peers vqf,imufusion,madgwick]
 [--json FILE] [--plot DIR]`` runs every selected algorithm on every trial of DIR in the same run
 and prints, per trial, per group and on average, BROAD's total / heading / inclination RMSE over
-the movement phases (:mod:`quatnav.metrics`), and for quatnav's filters the fraction of samples
+the movement phases (:mod:`quatnav.evaluation.metrics`), and for quatnav's filters the fraction of samples
 whose attitude error lies within the filter's own 3 sigma.
 
 Every algorithm runs with its default parameters, online (causal), one parameter set for all
@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from . import metrics as M
-from .core import quaternion as Q
+from ..core import quaternion as Q
 
 __all__ = ["FILTERS", "PEERS", "run_algorithm", "evaluate_trial", "evaluate", "format_table",
            "available", "add_parser", "plot_results"]
@@ -128,7 +128,7 @@ def evaluate_trial(trial, name: str, params: dict | None = None, keep_series: bo
 
 
 def _job(path: str, name: str, params, keep_series: bool):
-    from .datasets import broad
+    from ..datasets import broad
     trial = broad.load_trial(path)
     return trial.name, name, evaluate_trial(trial, name, params, keep_series)
 
@@ -169,7 +169,7 @@ def evaluate(directory=None, filters=("qekf",), peers=("vqf", "imufusion", "madg
         ``{"algorithms": [...], "trials": {name: {"groups": [...], "results": {alg: figures}}},
         "groups": {group: {alg: {"total": ...}}}, "mean": {alg: figures}, "notes": [...]}``.
     """
-    from .datasets import broad
+    from ..datasets import broad
     directory = Path(directory) if directory is not None else broad.default_dir()
     files = broad.list_trials(directory)
     if not files:
@@ -272,7 +272,7 @@ def plot_results(results: dict, outdir) -> list[Path]:
     Returns the files written."""
     from matplotlib.patches import Patch
 
-    from ._plotting import figure, legend_right, moving_rms, save
+    from .._plotting import figure, legend_right, moving_rms, save
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     written = []
@@ -346,15 +346,15 @@ def _names(option: str, value: str, known: dict) -> list[str]:
         return []
     for n in names:
         if n not in known:
-            from .cliutil import UsageError
+            from ..cliutil import UsageError
             raise UsageError(f"{option}: unknown name {n!r}; known: {', '.join(known)}, or none")
     return names
 
 
 def _broad_dir(arg) -> Path:
     """The BROAD folder of ``quatnav eval broad [DIR]``, or a UsageError saying what to give."""
-    from .cliutil import UsageError
-    from .datasets import broad
+    from ..cliutil import UsageError
+    from ..datasets import broad
     if arg is not None:
         d = Path(arg)
         if not d.is_dir():
@@ -372,7 +372,7 @@ def _broad_dir(arg) -> Path:
 
 
 def _cmd_broad(args) -> int:
-    from .cliutil import UsageError, write_json
+    from ..cliutil import UsageError, write_json
     filters = _names("--filters", args.filters, FILTERS)
     peers = _names("--peers", args.peers, PEERS)
     if not filters and not peers:

@@ -65,7 +65,7 @@ def marg_data(n: int, seed: int = 0) -> MargData:
     for the filters and does not change the cost of a step.
     """
     if seed not in _SCENARIO_CACHE:
-        from .sim import make_scenario
+        from ..sim import make_scenario
         _SCENARIO_CACHE[seed] = make_scenario("handheld_marg", seed)
     sc = _SCENARIO_CACHE[seed]
     g, a, m = sc.imu.gyro[1:], sc.imu.accel[1:], sc.mag.mag[1:]  # row 0 is instantaneous
@@ -250,7 +250,7 @@ def machine_info() -> dict:
             versions[pkg] = md.version(pkg)
         except md.PackageNotFoundError:
             pass
-    from . import __version__
+    from .. import __version__
     versions["quatnav"] = __version__
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
             "platform": platform.platform(), "load_average": load, "versions": versions,
@@ -305,7 +305,7 @@ def add_parser(sub) -> None:
 
 
 def _cli(args) -> int:
-    from .cliutil import UsageError, write_json
+    from ..cliutil import UsageError, write_json
     for opt, v, lo in (("-n", args.n, 1), ("--repeat", args.repeat, 1), ("--max-n", args.max_n, 1e3)):
         if not v >= lo:
             raise UsageError(f"{opt}: expected at least {lo:g}, got {v:g}")
@@ -331,8 +331,8 @@ def _cli(args) -> int:
 
 
 def main(argv=None) -> int:
-    """``python -m quatnav.bench [options]``: the same as ``quatnav bench [options]``."""
-    from . import cli
+    """``python -m quatnav.evaluation.bench [options]``: the same as ``quatnav bench [options]``."""
+    from .. import cli
     return cli.main(["bench"] + list(sys.argv[1:] if argv is None else argv))
 
 
@@ -341,7 +341,7 @@ def main(argv=None) -> int:
 # ----------------------------------------------------------------------------------------------
 def _quatnav(cls_name: str, dtype, **params):
     def make(d: MargData):
-        from .filters import attitude
+        from ..filters import attitude
         cls = getattr(attitude, cls_name)
         return lambda: cls(dtype=dtype, **params).run(d.gyr, d.acc, d.mag, dt=d.dt)
     return make
@@ -349,7 +349,7 @@ def _quatnav(cls_name: str, dtype, **params):
 
 def _reference(cls_name: str):
     def make(d: MargData):
-        from . import reference
+        from .. import reference
         cls = getattr(reference, cls_name)
         return lambda: cls().run(d.gyr, d.acc, d.mag, dt=d.dt)
     return make
@@ -398,8 +398,8 @@ def _ahrs(name: str):
 
 def _qekf_model(d: MargData):
     """Quaternion model of paper 000 from quatnav.reference, for the filterpy set-ups."""
-    from .reference import QuaternionEKF as RefQEKF
-    from .reference.attitude import attitude_from_acc_mag
+    from ..reference import QuaternionEKF as RefQEKF
+    from ..reference.attitude import attitude_from_acc_mag
     ref = RefQEKF()
     p = ref.p
     fn = d.field_n / np.linalg.norm(d.field_n)
@@ -420,7 +420,7 @@ def _qekf_model(d: MargData):
         return H
 
     def Qn(q):
-        from .core import quaternion as Q
+        from ..core import quaternion as Q
         X = Q.xi(q)
         out = np.zeros((7, 7))
         out[:4, :4] = d.dt * p.gyro_noise**2 / 4 * X @ X.T + 1e-12 * np.eye(4)

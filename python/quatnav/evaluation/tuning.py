@@ -7,7 +7,7 @@ parameter set used on all trials). The work is spread through any
 
 Example, local::
 
-    from quatnav import tuning
+    from quatnav.evaluation import tuning
     res = tuning.tune(tuning.grid(acc_sigma=[0.05, 0.1, 0.2], gyro_noise=[5e-4, 1e-3]))
     print(res.best, res.best_score)
 
@@ -44,7 +44,7 @@ def grid(**axes) -> list[dict]:
 
 @functools.lru_cache(maxsize=64)
 def _trial(path: str):
-    from .datasets import broad
+    from ..datasets import broad
     return broad.load_trial(path)
 
 
@@ -91,7 +91,7 @@ def tune(param_sets, directory=None, filter: str = "qekf", base: dict | None = N
     directory : str or Path, optional
         Folder of BROAD trials (default: the shared data folder).
     filter : str
-        A key of :data:`quatnav.evaluate.FILTERS`.
+        A key of :data:`quatnav.evaluation.evaluate.FILTERS`.
     base : dict, optional
         Parameters common to every set (a set's own values win).
     executor : concurrent.futures.Executor, optional
@@ -106,7 +106,7 @@ def tune(param_sets, directory=None, filter: str = "qekf", base: dict | None = N
     -------
     TuningResult
     """
-    from .datasets import broad
+    from ..datasets import broad
     if isinstance(param_sets, dict):
         param_sets = grid(**param_sets)
     param_sets = [dict(base or {}, **p) for p in param_sets]
