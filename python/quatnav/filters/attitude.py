@@ -192,8 +192,9 @@ class QuaternionEKF(_AttitudeFilter):
     :meth:`set_mag_dip` is called). ``QuaternionEKF(paper=True)`` is the plain filter of the
     paper with its original noise values; the defaults add the robustness options below.
 
-    Parameters (keyword, SI units; defaults chosen on BROAD, paper values in brackets)
-    ---------------------------------------------------------------------------------
+    The parameters in more detail (the full list with units and defaults follows under
+    *Parameters*; defaults chosen on BROAD, the paper's values in brackets):
+
     gyro_noise : float, default 0.01 [0.005]
         Gyro white-noise density, rad/s/sqrt(Hz).
     gyro_bias_noise : float, default 1e-4 [1e-5]
