@@ -40,7 +40,6 @@
 #include <random>
 #include <string>
 
-#include <quatnav/gps_ins.hpp>
 #include <quatnav/quatnav.hpp>
 
 #include "../tests/cpp/nav_truth.hpp"

@@ -2,8 +2,8 @@
 // methods, state get/set as dicts of arrays, and the batch run with the GIL released.
 #pragma once
 
-#include <quatnav/attitude.hpp>
-#include <quatnav/batch.hpp>
+#include <quatnav/attitude/attitude.hpp>
+#include <quatnav/attitude/batch.hpp>
 
 #include "common.hpp"
 

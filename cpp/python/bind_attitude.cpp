@@ -1,5 +1,5 @@
 // QuaternionEKF (paper 000) for float32 and float64 (EulerEKF: bind_euler.cpp).
-#include <quatnav/quaternion_ekf.hpp>
+#include <quatnav/attitude/quaternion_ekf.hpp>
 
 #include "attitude_binding.hpp"
 

@@ -1,5 +1,5 @@
 // EulerEKF (paper 000) for float32 and float64 (QuaternionEKF: bind_attitude.cpp).
-#include <quatnav/euler_ekf.hpp>
+#include <quatnav/attitude/euler_ekf.hpp>
 
 #include "attitude_binding.hpp"
 

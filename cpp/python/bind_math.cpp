@@ -1,5 +1,5 @@
 // Quaternion helpers, exposed so that tests can compare them with scipy and numpy.
-#include <quatnav/quaternion.hpp>
+#include <quatnav/core/quaternion.hpp>
 
 #include "common.hpp"
 

@@ -1,7 +1,7 @@
 // Bindings of the WGS-84 Earth model (float64) and the strapdown mechanization (float32 and
 // float64): StrapdownState_f64/_f32, strapdown_step, and strapdown_batch with the GIL released.
-#include <quatnav/earth.hpp>
-#include <quatnav/strapdown.hpp>
+#include <quatnav/core/earth.hpp>
+#include <quatnav/nav/strapdown.hpp>
 
 #include "common.hpp"
 
@@ -108,7 +108,7 @@ void bind_strapdown(py::module_& m) {
   me.attr("G3") = earth::kG3;
   me.attr("OMEGA_IE") = earth::kOmegaIe;
 
-  auto ms = m.def_submodule("strapdown", "NED strapdown mechanization (see quatnav/strapdown.hpp)");
+  auto ms = m.def_submodule("strapdown", "NED strapdown mechanization (see quatnav/nav/strapdown.hpp)");
   bind_strapdown_scalar<double>(ms);
   bind_strapdown_scalar<float>(ms);
 }

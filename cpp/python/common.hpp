@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include <quatnav/types.hpp>
+#include <quatnav/core/types.hpp>
 
 namespace quatnav_py {
 namespace py = pybind11;

@@ -1,9 +1,9 @@
 // The binding of GpsInsFilter (paper 004) for one scalar type S, with its batch run (GIL
-// released). Instantiated once per S, in bind_gpsins_f64.cpp (with the float64 helper gpsins_F)
+// released). Instantiated once per S, in bind_gpsins_f64.cpp
 // and bind_gpsins_f32.cpp (one translation unit each, so that they compile in parallel).
 #pragma once
 
-#include <quatnav/gps_ins.hpp>
+#include <quatnav/nav/gps_ins.hpp>
 
 #include "common.hpp"
 

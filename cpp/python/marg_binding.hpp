@@ -3,7 +3,7 @@
 // and bind_marg_f32.cpp (one translation unit each, so that they compile in parallel).
 #pragma once
 
-#include <quatnav/marg_filter.hpp>
+#include <quatnav/attitude/marg_filter.hpp>
 
 #include "common.hpp"
 

@@ -4,7 +4,7 @@
 // bind_nav13_f32.cpp (one translation unit each, so that they compile in parallel).
 #pragma once
 
-#include <quatnav/nav_filter13.hpp>
+#include <quatnav/nav/nav_filter13.hpp>
 
 #include "common.hpp"
 

@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include <quatnav/earth.hpp>
-#include <quatnav/quaternion.hpp>
+#include <quatnav/core/earth.hpp>
+#include <quatnav/core/quaternion.hpp>
 
 namespace quatnav_test {
 

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <quatnav/earth.hpp>
-#include <quatnav/strapdown.hpp>
+#include <quatnav/core/earth.hpp>
+#include <quatnav/nav/strapdown.hpp>
 
 using namespace quatnav;
 

@@ -5,7 +5,7 @@
 
 #include <cmath>
 #include <cstring>
-#include <quatnav/gps_ins.hpp>
+#include <quatnav/nav/gps_ins.hpp>
 
 using namespace quatnav;
 

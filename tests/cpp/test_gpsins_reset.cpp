@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <quatnav/gps_ins.hpp>
+#include <quatnav/nav/gps_ins.hpp>
 
 using namespace quatnav;
 

@@ -3,7 +3,7 @@
 
 #include <cstring>
 #include <Eigen/LU>
-#include <quatnav/kalman.hpp>
+#include <quatnav/core/kalman.hpp>
 #include <random>
 
 #include "random_matrix.hpp"

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <quatnav/nav_filter13.hpp>
+#include <quatnav/nav/nav_filter13.hpp>
 #include <random>
 #include <vector>
 

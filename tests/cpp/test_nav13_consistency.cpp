@@ -14,7 +14,7 @@
 #include <random>
 #include <vector>
 
-#include <quatnav/nav_filter13.hpp>
+#include <quatnav/nav/nav_filter13.hpp>
 
 #include "nav_truth.hpp"
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <quatnav/nav_filter13.hpp>
+#include <quatnav/nav/nav_filter13.hpp>
 #include <random>
 #include <type_traits>
 #include <vector>

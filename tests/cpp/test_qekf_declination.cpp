@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include <quatnav/quaternion_ekf.hpp>
+#include <quatnav/attitude/quaternion_ekf.hpp>
 
 using namespace quatnav;
 

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <limits>
 
-#include <quatnav/batch.hpp>
-#include <quatnav/quaternion_ekf.hpp>
+#include <quatnav/attitude/batch.hpp>
+#include <quatnav/attitude/quaternion_ekf.hpp>
 
 using namespace quatnav;
 

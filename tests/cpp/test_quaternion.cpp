@@ -1,7 +1,7 @@
 // Quaternion helpers: identities, round trips, and the exponential map's Jacobian.
 #include <gtest/gtest.h>
 
-#include <quatnav/quaternion.hpp>
+#include <quatnav/core/quaternion.hpp>
 #include <random>
 
 using namespace quatnav;

@@ -20,7 +20,6 @@
 #include <limits>
 #include <string>
 
-#include <quatnav/gps_ins.hpp>
 #include <quatnav/quatnav.hpp>
 
 namespace quatnav_fuzz {

@@ -9,8 +9,6 @@
 #include <cstdint>
 #include <limits>
 
-#include <quatnav/gps_ins.hpp>
-#include <quatnav/nav_filter13.hpp>
 #include <quatnav/quatnav.hpp>
 
 namespace qn_fw {

@@ -1,16 +1,26 @@
 // quatnav: every public header.
+//
+//   core/      math and machinery that knows no filter (includes nothing outside core/)
+//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization and batch loop
+//   nav/       strapdown, NavFilter13, GpsInsFilter and their batch loops
+// attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
 
-#include "types.hpp"
-#include "quaternion.hpp"
-#include "kalman.hpp"
-#include "covariance.hpp"
-#include "attitude.hpp"
-#include "quaternion_ekf.hpp"
-#include "euler_ekf.hpp"
-#include "marg_filter.hpp"
-#include "batch.hpp"
-#include "earth.hpp"
-#include "strapdown.hpp"
-#include "unscented.hpp"
-#include "nav_filter13.hpp"
+#include "core/types.hpp"
+#include "core/checks.hpp"
+#include "core/quaternion.hpp"
+#include "core/quat_block.hpp"
+#include "core/kalman.hpp"
+#include "core/covariance.hpp"
+#include "core/unscented.hpp"
+#include "core/earth.hpp"
+
+#include "attitude/attitude.hpp"
+#include "attitude/quaternion_ekf.hpp"
+#include "attitude/euler_ekf.hpp"
+#include "attitude/marg_filter.hpp"
+#include "attitude/batch.hpp"
+
+#include "nav/strapdown.hpp"
+#include "nav/nav_filter13.hpp"
+#include "nav/gps_ins.hpp"

@@ -87,7 +87,7 @@ TEST(CovarianceFloor, QuaternionEKFErrorStateKeepsStructure) {
   symmetrize(P);
   EXPECT_TRUE(detail::qekf_floor_covariance(q, P, 1e-10));
   EXPECT_LT((P.topLeftCorner<4, 4>() * q).norm(), 1e-18);  // no variance along q (the constraint)
-  const Mat3<double> Pa = detail::quat_cov_to_angle_cov(q, Mat4<double>(P.topLeftCorner<4, 4>()));
+  const Mat3<double> Pa = QuatBlock<double, 7, 0>::attitude_covariance(q, P);
   EXPECT_NEAR(Pa(0, 0), 1e-10, 1e-16);
   EXPECT_NEAR(Pa(1, 1), 1e-4, 1e-16);
   // A healthy, symmetric P is untouched bit for bit.

@@ -77,14 +77,14 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "attitude.hpp"
-#include "batch.hpp"
-#include "covariance.hpp"
-#include "earth.hpp"
-#include "kalman.hpp"
-#include "quaternion.hpp"
-#include "types.hpp"
-#include "unscented.hpp"
+#include "../core/checks.hpp"
+#include "../core/covariance.hpp"
+#include "../core/earth.hpp"
+#include "../core/kalman.hpp"
+#include "../core/quat_block.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
+#include "../core/unscented.hpp"
 
 namespace quatnav {
 
@@ -318,16 +318,14 @@ template <class S> Eigen::Matrix<S, 1, 4> nav13_yaw_jacobian(const Quat<S>& q) {
   return (d * dn - n * dd) / (n * n + d * d);
 }
 
+/// The quaternion block of the state [v_n, q_nb, b_a, b_g] (core/quat_block.hpp).
+template <class S> using Nav13Block = QuatBlock<S, 13, kQ>;
+
 /// q <- q/|q| with the covariance projected by J = (I - q_hat q_hat^T)/|q| on the q rows/columns.
 template <class S> void nav13_normalize(Vec13<S>& x, Mat13<S>& P) {
-  const Quat<S> q = x.template segment<4>(kQ);
-  const S n = q.norm();
-  const Quat<S> qh = q / n;
-  const Mat4<S> J = (Mat4<S>::Identity() - qh * qh.transpose()) / n;
-  P.template middleRows<4>(kQ) = (J * P.template middleRows<4>(kQ)).eval();
-  P.template middleCols<4>(kQ) = (P.template middleCols<4>(kQ) * J.transpose()).eval();
-  symmetrize(P);
-  x.template segment<4>(kQ) = qh;
+  Quat<S> q = x.template segment<4>(kQ);
+  Nav13Block<S>::normalize(q, P);
+  x.template segment<4>(kQ) = q;
 }
 
 /// A candidate state as the filter keeps it: finite, |q| = 1 to rounding (checked after the
@@ -338,24 +336,10 @@ template <class S> bool nav13_state_ok(const Vec13<S>& x, const Mat13<S>& P) {
 
 /// T (12x13): the error-state map [dv, dtheta, db_a, db_g] = T [dv, dq, db_a, db_g] at a unit q,
 /// dtheta = 2 Xi(q)^T dq (q_true = q * exp(dtheta), body-frame rotation vector).
-template <class S> Mat<S, 12, 13> nav13_to_error(const Quat<S>& q) {
-  Mat<S, 12, 13> T = Mat<S, 12, 13>::Zero();
-  T.template block<3, 3>(0, kV).setIdentity();
-  T.template block<3, 4>(3, kQ) = S(2) * quat::xi(q).transpose();
-  T.template block<3, 3>(6, kBa).setIdentity();
-  T.template block<3, 3>(9, kBg).setIdentity();
-  return T;
-}
+template <class S> Mat<S, 12, 13> nav13_to_error(const Quat<S>& q) { return Nav13Block<S>::to_error(q); }
 
 /// T' (13x12): dq = 1/2 Xi(q) dtheta; T T' = I (unit q), T' T projects dq onto the tangent space.
-template <class S> Mat<S, 13, 12> nav13_from_error(const Quat<S>& q) {
-  Mat<S, 13, 12> T = Mat<S, 13, 12>::Zero();
-  T.template block<3, 3>(kV, 0).setIdentity();
-  T.template block<4, 3>(kQ, 3) = S(0.5) * quat::xi(q);
-  T.template block<3, 3>(kBa, 6).setIdentity();
-  T.template block<3, 3>(kBg, 9).setIdentity();
-  return T;
-}
+template <class S> Mat<S, 13, 12> nav13_from_error(const Quat<S>& q) { return Nav13Block<S>::from_error(q); }
 
 /// The covariance floor of NavFilter13: the 13x13 P is singular along q by construction (|q| = 1),
 /// so the floor (covariance.hpp) is applied to the error-state covariance Pe = T P T^T (12x12,
@@ -363,17 +347,7 @@ template <class S> Mat<S, 13, 12> nav13_from_error(const Quat<S>& q) {
 /// the projection the normalization already applies). A healthy P is left bit for bit. Returns
 /// true when the floor was applied.
 template <class S> bool nav13_floor_covariance(const Quat<S>& q, Mat13<S>& P, S floor) {
-  if (!(floor > S(0))) return false;
-  const Mat<S, 12, 13> T = nav13_to_error(q);
-  Mat12<S> Pe = fixed_mul(fixed_mul(T, P), T.transpose());  // fixed_mul: no GEMM, no malloc linked
-  symmetrize(Pe);
-  if (!floor_covariance<S, 12>(Pe, floor)) return false;
-  const Mat<S, 13, 12> Tb = nav13_from_error(q);
-  Mat13<S> Pn = fixed_mul(fixed_mul(Tb, Pe), Tb.transpose());
-  symmetrize(Pn);
-  if (!Pn.allFinite()) return false;
-  P = Pn;
-  return true;
+  return Nav13Block<S>::floor_error_covariance(q, P, floor);
 }
 
 /// Earth terms of eq. (2) and gravity at (lat, h) for the velocity v_n (earth.hpp, WGS-84).
@@ -412,19 +386,14 @@ Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const
   constexpr int N = 12, L = 2 * N + 1;
   const Quat<S> q0 = x.template segment<4>(kQ);
   const Mat<S, 12, 13> T = nav13_to_error(q0);
-  Mat12<S> P12 = fixed_mul(fixed_mul(T, P), T.transpose());
+  Mat12<S> P12 = Nav13Block<S>::error_covariance(q0, P);
   symmetrize(P12);
   Mat<S, N, L> off;
   if (!sigma_offsets<S, N>(P12, w.gamma, off)) return Status::SolveFailed;
   // Propagate every sigma point through f_d (eq. 12).
   Mat<S, 13, L> Y;
   for (int i = 0; i < L; ++i) {
-    Vec13<S> xi = x;
-    xi.template segment<3>(kV) += off.template block<3, 1>(0, i);
-    xi.template segment<4>(kQ) = quat::mul(q0, quat::from_rotvec(Vec3<S>(off.template block<3, 1>(3, i))));
-    xi.template segment<3>(kBa) += off.template block<3, 1>(6, i);
-    xi.template segment<3>(kBg) += off.template block<3, 1>(9, i);
-    Vec13<S> yi = nav13_f(xi, u);
+    Vec13<S> yi = nav13_f(Vec13<S>(Nav13Block<S>::retract(x, off.col(i))), u);
     const S n = yi.template segment<4>(kQ).norm();
     if (!(n > S(0.5))) return Status::NumericalFailure;
     yi.template segment<4>(kQ) /= n;
@@ -457,8 +426,7 @@ Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const
   symmetrize(Pn12);
   Vec13<S> xn = ysum;
   xn.template segment<4>(kQ) = qm;
-  const Mat<S, 13, 12> Tb = nav13_from_error(qm);
-  Mat13<S> Pn = fixed_mul(fixed_mul(Tb, Pn12), Tb.transpose());
+  Mat13<S> Pn = Nav13Block<S>::from_error_covariance(qm, Pn12);
   symmetrize(Pn);
   if (!nav13_state_ok(xn, Pn)) return Status::NumericalFailure;
   x = xn;
@@ -499,8 +467,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   /// Covariance (12x12) of [dv, dtheta, db_a, db_g], dtheta the body-frame attitude error
   /// (q_true = q * exp(dtheta)); its attitude block is in rad^2.
   Mat<S, 12, 12> error_covariance() const {
-    const Mat<S, 12, 13> T = detail::nav13_to_error(st_.q_nb);
-    return fixed_mul(fixed_mul(T, st_.P), T.transpose());
+    return detail::Nav13Block<S>::error_covariance(st_.q_nb, st_.P);
   }
 
   /// Start from a given state. P is the 13x13 covariance of [v_n, q_nb, b_a, b_g]; its quaternion

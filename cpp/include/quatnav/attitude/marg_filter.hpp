@@ -46,8 +46,8 @@
 #include <limits>
 
 #include "attitude.hpp"
-#include "quaternion.hpp"
-#include "types.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
 

@@ -81,13 +81,13 @@
 #include <cstdint>
 #include <limits>
 
-#include "attitude.hpp"
-#include "covariance.hpp"
-#include "earth.hpp"
-#include "kalman.hpp"
-#include "quaternion.hpp"
+#include "../core/checks.hpp"
+#include "../core/covariance.hpp"
+#include "../core/earth.hpp"
+#include "../core/kalman.hpp"
+#include "../core/quaternion.hpp"
 #include "strapdown.hpp"
-#include "types.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
 
@@ -457,8 +457,8 @@ template <class S_> class GpsInsFilter {
           return Status::Ok;
         }
         // Level: the specific force at rest is -g in NED, f_b = C_nb^T [0, 0, -g].
-        const S roll = std::atan2(-fm[1], -fm[2]);
-        const S pitch = std::atan2(fm[0], std::sqrt(fm[1] * fm[1] + fm[2] * fm[2]));
+        S roll, pitch;
+        detail::level_from_acc(fm, roll, pitch);
         s.nav.q_nb = quat::from_euler(roll, pitch, S(0));
         s.phase = GpsInsPhase::Levelled;
       }

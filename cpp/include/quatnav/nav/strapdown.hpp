@@ -33,9 +33,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "earth.hpp"
-#include "quaternion.hpp"
-#include "types.hpp"
+#include "../core/earth.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
 

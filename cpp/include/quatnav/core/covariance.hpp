@@ -10,9 +10,9 @@
 // applied only when P fails the cheap test "P - floor I has a Cholesky factor", so that a
 // healthy covariance is never touched (not even rounded). Fixed-size Eigen only: no heap.
 //
-// Filters whose state has a constraint (the unit quaternion of QuaternionEKF) apply the floor
-// to the covariance of their error state (the tangent space), not to P itself, whose null
-// direction along the constraint is structural (see detail::qekf_floor_covariance).
+// Filters whose state has a constraint (a unit quaternion) apply the floor to the covariance
+// of their error state (the tangent space), not to P itself, whose null direction along the
+// constraint is structural (quat_block.hpp).
 //
 // The eigen-decomposition is a cyclic Jacobi iteration on fixed-size matrices
 // (detail::symmetric_eigen) rather than Eigen::SelfAdjointEigenSolver, whose Householder
@@ -25,7 +25,6 @@
 #include <limits>
 
 #include "kalman.hpp"
-#include "quaternion.hpp"
 #include "types.hpp"
 
 namespace quatnav {
@@ -167,72 +166,6 @@ template <class S, int N> bool floor_covariance(Mat<S, N, N>& P, S floor) {
 }
 
 namespace detail {
-
-/// The covariance conditioning of QuaternionEKF: P is made exactly symmetric (the
-/// normalization's projection J P J^T is symmetric only up to rounding), then floored in its
-/// error state [dtheta (3, rad, body frame), db (3, rad/s)]: with T = diag(2 Xi(q)^T, I3) (6x7)
-/// and T+ = diag(Xi(q)/2, I3) (7x6), Pe = T P T^T is floored (floor_covariance) and, when that
-/// changed it, P = T+ Pe T+^T. T+ T = diag(I - q q^T, I3) is the projection that the
-/// normalization (qekf_normalize) already applies, so a healthy P is unchanged and a repaired
-/// one keeps the structure. Returns true when the floor was applied.
-template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor);
-
-template <class S> bool qekf_floor_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
-  symmetrize(P);
-  return qekf_floor_symmetric_covariance(q, P, floor);
-}
-
-/// The test of qekf_floor_symmetric_covariance alone: true when Pe - floor I has a Cholesky
-/// factor (Pe = T P T^T, the error-state covariance), i.e. when the floor has nothing to do.
-/// Only the lower triangle of Pe - floor I is formed, coefficient by coefficient on local
-/// arrays (the attitude block as 4 X_i^T (P_qq X_j), the cross block as 2 P_qb^T X), and its
-/// LDL^T pivots are tested (has_cholesky). A P for which this is false goes through the full
-/// path, which forms Pe again, symmetrized, and tests it once more before any repair: this
-/// test only decides how soon a healthy P is left alone.
-template <class S> bool qekf_error_cov_above_floor(const Quat<S>& q, const Mat<S, 7, 7>& P, S floor) {
-  const S x[4][3] = {{-q[1], -q[2], -q[3]}, {q[0], -q[3], q[2]}, {q[3], q[0], -q[1]}, {-q[2], q[1], q[0]}};
-  S ax[4][3];  // P_qq X
-  for (int k = 0; k < 4; ++k)
-    for (int j = 0; j < 3; ++j)
-      ax[k][j] = P(k, 0) * x[0][j] + P(k, 1) * x[1][j] + P(k, 2) * x[2][j] + P(k, 3) * x[3][j];
-  Mat<S, 6, 6> E;  // lower triangle of Pe - floor I
-  for (int j = 0; j < 3; ++j) {
-    for (int i = j; i < 3; ++i)
-      E(i, j) = S(4) * (x[0][i] * ax[0][j] + x[1][i] * ax[1][j] + x[2][i] * ax[2][j] + x[3][i] * ax[3][j]);
-    for (int r = 0; r < 3; ++r)
-      E(3 + r, j) = S(2) * (P(0, 4 + r) * x[0][j] + P(1, 4 + r) * x[1][j] + P(2, 4 + r) * x[2][j] +
-                            P(3, 4 + r) * x[3][j]);
-  }
-  for (int j = 0; j < 3; ++j)
-    for (int i = j; i < 3; ++i) E(3 + i, 3 + j) = P(4 + i, 4 + j);
-  for (int i = 0; i < 6; ++i) E(i, i) -= floor;
-  return has_cholesky<S, 6>(E);
-}
-
-/// qekf_floor_covariance for a P that is already exactly symmetric (as the filter keeps it:
-/// its time update, Joseph update and normalization all produce symmetric blocks).
-template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
-  if (!(floor > S(0))) return false;
-  if (qekf_error_cov_above_floor(q, P, floor)) return false;  // the common case: nothing to do
-  // Pe = T P T^T by blocks (T is block diagonal): [4 X^T Pqq X, 2 X^T Pqb; ., Pbb], X = Xi(q).
-  const Mat43<S> X = quat::xi(q);
-  Mat<S, 6, 6> Pe;
-  Mat43<S> PqqX;
-  PqqX.noalias() = P.template topLeftCorner<4, 4>() * X;
-  Pe.template topLeftCorner<3, 3>().noalias() = S(4) * X.transpose() * PqqX;
-  Pe.template topRightCorner<3, 3>().noalias() = S(2) * X.transpose() * P.template topRightCorner<4, 3>();
-  Pe.template bottomLeftCorner<3, 3>() = Pe.template topRightCorner<3, 3>().transpose();
-  Pe.template bottomRightCorner<3, 3>() = P.template bottomRightCorner<3, 3>();
-  auto Pe_aa = Pe.template topLeftCorner<3, 3>();
-  symmetrize(Pe_aa);  // the other blocks are symmetric by construction
-  if (!floor_covariance<S, 6>(Pe, floor)) return false;
-  Mat<S, 7, 6> Tp = Mat<S, 7, 6>::Zero();
-  Tp.template topLeftCorner<4, 3>() = quat::xi(q) / S(2);
-  Tp.template bottomRightCorner<3, 3>().setIdentity();
-  P = Tp * Pe * Tp.transpose();
-  P = (P + P.transpose()).eval() * S(0.5);
-  return true;
-}
 
 /// A covariance a filter accepts from set_state(): finite, exactly symmetric (as every filter
 /// keeps it), non-negative diagonal.

@@ -270,10 +270,4 @@ Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec
   return detail::commit_correction(P, dx, Pw, dxw, res);
 }
 
-/// Chi-square quantiles used as default gates (probability 0.9999) for 1..6 degrees of freedom.
-template <class S> S chi2_gate_9999(int dof) {
-  static constexpr double q[] = {0.0, 15.137, 18.421, 21.108, 23.513, 25.745, 27.856};
-  return S(dof >= 1 && dof <= 6 ? q[dof] : 27.856 + 2.0 * (dof - 6));
-}
-
 }  // namespace quatnav

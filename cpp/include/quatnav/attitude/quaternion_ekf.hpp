@@ -27,10 +27,11 @@
 #include <limits>
 
 #include "attitude.hpp"
-#include "covariance.hpp"
-#include "kalman.hpp"
-#include "quaternion.hpp"
-#include "types.hpp"
+#include "../core/covariance.hpp"
+#include "../core/kalman.hpp"
+#include "../core/quat_block.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
 
@@ -178,35 +179,28 @@ void qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S
   Phi.template topRightCorner<4, 3>() = -dt * quat::left(q) * quat::from_rotvec_jacobian(rv);
 }
 
-/// Covariance projection after q <- q/|q|: J = (I - q_hat q_hat^T)/|q| on the quaternion block.
-/// J is a scaled projection, so the products are written with its rank-one structure:
-/// J A J^T = (A - qh v^T - v qh^T + s qh qh^T) / n^2 with v = A qh, s = qh^T v, and
-/// J C = (C - qh (qh^T C)) / n.
-///
-/// The scalings by 1/n and 1/n^2 multiply by the reciprocals (1 division instead of 26; the
-/// results differ from dividing by one rounding at most).
-template <class S> void qekf_normalize(Quat<S>& q, Mat<S, 7, 7>& P) {
-  const S n = q.norm();
-  const S inv_n = S(1) / n;
-  const Quat<S> qh = q * inv_n;
-  const Mat4<S> A = P.template topLeftCorner<4, 4>();
-  const Vec4<S> v = A * qh;
-  const S s = qh.dot(v);
-  const Vec4<S> w = v - (s / S(2)) * qh;  // A - qh v^T - v qh^T + s qh qh^T = A - qh w^T - w qh^T
-  const S inv_n2 = inv_n * inv_n;
-  for (int j = 0; j < 4; ++j)  // computed once per pair: the block stays exactly symmetric
-    for (int i = 0; i <= j; ++i) P(i, j) = P(j, i) = (A(i, j) - qh[i] * w[j] - w[i] * qh[j]) * inv_n2;
-  const Eigen::Matrix<S, 1, 3> qC = qh.transpose() * P.template topRightCorner<4, 3>();
-  P.template topRightCorner<4, 3>() = (P.template topRightCorner<4, 3>() - qh * qC) * inv_n;
-  P.template bottomLeftCorner<3, 4>() = P.template topRightCorner<4, 3>().transpose();
-  q = qh;
+/// The quaternion block of the state [q, b] (core/quat_block.hpp).
+template <class S> using QekfBlock = QuatBlock<S, 7, 0>;
+
+/// Covariance projection after q <- q/|q|: J = (I - q_hat q_hat^T)/|q| on the quaternion block,
+/// written with J's rank-one structure so that P stays exactly symmetric
+/// (QuatBlock::normalize_symmetric).
+template <class S> void qekf_normalize(Quat<S>& q, Mat<S, 7, 7>& P) { QekfBlock<S>::normalize_symmetric(q, P); }
+
+/// The covariance conditioning of QuaternionEKF: P is made exactly symmetric (the
+/// normalization's projection J P J^T is symmetric only up to rounding), then floored in its
+/// error state [dtheta (3, rad, body frame), db (3, rad/s)] (QuatBlock's error-space floor):
+/// a healthy P is unchanged and a repaired one keeps the structure. Returns true when the floor
+/// was applied.
+template <class S> bool qekf_floor_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
+  symmetrize(P);
+  return QekfBlock<S>::floor_symmetric_error_covariance(q, P, floor);
 }
 
-/// Attitude covariance (3x3, rad^2) of the body-frame rotation vector dtheta with
-/// q_true = q * exp(dtheta), from the quaternion block: 4 Xi^T P_qq Xi.
-template <class S> Mat3<S> quat_cov_to_angle_cov(const Quat<S>& q, const Mat4<S>& Pqq) {
-  const Mat43<S> X = quat::xi(q);
-  return S(4) * X.transpose() * Pqq * X;
+/// qekf_floor_covariance for a P that is already exactly symmetric (as the filter keeps it:
+/// its time update, Joseph update and normalization all produce symmetric blocks).
+template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
+  return QekfBlock<S>::floor_symmetric_error_covariance(q, P, floor);
 }
 
 /// Heading-only magnetometer model. With m_n = C_nb(q) m (m the unit field in the body frame),
@@ -233,13 +227,6 @@ bool heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Eig
   u = Rq.col(3);
   H = S(2) * u.transpose();
   return true;
-}
-
-/// Navigation-frame attitude covariance (3x3, rad^2) of phi with q_true = exp(phi) * q:
-/// phi = 2 R3^T dq, so Sigma_phi = 4 R3^T P_qq R3.
-template <class S> Mat3<S> quat_cov_to_nav_angle_cov(const Quat<S>& q, const Mat4<S>& Pqq) {
-  const Mat43<S> R3 = quat::right(q).template rightCols<3>();
-  return S(4) * R3.transpose() * Pqq * R3;
 }
 
 /// First-order low-pass step y += a (x - y) with a = dt / (tau + dt).
@@ -289,16 +276,11 @@ template <class S> class QuaternionEKF {
   }
 
   /// The diagonal of attitude_covariance() (rad^2), without the off-diagonal terms.
-  Vec3<S> attitude_variance() const {
-    const Mat43<S> X = quat::xi(st_.q);
-    Mat43<S> PX;
-    PX.noalias() = st_.P.template topLeftCorner<4, 4>() * X;
-    return S(4) * (X.array() * PX.array()).colwise().sum().transpose();
-  }
+  Vec3<S> attitude_variance() const { return detail::QekfBlock<S>::attitude_variance(st_.q, st_.P); }
 
   /// Attitude (4x4 quaternion block) as a 3x3 covariance of a body-frame rotation vector.
   Mat3<S> attitude_covariance() const {
-    return detail::quat_cov_to_angle_cov(st_.q, Mat4<S>(st_.P.template topLeftCorner<4, 4>()));
+    return detail::QekfBlock<S>::attitude_covariance(st_.q, st_.P);
   }
 
   /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
@@ -573,8 +555,8 @@ template <class S> class QuaternionEKF {
       res.status = Status::ZeroNorm;
       return res;
     }
-    // Tilt block of the navigation-frame attitude covariance (quat_cov_to_nav_angle_cov's top
-    // left 2x2): 4 R2^T P_qq R2 with R2 the x and y columns of R3; J_t Sigma J_t^T = 4 |P^1/2 R2 J_t|^2
+    // Tilt block of the navigation-frame attitude covariance (phi with q_true = exp(phi) * q,
+    // phi = 2 R3^T dq, R3 = right(q).rightCols(3)): 4 R2^T P_qq R2 with R2 the x and y columns of R3; J_t Sigma J_t^T = 4 |P^1/2 R2 J_t|^2
     // evaluated as 4 v^T P_qq v with v = R2 J_t.
     const Vec4<S> v = quat::right(st_.q).template middleCols<2>(1) * Jt;
     const S R = params_.mag_noise * params_.mag_noise / horiz2 +

@@ -1,13 +1,14 @@
-// quatnav: pieces shared by the attitude filters (initialization from gravity and field,
-// checked normalization of measurement vectors).
+// quatnav: pieces shared by the attitude filters: the reference magnetic field and the
+// initialization from gravity and field.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
-#include "quaternion.hpp"
-#include "types.hpp"
+#include "../core/checks.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
 
@@ -47,8 +48,8 @@ bool attitude_from_acc_mag(const Vec3<S>& acc, const Vec3<S>* mag, Quat<S>& q, V
   const S an = acc.norm();
   if (!(an > std::numeric_limits<S>::min() * S(1e6))) return false;
   const Vec3<S> a = acc / an;
-  const S roll = std::atan2(-a[1], -a[2]);
-  const S pitch = std::atan2(a[0], std::sqrt(a[1] * a[1] + a[2] * a[2]));
+  S roll, pitch;
+  level_from_acc(a, roll, pitch);
   S yaw = S(0);
   if (mag != nullptr) {
     const S mn = mag->norm();
@@ -64,21 +65,6 @@ bool attitude_from_acc_mag(const Vec3<S>& acc, const Vec3<S>* mag, Quat<S>& q, V
   }
   q = quat::from_euler(roll, pitch, yaw);
   return true;
-}
-
-/// True when a finite reading reaches the sensor's range on any axis (|v_i| >= range); a
-/// range <= 0 means unlimited. Non-finite readings are not "saturated" (they are NonFinite).
-template <class S> bool saturated(const Vec3<S>& v, S range) {
-  return range > S(0) && v.allFinite() && v.cwiseAbs().maxCoeff() >= range;
-}
-
-/// Normalize a vector that must not be zero; false on non-finite or (near) zero input.
-template <class S> Status unit_vector(const Vec3<S>& v, Vec3<S>& u) {
-  if (!v.allFinite()) return Status::NonFinite;
-  const S n = v.norm();
-  if (!(n > std::sqrt(std::numeric_limits<S>::min()))) return Status::ZeroNorm;
-  u = v / n;
-  return Status::Ok;
 }
 
 }  // namespace detail

@@ -19,10 +19,10 @@
 #include <cstdint>
 
 #include "attitude.hpp"
-#include "covariance.hpp"
-#include "kalman.hpp"
-#include "quaternion.hpp"
-#include "types.hpp"
+#include "../core/covariance.hpp"
+#include "../core/kalman.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
 

@@ -16,21 +16,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "types.hpp"
+#include "../core/checks.hpp"
+#include "../core/types.hpp"
 
 namespace quatnav {
-
-template <class S, int M>
-std::uint32_t update_flags(const UpdateResult<S, M>& r, std::uint32_t skipped, std::uint32_t rejected) {
-  switch (r.status) {
-    case Status::Ok: return 0;
-    case Status::Rejected: return rejected;
-    case Status::Saturated: return flags::kSaturated | skipped;
-    case Status::SolveFailed:
-    case Status::NumericalFailure: return flags::kSolveFailed | skipped;
-    default: return skipped;
-  }
-}
 
 template <class Filter, class S = typename Filter::Scalar>
 void run_attitude_batch(Filter& f, const S* gyr, const S* acc, const S* mag, const S* dt, std::size_t n,

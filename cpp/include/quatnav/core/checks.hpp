@@ -1,0 +1,54 @@
+// quatnav: input checks shared by every filter (saturation, checked normalization), the
+// levelling of an accelerometer sample, and the mapping of an update's status to batch flags.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "types.hpp"
+
+namespace quatnav {
+namespace detail {
+
+/// True when a finite reading reaches the sensor's range on any axis (|v_i| >= range); a
+/// range <= 0 means unlimited. Non-finite readings are not "saturated" (they are NonFinite).
+template <class S> bool saturated(const Vec3<S>& v, S range) {
+  return range > S(0) && v.allFinite() && v.cwiseAbs().maxCoeff() >= range;
+}
+
+/// Normalize a vector that must not be zero; false on non-finite or (near) zero input.
+template <class S> Status unit_vector(const Vec3<S>& v, Vec3<S>& u) {
+  if (!v.allFinite()) return Status::NonFinite;
+  const S n = v.norm();
+  if (!(n > std::sqrt(std::numeric_limits<S>::min()))) return Status::ZeroNorm;
+  u = v / n;
+  return Status::Ok;
+}
+
+/// Levelling: roll and pitch (rad, ZYX) of a body at rest from its specific force f_b (body FRD,
+/// any scale: at rest f_b = -C_bn g_n points up in the body frame):
+///     roll = atan2(-f_y, -f_z),  pitch = atan2(f_x, sqrt(f_y^2 + f_z^2)).
+/// The caller decides whether f_b is normalized first (the result is the same up to rounding).
+template <class S> void level_from_acc(const Vec3<S>& f_b, S& roll, S& pitch) {
+  roll = std::atan2(-f_b[1], -f_b[2]);
+  pitch = std::atan2(f_b[0], std::sqrt(f_b[1] * f_b[1] + f_b[2] * f_b[2]));
+}
+
+}  // namespace detail
+
+/// The batch flags of one update's outcome: 0 when applied, `rejected` when gated out, `skipped`
+/// (with flags::kSaturated or flags::kSolveFailed where that was the reason) otherwise.
+template <class S, int M>
+std::uint32_t update_flags(const UpdateResult<S, M>& r, std::uint32_t skipped, std::uint32_t rejected) {
+  switch (r.status) {
+    case Status::Ok: return 0;
+    case Status::Rejected: return rejected;
+    case Status::Saturated: return flags::kSaturated | skipped;
+    case Status::SolveFailed:
+    case Status::NumericalFailure: return flags::kSolveFailed | skipped;
+    default: return skipped;
+  }
+}
+
+}  // namespace quatnav

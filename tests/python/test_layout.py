@@ -1,0 +1,108 @@
+"""The layout rules of the C++ headers (cpp/include/quatnav/), read from their #include lines:
+
+* core/ includes nothing from attitude/ or nav/ (it knows no filter);
+* attitude/ and nav/ never include each other;
+* every quatnav include resolves to a header that exists;
+* every public header is reachable from quatnav.hpp.
+
+That each header compiles on its own is checked by the C++ build (tests/cpp/CMakeLists.txt,
+quatnav_self_contained_headers)."""
+import re
+from pathlib import Path
+
+import pytest
+
+INCLUDE = Path(__file__).resolve().parents[2] / "cpp" / "include"
+ROOT = INCLUDE / "quatnav"
+LAYERS = ("core", "attitude", "nav")
+FORBIDDEN = {"core": {"attitude", "nav"}, "attitude": {"nav"}, "nav": {"attitude"}}
+_INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
+
+
+def _headers():
+    return sorted(ROOT.rglob("*.hpp"))
+
+
+def _strip_comments(text: str) -> str:
+    """The text without comments, every line kept where it was."""
+    text = re.sub(r"/\*.*?\*/", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    return re.sub(r"//[^\n]*", "", text)
+
+
+def quatnav_includes(header: Path):
+    """(line number, spelled include, resolved path) of every include of a quatnav header."""
+    code = _strip_comments(header.read_text())
+    out = []
+    for m in _INCLUDE_RE.finditer(code):
+        kind, name = m.groups()
+        if kind == '"':
+            target = (header.parent / name).resolve()
+            if not target.is_relative_to(ROOT.resolve()):
+                continue
+        elif name.startswith("quatnav/"):
+            target = (INCLUDE / name).resolve()
+        else:
+            continue  # Eigen, the standard library
+        line = code[: m.start(2)].count("\n") + 1
+        out.append((line, m.group(0).strip(), target))
+    return out
+
+
+def _layer(path: Path) -> str:
+    rel = path.resolve().relative_to(ROOT.resolve())
+    return rel.parts[0] if len(rel.parts) > 1 else ""
+
+
+def test_the_layers_exist_and_hold_every_header():
+    for layer in LAYERS:
+        assert (ROOT / layer).is_dir(), f"cpp/include/quatnav/{layer}/ missing"
+    loose = [h.name for h in _headers() if _layer(h) == "" and h.name != "quatnav.hpp"]
+    assert not loose, f"headers outside core/, attitude/, nav/: {loose}"
+    strays = [str(h.relative_to(ROOT)) for h in _headers() if _layer(h) not in ("",) + LAYERS]
+    assert not strays, f"headers in an unknown folder: {strays}"
+
+
+@pytest.mark.parametrize("header", _headers(), ids=lambda h: str(h.relative_to(ROOT)))
+def test_includes_follow_the_layers(header):
+    src = _layer(header)
+    bad = []
+    for line, spelled, target in quatnav_includes(header):
+        where = f"{header.relative_to(INCLUDE)}:{line}: {spelled}"
+        if not target.exists():
+            bad.append(f"{where} names no header")
+            continue
+        dst = _layer(target)
+        if dst in FORBIDDEN.get(src, ()):
+            bad.append(f"{where}: {src}/ must not include {dst}/")
+        if src and dst == "":
+            bad.append(f"{where}: only users include the umbrella header")
+    assert not bad, "layout rule broken:\n" + "\n".join(bad)
+
+
+def test_every_header_is_reachable_from_the_umbrella():
+    seen, todo = set(), [ROOT / "quatnav.hpp"]
+    while todo:
+        h = todo.pop().resolve()
+        if h in seen or not h.exists():
+            continue
+        seen.add(h)
+        todo.extend(t for _, _, t in quatnav_includes(h))
+    missing = [str(h.relative_to(ROOT)) for h in _headers() if h.resolve() not in seen]
+    assert not missing, f"not reachable from quatnav.hpp (add them there): {missing}"
+
+
+def test_the_rule_checker_sees_a_violation(tmp_path):
+    """The parser finds a forbidden include written either way (so the rules above can fail)."""
+    fake = tmp_path / "quatnav" / "core"
+    fake.mkdir(parents=True)
+    h = fake / "x.hpp"
+    h.write_text('#pragma once\n// #include "../nav/gps_ins.hpp" (a comment: ignored)\n'
+                 '#include "../attitude/attitude.hpp"\n#include <quatnav/nav/gps_ins.hpp>\n#include <cmath>\n')
+    global INCLUDE, ROOT
+    saved = INCLUDE, ROOT
+    INCLUDE, ROOT = tmp_path, tmp_path / "quatnav"
+    try:
+        found = [(line, _layer(t)) for line, _, t in quatnav_includes(h)]
+    finally:
+        INCLUDE, ROOT = saved
+    assert found == [(3, "attitude"), (4, "nav")]
