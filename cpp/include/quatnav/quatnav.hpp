@@ -10,6 +10,7 @@
 #include "core/checks.hpp"
 #include "core/quaternion.hpp"
 #include "core/quat_block.hpp"
+#include "core/commit.hpp"
 #include "core/kalman.hpp"
 #include "core/covariance.hpp"
 #include "core/unscented.hpp"

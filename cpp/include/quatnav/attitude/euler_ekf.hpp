@@ -194,26 +194,12 @@ template <class S> class EulerEKF {
     Mat3<S> E;
     bool singular = false;
     detail::euler_propagate(st_.euler, st_.bias, gyr, dt, params_.singular_cos, e, F, E, singular);
-    // P = F P F^T + Q by blocks: F = [G B; 0 I], P = [A C; C^T D] give
-    //   [G A G^T + G C B^T + B C^T G^T + B D B^T + Q_ee,  G C + B D;  (G C + B D)^T,  D + Q_bb].
+    // P = F P F^T + Q by blocks, F = [G B; 0 I] (predict_covariance_fb).
     const Mat3<S> G = F.template topLeftCorner<3, 3>();
     const Mat3<S> B = F.template topRightCorner<3, 3>();
-    const auto A = st_.P.template topLeftCorner<3, 3>();
-    const auto C = st_.P.template topRightCorner<3, 3>();
-    const auto D = st_.P.template bottomRightCorner<3, 3>();
-    Mat3<S> GC_BD, M;
-    GC_BD.noalias() = G * C;
-    GC_BD.noalias() += B * D;
-    M.noalias() = G * A;
-    M.noalias() += B * C.transpose();
     Mat6 P;
-    P.template topLeftCorner<3, 3>().noalias() = (dt * params_.gyro_noise * params_.gyro_noise) * E * E.transpose();
-    P.template topLeftCorner<3, 3>().noalias() += M * G.transpose();
-    P.template topLeftCorner<3, 3>().noalias() += GC_BD * B.transpose();
-    P.template topRightCorner<3, 3>() = GC_BD;
-    P.template bottomLeftCorner<3, 3>() = GC_BD.transpose();
-    P.template bottomRightCorner<3, 3>() = D;
-    P.template bottomRightCorner<3, 3>().diagonal().array() += dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
+    predict_covariance_fb<S, 3, 3>(st_.P, G, B, (dt * params_.gyro_noise * params_.gyro_noise) * E * E.transpose(),
+                                   S(dt * params_.gyro_bias_noise * params_.gyro_bias_noise), P);
     symmetrize(P);
     if (!all_finite(P) || !all_finite(e)) return Status::NumericalFailure;
     floor_covariance<S, 6>(P, params_.cov_floor);

@@ -27,6 +27,7 @@
 #include <limits>
 
 #include "attitude.hpp"
+#include "../core/commit.hpp"
 #include "../core/covariance.hpp"
 #include "../core/kalman.hpp"
 #include "../core/quat_block.hpp"
@@ -319,30 +320,13 @@ template <class S> class QuaternionEKF {
     Quat<S> q_new;
     Mat7 Phi;
     detail::qekf_propagate(st_.q, st_.bias, gyr, dt, q_new, Phi);
-    // P = Phi P Phi^T + Q (eq. 13-14) by blocks: Phi = [F B; 0 I], P = [A C; C^T D] give
-    //   [F A F^T + F C B^T + B C^T F^T + B D B^T + Q_qq,  F C + B D;  (F C + B D)^T,  D + Q_bb].
+    // P = Phi P Phi^T + Q (eq. 13-14) by blocks, Phi = [F B; 0 I] (predict_covariance_fb).
     const Mat4<S> F = Phi.template topLeftCorner<4, 4>();
     const Mat43<S> B = Phi.template topRightCorner<4, 3>();
-    const auto A = st_.P.template topLeftCorner<4, 4>();
-    const auto C = st_.P.template topRightCorner<4, 3>();
-    const auto D = st_.P.template bottomRightCorner<3, 3>();
-    Mat43<S> FC_BD;
-    FC_BD.noalias() = F * C;
-    FC_BD.noalias() += B * D;
-    Mat4<S> M;  // F A + B C^T  (the top rows of Phi P)
-    M.noalias() = F * A;
-    M.noalias() += B * C.transpose();
     const Mat43<S> X = quat::xi(q_new);
     Mat7 P_new;
-    P_new.template topLeftCorner<4, 4>().noalias() =
-        (dt * params_.gyro_noise * params_.gyro_noise / S(4)) * X * X.transpose();
-    P_new.template topLeftCorner<4, 4>().noalias() += M * F.transpose();
-    P_new.template topLeftCorner<4, 4>().noalias() += FC_BD * B.transpose();
-    P_new.template topRightCorner<4, 3>() = FC_BD;
-    P_new.template bottomLeftCorner<3, 4>() = FC_BD.transpose();
-    P_new.template bottomRightCorner<3, 3>() = D;
-    P_new.template bottomRightCorner<3, 3>().diagonal().array() +=
-        dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
+    predict_covariance_fb<S, 4, 3>(st_.P, F, B, (dt * params_.gyro_noise * params_.gyro_noise / S(4)) * X * X.transpose(),
+                                   S(dt * params_.gyro_bias_noise * params_.gyro_bias_noise), P_new);
     auto P_qq = P_new.template topLeftCorner<4, 4>();
     symmetrize(P_qq);  // the other blocks are symmetric by construction
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
@@ -586,17 +570,12 @@ template <class S> class QuaternionEKF {
     Mat7 P = st_.P;
     joseph_update_scalar<S, 7>(P, K, PHt, Sv);  // Joseph form: valid for the projected gain
     const Vec<S, 7> dx = K * y;
-    Quat<S> q = st_.q + dx.template head<4>();
-    if (!all_finite(P) || !all_finite(dx) || !(q.norm() > S(0.5))) {
-      res.status = Status::NumericalFailure;
-      return res;
-    }
-    detail::qekf_normalize(q, P);
-    detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
-    st_.q = q;
-    st_.bias += dx.template tail<3>();
-    st_.P = P;
     res.status = Status::Ok;
+    inject_and_commit(
+        res, P, [&] { return Quat<S>(st_.q + dx.template head<4>()); },
+        [&](const Quat<S>& q, const Mat7& Pc) { return all_finite(Pc) && all_finite(dx) && q.norm() > S(0.5); },
+        [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
+        [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
     return res;
   }
 
@@ -682,16 +661,25 @@ template <class S> class QuaternionEKF {
                         UpdateResult<S, M>& res, S gate) {
     Mat7 P = st_.P;
     Vec<S, 7> dx;
-    if (kalman_correct_diagonal<S, 7, M, C0, NC>(P, H, r, y, dx, res, gate) != Status::Ok) return;
-    Quat<S> q = st_.q + dx.template head<4>();
-    if (!(q.norm() > S(0.5))) {
-      res.status = Status::NumericalFailure;
-      return;
-    }
+    kalman_correct_diagonal<S, 7, M, C0, NC>(P, H, r, y, dx, res, gate);
+    inject_and_commit(
+        res, P, [&] { return Quat<S>(st_.q + dx.template head<4>()); },
+        [](const Quat<S>& q, const Mat7&) { return q.norm() > S(0.5); },
+        [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
+        [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
+  }
+
+  /// The conditioning of a corrected candidate (core/commit.hpp): q renormalized with P
+  /// projected, then the error-state floor.
+  bool condition_candidate(Quat<S>& q, Mat7& P) const {
     detail::qekf_normalize(q, P);
     detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
+    return true;
+  }
+
+  void commit_candidate(const Quat<S>& q, const Vec3<S>& dbias, const Mat7& P) {
     st_.q = q;
-    st_.bias += dx.template tail<3>();
+    st_.bias += dbias;
     st_.P = P;
   }
 

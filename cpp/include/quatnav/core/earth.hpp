@@ -14,6 +14,7 @@
 
 #include <cmath>
 
+#include "quaternion.hpp"
 #include "types.hpp"
 
 namespace quatnav {
@@ -82,6 +83,30 @@ template <class S> Vec3<S> geodetic_rates(S lat, S h, const Vec3<S>& v_n) {
   return Vec3<S>(v_n[0] / (r.R_M + h), v_n[1] / ((r.R_N + h) * cos(lat)), -v_n[2]);
 }
 
+/// The Earth terms of a NED mechanization at (lat, h) for the velocity v_n (m/s), in the
+/// arithmetic of T: normal gravity g (m/s^2, down), the Earth rate omega_ie_n and the transport
+/// rate omega_en_n (rad/s; both zero when earth_rotation is false). The strapdown evaluates them
+/// in double (its position is double), NavFilter13 in its Scalar.
+template <class T> struct Terms {
+  T g;
+  Vec3<T> omega_ie_n;
+  Vec3<T> omega_en_n;
+  Vec3<T> g_n() const { return Vec3<T>(T(0), T(0), g); }
+};
+
+template <class T> Terms<T> terms(T lat, T h, const Vec3<T>& v_n, bool earth_rotation) {
+  Terms<T> e;
+  e.g = gravity(lat, h);
+  if (earth_rotation) {
+    e.omega_ie_n = earth_rate_n(lat);
+    e.omega_en_n = transport_rate_n(lat, h, v_n);
+  } else {
+    e.omega_ie_n.setZero();
+    e.omega_en_n.setZero();
+  }
+  return e;
+}
+
 /// Small-displacement NED (m, about a reference point) -> [lat, lon, h] (rad, rad, m).
 template <class S> Vec3<S> ned_to_geodetic(const Vec3<S>& p_n, S lat0, S lon0, S h0) {
   using std::cos;
@@ -94,6 +119,26 @@ template <class S> Vec3<S> geodetic_to_ned(S lat, S lon, S h, S lat0, S lon0, S 
   using std::cos;
   const Radii<S> r = radii(lat0);
   return Vec3<S>((lat - lat0) * (r.R_M + h0), (lon - lon0) * (r.R_N + h0) * cos(lat0), h0 - h);
+}
+
+/// Geodetic point (lat, lon, h) moved in place by the NED displacement d (m), about the point
+/// (ned_to_geodetic in double).
+inline void geodetic_add(double& lat, double& lon, double& h, const Vec3<double>& d) {
+  const Vec3<double> g = ned_to_geodetic<double>(d, lat, lon, h);
+  lat = g[0];
+  lon = g[1];
+  h = g[2];
+}
+
+/// NED displacement (m) from geodetic point b to point a, a - b about b, in double and returned
+/// in S: geodetic_to_ned with the longitude difference wrapped to [-pi, pi] (a and b on either
+/// side of the antimeridian).
+template <class S>
+Vec3<S> geodetic_diff(double lat_a, double lon_a, double h_a, double lat_b, double lon_b, double h_b) {
+  const Radii<double> r = radii<double>(lat_b);
+  return Vec3<double>((lat_a - lat_b) * (r.R_M + h_b), quat::wrap_pi(lon_a - lon_b) * (r.R_N + h_b) * std::cos(lat_b),
+                      -(h_a - h_b))
+      .template cast<S>();
 }
 
 /// Earth-centred Earth-fixed position (m) of geodetic coordinates.

@@ -119,6 +119,34 @@ Status commit_correction(Mat<S, N, N>& P, Vec<S, N>& dx, const Mat<S, N, N>& P_n
 
 }  // namespace detail
 
+/// The covariance time update P+ = Phi P Phi^T + Q for a transition Phi = [F B; 0 I] (a state
+/// [a (NA), b (NB)] whose b part, biases, is constant over the step), by blocks: with
+/// P = [A C; C^T D],
+///   P+ = [F A F^T + F C B^T + B C^T F^T + B D B^T + Q_aa,  F C + B D;  (F C + B D)^T,  D + Q_bb],
+/// Q_aa any expression of an NA x NA matrix (evaluated straight into the block: pass the
+/// unevaluated product), Q_bb = q_bb I. The top-left block is symmetric only up to rounding
+/// (the caller symmetrizes it); the others are exact mirrors. Writes P_new (not aliasing P).
+template <class S, int NA, int NB, class QaaExpr>
+void predict_covariance_fb(const Mat<S, NA + NB, NA + NB>& P, const Mat<S, NA, NA>& F, const Mat<S, NA, NB>& B,
+                           const QaaExpr& Q_aa, S q_bb, Mat<S, NA + NB, NA + NB>& P_new) {
+  const auto A = P.template topLeftCorner<NA, NA>();
+  const auto C = P.template topRightCorner<NA, NB>();
+  const auto D = P.template bottomRightCorner<NB, NB>();
+  Mat<S, NA, NB> FC_BD;
+  FC_BD.noalias() = F * C;
+  FC_BD.noalias() += B * D;
+  Mat<S, NA, NA> M;  // F A + B C^T  (the top rows of Phi P)
+  M.noalias() = F * A;
+  M.noalias() += B * C.transpose();
+  P_new.template topLeftCorner<NA, NA>().noalias() = Q_aa;
+  P_new.template topLeftCorner<NA, NA>().noalias() += M * F.transpose();
+  P_new.template topLeftCorner<NA, NA>().noalias() += FC_BD * B.transpose();
+  P_new.template topRightCorner<NA, NB>() = FC_BD;
+  P_new.template bottomLeftCorner<NB, NA>() = FC_BD.transpose();
+  P_new.template bottomRightCorner<NB, NB>() = D;
+  P_new.template bottomRightCorner<NB, NB>().diagonal().array() += q_bb;
+}
+
 /// One Kalman correction with N states and M measurement rows.
 ///
 /// Inputs: P (NxN), H (MxN), R (MxM), innovation y = z - h(x) (M). On success writes the state

@@ -82,6 +82,7 @@
 #include <limits>
 
 #include "../core/checks.hpp"
+#include "../core/commit.hpp"
 #include "../core/covariance.hpp"
 #include "../core/earth.hpp"
 #include "../core/kalman.hpp"
@@ -307,28 +308,10 @@ template <class S> Vec<S, 15> gpsins_Qc_diag(const GpsInsParams<S>& p) {
   return q;
 }
 
-/// NED displacement (m) from geodetic point b to point a: a - b, about b.
-template <class S>
-Vec3<S> geodetic_diff(double lat_a, double lon_a, double h_a, double lat_b, double lon_b, double h_b) {
-  const earth::Radii<double> r = earth::radii<double>(lat_b);
-  return Vec3<double>((lat_a - lat_b) * (r.R_M + h_b), quat::wrap_pi(lon_a - lon_b) * (r.R_N + h_b) * std::cos(lat_b),
-                      -(h_a - h_b))
-      .template cast<S>();
-}
-
-/// Geodetic point b moved by the NED displacement d (m), about b.
-inline void geodetic_add(double& lat, double& lon, double& h, const Vec3<double>& d) {
-  const earth::Radii<double> r = earth::radii<double>(lat);
-  const double lat0 = lat;
-  lat += d[0] / (r.R_M + h);
-  lon += d[1] / ((r.R_N + h) * std::cos(lat0));
-  h -= d[2];
-}
-
 /// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).
 template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, 15>& dx) {
   const Vec3<double> dp = dx.template segment<3>(0).template cast<double>();
-  geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, Vec3<double>(-dp));
+  earth::geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, Vec3<double>(-dp));
   s.nav.v_n -= dx.template segment<3>(3);
   Quat<S> q = quat::mul(quat::from_rotvec(Vec3<S>(-dx.template segment<3>(6))), s.nav.q_nb);
   s.nav.q_nb = q / q.norm();
@@ -526,8 +509,8 @@ template <class S_> class GpsInsFilter {
     track_baro_offset(h + double(l_n[2]));  // IMU height from the antenna fix
     // INS antenna position minus the fix, in NED metres about the fix.
     double la = s_.nav.lat, lo = s_.nav.lon, hh = s_.nav.h;
-    detail::geodetic_add(la, lo, hh, l_n.template cast<double>());
-    const Vec3<S> y = detail::geodetic_diff<S>(la, lo, hh, lat, lon, h);
+    earth::geodetic_add(la, lo, hh, l_n.template cast<double>());
+    const Vec3<S> y = earth::geodetic_diff<S>(la, lo, hh, lat, lon, h);
     Mat<S, 3, 15> H = Mat<S, 3, 15>::Zero();
     H.template block<3, 3>(0, 0).setIdentity();
     H.template block<3, 3>(0, 6) = -quat::skew<S>(l_n);
@@ -538,7 +521,7 @@ template <class S_> class GpsInsFilter {
       // Gate lockout: the IMU position from the fix, its covariance block from the fix's (not
       // done when that position is unusable, e.g. a fix within the pole limit moved past it).
       State s = s_;
-      detail::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
+      earth::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
       s.nav.lat = lat;
       s.nav.lon = lon;
       s.nav.h = h;
@@ -757,7 +740,7 @@ template <class S_> class GpsInsFilter {
   Status start(double lat, double lon, double h, const Vec3<S>& sig, const Vec3<S>& v0_n) {
     State s = s_;
     const Vec3<S> l_n = quat::rotate(s.nav.q_nb, p_.lever_arm_b);
-    detail::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
+    earth::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
     const Quat<S> q = s.nav.q_nb;
     s.nav = StrapdownState<S>();
     s.nav.q_nb = q;
@@ -797,16 +780,24 @@ template <class S_> class GpsInsFilter {
     // kalman_correct refuses an infinite NIS (a finite reading near the float maximum, a height
     // of 1e300 m) with NumericalFailure.
     kalman_correct<S, 15, M>(P, H, R, y, dx, res, gate);
-    if (res.status == Status::Ok) {
-      State s = s_;
-      floor_covariance<S, 15>(P, p_.cov_floor);
-      s.P = P;
-      detail::gpsins_inject(s, dx);
-      if (!detail::gpsins_nav_ok(s))
-        res.status = Status::NumericalFailure;
-      else
-        s_ = s;
-    }
+    inject_and_commit(
+        res, P,
+        [&] {
+          State s = s_;
+          detail::gpsins_inject(s, dx);
+          return s;
+        },
+        [](const State& s, const Mat15&) { return detail::gpsins_nav_ok(s); },
+        // The floor acts on P alone (the error state has no constraint), so it does not matter
+        // that it comes after the injection here.
+        [&](State&, Mat15& Pc) {
+          floor_covariance<S, 15>(Pc, p_.cov_floor);
+          return true;
+        },
+        [&](State& s, const Mat15& Pc) {
+          s.P = Pc;
+          s_ = s;
+        });
     return count(k, res);
   }
 

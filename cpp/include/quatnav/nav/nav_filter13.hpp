@@ -78,6 +78,7 @@
 #include <cstdint>
 
 #include "../core/checks.hpp"
+#include "../core/commit.hpp"
 #include "../core/covariance.hpp"
 #include "../core/earth.hpp"
 #include "../core/kalman.hpp"
@@ -352,14 +353,10 @@ template <class S> bool nav13_floor_covariance(const Quat<S>& q, Mat13<S>& P, S 
 
 /// Earth terms of eq. (2) and gravity at (lat, h) for the velocity v_n (earth.hpp, WGS-84).
 template <class S> void nav13_earth_terms(S lat, S h, const Vec3<S>& v_n, bool earth_rotation, Nav13Input<S>& u) {
-  u.g_n = earth::gravity_n(lat, h);
-  if (earth_rotation) {
-    u.omega_ie_n = earth::earth_rate_n(lat);
-    u.omega_en_n = earth::transport_rate_n(lat, h, v_n);
-  } else {
-    u.omega_ie_n.setZero();
-    u.omega_en_n.setZero();
-  }
+  const earth::Terms<S> e = earth::terms(lat, h, v_n, earth_rotation);
+  u.g_n = e.g_n();
+  u.omega_ie_n = e.omega_ie_n;
+  u.omega_en_n = e.omega_en_n;
 }
 
 /// EKF / second-order time update (eq. 16-20) on a copy; false when the result is not finite.
@@ -638,26 +635,27 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Mat13 P = st_.P;
     Vec13 dx;
     // kalman_correct refuses an infinite NIS (NumericalFailure).
-    if (kalman_correct<S, 13, M>(P, H, R, y, dx, res, gate) != Status::Ok) return;
-    Vec13 xv = x() + dx;  // (23)
-    // A correction that moves the unit quaternion by more than about one unit is far outside the
-    // linearization (and an overflowing norm would normalize to zero): refused, state kept.
-    // Likewise a corrected speed above kMaxSpeed (an absurd but finite aid, e.g. 1e38 m/s, would
-    // otherwise be accepted and make every later predict overflow).
-    const S qn = xv.template segment<4>(detail::kQ).norm();
-    if (!xv.allFinite() || !(qn > S(0.5)) || !(qn < S(2)) ||
-        !(xv.template segment<3>(detail::kV).norm() < kMaxSpeed)) {
-      res.status = Status::NumericalFailure;
-      return;
-    }
-    detail::nav13_normalize(xv, P);
-    if (!detail::nav13_state_ok(xv, P)) {
-      res.status = Status::NumericalFailure;
-      return;
-    }
-    detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), P, params_.cov_floor);
-    unpack(xv, st_);
-    st_.P = P;
+    kalman_correct<S, 13, M>(P, H, R, y, dx, res, gate);
+    inject_and_commit(
+        res, P, [&] { return Vec13(x() + dx); },  // (23)
+        // A correction that moves the unit quaternion by more than about one unit is far outside
+        // the linearization (and an overflowing norm would normalize to zero): refused, state
+        // kept. Likewise a corrected speed above kMaxSpeed (an absurd but finite aid, e.g.
+        // 1e38 m/s, would otherwise be accepted and make every later predict overflow).
+        [](const Vec13& xv, const Mat13&) {
+          const S qn = xv.template segment<4>(detail::kQ).norm();
+          return xv.allFinite() && qn > S(0.5) && qn < S(2) && xv.template segment<3>(detail::kV).norm() < kMaxSpeed;
+        },
+        [&](Vec13& xv, Mat13& Pc) {
+          detail::nav13_normalize(xv, Pc);
+          if (!detail::nav13_state_ok(xv, Pc)) return false;
+          detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), Pc, params_.cov_floor);
+          return true;
+        },
+        [&](const Vec13& xv, const Mat13& Pc) {
+          unpack(xv, st_);
+          st_.P = Pc;
+        });
   }
 
   /// Largest speed [m/s] a correction may produce (far above any vehicle near the Earth).

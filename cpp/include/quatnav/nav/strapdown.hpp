@@ -63,6 +63,7 @@ template <class T> struct identity {
   using type = T;
 };
 
+/// The Earth terms (earth.hpp) evaluated in double at the double position, rounded to S.
 template <class S> struct EarthTerms {
   S g;
   Vec3<S> w_ie;
@@ -70,16 +71,8 @@ template <class S> struct EarthTerms {
 };
 
 template <class S> EarthTerms<S> earth_terms(double lat, double h, const Vec3<S>& v, bool earth_rotation) {
-  EarthTerms<S> e;
-  e.g = S(earth::gravity<double>(lat, h));
-  if (earth_rotation) {
-    e.w_ie = earth::earth_rate_n<double>(lat).template cast<S>();
-    e.w_en = earth::transport_rate_n<double>(lat, h, v.template cast<double>()).template cast<S>();
-  } else {
-    e.w_ie.setZero();
-    e.w_en.setZero();
-  }
-  return e;
+  const earth::Terms<double> t = earth::terms<double>(lat, h, v.template cast<double>(), earth_rotation);
+  return EarthTerms<S>{S(t.g), t.omega_ie_n.template cast<S>(), t.omega_en_n.template cast<S>()};
 }
 
 template <class S> bool all_finite(const StrapdownState<S>& s) {
