@@ -501,7 +501,7 @@ def att_diff_deg(q1, q2):
 
 def tilt_err_deg(q, q_true):
     """Angle (deg) between the down axis seen in the body frame by q and by the truth."""
-    from quatnav import quaternion as quat
+    from quatnav.core import quaternion as quat
 
     down = np.array([0.0, 0.0, 1.0])
     a = quat.rotate_inv(q / np.linalg.norm(q, axis=1, keepdims=True), np.broadcast_to(down, (len(q), 3)))
