@@ -17,6 +17,9 @@ from quatnav.sim.scenarios import make_scenario
 
 NAMES = ("QuaternionEKF", "EulerEKF", "MargFilter", "NavFilter13", "GpsInsFilter")
 REPO = Path(__file__).resolve().parents[2]
+# the folder holding the quatnav this test session imported (installed, or the source tree with
+# its compiled module): subprocesses must see the same package
+PACKAGE_DIR = str(Path(quatnav.__file__).resolve().parents[1])
 
 
 @pytest.fixture(scope="module")
@@ -237,7 +240,7 @@ def test_compiled_module_loads_on_first_use():
     code = ("import sys, quatnav; assert 'quatnav._core' not in sys.modules, 'eager'; "
             "f = quatnav.QuaternionEKF(); assert 'quatnav._core' in sys.modules; print(quatnav.__version__)")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                       env={"PYTHONPATH": str(REPO / "python"), "PATH": ""})
+                       env={"PYTHONPATH": PACKAGE_DIR, "PATH": ""})
     assert p.returncode == 0, p.stderr
 
 
@@ -269,5 +272,5 @@ else:
 print("ok")
 """
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                       env={"PYTHONPATH": str(REPO / "python"), "PATH": ""})
+                       env={"PYTHONPATH": PACKAGE_DIR, "PATH": ""})
     assert p.returncode == 0 and p.stdout.strip() == "ok", p.stderr

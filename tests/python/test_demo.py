@@ -8,11 +8,14 @@ import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+# the folder holding the quatnav this test session imported (installed, or the source tree with
+# its compiled module): the subprocess must run the same package
+PACKAGE_DIR = str(Path(__import__("quatnav").__file__).resolve().parents[1])
 
 
 def _run_demo(*args, cwd):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [str(REPO / "python"), *filter(None, [os.environ.get("PYTHONPATH")])]), MPLBACKEND="Agg")
+        [PACKAGE_DIR, *filter(None, [os.environ.get("PYTHONPATH")])]), MPLBACKEND="Agg")
     return subprocess.run([sys.executable, "-m", "quatnav", "demo", *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 

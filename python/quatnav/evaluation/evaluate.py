@@ -138,7 +138,8 @@ def _progress(total: int, enabled: bool):
         return None
     try:
         from tqdm import tqdm
-        return tqdm(total=total, unit="run", file=sys.stderr)
+        # disable=None: no bar when stderr is not a terminal (logs, CI, pipes)
+        return tqdm(total=total, unit="run", file=sys.stderr, disable=None)
     except ImportError:  # pragma: no cover
         return None
 

@@ -128,7 +128,7 @@ def tune(param_sets, directory=None, filter: str = "qekf", base: dict | None = N
         if progress:
             try:
                 from tqdm import tqdm
-                bar = tqdm(total=len(futures), unit="set")
+                bar = tqdm(total=len(futures), unit="set", disable=None)  # none off a terminal
             except ImportError:  # pragma: no cover
                 bar = None
         results = []
