@@ -426,6 +426,24 @@ def check_imu_order(gyr, acc):
     return gyr
 
 
+def marg_inputs(gyr, acc, mag, dtype, strict: bool):
+    """The (N, 3) gyro, accelerometer and optional magnetometer of an attitude filter's run, checked
+    once for every attitude filter: the IMU order, shapes and dtype, finite rows when ``strict``
+    (magnetometer rows may be all-NaN: no sample), and no zero-norm acc or mag row."""
+    g = V.vectors(check_imu_order(gyr, acc), "gyr", dtype=dtype, finite=strict)
+    n = g.shape[0]
+    a = V.vectors(acc, "acc", n=n, dtype=dtype, finite=strict)
+    m = None
+    if mag is not None:
+        m = V.vectors(mag, "mag", n=n, dtype=dtype, finite=strict, allow_nan_rows=True)
+    check_swapped(g, a)
+    if strict:
+        V.nonzero_rows(a, "acc")
+        if m is not None:
+            V.nonzero_rows(m, "mag")
+    return g, a, m
+
+
 def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
     """Refuse specific force in the gyro's place (the order of the old navigation APIs): a TypeError
     when the median |gyr| reads as gravity in m/s^2 and the median |acc| as a rate."""

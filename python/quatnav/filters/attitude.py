@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import _validate as V
 from ..core import quaternion as Q
-from ._base import Filter, FilterResult, check_imu_order, check_swapped, times_of
+from ._base import Filter, FilterResult, marg_inputs, times_of
 from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS"]
@@ -160,17 +160,8 @@ class _AttitudeFilter(Filter):
         """
         mode = V.on_invalid(on_invalid)
         strict = mode == "raise"
-        g = V.vectors(check_imu_order(gyr, acc), "gyr", dtype=self.dtype, finite=strict)
+        g, a, m = marg_inputs(gyr, acc, mag, self.dtype, strict)
         n = g.shape[0]
-        a = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
-        m = None
-        if mag is not None:
-            m = V.vectors(mag, "mag", n=n, dtype=self.dtype, finite=strict, allow_nan_rows=True)
-        check_swapped(g, a)
-        if strict:
-            V.nonzero_rows(a, "acc")
-            if m is not None:
-                V.nonzero_rows(m, "mag")
         steps = V.time_steps(n, dt=dt, t=t, dtype=self.dtype,
                              max_dt=float(self._f.params.max_dt) if strict else None)
         quat, bias, sigma, att_sigma, flags = self._f.run(g, a, m, steps)

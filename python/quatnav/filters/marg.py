@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from ._base import Filter, FilterResult, aid_times, check_aid, check_imu_order, check_swapped, core, times_of
+from ._base import Filter, FilterResult, aid_times, check_aid, core, marg_inputs, times_of
 from .tables import MARG_FLAGS, MARG_PARAMS
 
 __all__ = ["MargFilter", "MargResult", "MARG_FLAGS"]
@@ -178,17 +178,8 @@ class MargFilter(Filter):
         """
         mode = V.on_invalid(on_invalid)
         strict = mode == "raise"
-        g = V.vectors(check_imu_order(gyr, acc), "gyr", dtype=self.dtype, finite=strict)
+        g, a, m = marg_inputs(gyr, acc, mag, self.dtype, strict)
         n = g.shape[0]
-        a = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
-        m = None
-        if mag is not None:
-            m = V.vectors(mag, "mag", n=n, dtype=self.dtype, finite=strict, allow_nan_rows=True)
-        check_swapped(g, a)
-        if strict:
-            V.nonzero_rows(a, "acc")
-            if m is not None:
-                V.nonzero_rows(m, "mag")
         steps = V.time_steps(n, dt=dt, t=t, dtype=np.float64,
                              max_dt=float(self._f.params.max_dt) if strict else None)
         times = times_of(n, t, steps)
