@@ -19,6 +19,19 @@ void bind_gpsins_f32(py::module_& m);
 PYBIND11_MODULE(_core, m) {
   m.doc() = "quatnav compiled core (header-only C++ filters bound for float32 and float64)";
   m.attr("__version__") = QUATNAV_VERSION;
+  // The one flag table and the status names, from the C++ declarations (core/flags.hpp, types.hpp);
+  // quatnav.Flag and quatnav.Status are tested equal to them.
+  m.def("flag_table", []() -> pybind11::list {
+    pybind11::list rows;
+    for (const auto& f : quatnav::kFlagTable) rows.append(pybind11::make_tuple(f.name, f.bit, f.doc));
+    return rows;
+  }, "The per-sample flags of every filter: a list of (name, bit mask, meaning).");
+  m.def("status_names", []() -> pybind11::list {
+    pybind11::list names;
+    for (int c = 0; c <= static_cast<int>(quatnav::Status::InvalidArgument); ++c)
+      names.append(quatnav::to_string(static_cast<quatnav::Status>(c)));
+    return names;
+  }, "The names of quatnav::Status by code.");
   // The order of registration is that of the signatures' type names: a class is bound before
   // the functions that take or return it.
   quatnav_py::bind_math(m);

@@ -8,8 +8,9 @@ import importlib
 
 from . import core, datasets, evaluation  # noqa: F401  (numpy core, dataset loaders, BROAD metrics)
 from .filters._base import Aid, AidResult, FilterResult
-from .filters.attitude import FLAGS, AttitudeResult, EulerEKF, QuaternionEKF
-from .filters.marg import MARG_FLAGS, MargFilter, MargResult
+from .filters.tables import FLAGS, Flag, Status
+from .filters.attitude import AttitudeResult, EulerEKF, QuaternionEKF
+from .filters.marg import MargFilter, MargResult
 from .filters._base import NavResult
 from .filters.nav13 import NavFilter13, NavFilter13Result
 from .filters.gpsins import GpsInsFilter, GpsInsResult
@@ -26,7 +27,7 @@ def __getattr__(name):
     raise AttributeError(f"module 'quatnav' has no attribute {name!r}")
 
 
-__all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "core", "__version__"]
-__all__ += ["MargFilter", "MargResult", "MARG_FLAGS"]
+__all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "Flag", "Status", "core", "__version__"]
+__all__ += ["MargFilter", "MargResult"]
 __all__ += ["NavFilter13", "NavFilter13Result", "NavResult"]
 __all__ += ["GpsInsFilter", "GpsInsResult"]

@@ -376,7 +376,7 @@ TYPED_TEST(Nav13Filter, BatchEqualsSteps) {
       const auto ry = b.update_yaw(S(0.5));
       EXPECT_EQ(rv.nis, vn[m]);
       EXPECT_EQ(ry.nis, yn[m]);
-      EXPECT_NE(fl[k] & nav13_flags::kVelUpdated, 0u);
+      EXPECT_NE(fl[k] & flags::kGpsVelUsed, 0u);
       ++m;
     }
     for (int i = 0; i < 13; ++i) EXPECT_EQ(b.x()[i], x[13 * k + i]);

@@ -274,3 +274,18 @@ print("ok")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        env={"PYTHONPATH": PACKAGE_DIR, "PATH": ""})
     assert p.returncode == 0 and p.stdout.strip() == "ok", p.stderr
+
+
+def test_one_flag_table_and_status_list_equal_the_cpp_declarations():
+    from quatnav.filters.tables import FLAGS
+    core = quatnav._core
+    rows = core.flag_table()
+    assert {name: bit for name, bit, _ in rows} == FLAGS
+    bits = [bit for _, bit, _ in rows]
+    assert len(set(bits)) == len(bits) and all(b & (b - 1) == 0 for b in bits)  # unique single bits
+    assert tuple(core.status_names()) == STATUS_NAMES
+    for name, table in FLAG_TABLES.items():  # each filter sets a subset, with the table's bits
+        assert all(FLAGS[f] == bit for f, bit in table.items()), name
+    assert quatnav.Flag.acc_rejected == FLAGS["acc_rejected"] and quatnav.Status.rejected == STATUS_NAMES.index("rejected")
+    assert set(quatnav.Flag(FLAGS["gps_pos_used"] | FLAGS["navigating"])) == {quatnav.Flag.gps_pos_used,
+                                                                                quatnav.Flag.navigating}

@@ -106,7 +106,7 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
   std::uint32_t iv = 0, iy = 0;
 
   std::uint32_t step(std::uint32_t k) {
-    namespace nf = quatnav::nav13_flags;
+    namespace nf = quatnav::flags;
     std::uint32_t fl = 0;
     if (k == 0) {
       typename Filter::Params p;
@@ -130,12 +130,12 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
     }
     while (iv < qn_input::kNVel && qn_input::vel_k[iv] <= k) {
       const quatnav::UpdateResult<S, 3> r = f.update_velocity(load3<S>(qn_input::vel, iv));
-      fl |= r.status == quatnav::Status::Ok ? nf::kVelUpdated : quatnav::update_flags(r, nf::kVelSkipped, nf::kVelRejected);
+      fl |= r.status == quatnav::Status::Ok ? nf::kGpsVelUsed : quatnav::update_flags(r, nf::kAidSkipped, nf::kGpsVelRejected);
       ++iv;
     }
     while (iy < qn_input::kNYaw && qn_input::yaw_k[iy] <= k) {
       const quatnav::UpdateResult<S, 1> r = f.update_yaw(S(qn_input::yaw[iy]));
-      fl |= r.status == quatnav::Status::Ok ? nf::kYawUpdated : quatnav::update_flags(r, nf::kYawSkipped, nf::kYawRejected);
+      fl |= r.status == quatnav::Status::Ok ? nf::kHeadingUsed : quatnav::update_flags(r, nf::kAidSkipped, nf::kHeadingRejected);
       ++iy;
     }
     return fl;
@@ -164,7 +164,7 @@ template <class S> struct GpsInsAdapter {
   std::uint32_t ig = 0, ib = 0, ic = 0;
 
   std::uint32_t step(std::uint32_t k) {
-    namespace gf = quatnav::gpsins_flags;
+    namespace gf = quatnav::flags;
     using quatnav::Status;
     std::uint32_t fl = 0;
     if (k == 0) {
@@ -181,8 +181,8 @@ template <class S> struct GpsInsAdapter {
       if (f.predict(load3<S>(qn_input::gyr, k), load3<S>(qn_input::acc, k), S(qn_input::dt[k])) != Status::Ok)
         fl |= gf::kPredictSkipped;
       while (ic < qn_input::kNCompass && qn_input::compass_k[ic] <= k) {
-        fl |= quatnav::detail::gpsins_aid_flag(f.update_compass(S(qn_input::compass[ic])), gf::kCompassUsed,
-                                               gf::kCompassRejected);
+        fl |= quatnav::detail::gpsins_aid_flag(f.update_compass(S(qn_input::compass[ic])), gf::kHeadingUsed,
+                                               gf::kHeadingRejected);
         ++ic;
       }
       while (ib < qn_input::kNBaro && qn_input::baro_k[ib] <= k) {

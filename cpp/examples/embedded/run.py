@@ -597,6 +597,8 @@ def main(argv=None):
 
     log("== recorded inputs: " + ", ".join(f"{k} ({INPUTS[k]['scenario']}, {INPUTS[k]['n']} samples)" for k in kinds))
     inputs = {}
+    from quatnav.filters.tables import FLAGS  # the one flag table (core/flags.hpp)
+
     for k in kinds:
         inputs[k] = make_input(k)
         write_if_changed(build / f"input_{k}.h", input_header(k, inputs[k]))
@@ -694,7 +696,7 @@ def main(argv=None):
                         row["max_vel_diff_vs_host_float_m_s"] = float(np.linalg.norm(tg["v"] - hf["v"], axis=1).max())
                     nav = np.ones(len(hd["q"]), bool)
                     if kind == "gpsins":  # position and velocity exist once navigation has started
-                        nav = (hd["flags"] & 0x4) != 0
+                        nav = (hd["flags"] & FLAGS["navigating"]) != 0
                     if nav.any():
                         e_p = pos_diff_m(hd["llh"][nav], inputs[kind]["truth_llh"][nav])[0]
                         e_v = np.linalg.norm(hd["v"][nav] - inputs[kind]["truth_v"][nav], axis=1)
@@ -706,7 +708,7 @@ def main(argv=None):
                 row["host_double_vs_python_deg"] = float(att_diff_deg(hd["q"][ok], py[ok]).max())
             truth = inputs[kind]["truth_q"]
             if kind == "gpsins":  # attitude once levelled (before that the filter has none)
-                lev = (hd["flags"] & 0x6) != 0
+                lev = (hd["flags"] & (FLAGS["levelled"] | FLAGS["navigating"])) != 0
                 row["host_double_att_err_rms_deg"] = float(np.sqrt(np.mean(att_diff_deg(hd["q"][lev], truth[lev]) ** 2)))
             elif kind == "marg":  # heading is relative to magnetic north: compare the tilt only
                 row["host_double_tilt_err_rms_deg"] = float(np.sqrt(np.mean(tilt_err_deg(hd["q"], truth) ** 2)))

@@ -16,10 +16,7 @@ from ..core import quaternion as Q
 from ._base import Filter, FilterResult, marg_inputs, times_of
 from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 
-__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS"]
-
-#: Bits of :attr:`AttitudeResult.flags` (the C++ ``quatnav::flags`` constants).
-FLAGS = ATTITUDE_FLAGS
+__all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult"]
 
 
 @dataclass(repr=False, eq=False)
@@ -167,7 +164,7 @@ class _AttitudeFilter(Filter):
         quat, bias, sigma, att_sigma, flags = self._f.run(g, a, m, steps)
         skipped = {}
         for name in ("predict_skipped", "acc_skipped", "mag_skipped", "saturated"):
-            rows = np.flatnonzero(flags & FLAGS[name])
+            rows = np.flatnonzero(flags & ATTITUDE_FLAGS[name])
             if rows.size:
                 skipped[name] = rows
         return AttitudeResult(type(self).__name__, times_of(n, t, steps), quat, bias, sigma, flags,

@@ -1,6 +1,6 @@
 """The tables of the filters, in one place: statuses, flag bits and constructor parameters.
 
-Each filter has one flag table (name -> bit of its results' ``flags``) and one parameter table
+One flag table for every filter (name -> bit of a result's ``flags``; each filter sets a subset) and one parameter table
 (a tuple of :class:`Param`: Python name, default, unit, meaning, check, and
 the C++ ``Params`` field it sets). The filter classes, their signatures and docstrings, ``repr``
 and ``docs/PARAMETERS.md`` (checked by a test) come from these tables; a test checks the defaults
@@ -8,6 +8,7 @@ against the C++ ``Params`` structs.
 """
 from __future__ import annotations
 
+import enum
 import numbers
 from dataclasses import dataclass
 from typing import Any
@@ -16,39 +17,56 @@ import numpy as np
 
 from .. import _validate as V
 
-__all__ = ["STATUS_NAMES", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "QEKF_PARAMS",
+__all__ = ["STATUS_NAMES", "FLAGS", "Flag", "Status", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "QEKF_PARAMS",
            "EULER_PARAMS", "MARG_PARAMS", "NAV13_PARAMS", "GPSINS_PARAMS", "FLAG_TABLES", "PARAM_TABLES"]
 
-#: ``quatnav::Status`` names by code (the ``status`` arrays of :class:`~quatnav.AidResult`).
+#: ``quatnav::Status`` names by code (the ``status`` arrays of :class:`~quatnav.AidResult`);
+#: a test checks them against the compiled module's ``_core.status_names()``.
 STATUS_NAMES = ("ok", "not_initialized", "non_finite", "zero_norm", "invalid_dt", "saturated", "solve_failed",
                 "rejected", "numerical_failure", "invalid_argument")
 
-#: QuaternionEKF and EulerEKF (``quatnav::flags``).
-ATTITUDE_FLAGS = {
+#: The one flag table of every filter (``QUATNAV_FLAG_TABLE`` in ``core/flags.hpp``): name -> bit of
+#: a result's ``flags``. Each name has one bit in every filter; a test checks the table against the
+#: compiled module's ``_core.flag_table()``.
+FLAGS = {
     "initialized": 1 << 0, "predict_skipped": 1 << 1, "acc_skipped": 1 << 2, "mag_skipped": 1 << 3,
     "acc_rejected": 1 << 4, "mag_rejected": 1 << 5, "solve_failed": 1 << 6, "singular": 1 << 7,
     "at_rest": 1 << 8, "no_mag": 1 << 9, "saturated": 1 << 10,
+    "gps_corrected": 1 << 11, "gn_not_converged": 1 << 12,
+    "aligning": 1 << 13, "levelled": 1 << 14, "navigating": 1 << 15,
+    "gps_pos_used": 1 << 16, "gps_pos_rejected": 1 << 17, "gps_vel_used": 1 << 18, "gps_vel_rejected": 1 << 19,
+    "baro_used": 1 << 20, "baro_rejected": 1 << 21, "baro_vd_used": 1 << 22, "baro_vd_rejected": 1 << 23,
+    "heading_used": 1 << 24, "heading_rejected": 1 << 25, "aid_skipped": 1 << 26, "gps_reset": 1 << 27,
 }
 
-#: MargFilter: the attitude flags plus two of its own (``quatnav::marg_flags``).
-MARG_FLAGS = dict(ATTITUDE_FLAGS, gps_corrected=1 << 16, gn_not_converged=1 << 17)
+#: The flags as an :class:`enum.IntFlag`: ``quatnav.Flag.acc_rejected``, ``Flag(r.flags[k])`` lists
+#: the flags of sample ``k``.
+Flag = enum.IntFlag("Flag", FLAGS, module=__name__)
+Flag.__doc__ = "The per-sample flags of every filter's result (one table, unique bits)."
 
-#: NavFilter13 (``quatnav::nav13_flags``); the aid names are those of ``run``.
-NAV13_FLAGS = {
-    "predict_skipped": 1 << 1, "solve_failed": 1 << 6, "saturated": 1 << 10,
-    "gps_vel_used": 1 << 16, "gps_vel_rejected": 1 << 17, "gps_vel_skipped": 1 << 18,
-    "yaw_used": 1 << 19, "yaw_rejected": 1 << 20, "yaw_skipped": 1 << 21,
-}
+#: ``quatnav::Status`` as an :class:`enum.IntEnum` (the code of an update's ``status``).
+Status = enum.IntEnum("Status", {n: i for i, n in enumerate(STATUS_NAMES)}, module=__name__)
+Status.__doc__ = "What one update did (``quatnav::Status``); anything but ok and rejected left the state untouched."
 
-#: GpsInsFilter (``quatnav::gpsins_flags``).
-GPSINS_FLAGS = {
-    "aligning": 1 << 0, "levelled": 1 << 1, "navigating": 1 << 2, "initialized": 1 << 3,
-    "predict_skipped": 1 << 4, "gps_pos_used": 1 << 5, "gps_pos_rejected": 1 << 6,
-    "gps_vel_used": 1 << 7, "gps_vel_rejected": 1 << 8, "baro_used": 1 << 9,
-    "baro_rejected": 1 << 10, "baro_vd_used": 1 << 11, "baro_vd_rejected": 1 << 12,
-    "compass_used": 1 << 13, "compass_rejected": 1 << 14, "aid_skipped": 1 << 15,
-    "gps_reset": 1 << 16, "saturated": 1 << 17,
-}
+
+def _subset(*names: str) -> dict:
+    return {n: FLAGS[n] for n in names}
+
+
+_ATT = ("initialized", "predict_skipped", "acc_skipped", "mag_skipped", "acc_rejected", "mag_rejected",
+        "solve_failed", "singular", "at_rest", "no_mag", "saturated")
+#: The flags QuaternionEKF and EulerEKF set.
+ATTITUDE_FLAGS = _subset(*_ATT)
+#: The flags MargFilter sets: the attitude flags and two of its own.
+MARG_FLAGS = _subset(*_ATT, "gps_corrected", "gn_not_converged")
+#: The flags NavFilter13 sets (its ``yaw`` aid is a heading).
+NAV13_FLAGS = _subset("predict_skipped", "solve_failed", "saturated", "gps_vel_used", "gps_vel_rejected",
+                      "heading_used", "heading_rejected", "aid_skipped")
+#: The flags GpsInsFilter sets (its ``compass`` aid is a heading).
+GPSINS_FLAGS = _subset("aligning", "levelled", "navigating", "initialized", "predict_skipped", "gps_pos_used",
+                       "gps_pos_rejected", "gps_vel_used", "gps_vel_rejected", "baro_used", "baro_rejected",
+                       "baro_vd_used", "baro_vd_rejected", "heading_used", "heading_rejected", "aid_skipped",
+                       "gps_reset", "saturated")
 
 
 @dataclass(frozen=True)

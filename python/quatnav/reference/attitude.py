@@ -6,6 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..core import quaternion as Q
+from ..filters.tables import FLAGS
 from .kalman import kalman_correct
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED
@@ -122,7 +123,7 @@ def _lowpass(y, x, dt, tau):
     return y + a * (x - y)
 
 
-FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = 1 << 4, 1 << 5, 1 << 8
+FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = FLAGS["acc_rejected"], FLAGS["mag_rejected"], FLAGS["at_rest"]
 
 
 class QuaternionEKF(_Base):

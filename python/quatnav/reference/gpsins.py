@@ -18,6 +18,7 @@ import numpy as np
 from ..core import earth
 from ..core import quaternion as Q
 from ..core.strapdown import StrapdownState, strapdown_step
+from ..filters.tables import FLAGS
 from .kalman import kalman_correct
 
 __all__ = ["GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING"]
@@ -616,5 +617,6 @@ class GpsInsFilter:
                 out["q_nb"][k] = self.q_nb
             out["accel_bias"][k] = self.s.b_a
             out["gyro_bias"][k] = self.s.b_g
-            out["flags"][k] = (1 << self.s.phase) | ((1 << 3) if (not was_nav and self.navigating) else 0)
+            out["flags"][k] = (FLAGS[("aligning", "levelled", "navigating")[self.s.phase]]
+                               | (FLAGS["initialized"] if (not was_nav and self.navigating) else 0))
         return out

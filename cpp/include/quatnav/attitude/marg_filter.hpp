@@ -51,11 +51,6 @@
 
 namespace quatnav {
 
-namespace flags {
-constexpr std::uint32_t kGpsCorrected = 1u << 16;      ///< MargFilter: acc corrected with GPS (eq. 7)
-constexpr std::uint32_t kGnNotConverged = 1u << 17;    ///< MargFilter: Gauss-Newton hit gn_max_iter
-}  // namespace flags
-
 /// Parameters of MargFilter. Every field has its unit and default.
 template <class S> struct MargFilterParams {
   S gain = S(1);                   ///< k of eq. (6): blend rate towards the Gauss-Newton attitude [1/s]

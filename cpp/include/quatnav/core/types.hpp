@@ -12,6 +12,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 
+#include "flags.hpp"
+
 namespace quatnav {
 
 template <class S> using Vec2 = Eigen::Matrix<S, 2, 1>;
@@ -70,21 +72,6 @@ inline const char* to_string(Status s) {
   }
   return "unknown";
 }
-
-/// Per-sample flags written by the batch runs (a bit mask, uint32).
-namespace flags {
-constexpr std::uint32_t kInitialized = 1u << 0;      ///< the filter was initialized at this sample
-constexpr std::uint32_t kPredictSkipped = 1u << 1;   ///< time update skipped (invalid gyro or dt)
-constexpr std::uint32_t kAccSkipped = 1u << 2;       ///< accelerometer update skipped (invalid input)
-constexpr std::uint32_t kMagSkipped = 1u << 3;       ///< magnetometer update skipped (invalid input)
-constexpr std::uint32_t kAccRejected = 1u << 4;      ///< accelerometer rejected (gate or disturbance)
-constexpr std::uint32_t kMagRejected = 1u << 5;      ///< magnetometer rejected (gate or disturbance)
-constexpr std::uint32_t kSolveFailed = 1u << 6;      ///< a Kalman correction failed; state kept
-constexpr std::uint32_t kSingular = 1u << 7;         ///< near a parametrization singularity (Euler filter)
-constexpr std::uint32_t kAtRest = 1u << 8;           ///< rest detected
-constexpr std::uint32_t kNoMag = 1u << 9;            ///< no magnetometer sample at this step
-constexpr std::uint32_t kSaturated = 1u << 10;       ///< a reading was saturated (its step skipped)
-}  // namespace flags
 
 /// The outcome of one measurement update with M rows.
 template <class S, int M>

@@ -55,7 +55,7 @@
 // gps_reset_after consecutive rejected GPS positions (velocities) the next rejected one resets
 // the position (velocity) to the fix, less the lever-arm term, with the fix's covariance in its
 // block and its cross-covariances zeroed; the update still reports Rejected, the reset is
-// counted (counters.resets) and flagged (gpsins_flags::kGpsReset).
+// counted (counters.resets) and flagged (flags::kGpsReset).
 // Feedback (paper Fig. 2): after each accepted correction dx is injected into the nominal state
 // (lat -= dp_N / (R_M + h), lon -= dp_E / ((R_N + h) cos L), h += dp_D, v -= dv,
 // q_nb <- exp(-psi) * q_nb, b -= db) and dx is reset to zero (the covariance is kept: the reset
@@ -91,28 +91,6 @@
 #include "../core/types.hpp"
 
 namespace quatnav {
-
-/// Per-IMU-sample flags written by gpsins_batch (uint32 bit mask).
-namespace gpsins_flags {
-constexpr std::uint32_t kAligning = 1u << 0;          ///< still averaging the accelerometer
-constexpr std::uint32_t kLevelled = 1u << 1;          ///< levelled, waiting for heading and fix
-constexpr std::uint32_t kNavigating = 1u << 2;        ///< the full filter runs
-constexpr std::uint32_t kInitialized = 1u << 3;       ///< navigation started at this sample
-constexpr std::uint32_t kPredictSkipped = 1u << 4;    ///< invalid IMU sample or dt: not used
-constexpr std::uint32_t kGpsPosUsed = 1u << 5;
-constexpr std::uint32_t kGpsPosRejected = 1u << 6;
-constexpr std::uint32_t kGpsVelUsed = 1u << 7;
-constexpr std::uint32_t kGpsVelRejected = 1u << 8;
-constexpr std::uint32_t kBaroUsed = 1u << 9;
-constexpr std::uint32_t kBaroRejected = 1u << 10;
-constexpr std::uint32_t kBaroVdUsed = 1u << 11;
-constexpr std::uint32_t kBaroVdRejected = 1u << 12;
-constexpr std::uint32_t kCompassUsed = 1u << 13;
-constexpr std::uint32_t kCompassRejected = 1u << 14;
-constexpr std::uint32_t kAidSkipped = 1u << 15;       ///< an aiding sample was invalid or failed
-constexpr std::uint32_t kGpsReset = 1u << 16;         ///< a GPS position or velocity reset (gate lockout)
-constexpr std::uint32_t kSaturated = 1u << 17;        ///< the IMU sample was saturated (also kPredictSkipped)
-}  // namespace gpsins_flags
 
 /// Parameters (units beside each field; defaults fit a MEMS IMU and a standalone GPS).
 template <class S> struct GpsInsParams {
@@ -864,14 +842,14 @@ std::uint32_t gpsins_aid_flag(const UpdateResult<S, M>& r, std::uint32_t used, s
     case Status::Ok: return used;
     case Status::Rejected: return rejected;
     case Status::NotInitialized: return 0u;
-    default: return gpsins_flags::kAidSkipped;
+    default: return flags::kAidSkipped;
   }
 }
 }  // namespace detail
 
 /// Run the filter over the records of `io` (see GpsInsBatchIo). Allocates nothing.
 template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>& io) {
-  namespace gf = gpsins_flags;
+  namespace gf = flags;
   const S nan = std::numeric_limits<S>::quiet_NaN();
   std::size_t ig = 0, ib = 0, ic = 0;
   if (io.n == 0) return;
@@ -914,7 +892,7 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
         if (io.compass_innov && r.status != Status::NotInitialized) io.compass_innov[ic] = r.innovation[0];
         if (io.compass_nis && (r.status == Status::Ok || r.status == Status::Rejected)) io.compass_nis[ic] = r.nis;
         if (io.compass_status) io.compass_status[ic] = std::uint8_t(r.status);
-        fl |= detail::gpsins_aid_flag(r, gf::kCompassUsed, gf::kCompassRejected);
+        fl |= detail::gpsins_aid_flag(r, gf::kHeadingUsed, gf::kHeadingRejected);
         ++ic;
       }
       while (ib < io.nb && io.baro_t[ib] <= tk) {

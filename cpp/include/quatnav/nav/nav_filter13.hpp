@@ -147,17 +147,6 @@ template <class S> struct Nav13Input {
   Vec3<S> g_n = Vec3<S>::Zero();         ///< gravity in NED [m/s^2]
 };
 
-/// Bits of the per-sample flags written by run_nav13_batch (in addition to flags::kPredictSkipped
-/// and flags::kSolveFailed of types.hpp).
-namespace nav13_flags {
-constexpr std::uint32_t kVelUpdated = 1u << 16;   ///< a velocity update was applied at this sample
-constexpr std::uint32_t kVelRejected = 1u << 17;  ///< a velocity update failed its gate
-constexpr std::uint32_t kVelSkipped = 1u << 18;   ///< a velocity update was skipped (bad input)
-constexpr std::uint32_t kYawUpdated = 1u << 19;   ///< a yaw update was applied
-constexpr std::uint32_t kYawRejected = 1u << 20;  ///< a yaw update failed its gate
-constexpr std::uint32_t kYawSkipped = 1u << 21;   ///< a yaw update was skipped (bad input)
-}  // namespace nav13_flags
-
 namespace detail {
 
 template <class S> using Vec13 = Vec<S, 13>;
@@ -691,8 +680,8 @@ void run_nav13_batch(Filter& f, const S* f_ib_b, const S* omega_ib_b, const S* t
       if (vel_innov) Eigen::Map<Vec3<S>>(vel_innov + 3 * iv) = r.innovation;
       if (vel_nis) vel_nis[iv] = r.nis;
       if (vel_status) vel_status[iv] = static_cast<std::uint8_t>(r.status);
-      fl |= r.status == Status::Ok ? nav13_flags::kVelUpdated
-                                   : update_flags(r, nav13_flags::kVelSkipped, nav13_flags::kVelRejected);
+      fl |= r.status == Status::Ok ? flags::kGpsVelUsed
+                                   : update_flags(r, flags::kAidSkipped, flags::kGpsVelRejected);
       ++iv;
     }
     while (iy < ny && yaw_t[iy] <= t_now) {
@@ -700,8 +689,8 @@ void run_nav13_batch(Filter& f, const S* f_ib_b, const S* omega_ib_b, const S* t
       if (yaw_innov) yaw_innov[iy] = r.innovation[0];
       if (yaw_nis) yaw_nis[iy] = r.nis;
       if (yaw_status) yaw_status[iy] = static_cast<std::uint8_t>(r.status);
-      fl |= r.status == Status::Ok ? nav13_flags::kYawUpdated
-                                   : update_flags(r, nav13_flags::kYawSkipped, nav13_flags::kYawRejected);
+      fl |= r.status == Status::Ok ? flags::kHeadingUsed
+                                   : update_flags(r, flags::kAidSkipped, flags::kHeadingRejected);
       ++iy;
     }
   };
