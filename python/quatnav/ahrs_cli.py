@@ -158,6 +158,8 @@ def write_table(cols: dict, path: str) -> None:
             raise UsageError(f"{path}: writing Parquet needs pyarrow: pip install 'quatnav[logs]'") from None
         df.to_parquet(path, index=False)
     else:
+        if "time" in df:  # absolute times (GPS, UNIX: ~1e9 s) keep nanoseconds
+            df["time"] = np.char.mod("%.9f", df["time"].to_numpy(np.float64))
         df.to_csv(path, index=False, float_format="%.10g")
 
 
