@@ -98,3 +98,14 @@ def test_px4_against_its_own_estimate(tmp_path):
     assert cli.main(["compare", str(out), str(f), "--json", str(js)]) == 0
     got = json.loads(js.read_text())
     assert got["attitude_inclination_deg"]["rms"] < 2.0 and got["attitude_heading_deg"]["rms"] < 5.0
+
+
+def test_parquet_output(sim, tmp_path):
+    pytest.importorskip("pyarrow")
+    s, d = sim
+    out, js = tmp_path / "a.parquet", tmp_path / "c.json"
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--out", str(out)]) == 0
+    df = pd.read_parquet(out)
+    assert len(df) == len(s.t) and "flag_names" in df
+    assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
+    assert json.loads(js.read_text())["attitude_inclination_deg"]["n"] == len(s.t)
