@@ -31,7 +31,7 @@ fi
 
 # --- Python package and test dependencies ---------------------------------------------------
 pip_quiet cmake ninja cmeel-eigen pybind11 scikit-build-core
-pip_build ".[sim,test,eval,peers]"
+pip_build ".[sim,test,eval,peers,logs]"
 
 EIGEN_PREFIX=$("$PY" -m cmeel cmake)
 export CMAKE_GENERATOR=${CMAKE_GENERATOR:-Ninja}   # ninja comes from pip above; no make needed

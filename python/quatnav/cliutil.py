@@ -16,6 +16,7 @@ _EXTRAS = {
     "scipy": {"simulate": "sim", "bench": "sim", None: "eval"},
     "matplotlib": {None: "eval"}, "h5py": {None: "eval"}, "tqdm": {None: "eval"},
     "pandas": {None: "io"},
+    "pyulog": {None: "logs"}, "rosbags": {None: "logs"}, "pyarrow": {None: "logs"},
     "vqf": {None: "peers"}, "imufusion": {None: "peers"}, "ahrs": {None: "peers"}, "filterpy": {None: "peers"},
 }
 

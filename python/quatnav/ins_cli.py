@@ -101,6 +101,12 @@ gaps: an IMU gap longer than max_dt is coasted (propagated in steps of at most m
 warnings (stderr, once each): gyro in deg/s, accelerometer in g or mg, gravity not on -z at rest
   (forward-right-down sees (0, 0, -9.8) m/s^2), lat/lon in radians, GNSS and IMU times that do
   not overlap
+other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by quatnav.io.read)
+  gives the IMU, GNSS and barometer it holds; --imu, --gnss, --baro take any supported file
+  instead of CSV (e.g. --gnss solution.pos from RTKLIB, or an NMEA log) and replace the log's
+  stream; --format forces the format of the files.
+--kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude,
+  biases and the difference to the log's own attitude estimate (e.g. PX4's) when it has one
 --json FILE writes a summary (rows, navigation start, gaps, warnings); --json - prints it
 exit status: 0 on success, 1 when navigation never started (no output rows), 2 on an input
 error (one line on stderr naming the file, line and column)."""
@@ -350,7 +356,57 @@ def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), ali
     return [w for w in out if w]
 
 
-def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
+def _columns_of(log, what):
+    """The column dicts ``run_files`` uses, from a :class:`quatnav.io.Log` stream (rows numbered
+    from 1 as the 'lines' of messages)."""
+    if what == "IMU":
+        s = log.require("imu").imu
+        d = {"time": s.t, **{f"gyro_{c}": s.gyr[:, i] for i, c in enumerate("xyz")},
+             **{f"accel_{c}": s.acc[:, i] for i, c in enumerate("xyz")}}
+    elif what == "GNSS":
+        g = log.require("gnss").gnss
+        nan = np.full((len(g.t), 3), np.nan)
+        v, sg, sv = (x if x is not None else nan for x in (g.vel_n, g.sigma, g.sigma_vel))
+        v = np.where(np.isnan(v).any(1, keepdims=True), np.nan, v)  # NMEA: no v_d -> no velocity
+        sv = np.where(np.isnan(v).any(1, keepdims=True) | np.isnan(sv).any(1, keepdims=True), np.nan, sv)
+        d = {"time": g.t, "lat": np.degrees(g.lat), "lon": np.degrees(g.lon), "h": g.h,
+             **{k: v[:, i] for i, k in enumerate(("v_n", "v_e", "v_d"))},
+             **{k: sg[:, i] for i, k in enumerate(("sigma_n", "sigma_e", "sigma_d"))},
+             **{k: sv[:, i] for i, k in enumerate(("sigma_vn", "sigma_ve", "sigma_vd"))}}
+    elif what == "BARO":
+        b = log.require("baro").baro
+        if b.altitude is None:
+            raise InputError(f"{log.source}: the barometer gives pressure only, no altitude")
+        d = {"time": b.t, "h": b.altitude}
+    else:
+        c = log.require("compass").compass
+        d = {"time": c.t, "heading": np.degrees(c.heading)}
+    return d, np.arange(1, len(d["time"]) + 1)
+
+
+def _reader(log, fmt):
+    """A ``read_csv`` that takes any file :func:`quatnav.io.read` knows (CSV files keep the CSV
+    reader and its messages); ``log`` (a Log) serves the files not given."""
+    from . import io
+
+    def read(path, required, optional=(), what="file"):
+        if path is None:
+            return _columns_of(log, what)
+        import os
+        if not os.path.exists(path):
+            kind = "csv"  # the CSV reader's message names the missing file
+        else:
+            kind = io.detect(path) if fmt == "auto" or log is not None else fmt
+        if kind == "csv":
+            return read_csv(path, required, optional, what=what)
+        try:
+            return _columns_of(io.read(path, format=kind), what)
+        except ValueError as e:
+            raise InputError(str(e)) from None
+    return read
+
+
+def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -383,10 +439,16 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
     except (TypeError, ValueError) as e:
         raise InputError(f"config {config}: {e}") from None
     max_dt, align_time = float(f.params["max_dt"]), float(f.params["align_time"])
+    read_csv = _reader(log, fmt)
+    baro_from_log = log is not None and baro is None and log.baro is not None and log.baro.altitude is not None
+    if log is None and (imu is None or gnss is None):
+        raise InputError("give --imu and --gnss, or --log")
     d_imu, lines_i = read_csv(imu, IMU_COLUMNS, what="IMU")
+    imu = imu or log.source
     if len(d_imu["time"]) < 2:
         raise InputError(f"IMU {imu}: needs at least two rows")
     d_g, lines_g = read_csv(gnss, GNSS_COLUMNS, GNSS_OPTIONAL, what="GNSS")
+    gnss = gnss or log.source
     for c, lim in (("lat", 90.0), ("lon", 360.0)):
         bad = np.flatnonzero(np.abs(d_g[c]) > lim)
         if len(bad):
@@ -408,7 +470,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
                                   np.column_stack([d_g[c] for c in ("sigma_n", "sigma_e", "sigma_d")])),
               gps_vel=quatnav.Aid(d_g["time"], np.column_stack([d_g[c] for c in ("v_n", "v_e", "v_d")]),
                                   np.column_stack([d_g[c] for c in ("sigma_vn", "sigma_ve", "sigma_vd")])))
-    if baro:
+    if baro or baro_from_log:
         d_b, _ = read_csv(baro, BARO_COLUMNS, what="BARO")
         kw.update(baro=quatnav.Aid(d_b["time"], d_b["h"]))
     if compass:
@@ -437,6 +499,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
         np.savetxt(out, table, delimiter=",", header=",".join(OUTPUT_COLUMNS), comments="", fmt=fmt)
     except OSError as e:
         raise InputError(f"output {out}: cannot write ({e.strerror})") from None
+    if tracks is not None:
+        tracks.update(result=r, nav=nav, gnss=d_g)
     rej = {k: v for k, v in r.rejections.items() if v}
     n_nav = int(nav.sum())
     if nav.any():
@@ -458,9 +522,29 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
 
 def _run(args) -> int:
     prog = getattr(args, "_prog", "quatnav ins run")
+    log = None
+    if args.log:
+        from . import io
+        log = io.read(args.log, format=args.format)
+    elif not (args.imu and args.gnss):
+        raise UsageError("give --imu IMU and --gnss GNSS, or --log FILE")
+    tracks = {}
     msg, ok, summary = run_files(args.imu, args.gnss, args.out, baro=args.baro, compass=args.compass,
-                                 config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr))
+                                 config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr),
+                                 log=log, fmt=args.format, tracks=tracks)
     print(msg)
+    if ok:
+        from . import nav_outputs
+        r, nav = tracks["result"], tracks["nav"]
+        if args.kml:
+            nav_outputs.write_kml(args.kml, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
+            print(f"wrote {args.kml}")
+        if args.gpx:
+            nav_outputs.write_gpx(args.gpx, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
+            print(f"wrote {args.gpx}")
+        if args.plot:
+            nav_outputs.plot_nav(args.plot, r, nav, tracks["gnss"], log)
+            print(f"wrote {args.plot}")
     if args.json:
         write_json(summary, args)
     return 0 if ok else 1
@@ -475,13 +559,20 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                        description="Run quatnav.GpsInsFilter (15-state loosely coupled GPS/INS with altimeter "
                                    "and compass, paper 004) on CSV logs and write the navigation solution.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    r.add_argument("--imu", required=True, metavar="IMU.csv", help="IMU samples (required)")
-    r.add_argument("--gnss", required=True, metavar="GNSS.csv", help="GNSS fixes of the antenna (required)")
-    r.add_argument("--baro", metavar="BARO.csv", help="altimeter heights (optional)")
+    r.add_argument("--log", metavar="FILE", help="one log with IMU and GNSS (ULog, ROS bag, CSV, ...); "
+                   "--imu/--gnss/--baro then replace its streams")
+    r.add_argument("--format", default="auto", help="format of --log and the other files: auto (default), "
+                   "rtklib, ulog, rosbag, nmea, csv")
+    r.add_argument("--imu", metavar="IMU.csv", help="IMU samples (CSV, or any log with IMU)")
+    r.add_argument("--gnss", metavar="GNSS.csv", help="GNSS fixes of the antenna (CSV, RTKLIB .pos, NMEA, ULog, bag)")
+    r.add_argument("--baro", metavar="BARO.csv", help="altimeter heights (optional; CSV or a log with a barometer)")
     r.add_argument("--compass", metavar="COMPASS.csv", help="compass headings (optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output CSV")
     r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
+    r.add_argument("--kml", metavar="FILE.kml", help="also write the track as KML (Google Earth)")
+    r.add_argument("--gpx", metavar="FILE.gpx", help="also write the track as GPX")
+    r.add_argument("--plot", metavar="FILE.png", help="also plot track with GNSS fixes, attitude, biases")
     r.set_defaults(func=_run)
     p.set_defaults(func=None)
     return p

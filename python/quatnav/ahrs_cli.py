@@ -1,0 +1,213 @@
+"""``quatnav ahrs run``: an attitude filter (QuaternionEKF, EulerEKF or MargFilter) on a user's log.
+
+::
+
+    quatnav ahrs run --log FILE [--format FMT] | --imu IMU.csv [--mag MAG.csv]
+                     [--filter qekf|euler-ekf|marg] [--declination DEG] [--rate HZ] [--no-mag]
+                     --out OUT.csv|OUT.parquet [--plot FILE.png]
+
+The log is read by :func:`quatnav.io.read` (RTKLIB, ULog, ROS bag, NMEA or CSV). Magnetometer
+samples go on the first IMU row at or after their time (other rows: no magnetometer update).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+
+import numpy as np
+
+from .cliutil import UsageError
+
+FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
+
+EPILOG = """\
+inputs: --log FILE is any format quatnav.io.read knows (RTKLIB .pos, PX4 .ulg, ROS 1 .bag or ROS 2
+  bag folder, NMEA, CSV; --format to force one); it must hold IMU samples. --imu IMU.csv is a CSV
+  with time, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s^2), body
+  forward-right-down (optional mag_x, mag_y, mag_z); --mag MAG.csv a CSV with time, mag_x, mag_y,
+  mag_z (any unit, body frame).
+--rate HZ: average the IMU over blocks to about HZ before filtering (default: every sample).
+--declination DEG: east of true north; yaw is then relative to true north.
+output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w, q_x, q_y, q_z
+  (q_nb, body FRD to NED), roll, pitch, yaw (deg, ZYX), gyro_bias_x..z_deg_s, sigma_<state>
+  (the filter's one-sigma values, rad or rad/s), flags (bits), flag_names ('|'-separated).
+--plot FILE.png: attitude, biases and, when the log carries its own estimate (e.g. PX4's
+  vehicle_attitude), the inclination and heading difference to it.
+exit status: 0 on success, 2 on an input error (one line on stderr)."""
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``quatnav ahrs run``."""
+    p = subparsers.add_parser("ahrs", help="attitude filters on your own logs (see 'quatnav ahrs run -h')",
+                              description="Attitude and heading estimation on recorded logs.")
+    sub = p.add_subparsers(dest="ahrs_command", metavar="COMMAND")
+    r = sub.add_parser("run", help="run an attitude filter on a log and write the attitude",
+                       description="Run QuaternionEKF, EulerEKF or MargFilter on a log and write the attitude.",
+                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    src = r.add_mutually_exclusive_group(required=True)
+    src.add_argument("--log", metavar="FILE", help="a log file in any supported format")
+    src.add_argument("--imu", metavar="IMU.csv", help="IMU samples as CSV")
+    r.add_argument("--format", default="auto", help="format of --log: auto (default), rtklib, ulog, rosbag, nmea, csv")
+    r.add_argument("--mag", metavar="MAG.csv", help="magnetometer samples as CSV (with --imu)")
+    r.add_argument("--filter", default="qekf", choices=list(FILTERS), help="qekf (default), euler-ekf or marg")
+    r.add_argument("--declination", type=float, default=0.0, metavar="DEG", help="magnetic declination, deg east")
+    r.add_argument("--rate", type=float, metavar="HZ", help="average the IMU to this rate first")
+    r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer (6D: heading is free)")
+    r.add_argument("--out", required=True, metavar="OUT.csv", help="output file (.csv or .parquet)")
+    r.add_argument("--plot", metavar="FILE.png", help="also plot the result")
+    r.set_defaults(func=_run)
+    p.set_defaults(func=None)
+    return p
+
+
+def load_inputs(args):
+    from . import io
+    if args.log:
+        log = io.read(args.log, format=args.format)
+    else:
+        log = io.read(args.imu, format="csv", kind="imu")
+        if args.mag:
+            from .io.csvfile import read_csv
+            from .csvio import read_table, CsvError
+            try:
+                c = read_table(args.mag, ("time", "mag_x", "mag_y", "mag_z"), what="MAG").columns
+            except CsvError as e:
+                raise UsageError(str(e)) from None
+            log.mag = io.Mag(t=c["time"], values=np.column_stack([c["mag_x"], c["mag_y"], c["mag_z"]]),
+                             unit="as in the file")
+    log.require("imu")
+    if args.no_mag:
+        log.mag = None
+    return log
+
+
+def decimate(t, gyr, acc, rate):
+    """Block means of the IMU to about ``rate`` Hz: (t_end, gyr_mean, acc_mean, block index of rows)."""
+    med = float(np.median(np.diff(t)))
+    k = max(1, int(round(1.0 / (rate * med))))
+    n = (len(t) // k) * k
+    if k == 1:
+        return t, gyr, acc, k
+    tb = t[k - 1:n:k]
+    return tb, gyr[:n].reshape(-1, k, 3).mean(1), acc[:n].reshape(-1, k, 3).mean(1), k
+
+
+def run_filter(log, name="qekf", declination_deg=0.0, rate=None):
+    """Run the attitude filter ``name`` on ``log`` (IMU averaged to ``rate`` Hz when given);
+    returns its result."""
+    import quatnav
+    from .io import mag_on_imu_times
+    t, gyr, acc = log.imu.t, log.imu.gyr, log.imu.acc
+    mag = mag_on_imu_times(log)
+    if rate:
+        t, gyr, acc, k = decimate(t, gyr, acc, rate)
+        if mag is not None and k > 1:
+            n = len(t) * k
+            m = mag[:n].reshape(-1, k, 3)
+            with np.errstate(all="ignore"):
+                mag = np.nanmean(m, axis=1) if np.isfinite(m).any() else None
+    cls = getattr(quatnav, FILTERS[name])
+    takes_decl = any(p.name == "declination" for p in cls.PARAMS)
+    f = cls(declination=math.radians(declination_deg)) if takes_decl else cls()
+    if mag is not None and not np.isfinite(mag[0]).all():
+        first = np.flatnonzero(np.isfinite(mag).all(1))
+        if first.size == 0:
+            mag = None
+        else:
+            mag[0] = mag[first[0]]  # the initial heading from the first magnetometer sample
+    res = f.run(gyr, acc, mag, t=t, on_invalid="skip")
+    if not takes_decl and declination_deg and mag is not None:
+        # a filter without the parameter (EulerEKF) refers yaw to magnetic north: turn the
+        # navigation frame about down by the declination (q_true_nb = q_z(decl) * q_mag_nb)
+        from .core import quaternion as Q
+        d = math.radians(declination_deg)
+        res.quat[:] = Q.mul(np.array([math.cos(d / 2), 0.0, 0.0, math.sin(d / 2)]), res.quat)
+    return res
+
+
+def result_table(res) -> dict:
+    """The output columns of ``ahrs run`` as {name: array}."""
+    e = np.degrees(res.euler)
+    cols = {"time": res.t}
+    for i, c in enumerate("wxyz"):
+        cols[f"q_{c}"] = res.quat[:, i]
+    for i, c in enumerate(("roll", "pitch", "yaw")):
+        cols[c] = e[:, i]
+    for i, c in enumerate("xyz"):
+        cols[f"gyro_bias_{c}_deg_s"] = np.degrees(res.bias[:, i])
+    if res.sigma is not None:
+        for i, n in enumerate(res.sigma_names):
+            cols[f"sigma_{n}"] = res.sigma[:, i]
+    cols["flags"] = res.flags.astype(np.int64)
+    names = [n for n in res.FLAGS]
+    bits = [res.FLAGS[n] for n in names]
+    uniq, inv = np.unique(res.flags, return_inverse=True)
+    text = np.array(["|".join(n for n, b in zip(names, bits) if int(u) & b) for u in uniq], dtype=object)
+    cols["flag_names"] = text[inv]
+    return cols
+
+
+def write_table(cols: dict, path: str) -> None:
+    """CSV, or Parquet for a ``.parquet`` path (pyarrow)."""
+    import pandas as pd
+    df = pd.DataFrame(cols)
+    if str(path).lower().endswith(".parquet"):
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise UsageError(f"{path}: writing Parquet needs pyarrow: pip install 'quatnav[logs]'") from None
+        df.to_parquet(path, index=False)
+    else:
+        if "time" in df:  # absolute times (GPS, UNIX: ~1e9 s) keep nanoseconds
+            df["time"] = np.char.mod("%.9f", df["time"].to_numpy(np.float64))
+        df.to_csv(path, index=False, float_format="%.10g")
+
+
+def plot_attitude(res, log, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    ref = log.reference if log is not None and log.reference is not None and log.reference.quat is not None else None
+    n = 3 if ref is not None else 2
+    fig, ax = plt.subplots(n, 1, figsize=(9, 2.6 * n), sharex=True)
+    e = np.degrees(res.euler)
+    for i, c in enumerate(("roll", "pitch", "yaw")):
+        ax[0].plot(res.t, e[:, i], label=c)
+    if ref is not None:
+        from .core import quaternion as Q
+        er = np.degrees(Q.to_euler(ref.quat))
+        for i in range(3):
+            ax[0].plot(ref.t, er[:, i], "k:", lw=0.8, label=ref.name if i == 0 else None)
+    ax[0].set_ylabel("deg")
+    ax[0].legend(fontsize=7)
+    ax[1].plot(res.t, np.degrees(res.bias))
+    ax[1].set_ylabel("gyro bias, deg/s")
+    if ref is not None:
+        from .compare_cli import attitude_difference
+        d = attitude_difference(res.t, res.quat, ref.t, ref.quat)
+        ax[2].plot(d["t"], d["inclination_deg"], label="inclination")
+        ax[2].plot(d["t"], d["heading_deg"], label="heading")
+        ax[2].set_ylabel(f"difference to\n{ref.name}, deg")
+        ax[2].legend(fontsize=7)
+    ax[-1].set_xlabel("t, s")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def _run(args) -> int:
+    log = load_inputs(args)
+    if args.rate is not None and not args.rate > 0:
+        raise UsageError(f"--rate {args.rate:g}: must be > 0 Hz")
+    if len(log.imu.t) < 2:
+        raise UsageError(f"{log.source}: fewer than 2 IMU samples")
+    res = run_filter(log, args.filter, args.declination, args.rate)
+    write_table(result_table(res), args.out)
+    print(f"wrote {args.out}: {len(res.t)} rows, {FILTERS[args.filter]}"
+          f"{'' if log.mag is not None else ' (no magnetometer: heading free)'}")
+    for note in log.notes:
+        print(f"note: {note}")
+    if args.plot:
+        plot_attitude(res, log, args.plot)
+        print(f"wrote {args.plot}")
+    return 0

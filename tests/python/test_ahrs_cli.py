@@ -1,0 +1,111 @@
+"""``quatnav ahrs run`` and ``quatnav compare``: a simulated rotation written as CSV, filtered by
+the command, compared with the truth; the figures equal the Python API's on the same arrays."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import quatnav
+from quatnav import cli
+from quatnav.compare_cli import attitude_difference, slerp_at, stats
+from quatnav.core import quaternion as Q
+from quatnav.demo import rotation_scenario
+
+PACKAGE_DIR = str(Path(quatnav.__file__).resolve().parents[1])
+PX4 = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "px4"
+
+
+@pytest.fixture(scope="module")
+def sim(tmp_path_factory):
+    d = tmp_path_factory.mktemp("ahrs")
+    s = rotation_scenario(n=1500, rate=100.0, seed=2)
+    cols = {"time": s.t}
+    for i, c in enumerate("xyz"):
+        cols[f"gyro_{c}"] = s.gyr[:, i]
+    for i, c in enumerate("xyz"):
+        cols[f"accel_{c}"] = s.acc[:, i]
+    for i, c in enumerate("xyz"):
+        cols[f"mag_{c}"] = s.mag[:, i]
+    pd.DataFrame(cols).to_csv(d / "imu.csv", index=False, float_format="%.17g")
+    truth = {"time": s.t, **{f"q_{c}": s.q_nb[:, i] for i, c in enumerate("wxyz")}}
+    pd.DataFrame(truth).to_csv(d / "truth.csv", index=False, float_format="%.17g")
+    return s, d
+
+
+@pytest.mark.parametrize("name,cls", [("qekf", "QuaternionEKF"), ("euler-ekf", "EulerEKF"), ("marg", "MargFilter")])
+def test_ahrs_run_equals_api(sim, name, cls):
+    s, d = sim
+    out = d / f"{name}.csv"
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--filter", name, "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    r = getattr(quatnav, cls)().run(s.gyr, s.acc, s.mag, t=s.t, on_invalid="skip")
+    np.testing.assert_allclose(df[["q_w", "q_x", "q_y", "q_z"]].to_numpy(), r.quat, atol=1e-9)
+    np.testing.assert_allclose(df["yaw"].to_numpy(), np.degrees(r.euler[:, 2]), atol=1e-7)
+    assert (df["flags"].to_numpy() == r.flags).all()
+    assert set(df.columns) >= {"time", "roll", "pitch", "gyro_bias_x_deg_s", "flag_names"}
+    # compare against the truth = the API's metric on the same arrays
+    js = d / f"{name}.json"
+    assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
+    got = json.loads(js.read_text())
+    e = attitude_difference(s.t, r.quat, s.t, s.q_nb)
+    for k in ("heading", "inclination"):
+        assert got[f"attitude_{k}_deg"]["rms"] == pytest.approx(stats(e[f"{k}_deg"])["rms"], rel=1e-6)
+    assert got["attitude_inclination_deg"]["rms"] < 3.0
+
+
+def test_ahrs_options(sim, tmp_path):
+    s, d = sim
+    out = tmp_path / "a.csv"
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--no-mag", "--rate", "50", "--declination", "5",
+                     "--out", str(out), "--plot", str(tmp_path / "a.png")]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 750 and (tmp_path / "a.png").stat().st_size > 0
+
+
+def test_slerp_at():
+    q = Q.normalize(np.array([[1.0, 0, 0, 0], [np.cos(0.5), 0, 0, np.sin(0.5)]]))
+    mid = slerp_at(np.array([0.5]), np.array([0.0, 1.0]), q)
+    np.testing.assert_allclose(mid[0], [np.cos(0.25), 0, 0, np.sin(0.25)], atol=1e-12)
+
+
+def test_errors_one_line(sim, tmp_path):
+    s, d = sim
+    g = tmp_path / "gnss.csv"
+    g.write_text("time,lat,lon,h\n0,40,-105,1600\n")
+    env = {"PYTHONPATH": PACKAGE_DIR, "PATH": "/usr/bin:/bin"}
+    p = subprocess.run([sys.executable, "-m", "quatnav", "ahrs", "run", "--log", str(g), "--out", str(tmp_path / "o.csv")],
+                       capture_output=True, text=True, env=env)
+    assert p.returncode == 2 and "no IMU data" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+    p = subprocess.run([sys.executable, "-m", "quatnav", "compare", str(d / "truth.csv"), str(g)],
+                       capture_output=True, text=True, env=env)
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+
+
+def test_px4_against_its_own_estimate(tmp_path):
+    pytest.importorskip("pyulog")
+    f = PX4 / "sample_appended_multiple.ulg"
+    if not f.exists():
+        pytest.skip(f"{PX4} absent")
+    out, js = tmp_path / "px4.csv", tmp_path / "c.json"
+    assert cli.main(["ahrs", "run", "--log", str(f), "--filter", "qekf", "--out", str(out),
+                     "--plot", str(tmp_path / "p.png")]) == 0
+    assert cli.main(["compare", str(out), str(f), "--json", str(js)]) == 0
+    got = json.loads(js.read_text())
+    assert got["attitude_inclination_deg"]["rms"] < 2.0 and got["attitude_heading_deg"]["rms"] < 5.0
+
+
+def test_parquet_output(sim, tmp_path):
+    pytest.importorskip("pyarrow")
+    s, d = sim
+    out, js = tmp_path / "a.parquet", tmp_path / "c.json"
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--out", str(out)]) == 0
+    df = pd.read_parquet(out)
+    assert len(df) == len(s.t) and "flag_names" in df
+    assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
+    assert json.loads(js.read_text())["attitude_inclination_deg"]["n"] == len(s.t)

@@ -1,0 +1,96 @@
+"""``quatnav ins run`` with other inputs than CSV: a simulated walk's GNSS written as an RTKLIB
+.pos file gives the run of the CSV form; ``--log`` with a CSV log; KML, GPX and the plot; and
+``compare`` against the truth equals the metric of the Python API on the same arrays."""
+from __future__ import annotations
+
+import calendar
+import json
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from quatnav import cli
+
+# RTKLIB times are calendar dates: the simulated clock (0 s ...) as seconds from a date
+EPOCH = calendar.timegm((2026, 1, 1, 0, 0, 0, 0, 0, 0))
+
+
+@pytest.fixture(scope="module")
+def walk(tmp_path_factory):
+    d = tmp_path_factory.mktemp("walk")
+    assert cli.main(["simulate", "paper004_walk", "--seed", "3", "--csv", str(d)]) == 0
+    g = pd.read_csv(d / "gnss.csv")
+    lines = ["%  GPST                  latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   sde(m)   sdu(m)"
+             "  sdne(m)  sdeu(m)  sdun(m) age(s)  ratio  vn(m/s)  ve(m/s)  vu(m/s)  sdvn  sdve  sdvu  sdvne  sdveu  sdvun"]
+    for r in g.itertuples():
+        import time
+        ts = time.gmtime(EPOCH + int(r.time))
+        frac = r.time - int(r.time)
+        lines.append(f"{ts.tm_year}/{ts.tm_mon:02d}/{ts.tm_mday:02d} {ts.tm_hour:02d}:{ts.tm_min:02d}:"
+                     f"{ts.tm_sec + frac:06.3f} {r.lat:.12f} {r.lon:.12f} {r.h:.6f} 5 9 {r.sigma_n} {r.sigma_e} "
+                     f"{r.sigma_d} 0 0 0 0 0 {r.v_n:.6f} {r.v_e:.6f} {-r.v_d:.6f} {r.sigma_vn} {r.sigma_ve} "
+                     f"{r.sigma_vd} 0 0 0")
+    (d / "gnss.pos").write_text("\n".join(lines) + "\n")
+    imu = pd.read_csv(d / "imu.csv")
+    imu["time"] += EPOCH
+    imu.to_csv(d / "imu_abs.csv", index=False, float_format="%.17g")
+    for f in ("baro", "truth", "gnss"):
+        x = pd.read_csv(d / f"{f}.csv")
+        x["time"] += EPOCH
+        x.to_csv(d / f"{f}_abs.csv", index=False, float_format="%.17g")
+    return d
+
+
+def test_gnss_from_pos_equals_csv(walk, tmp_path):
+    d = walk
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    # the same absolute times in both runs (times near 1.8e9 s round differently from 0 s ones)
+    assert cli.main(["ins", "run", "--imu", str(d / "imu_abs.csv"), "--gnss", str(d / "gnss_abs.csv"), "--baro",
+                     str(d / "baro_abs.csv"), "--config", str(d / "config.toml"), "--out", str(a)]) == 0
+    kml, gpx, png = tmp_path / "t.kml", tmp_path / "t.gpx", tmp_path / "t.png"
+    assert cli.main(["ins", "run", "--imu", str(d / "imu_abs.csv"), "--gnss", str(d / "gnss.pos"), "--baro",
+                     str(d / "baro_abs.csv"), "--config", str(d / "config.toml"), "--out", str(b),
+                     "--kml", str(kml), "--gpx", str(gpx), "--plot", str(png)]) == 0
+    x, y = pd.read_csv(a), pd.read_csv(b)
+    assert len(x) == len(y)
+    np.testing.assert_array_equal(y["time"], x["time"])
+    np.testing.assert_allclose(y["lat"], x["lat"], atol=1e-8)  # ~1 mm: the .pos file's 1e-12 deg and 1e-6 m
+    np.testing.assert_allclose(y["h"], x["h"], atol=2e-3)
+    np.testing.assert_allclose(y["yaw"], x["yaw"], atol=1e-3)
+    k = ET.parse(kml).getroot()
+    coords = k.find(".//{http://www.opengis.net/kml/2.2}coordinates").text.split()
+    lon, lat, _ = (float(v) for v in coords[0].split(","))
+    assert lat == pytest.approx(y["lat"][0], abs=1e-8) and lon == pytest.approx(y["lon"][0], abs=1e-8)
+    pts = ET.parse(gpx).getroot().findall(".//{http://www.topografix.com/GPX/1/1}trkpt")
+    assert len(pts) == len(y) and pts[0].find("{http://www.topografix.com/GPX/1/1}time").text.startswith("2026-01-01")
+    assert png.stat().st_size > 0
+
+
+def test_log_and_compare_equal_api(walk, tmp_path):
+    d = walk
+    log = tmp_path / "log.csv"
+    imu, g = pd.read_csv(d / "imu.csv"), pd.read_csv(d / "gnss.csv")
+    # one CSV log cannot hold both streams on different rows; --log gives the IMU, --gnss the fixes
+    imu.to_csv(log, index=False, float_format="%.17g")
+    out, js = tmp_path / "o.csv", tmp_path / "c.json"
+    assert cli.main(["ins", "run", "--log", str(log), "--gnss", str(d / "gnss.csv"), "--config",
+                     str(d / "config.toml"), "--out", str(out)]) == 0
+    assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
+    got = json.loads(js.read_text())
+    from quatnav.compare_cli import compare
+    from quatnav import io
+    ref = compare(io.read(out, kind="reference"), io.read(d / "truth.csv", kind="reference"))
+    for k in ("attitude_heading_deg", "attitude_inclination_deg", "position_horizontal_m", "velocity_horizontal_m_s"):
+        assert got[k]["rms"] == pytest.approx(ref[k]["rms"], rel=1e-9)
+    assert got["position_horizontal_m"]["rms"] < 5.0
+
+
+def test_ins_needs_gnss(tmp_path, walk):
+    pytest.importorskip("pyulog")
+    from pathlib import Path
+    f = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "px4" / "sample_appended_multiple.ulg"
+    if not f.exists():
+        pytest.skip("px4 data absent")
+    assert cli.main(["ins", "run", "--log", str(f), "--out", str(tmp_path / "o.csv")]) == 2
