@@ -225,7 +225,7 @@ template <class S, TimeUpdate TU> struct NavAdapter<NavFilter13<S, TU>> {
       std::abort();
   }
   static Status predict(F& f, const Vec3<double>& w, const Vec3<double>& a, double dt) {
-    return f.predict(a.cast<S>(), w.cast<S>(), S(dt));
+    return f.predict(w.cast<S>(), a.cast<S>(), S(dt));
   }
   /// Aids at step k (100 Hz): velocity + yaw at 10 Hz, GPS position at 1 Hz.
   template <class Rng, class Dist>
@@ -276,7 +276,7 @@ template <class S> struct NavAdapter<GpsInsFilter<S>> {
     n[0] = "predict"; n[1] = "gps_pos"; n[2] = "gps_vel"; n[3] = "baro_h"; n[4] = "baro_vd"; n[5] = "compass";
   }
   static void start(F& f, const Quat<double>& q, const Vec3<double>& v, const NavTruth& tr) {
-    if (f.initialize(q.cast<S>(), v.cast<S>(), tr.lat, tr.lon, tr.h, Vec3<S>::Zero(), Vec3<S>::Zero(),
+    if (f.reset(q.cast<S>(), v.cast<S>(), tr.lat, tr.lon, tr.h, Vec3<S>::Zero(), Vec3<S>::Zero(),
                      f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5))) != Status::Ok)
       std::abort();
   }

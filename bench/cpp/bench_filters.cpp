@@ -194,7 +194,7 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13CaseT {
     P.template block<3, 3>(10, 10).diagonal().setConstant(S(1e-10));
     f.reset(Vec3<S>(S(1), S(1), S(0)), q, Vec3<S>::Zero(), Vec3<S>::Zero(), P, S(0.63), S(2.2), S(50));
   }
-  void step(const Sample<S>& s) { f.predict(s.acc, s.gyr, s.dt); }
+  void step(const Sample<S>& s) { f.predict(s.gyr, s.acc, s.dt); }
 };
 template <class S> struct Nav13EkfCase : Nav13CaseT<S, quatnav::TimeUpdate::Ekf> {
   static constexpr const char* policy = "time update: ekf";

@@ -17,7 +17,7 @@ double time_block(quatnav::NavFilter13<double, TU>& f, const quatnav::NavFilter1
   f.set_state(s0);
   const quatnav::Vec3<double> fb(0.05, -0.02, -9.79), wb(0.001, -0.002, 0.1);
   const auto a = std::chrono::steady_clock::now();
-  for (int k = 0; k < iterations; ++k) f.predict(fb, wb, 0.01);
+  for (int k = 0; k < iterations; ++k) f.predict(wb, fb, 0.01);
   const auto b = std::chrono::steady_clock::now();
   return std::chrono::duration<double, std::nano>(b - a).count() / iterations;
 }

@@ -85,10 +85,10 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
       .def_property_readonly("covariance", [](const F& f) { return typename F::Mat15(f.covariance()); })
       .def_property_readonly("time", &F::time)
       .def_property_readonly("counters", [](const F& f) { return counters_dict<S>(f.state().counters); })
-      .def("reset", &F::reset)
-      .def("initialize",
+      .def("clear", &F::clear, "Back to the start of alignment (parameters kept).")
+      .def("reset",
            [](F& f, const Quat<S>& q, const V3& v, double lat, double lon, double h, const V3& ba, const V3& bg,
-              const typename F::Mat15& Pm) { return status_str(f.initialize(q, v, lat, lon, h, ba, bg, Pm)); },
+              const typename F::Mat15& Pm) { return status_str(f.reset(q, v, lat, lon, h, ba, bg, Pm)); },
            py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("accel_bias"),
            py::arg("gyro_bias"), py::arg("P"))
       .def("predict", [](F& f, const V3& w, const V3& a, S dt) { return status_str(f.predict(w, a, dt)); },

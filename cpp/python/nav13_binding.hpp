@@ -30,7 +30,7 @@ template <class S> void bind_params(py::module_& m) {
       .def_readwrite("earth_rotation", &P::earth_rotation);
 }
 
-template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& fb, const carray<typename F::Scalar>& wb,
+template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb, const carray<typename F::Scalar>& fb,
                                       const carray<typename F::Scalar>& t, const carray<typename F::Scalar>& dt,
                                       const carray<typename F::Scalar>& vel_t, const carray<typename F::Scalar>& vel,
                                       const carray<typename F::Scalar>& yaw_t, const carray<typename F::Scalar>& yaw,
@@ -63,7 +63,7 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& fb
     S *pvi = vi.mutable_data(), *pvn = vn.mutable_data(), *pyi = yi.mutable_data(), *pyn = yn.mutable_data();
     std::uint8_t *pvs = vs.mutable_data(), *pys = ys.mutable_data();
     py::gil_scoped_release release;
-    quatnav::run_nav13_batch(f, pf, pw, pt, pd, std::size_t(n), pvt, pv, std::size_t(nv), pyt, py_, std::size_t(ny),
+    quatnav::run_nav13_batch(f, pw, pf, pt, pd, std::size_t(n), pvt, pv, std::size_t(nv), pyt, py_, std::size_t(ny),
                              gate_vel, gate_yaw, px, ps, pP, pas, pfl, pvi, pvn, pvs, pyi, pyn, pys);
   }
   py::dict d;
@@ -102,8 +102,8 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
           py::arg("lat"), py::arg("lon"), py::arg("h"))
       .def("set_position", [](F& f, double lat, double lon, double h) { return status_str(f.set_position(lat, lon, h)); },
            py::arg("lat"), py::arg("lon"), py::arg("h"))
-      .def("predict", [](F& f, const V3& fb, const V3& wb, S dt) { return status_str(f.predict(fb, wb, dt)); },
-           py::arg("f_ib_b"), py::arg("omega_ib_b"), py::arg("dt"))
+      .def("predict", [](F& f, const V3& wb, const V3& fb, S dt) { return status_str(f.predict(wb, fb, dt)); },
+           py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("dt"))
       .def("update_velocity", [](F& f, const V3& v, S gate) { return f.update_velocity(v, gate); },
            py::arg("v_n"), py::arg("gate") = S(0))
       .def("update_yaw", [](F& f, S yaw, S gate) { return f.update_yaw(yaw, gate); }, py::arg("yaw"),
@@ -137,7 +137,7 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
         s.initialized = d["initialized"].cast<bool>();
         return status_str(f.set_state(s));
       }, py::arg("state"))
-      .def("run", &nav13_run<F>, py::arg("f_ib_b"), py::arg("omega_ib_b"), py::arg("t"), py::arg("dt"),
+      .def("run", &nav13_run<F>, py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("t"), py::arg("dt"),
            py::arg("vel_t"), py::arg("vel"), py::arg("yaw_t"), py::arg("yaw"), py::arg("gate_vel") = S(0),
            py::arg("gate_yaw") = S(0), py::arg("return_covariance") = false,
            "Batch run (GIL released). Returns a dict of arrays.");

@@ -20,7 +20,7 @@ template <class S> GpsInsFilter<S> navigating(S reset_after) {
   p.gps_reset_after = reset_after;
   GpsInsFilter<S> f(p);
   Mat<S, 15, 15> P = f.initial_covariance(Vec3<S>(S(0.05), S(0.05), S(0.1)), S(0.05));
-  EXPECT_EQ(f.initialize(Quat<S>(S(1), S(0), S(0), S(0)), Vec3<S>::Zero(), kLat, kLon, kH, Vec3<S>::Zero(),
+  EXPECT_EQ(f.reset(Quat<S>(S(1), S(0), S(0), S(0)), Vec3<S>::Zero(), kLat, kLon, kH, Vec3<S>::Zero(),
                          Vec3<S>::Zero(), P),
             Status::Ok);
   const Vec3<S> g_b(S(0), S(0), S(-earth::gravity<double>(kLat, kH)));

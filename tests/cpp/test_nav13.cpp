@@ -258,7 +258,7 @@ TYPED_TEST(Nav13Filter, StepsAllocateNothing) {
   F f = make_filter<F>();
   Eigen::internal::set_is_malloc_allowed(false);
   for (int k = 0; k < 20; ++k) {
-    EXPECT_EQ(f.predict(Vec3<S>(S(0.1), S(0), S(-9.8)), Vec3<S>(S(0.01), S(0), S(0.1)), S(0.01)), Status::Ok);
+    EXPECT_EQ(f.predict(Vec3<S>(S(0.01), S(0), S(0.1)), Vec3<S>(S(0.1), S(0), S(-9.8)), S(0.01)), Status::Ok);
     if (k % 5 == 0) {
       EXPECT_TRUE(f.update_velocity(Vec3<S>(1, 2, 0)).accepted());
       EXPECT_TRUE(f.update_yaw(S(0.5)).accepted());
@@ -272,11 +272,11 @@ TYPED_TEST(Nav13Filter, BadInputLeavesStateUntouched) {
   using F = TypeParam;
   using S = typename F::Scalar;
   F f = make_filter<F>();
-  f.predict(Vec3<S>(S(0.1), S(0), S(-9.8)), Vec3<S>(S(0.01), S(0), S(0.1)), S(0.01));
+  f.predict(Vec3<S>(S(0.01), S(0), S(0.1)), Vec3<S>(S(0.1), S(0), S(-9.8)), S(0.01));
   const NavFilter13State<S> before = f.state();
   const S nan = std::numeric_limits<S>::quiet_NaN();
-  EXPECT_EQ(f.predict(Vec3<S>(nan, 0, 0), Vec3<S>::Zero(), S(0.01)), Status::NonFinite);
-  EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>(0, std::numeric_limits<S>::infinity(), 0), S(0.01)),
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>(nan, 0, 0), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(Vec3<S>(0, std::numeric_limits<S>::infinity(), 0), Vec3<S>::Zero(), S(0.01)),
             Status::NonFinite);
   EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>::Zero(), S(0)), Status::InvalidDt);
   EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>::Zero(), S(-0.01)), Status::InvalidDt);
@@ -314,7 +314,7 @@ TYPED_TEST(Nav13Filter, NonPositiveCovarianceIsReported) {
   const NavFilter13State<S> before = f.state();
   EXPECT_EQ(f.update_velocity(Vec3<S>(1, 2, 0)).status, Status::SolveFailed);
   if (F::kTimeUpdate == TimeUpdate::Ukf) {
-    EXPECT_EQ(f.predict(Vec3<S>(0, 0, S(-9.8)), Vec3<S>::Zero(), S(0.01)), Status::SolveFailed);
+    EXPECT_EQ(f.predict(Vec3<S>::Zero(), Vec3<S>(0, 0, S(-9.8)), S(0.01)), Status::SolveFailed);
   }
   EXPECT_TRUE(same_state(before, f.state()));
 }
@@ -324,7 +324,7 @@ TYPED_TEST(Nav13Filter, SplitRunIsIdentical) {
   using S = typename F::Scalar;
   F a = make_filter<F>();
   auto step = [](F& f, int k) {
-    f.predict(Vec3<S>(S(0.1 * std::sin(0.1 * k)), S(0), S(-9.8)), Vec3<S>(S(0.01), S(0), S(0.1)), S(0.01));
+    f.predict(Vec3<S>(S(0.01), S(0), S(0.1)), Vec3<S>(S(0.1 * std::sin(0.1 * k)), S(0), S(-9.8)), S(0.01));
     if (k % 10 == 0) {
       f.update_velocity(Vec3<S>(1, 2, 0));
       f.update_yaw(S(0.5));
@@ -363,13 +363,13 @@ TYPED_TEST(Nav13Filter, BatchEqualsSteps) {
   F a = make_filter<F>(), b = make_filter<F>();
   std::vector<S> x(13 * n), vi(3 * vt.size()), vn(vt.size()), yi(yt.size()), yn(yt.size());
   std::vector<std::uint32_t> fl(n);
-  run_nav13_batch(a, fb.data(), wb.data(), t.data(), dt.data(), n, vt.data(), vel.data(), vt.size(), yt.data(),
+  run_nav13_batch(a, wb.data(), fb.data(), t.data(), dt.data(), n, vt.data(), vel.data(), vt.size(), yt.data(),
                   yaw.data(), yt.size(), S(0), S(0), x.data(), static_cast<S*>(nullptr), static_cast<S*>(nullptr),
                   static_cast<S*>(nullptr), fl.data(), vi.data(), vn.data(), static_cast<std::uint8_t*>(nullptr),
                   yi.data(), yn.data(), static_cast<std::uint8_t*>(nullptr));
   std::size_t m = 0;
   for (int k = 0; k < n; ++k) {
-    b.predict(Vec3<S>(fb[3 * k], fb[3 * k + 1], fb[3 * k + 2]), Vec3<S>(wb[3 * k], wb[3 * k + 1], wb[3 * k + 2]),
+    b.predict(Vec3<S>(wb[3 * k], wb[3 * k + 1], wb[3 * k + 2]), Vec3<S>(fb[3 * k], fb[3 * k + 1], fb[3 * k + 2]),
               dt[k]);
     if (k % 10 == 4) {
       const auto rv = b.update_velocity(Vec3<S>(1, 2, 0));
@@ -389,7 +389,7 @@ TYPED_TEST(Nav13Filter, StaysUnitAndSymmetric) {
   using S = typename F::Scalar;
   F f = make_filter<F>();
   for (int k = 0; k < 300; ++k) {
-    ASSERT_EQ(f.predict(Vec3<S>(S(0.1), S(0.2), S(-9.8)), Vec3<S>(S(0.2), S(-0.1), S(0.3)), S(0.01)), Status::Ok);
+    ASSERT_EQ(f.predict(Vec3<S>(S(0.2), S(-0.1), S(0.3)), Vec3<S>(S(0.1), S(0.2), S(-9.8)), S(0.01)), Status::Ok);
     if (k % 10 == 0) f.update_velocity_yaw(Vec3<S>(1, 2, 0), S(0.5));
   }
   const S tol = sizeof(S) == 4 ? S(1e-5) : S(1e-12);
@@ -414,9 +414,9 @@ TEST(Nav13Policies, UkfAndSecondOrderAgreeWithEkfForSmallUncertainty) {
   s.set_state(st);
   u.set_state(st);
   const Vec3<double> fb(0.3, -0.2, -9.7), wb(0.05, -0.02, 0.3);
-  e.predict(fb, wb, 0.01);
-  s.predict(fb, wb, 0.01);
-  u.predict(fb, wb, 0.01);
+  e.predict(wb, fb, 0.01);
+  s.predict(wb, fb, 0.01);
+  u.predict(wb, fb, 0.01);
   EXPECT_LT((e.x() - s.x()).norm(), 1e-9);
   EXPECT_LT((e.x() - u.x()).norm(), 1e-9);
   EXPECT_LT((e.covariance() - u.covariance()).norm(), 1e-6 * e.covariance().norm());
@@ -429,8 +429,8 @@ TEST(Nav13Policies, UkfCovarianceIsCloseToEkfForModerateUncertainty) {
   E e = make_filter<E>();
   U u = make_filter<U>();
   const Vec3<double> fb(0.3, -0.2, -9.7), wb(0.05, -0.02, 0.3);
-  e.predict(fb, wb, 0.01);
-  u.predict(fb, wb, 0.01);
+  e.predict(wb, fb, 0.01);
+  u.predict(wb, fb, 0.01);
   const Mat<double, 12, 12> Pe = e.error_covariance(), Pu = u.error_covariance();
   EXPECT_LT((Pe - Pu).norm(), 0.02 * Pe.norm());
   EXPECT_NEAR(u.error_covariance().trace(), e.error_covariance().trace(), 0.02 * e.error_covariance().trace());

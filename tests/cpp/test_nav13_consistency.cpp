@@ -66,7 +66,7 @@ template <TimeUpdate TU> void anees(std::vector<double>& att, std::vector<double
       tr.step(t, kDt, w, a);
       w += b_g + (sg / std::sqrt(kDt)) * n3();
       a += b_a + (sa / std::sqrt(kDt)) * n3();
-      ASSERT_EQ(f.predict(a, w, kDt), Status::Ok);
+      ASSERT_EQ(f.predict(w, a, kDt), Status::Ok);
       if (k % 10 == 0) {
         const double yaw = quat::wrap_pi(tr.att.euler(t)[2] + 0.035 * N(rng));
         ASSERT_EQ(f.update_velocity_yaw(Vec3<double>(tr.v(t) + 0.03 * n3()), yaw).status, Status::Ok);

@@ -81,7 +81,7 @@ template <class F> RunResult run(const Recording& r) {
   EXPECT_EQ(s0, Status::Ok);
   RunResult out;
   for (std::size_t k = 1; k < r.f.size(); ++k) {
-    if (f.predict(r.f[k].cast<S>(), r.w[k].cast<S>(), S(r.dt)) != Status::Ok) ++out.predict_refused;
+    if (f.predict(r.w[k].cast<S>(), r.f[k].cast<S>(), S(r.dt)) != Status::Ok) ++out.predict_refused;
     if (k % 10 == 0) {
       if (f.update_velocity(r.v_meas[k].cast<S>()).status != Status::Ok) ++out.update_refused;
       if (f.update_yaw(S(r.yaw_meas[k])).status != Status::Ok) ++out.update_refused;
@@ -126,7 +126,7 @@ TEST(Nav13Float, PositionIsDoubleForEveryScalar) {
                     Mat<float, 13, 13>::Identity() * 1e-4f, 0.635, 2.22, 50.0),
             Status::Ok);
   const double lat0 = f.state().lat;
-  ASSERT_EQ(f.predict(Vec3<float>(0, 0, -9.7995f), Vec3<float>::Zero(), 0.01f), Status::Ok);
+  ASSERT_EQ(f.predict(Vec3<float>::Zero(), Vec3<float>(0, 0, -9.7995f), 0.01f), Status::Ok);
   const double dn = (f.state().lat - lat0) * (earth::radii<double>(0.635).R_M + 50.0);
   EXPECT_NEAR(dn, 1e-4, 1e-6);  // 0.01 m/s for 0.01 s
   EXPECT_EQ(f.set_position(0.6350000001, 2.2200000001, 50.0), Status::Ok);

@@ -43,7 +43,7 @@ template <class S, quatnav::TimeUpdate TU> void run_nav13() {
                     quatnav::Vec3<S>::Zero(), P, 0.8, 0.2, 100.0),
             quatnav::Status::Ok);
   for (int k = 0; k < 50; ++k) {
-    ASSERT_EQ(f.predict(in.acc, in.gyr, in.dt), quatnav::Status::Ok) << quatnav::to_string(TU);
+    ASSERT_EQ(f.predict(in.gyr, in.acc, in.dt), quatnav::Status::Ok) << quatnav::to_string(TU);
     ASSERT_TRUE(f.update_velocity_yaw(quatnav::Vec3<S>::Zero(), S(0)).accepted()) << quatnav::to_string(TU);
   }
   EXPECT_LT(f.state().v_n.norm(), S(0.05)) << quatnav::to_string(TU);
@@ -81,7 +81,7 @@ TYPED_TEST(Umbrella, GpsInsFilter) {
   quatnav::GpsInsFilter<S> f;
   const quatnav::Mat<S, 15, 15> P = quatnav::Mat<S, 15, 15>::Identity() * S(1e-4);
   const double lat = 0.8, lon = 0.2, h = 100.0;
-  ASSERT_EQ(f.initialize(quatnav::quat::identity<S>(), quatnav::Vec3<S>::Zero(), lat, lon, h, quatnav::Vec3<S>::Zero(),
+  ASSERT_EQ(f.reset(quatnav::quat::identity<S>(), quatnav::Vec3<S>::Zero(), lat, lon, h, quatnav::Vec3<S>::Zero(),
                          quatnav::Vec3<S>::Zero(), P),
             quatnav::Status::Ok);
   ASSERT_TRUE(f.navigating());

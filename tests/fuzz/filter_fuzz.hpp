@@ -389,7 +389,7 @@ template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
       case 1: case 2: case 3: {
         const Vec3<S> a = r.reading<S>(f_b), w = r.reading<S>(w_b);
         const S dt = (r.byte() & 1) ? S(0.01) : r.scalar<S>();
-        return {f.predict(a, w, dt), true, "predict"};
+        return {f.predict(w, a, dt), true, "predict"};
       }
       case 4: return outcome(f.update_velocity(r.reading<S>(v_n), (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)),
                              "update_velocity");
@@ -550,10 +550,10 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
               for (int j = 0; j <= i; ++j)
                 if (i == j || (r.byte() & 7) == 0) P(i, j) = P(j, i) = r.scalar<S>();
           const bool arb = (r.byte() & 3) == 0;
-          return {f.initialize(q, arb ? r.vec3<S>() : r.reading<S>(v_n), angle(r, 0.6), angle(r, 0.2),
+          return {f.reset(q, arb ? r.vec3<S>() : r.reading<S>(v_n), angle(r, 0.6), angle(r, 0.2),
                                arb ? double(r.scalar<S>()) : 100.0, arb ? r.vec3<S>() : Vec3<S>::Zero(),
                                arb ? r.vec3<S>() : Vec3<S>::Zero(), P),
-                  true, "initialize"};
+                  true, "reset"};
         }
         State s = f.state();
         switch (r.byte() % 4) {

@@ -42,7 +42,7 @@ def test_cpp_matches_reference_step_by_step(tu):
     t, f, w = _imu(rng, 40)
     for k in range(len(t)):
         assert cpp.predict(w[k], f[k], 0.01) == "ok"
-        ref.predict(f[k], w[k], 0.01)
+        ref.predict(w[k], f[k], 0.01)
         if k % 5 == 4:
             v_meas = np.array([1.8, 0.9, 0.0]) + 0.03 * rng.standard_normal(3)
             yaw = np.radians(45.0) + 0.03 * rng.standard_normal()

@@ -203,7 +203,7 @@ def test_gpsins_run_raises_or_stays_finite(dtype, on_invalid, log):
                     min_size=1, max_size=25))
 def test_gpsins_steps_refuse_or_keep_state_finite(dtype, ops):
     f = _gpsins(dtype)
-    f._f.initialize(quatnav.core.quaternion.from_euler([0.1, 0.2, 0.3]).astype(dtype), np.zeros(3, dtype), LAT, LON, H,
+    f._f.reset(quatnav.core.quaternion.from_euler([0.1, 0.2, 0.3]).astype(dtype), np.zeros(3, dtype), LAT, LON, H,
                     np.zeros(3, dtype), np.zeros(3, dtype), np.diag(np.full(15, 1e-2)).astype(dtype))
     for op, v, s in ops:
         before = f.get_state()

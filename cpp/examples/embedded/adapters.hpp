@@ -124,7 +124,7 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
                   Quat<S>(S(qn_input::x0_q[0]), S(qn_input::x0_q[1]), S(qn_input::x0_q[2]), S(qn_input::x0_q[3])),
                   Vec3<S>::Zero(), Vec3<S>::Zero(), P0, qn_input::llh0[0], qn_input::llh0[1], qn_input::llh0[2]);
       if (s != quatnav::Status::Ok) fl |= quatnav::flags::kPredictSkipped;
-    } else if (f.predict(load3<S>(qn_input::acc, k), load3<S>(qn_input::gyr, k), S(qn_input::dt[k])) !=
+    } else if (f.predict(load3<S>(qn_input::gyr, k), load3<S>(qn_input::acc, k), S(qn_input::dt[k])) !=
                quatnav::Status::Ok) {
       fl |= quatnav::flags::kPredictSkipped;
     }
@@ -172,7 +172,7 @@ template <class S> struct GpsInsAdapter {
       p.lever_arm_b = Vec3<S>(S(qn_input::lever_arm_b[0]), S(qn_input::lever_arm_b[1]), S(qn_input::lever_arm_b[2]));
       p.earth_rotation = qn_input::earth_rotation != 0;
       f.set_params(p);
-      f.reset();
+      f.clear();
       // aids at or before the first sample are not used (gpsins_batch skips them)
       while (ic < qn_input::kNCompass && qn_input::compass_k[ic] == 0) ++ic;
       while (ib < qn_input::kNBaro && qn_input::baro_k[ib] == 0) ++ib;

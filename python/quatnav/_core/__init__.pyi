@@ -1260,11 +1260,11 @@ class NavFilter13Ekf_f64:
         ...
     def get_state(self) -> dict:
         ...
-    def predict(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
         Batch run (GIL released). Returns a dict of arrays.
         """
@@ -1304,11 +1304,11 @@ class NavFilter13SecondOrder_f64:
         ...
     def get_state(self) -> dict:
         ...
-    def predict(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
         Batch run (GIL released). Returns a dict of arrays.
         """
@@ -1348,11 +1348,11 @@ class NavFilter13Ukf_f64:
         ...
     def get_state(self) -> dict:
         ...
-    def predict(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
         Batch run (GIL released). Returns a dict of arrays.
         """
@@ -1516,11 +1516,11 @@ class NavFilter13Ekf_f32:
         ...
     def get_state(self) -> dict:
         ...
-    def predict(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
         Batch run (GIL released). Returns a dict of arrays.
         """
@@ -1560,11 +1560,11 @@ class NavFilter13SecondOrder_f32:
         ...
     def get_state(self) -> dict:
         ...
-    def predict(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
         Batch run (GIL released). Returns a dict of arrays.
         """
@@ -1604,11 +1604,11 @@ class NavFilter13Ukf_f32:
         ...
     def get_state(self) -> dict:
         ...
-    def predict(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
         Batch run (GIL released). Returns a dict of arrays.
         """
@@ -1848,11 +1848,14 @@ class GpsInsFilter_f64:
         ...
     def get_state(self) -> dict:
         ...
-    def initialize(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
         ...
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self) -> None:
+    def clear(self) -> None:
+        """
+        Back to the start of alignment (parameters kept).
+        """
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> dict:
         """
@@ -2110,11 +2113,14 @@ class GpsInsFilter_f32:
         ...
     def get_state(self) -> dict:
         ...
-    def initialize(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
         ...
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self) -> None:
+    def clear(self) -> None:
+        """
+        Back to the start of alignment (parameters kept).
+        """
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> dict:
         """

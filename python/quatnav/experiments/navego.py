@@ -89,7 +89,7 @@ def run_navego(directory=None, seconds=None):
     llh0 = d.gnss_llh[0].copy()
     l_n = Q.rotate(q0, d.lever_arm_b) if np.any(d.lever_arm_b) else np.zeros(3)
     llh0 = llh0 + ned_to_dllh(-l_n, llh0)
-    f.initialize(q0, d.gnss_vel[0], llh0, P=np.diag(sig ** 2))
+    f.reset(q0, d.gnss_vel[0], llh0, P=np.diag(sig ** 2))
     r = f.run(gyro, accel, t=t, gps_pos=quatnav.Aid(d.gnss_t[gm], d.gnss_llh[gm]),
               gps_vel=quatnav.Aid(d.gnss_t[gm], d.gnss_vel[gm]))
     i = np.searchsorted(d.ref_t, t)

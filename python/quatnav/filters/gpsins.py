@@ -173,14 +173,16 @@ class GpsInsFilter(Filter):
         if s != "ok":
             raise ValueError(f"state: rejected by the filter ({s})")
 
-    def reset(self) -> None:
-        """Back to the start of alignment (parameters kept)."""
-        self._f.reset()
+    def clear(self) -> None:
+        """Back to the start of alignment (parameters kept): the next IMU samples align again."""
+        self._f.clear()
 
-    def initialize(self, q_nb, v_n, llh, accel_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0),
+    def reset(self, q_nb, v_n, llh, accel_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0),
                    P=None) -> None:
-        """Start navigation directly, skipping the static alignment (e.g. from a dataset's own
-        initial alignment when the vehicle is not at rest at the start).
+        """Start navigation from a given state, skipping the static alignment (e.g. from a
+        dataset's own initial alignment when the vehicle is not at rest at the start). As in every
+        filter, ``reset`` starts from a state and ``initialize`` (attitude filters) from sensor
+        readings.
 
         Parameters
         ----------
@@ -210,7 +212,7 @@ class GpsInsFilter(Filter):
         P = np.asarray(V._numeric(P, "P"), dtype=self.dtype)
         if P.shape != (15, 15):
             raise ValueError(f"P: expected shape (15, 15), got {P.shape}")
-        s = self._f.initialize(q, v, float(llh[0]), float(llh[1]), float(llh[2]), ba, bg, P)
+        s = self._f.reset(q, v, float(llh[0]), float(llh[1]), float(llh[2]), ba, bg, P)
         if s != "ok":
             raise ValueError(f"q_nb, v_n, llh, P: rejected by the filter ({s})")
 

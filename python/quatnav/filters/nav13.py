@@ -194,7 +194,7 @@ class NavFilter13(Filter):
         wb = V.vector(gyr, "gyr", dtype=self.dtype)
         fb = V.vector(acc, "acc", dtype=self.dtype)
         d = V.positive(dt, "dt")
-        status = self._f.predict(fb, wb, d)
+        status = self._f.predict(wb, fb, d)
         if status == "not_initialized":
             raise ValueError("predict: the filter is not initialized (call reset first)")
         if status == "invalid_dt":
@@ -279,7 +279,7 @@ class NavFilter13(Filter):
         times = np.asarray(t, dtype=np.float64) if t is not None else np.cumsum(steps)
         vt, vv = self._measurements(check_aid(gps_vel, "gps_vel"), "gps_vel", 3, strict)
         yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)
-        out = self._f.run(fb, wb, times.astype(self.dtype), steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
+        out = self._f.run(wb, fb, times.astype(self.dtype), steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
                           float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance))
         flags = out["flags"]
         skipped = skipped_imu_rows(flags, NAV13_FLAGS)

@@ -254,7 +254,7 @@ class GpsInsFilter:
     def counters(self):
         return {k: dict(v) for k, v in self.s.counters.items()}
 
-    def reset(self):
+    def clear(self):
         self.s = _new_state()
 
     def initial_covariance(self, pos_sigma, vel_sigma):
@@ -264,7 +264,7 @@ class GpsInsFilter:
                             np.full(3, p.init_accel_bias_sigma), np.full(3, p.init_gyro_bias_sigma)])
         return np.diag(d ** 2)
 
-    def initialize(self, q_nb, v_n, lat, lon, h, accel_bias, gyro_bias, P):
+    def reset(self, q_nb, v_n, lat, lon, h, accel_bias, gyro_bias, P):
         s = self.s.copy()
         q = np.asarray(q_nb, float)
         s.nav = StrapdownState(q_nb=q / np.linalg.norm(q), v_n=np.asarray(v_n, float).copy(),

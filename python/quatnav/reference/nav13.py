@@ -226,7 +226,7 @@ class NavFilter13:
             u.omega_en_n = np.zeros(3)
         return u
 
-    def predict(self, f_ib_b, omega_ib_b, dt):
+    def predict(self, omega_ib_b, f_ib_b, dt):
         u = self._input(f_ib_b, omega_ib_b, dt)
         u.f_ib_b = rotation_correction(u.f_ib_b, u.omega_ib_b, self.x[BA], self.x[BG], u.dt)
         x, P = self.x, self.P

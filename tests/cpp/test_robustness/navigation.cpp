@@ -76,7 +76,7 @@ template <class S> void gpsins_bad_input() {
   GpsInsFilter<S> f(p);
   const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
   const Vec3<S> fb(S(0.1), S(-0.2), S(-9.8)), wb(S(0.01), S(0.02), S(-0.01)), nan3 = Vec3<S>::Constant(nan);
-  ASSERT_EQ(f.initialize(quat::from_euler(S(0.1), S(0.2), S(0.3)), Vec3<S>(S(1), S(0), S(0)), 0.6, 0.2, 100.0,
+  ASSERT_EQ(f.reset(quat::from_euler(S(0.1), S(0.2), S(0.3)), Vec3<S>(S(1), S(0), S(0)), 0.6, 0.2, 100.0,
                          Vec3<S>::Zero(), Vec3<S>::Zero(), f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5))),
             Status::Ok);
   ASSERT_EQ(f.predict(wb, fb, S(0.01)), Status::Ok);
@@ -120,7 +120,7 @@ template <class S> void gpsins_bad_input() {
   s.nav.lat = std::nan("");
   EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
   const S big = std::numeric_limits<S>::max();
-  EXPECT_EQ(f.initialize(Quat<S>(big, big, S(0), S(0)), Vec3<S>::Zero(), 0.6, 0.2, 100.0, Vec3<S>::Zero(),
+  EXPECT_EQ(f.reset(Quat<S>(big, big, S(0), S(0)), Vec3<S>::Zero(), 0.6, 0.2, 100.0, Vec3<S>::Zero(),
                          Vec3<S>::Zero(), before.P),
             Status::InvalidArgument);
   EXPECT_TRUE(A::same(before, f.state()));
@@ -154,7 +154,7 @@ template <class S> double gpsins_near_singular(S floor, int steps) {
   p.cov_floor = floor;
   GpsInsFilter<S> f(p);
   const Quat<S> q = quat::from_euler(S(0.1), S(-0.05), S(0.4));
-  EXPECT_EQ(f.initialize(q, Vec3<S>::Zero(), 0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Zero(),
+  EXPECT_EQ(f.reset(q, Vec3<S>::Zero(), 0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Zero(),
                          f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5))),
             Status::Ok);
   const Vec3<double> g_n = earth::gravity_n(0.6, 100.0);

@@ -336,8 +336,9 @@ template <class S_> class GpsInsFilter {
     s_ = s;
     return Status::Ok;
   }
-  /// Back to the start of alignment (parameters kept).
-  void reset() { s_ = State(); }
+  /// Back to the start of alignment (parameters kept): the filter aligns again from the next
+  /// IMU samples.
+  void clear() { s_ = State(); }
 
   GpsInsPhase phase() const { return s_.phase; }
   bool navigating() const { return s_.phase == GpsInsPhase::Navigating; }
@@ -351,9 +352,11 @@ template <class S_> class GpsInsFilter {
   const Mat15& covariance() const { return s_.P; }
   double time() const { return s_.t; }
 
-  /// Start navigation directly (skipping alignment): attitude, velocity, position, biases and the
-  /// covariance. InvalidArgument when anything is non-finite or P is not symmetric.
-  Status initialize(const Quat<S>& q_nb, const Vec3<S>& v_n, double lat, double lon, double h,
+  /// Start navigation from a given state (skipping alignment): attitude, velocity, position,
+  /// biases and the covariance; as reset() of every filter (initialize() starts a filter from
+  /// sensor readings, reset() from a state). InvalidArgument when anything is non-finite or P is
+  /// not symmetric.
+  Status reset(const Quat<S>& q_nb, const Vec3<S>& v_n, double lat, double lon, double h,
                     const Vec3<S>& b_a, const Vec3<S>& b_g, const Mat15& P) {
     if (!q_nb.allFinite() || !v_n.allFinite() || !std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) ||
         !b_a.allFinite() || !b_g.allFinite() || !P.allFinite() || !(q_nb.norm() > S(0.5)))

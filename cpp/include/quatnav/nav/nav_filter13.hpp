@@ -505,14 +505,14 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     return Status::Ok;
   }
 
-  /// Time update with one IMU sample: f_ib_b [m/s^2] and omega_ib_b [rad/s] as measured (mean
-  /// over the step), dt [s]. The specific force gets the rotation correction of the velocity
+  /// Time update with one IMU sample: omega_ib_b [rad/s] and f_ib_b [m/s^2] as measured (mean
+  /// over the step; gyroscope first, as in every filter), dt [s]. The specific force gets the rotation correction of the velocity
   /// increment (nav13_rotation_correction). The Earth terms come from the carried position and the prior
   /// velocity; the position is then advanced with the mean of the prior and posterior velocity.
   /// The Earth terms and the geodetic rates are computed in S from the position rounded to S
   /// (their change over one ulp of a float latitude is far below float resolution); only the
   /// accumulation of the position is double, so a float build needs no double trigonometry.
-  Status predict(const Vec3<S>& f_ib_b, const Vec3<S>& omega_ib_b, S dt) {
+  Status predict(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) {
     if (!st_.initialized) return Status::NotInitialized;
     if (!params_ok_) return Status::InvalidArgument;
     if (!f_ib_b.allFinite() || !omega_ib_b.allFinite()) return Status::NonFinite;
@@ -658,7 +658,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 
 /// Batch run over IMU samples with velocity and yaw measurements at their own times, in C++.
 ///
-/// IMU: n samples f_ib_b (n x 3), omega_ib_b (n x 3), row-major; t (n) the end time of each
+/// IMU: n samples omega_ib_b (n x 3), f_ib_b (n x 3), row-major; t (n) the end time of each
 /// sample and dt (n) its length, so the filter state (set by reset before the call) is at
 /// t[0] - dt[0]. Measurements: vel (nv x 3) at vel_t (nv), yaw (ny) at yaw_t (ny), both sorted.
 /// A measurement at time tau is applied before the first predict when tau <= t[0] - dt[0], else
@@ -668,7 +668,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 /// Outputs (any may be null): x (n x 13), sigma (n x 13), P (n x 169), att_sigma (n x 3, body
 /// rotation-vector one-sigma, rad), flags (n); per measurement: innovation, NIS, status.
 template <class Filter, class S = typename Filter::Scalar>
-void run_nav13_batch(Filter& f, const S* f_ib_b, const S* omega_ib_b, const S* t, const S* dt, std::size_t n,
+void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const S* t, const S* dt, std::size_t n,
                      const S* vel_t, const S* vel, std::size_t nv, const S* yaw_t, const S* yaw, std::size_t ny,
                      S gate_vel, S gate_yaw, S* x_out, S* sigma_out, S* P_out, S* att_sigma_out,
                      std::uint32_t* flags_out, S* vel_innov, S* vel_nis, std::uint8_t* vel_status, S* yaw_innov,
@@ -699,7 +699,7 @@ void run_nav13_batch(Filter& f, const S* f_ib_b, const S* omega_ib_b, const S* t
   for (std::size_t k = 0; k < n; ++k) {
     std::uint32_t fl = k == 0 ? fl0 : 0u;
     const Eigen::Map<const Vec3<S>> fk(f_ib_b + 3 * k), wk(omega_ib_b + 3 * k);
-    const Status sp = f.predict(Vec3<S>(fk), Vec3<S>(wk), dt[k]);
+    const Status sp = f.predict(Vec3<S>(wk), Vec3<S>(fk), dt[k]);
     if (sp != Status::Ok) fl |= flags::kPredictSkipped | (sp == Status::Saturated ? flags::kSaturated : 0u);
     apply(t[k] + S(1e-4) * dt[k], fl);
     if (x_out) Eigen::Map<Vec<S, 13>>(x_out + 13 * k) = f.x();
