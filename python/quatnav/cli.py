@@ -99,6 +99,8 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_parser(sub)
     from . import ins_cli
     ins_cli.add_parser(sub)
+    from . import calibrate_cli
+    calibrate_cli.add_parser(sub)
     _leaf_progs(parser)
     parser.set_defaults(func=None)
     return parser

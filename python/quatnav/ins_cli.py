@@ -350,7 +350,7 @@ def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), ali
     return [w for w in out if w]
 
 
-def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
+def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, calibration=None):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -363,6 +363,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
         Rows, navigation start, coasted gaps, gate rejections, warnings (for ``--json``).
 
     ``warn(text)`` is called once per warning (default: collected in ``summary["warnings"]`` only).
+    ``calibration``: a calibration TOML file (``quatnav calibrate``) applied to the gyro and
+    accelerometer samples before the filter sees them.
     """
     import quatnav
 
@@ -417,6 +419,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
+    if calibration:
+        from .calibration import apply_calibration_args
+        gyro, accel, _ = apply_calibration_args(argparse.Namespace(calibration=calibration), gyro, accel)
     gaps, wt = check_imu_times(t, lines_i, max_dt, where=f"IMU {imu}")
     for w in wt:
         note(w)
@@ -459,7 +464,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None):
 def _run(args) -> int:
     prog = getattr(args, "_prog", "quatnav ins run")
     msg, ok, summary = run_files(args.imu, args.gnss, args.out, baro=args.baro, compass=args.compass,
-                                 config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr))
+                                 config=args.config, calibration=getattr(args, "calibration", None), warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr))
     print(msg)
     if args.json:
         write_json(summary, args)
@@ -480,6 +485,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--baro", metavar="BARO.csv", help="altimeter heights (optional)")
     r.add_argument("--compass", metavar="COMPASS.csv", help="compass headings (optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
+    from .calibration import add_calibration_argument
+    add_calibration_argument(r)
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output CSV")
     r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
     r.set_defaults(func=_run)
