@@ -141,3 +141,69 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON ('-': to stdout)")
     p.set_defaults(func=_run)
     return p
+
+
+ALLAN_EPILOG = """\
+LOG: an IMU CSV log (time, gyro_x..z, accel_x..z) recorded at rest, as long as possible (the
+rate random walk shows only at taus of a tenth of the log and beyond). --rest-only: use the
+longest rest segment found in the log instead of the whole log.
+
+The noise file holds [filter] (GpsInsFilter parameters: 'quatnav ins run --config noise.toml'),
+[filters.NAME] (QuaternionEKF, EulerEKF, NavFilter13, GpsInsFilter under their own parameter
+names; all continuous-time densities) and [allan.gyro], [allan.acc] (per-axis read-outs with
+their relative standard errors). See docs/CALIBRATION.md."""
+
+
+def _allan(args) -> int:
+    from . import calibration as cal
+    from .calibration.noise import noise_parameters, plot_allan
+    t, gyr, acc, _ = read_log(args.log)
+    dt = np.diff(t)
+    if np.max(dt) > 1.5 * np.median(dt):
+        i = int(np.argmax(dt))
+        raise UsageError(f"LOG {args.log}: time step of {dt[i]:.4g} s after t = {t[i]:.4f} s (median "
+                         f"{np.median(dt):.4g} s): the Allan deviation needs uniform samples; cut the log there")
+    if args.rest_only:
+        segs = cal.rest_segments(t, acc, gyr)
+        if not segs:
+            raise UsageError(f"LOG {args.log}: no rest segment found")
+        a, b = max(segs, key=lambda s: s[1] - s[0])
+        t, gyr, acc = t[a:b], gyr[a:b], acc[a:b]
+    rate = 1.0 / float(np.median(np.diff(t)))
+    try:
+        model = noise_parameters(rate, gyr=gyr, acc=acc)
+    except ValueError as e:
+        raise UsageError(f"LOG {args.log}: {e}") from None
+    try:
+        with open(args.out, "w") as fh:
+            fh.write(model.to_toml())
+    except OSError as e:
+        raise UsageError(f"--out {args.out}: cannot write ({e.strerror})") from None
+    for s, unit in (("gyro", "rad/s"), ("acc", "m/s^2")):
+        for axis, a in zip("xyz", getattr(model, s)):
+            print(f"{s} {axis}: white {a.white:.3g} {unit}/sqrt(Hz) (+-{a.white_rel_err:.0%}), bias instability "
+                  f"{a.bias_instability:.3g} {unit} at {a.tau_bias_instability:.3g} s, rate random walk "
+                  f"{a.rate_random_walk:.3g} {unit}/s/sqrt(Hz)")
+    print(f"{len(t)} samples, {model.duration:.1f} s at {rate:.4g} Hz; wrote {args.out}")
+    if args.plot:
+        print(f"wrote {plot_allan(model, args.plot)}")
+    if args.json:
+        write_json({"filters": model.filter_params(),
+                    "gyro": [vars(a) for a in model.gyro], "acc": [vars(a) for a in model.acc]}, args)
+    return 0
+
+
+def add_allan_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``quatnav allan`` on an argparse subparsers object."""
+    p = subparsers.add_parser("allan", help="noise parameters of a static IMU log from its Allan deviation",
+                              description="Overlapping Allan deviation per axis of a static IMU log; fits of the "
+                                          "white noise (ARW/VRW), bias instability and rate random walk; the "
+                                          "filter noise parameters they give, written as TOML.",
+                              epilog=ALLAN_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("log", metavar="LOG", help="IMU CSV log at rest")
+    p.add_argument("--out", required=True, metavar="NOISE.toml", help="noise parameter file to write")
+    p.add_argument("--rest-only", action="store_true", help="use the longest rest segment of the log only")
+    p.add_argument("--plot", metavar="PNG", help="also draw the Allan deviation with the fitted lines")
+    p.add_argument("--json", metavar="FILE", help="also write the read-outs as JSON ('-': to stdout)")
+    p.set_defaults(func=_allan)
+    return p

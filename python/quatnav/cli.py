@@ -101,6 +101,7 @@ def build_parser() -> argparse.ArgumentParser:
     ins_cli.add_parser(sub)
     from . import calibrate_cli
     calibrate_cli.add_parser(sub)
+    calibrate_cli.add_allan_parser(sub)
     _leaf_progs(parser)
     parser.set_defaults(func=None)
     return parser

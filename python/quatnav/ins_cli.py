@@ -123,7 +123,8 @@ def read_csv(path, required, optional=(), what="file"):
 
 
 def load_config(path) -> dict:
-    """Parameters of :class:`quatnav.GpsInsFilter` from the ``[filter]`` table of a TOML file."""
+    """Parameters of :class:`quatnav.GpsInsFilter` from the ``[filter]`` table of a TOML file
+    (the ``[filters]`` and ``[allan]`` tables of a ``quatnav allan`` noise file are ignored)."""
     try:
         import tomllib as toml  # Python 3.11+
     except ModuleNotFoundError:  # pragma: no cover - depends on the Python version
@@ -139,7 +140,8 @@ def load_config(path) -> dict:
     except toml.TOMLDecodeError as e:
         raise InputError(f"config {path}: not valid TOML ({e})") from None
     from .filters.gpsins import PARAM_NAMES
-    unknown = [k for k in doc if k != "filter"]
+    # a noise file of 'quatnav allan' also holds [filters.NAME] (other filters) and [allan] (read-outs)
+    unknown = [k for k in doc if k not in ("filter", "filters", "allan")]
     if unknown:
         raise InputError(f"config {path}: unknown table or key {unknown[0]!r} (expected a [filter] table)")
     params = doc.get("filter", {})
