@@ -102,6 +102,8 @@ def build_parser() -> argparse.ArgumentParser:
     from . import calibrate_cli
     calibrate_cli.add_parser(sub)
     calibrate_cli.add_allan_parser(sub)
+    from .evaluation import optimize
+    optimize.add_parser(sub)
     _leaf_progs(parser)
     parser.set_defaults(func=None)
     return parser

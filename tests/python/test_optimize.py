@@ -71,3 +71,20 @@ def test_dask_distributed_cluster_gives_the_serial_result(serial_sweep):
                      executor=client.get_executor())
     assert r.params == serial_sweep.params and r.per_log == serial_sweep.per_log
     assert r.flatness == serial_sweep.flatness
+
+
+def test_tune_command_user_errors():
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import quatnav
+    env = dict(os.environ, PYTHONPATH=str(Path(quatnav.__file__).resolve().parents[1]))
+    for args, expect in ((["--param", "gyro_noise=1:0.1"], "0 < LOW < HIGH"),
+                         (["--param", "gyro_noise"], "NAME=LOW:HIGH"),
+                         ([], "at least one --param"),
+                         (["/nonexistent", "--param", "gyro_noise=1e-3:1e-1"], "no BROAD trials")):
+        p = subprocess.run([sys.executable, "-m", "quatnav", "tune", *args], capture_output=True, text=True,
+                           env=env, timeout=120)
+        assert p.returncode == 2 and expect in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
