@@ -1,5 +1,6 @@
 """Sensor calibration: magnetometer ellipsoid fit, accelerometer multi-pose fit, gyroscope bias
 and scale, the TOML file, and the effect on the 9D filter's heading."""
+import tomllib
 import warnings
 
 import numpy as np
@@ -132,6 +133,8 @@ def test_accelerometer_rejects_moving_poses_and_reports_them():
     moving = poses[0] + rng.normal(scale=0.5, size=poses[0].shape)
     c = cal.accelerometer(poses + [moving])
     assert c.info["poses"] == 6 and [r["pose"] for r in c.info["rejected"]] == [6]
+    text = cal.Calibration(acc=c).to_toml()    # the rejected poses are written too
+    assert "rejected_poses = [6]" in text and tomllib.loads(text)["acc"]["rejected_std"][0] > 0.3
     with pytest.raises(ValueError, match="at least 6 static poses.*1 rejected"):
         cal.accelerometer(poses[1:] + [moving])
 

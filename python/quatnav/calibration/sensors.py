@@ -67,7 +67,10 @@ class SensorCalibration:
              "matrix": [[float(v) for v in row] for row in self.matrix],
              "residual": float(self.residual)}
         for k, v in self.info.items():
-            if isinstance(v, (int, float, str, bool, np.floating, np.integer)):
+            if k == "rejected":  # list of {"pose", "std"}: two arrays in the file
+                d["rejected_poses"] = [int(r["pose"]) for r in v]
+                d["rejected_std"] = [float(r["std"]) for r in v]
+            elif isinstance(v, (int, float, str, bool, np.floating, np.integer)):
                 d[k] = v.item() if isinstance(v, np.generic) else v
             elif isinstance(v, (list, tuple, np.ndarray)):
                 d[k] = np.asarray(v).tolist()
