@@ -149,7 +149,7 @@ rate random walk shows only at taus of a tenth of the log and beyond). --rest-on
 longest rest segment found in the log instead of the whole log.
 
 The noise file holds [filter] (GpsInsFilter parameters: 'quatnav ins run --config noise.toml'),
-[filters.NAME] (QuaternionEKF, EulerEKF, NavFilter13, GpsInsFilter under their own parameter
+[parameters.NAME] (QuaternionEKF, EulerEKF, NavFilter13, GpsInsFilter under their own parameter
 names; all continuous-time densities) and [allan.gyro], [allan.acc] (per-axis read-outs with
 their relative standard errors). See docs/CALIBRATION.md."""
 

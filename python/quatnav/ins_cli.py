@@ -124,7 +124,7 @@ def read_csv(path, required, optional=(), what="file"):
 
 def load_config(path) -> dict:
     """Parameters of :class:`quatnav.GpsInsFilter` from the ``[filter]`` table of a TOML file
-    (the ``[filters]`` and ``[allan]`` tables of a ``quatnav allan`` noise file are ignored)."""
+    (the ``[parameters]`` and ``[allan]`` tables of a ``quatnav allan`` noise file are ignored)."""
     try:
         import tomllib as toml  # Python 3.11+
     except ModuleNotFoundError:  # pragma: no cover - depends on the Python version
@@ -140,8 +140,8 @@ def load_config(path) -> dict:
     except toml.TOMLDecodeError as e:
         raise InputError(f"config {path}: not valid TOML ({e})") from None
     from .filters.gpsins import PARAM_NAMES
-    # a noise file of 'quatnav allan' also holds [filters.NAME] (other filters) and [allan] (read-outs)
-    unknown = [k for k in doc if k not in ("filter", "filters", "allan")]
+    # a noise file of 'quatnav allan' also holds [parameters.NAME] (other filters) and [allan] (read-outs)
+    unknown = [k for k in doc if k not in ("filter", "parameters", "allan")]
     if unknown:
         raise InputError(f"config {path}: unknown table or key {unknown[0]!r} (expected a [filter] table)")
     params = doc.get("filter", {})

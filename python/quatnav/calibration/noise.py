@@ -145,7 +145,7 @@ class NoiseModel:
 
     def to_toml(self) -> str:
         params = self.filter_params()
-        doc = {"filter": params["GpsInsFilter"], "filters": params, "allan": {
+        doc = {"filter": params["GpsInsFilter"], "parameters": params, "allan": {
             "rate_hz": self.rate_hz, "duration_s": self.duration}}
         for s in ("gyro", "acc"):
             axes = getattr(self, s)
@@ -156,7 +156,7 @@ class NoiseModel:
         return dumps(doc, header=(
             "quatnav noise parameters from the Allan deviation of a static log\n"
             "[filter]: GpsInsFilter parameters (read by 'quatnav ins run --config FILE')\n"
-            "[filters.NAME]: the same densities under each filter's parameter names; MargFilter has none\n"
+            "[parameters.NAME]: the same densities under each filter's parameter names; MargFilter has none\n"
             "[allan.gyro], [allan.acc]: per-axis read-outs (x, y, z), SI units; *_rel_err: relative std error"))
 
 
