@@ -36,6 +36,7 @@ class SerialExecutor(Executor):
     """An Executor that runs each call at once in the calling thread (the default)."""
 
     def submit(self, fn, /, *args, **kwargs):
+        """Call ``fn(*args, **kwargs)`` now; a finished Future with its result or exception."""
         from concurrent.futures import Future
         f = Future()
         try:
