@@ -55,6 +55,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer (6D: heading is free)")
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output file (.csv or .parquet)")
     r.add_argument("--plot", metavar="FILE.png", help="also plot the result")
+    from .calibration import add_calibration_argument
+    add_calibration_argument(r)
     r.set_defaults(func=_run)
     p.set_defaults(func=None)
     return p
@@ -197,6 +199,12 @@ def plot_attitude(res, log, path):
 
 def _run(args) -> int:
     log = load_inputs(args)
+    if getattr(args, "calibration", None):
+        from .calibration import apply_calibration_args
+        mag = log.mag.values if log.mag is not None else None
+        log.imu.gyr, log.imu.acc, mag = apply_calibration_args(args, log.imu.gyr, log.imu.acc, mag)
+        if log.mag is not None:
+            log.mag.values = mag
     if args.rate is not None and not args.rate > 0:
         raise UsageError(f"--rate {args.rate:g}: must be > 0 Hz")
     if len(log.imu.t) < 2:

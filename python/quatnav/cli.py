@@ -103,6 +103,11 @@ def build_parser() -> argparse.ArgumentParser:
     ahrs_cli.add_parser(sub)
     from . import compare_cli
     compare_cli.add_parser(sub)
+    from . import calibrate_cli
+    calibrate_cli.add_parser(sub)
+    calibrate_cli.add_allan_parser(sub)
+    from .evaluation import optimize
+    optimize.add_parser(sub)
     _leaf_progs(parser)
     parser.set_defaults(func=None)
     return parser

@@ -15,7 +15,7 @@ __all__ = ["UsageError", "write_json", "missing_extra"]
 _EXTRAS = {
     "scipy": {"simulate": "sim", "bench": "sim", None: "eval"},
     "matplotlib": {None: "eval"}, "h5py": {None: "eval"}, "tqdm": {None: "eval"},
-    "pandas": {None: "io"},
+    "pandas": {None: "io"}, "distributed": {None: "cluster"}, "dask": {None: "cluster"},
     "pyulog": {None: "logs"}, "rosbags": {None: "logs"}, "pyarrow": {None: "logs"},
     "vqf": {None: "peers"}, "imufusion": {None: "peers"}, "ahrs": {None: "peers"}, "filterpy": {None: "peers"},
 }

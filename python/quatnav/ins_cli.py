@@ -129,7 +129,8 @@ def read_csv(path, required, optional=(), what="file"):
 
 
 def load_config(path) -> dict:
-    """Parameters of :class:`quatnav.GpsInsFilter` from the ``[filter]`` table of a TOML file."""
+    """Parameters of :class:`quatnav.GpsInsFilter` from the ``[filter]`` table of a TOML file
+    (the ``[parameters]`` and ``[allan]`` tables of a ``quatnav allan`` noise file are ignored)."""
     try:
         import tomllib as toml  # Python 3.11+
     except ModuleNotFoundError:  # pragma: no cover - depends on the Python version
@@ -145,7 +146,8 @@ def load_config(path) -> dict:
     except toml.TOMLDecodeError as e:
         raise InputError(f"config {path}: not valid TOML ({e})") from None
     from .filters.gpsins import PARAM_NAMES
-    unknown = [k for k in doc if k != "filter"]
+    # a noise file of 'quatnav allan' also holds [parameters.NAME] (other filters) and [allan] (read-outs)
+    unknown = [k for k in doc if k not in ("filter", "parameters", "allan")]
     if unknown:
         raise InputError(f"config {path}: unknown table or key {unknown[0]!r} (expected a [filter] table)")
     params = doc.get("filter", {})
@@ -406,7 +408,8 @@ def _reader(log, fmt):
     return read
 
 
-def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None):
+def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
+              calibration=None):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -419,6 +422,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         Rows, navigation start, coasted gaps, gate rejections, warnings (for ``--json``).
 
     ``warn(text)`` is called once per warning (default: collected in ``summary["warnings"]`` only).
+    ``calibration``: a calibration TOML file (``quatnav calibrate``) applied to the gyro and
+    accelerometer samples before the filter sees them.
     """
     import quatnav
 
@@ -479,6 +484,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
+    if calibration:
+        from .calibration import apply_calibration_args
+        gyro, accel, _ = apply_calibration_args(argparse.Namespace(calibration=calibration), gyro, accel)
     gaps, wt = check_imu_times(t, lines_i, max_dt, where=f"IMU {imu}")
     for w in wt:
         note(w)
@@ -531,7 +539,8 @@ def _run(args) -> int:
     tracks = {}
     msg, ok, summary = run_files(args.imu, args.gnss, args.out, baro=args.baro, compass=args.compass,
                                  config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr),
-                                 log=log, fmt=args.format, tracks=tracks)
+                                 log=log, fmt=args.format, tracks=tracks,
+                                 calibration=getattr(args, "calibration", None))
     print(msg)
     if ok:
         from . import nav_outputs
@@ -568,6 +577,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--baro", metavar="BARO.csv", help="altimeter heights (optional; CSV or a log with a barometer)")
     r.add_argument("--compass", metavar="COMPASS.csv", help="compass headings (optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
+    from .calibration import add_calibration_argument
+    add_calibration_argument(r)
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output CSV")
     r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
     r.add_argument("--kml", metavar="FILE.kml", help="also write the track as KML (Google Earth)")

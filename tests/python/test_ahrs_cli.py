@@ -109,3 +109,19 @@ def test_parquet_output(sim, tmp_path):
     assert len(df) == len(s.t) and "flag_names" in df
     assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
     assert json.loads(js.read_text())["attitude_inclination_deg"]["n"] == len(s.t)
+
+
+def test_ahrs_run_applies_a_calibration(sim, tmp_path):
+    # a gyro offset and a magnetometer hard iron written to a calibration file: the command
+    # filters the calibrated samples, i.e. equals the API on cal.apply(...) of the same arrays
+    from quatnav import calibration as cal
+    s, d = sim
+    path = tmp_path / "cal.toml"
+    cal.save_calibration(path, gyro=cal.SensorCalibration("gyro", "offset", np.array([0.01, -0.02, 0.005]), np.eye(3)),
+                         mag=cal.SensorCalibration("mag", "offset", np.array([3.0, -2.0, 1.0]), np.eye(3)))
+    out = tmp_path / "q.csv"
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--calibration", str(path), "--out", str(out)]) == 0
+    g, a, m = cal.apply(cal.load_calibration(path), gyr=s.gyr, acc=s.acc, mag=s.mag)
+    assert not np.allclose(g, s.gyr) and not np.allclose(m, s.mag)
+    r = quatnav.QuaternionEKF().run(g, a, m, t=s.t, on_invalid="skip")
+    np.testing.assert_allclose(pd.read_csv(out)[["q_w", "q_x", "q_y", "q_z"]].to_numpy(), r.quat, atol=1e-9)

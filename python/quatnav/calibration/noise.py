@@ -1,0 +1,207 @@
+"""Sensor noise parameters from the overlapping Allan deviation of a static log, and the filter
+parameters they give.
+
+Fits per axis (IEEE Std 952-1997, annex C), on the curve of :func:`quatnav.sim.allan.allan_deviation`:
+
+* white noise ``N`` (ARW for a gyro, VRW for an accelerometer; unit/sqrt(Hz)): a line of slope
+  -1/2, ``sigma(tau) = N / sqrt(tau)``, fitted in log space on the taus where the local slope is
+  near -1/2 (within 0.2) below the curve's minimum; ``N`` is the line read at tau = 1 s;
+* bias instability ``B``: the flat minimum of the curve divided by 0.664 (its tau is reported);
+* rate random walk ``K`` (unit/s/sqrt(Hz)): a line of slope +1/2, ``sigma(tau) = K sqrt(tau/3)``,
+  fitted where the slope is near +1/2 beyond the minimum; read at tau = 3 s. NaN when the log is
+  too short to show that slope. The noise terms are independent, so their Allan variances add:
+  each line is fitted on the curve with the other line's variance removed.
+
+Confidence: an Allan deviation estimated from ``n/m`` clusters of ``m`` samples has a relative
+standard error of about ``1 / sqrt(2 (n/m - 1))`` (IEEE 952, C.2; the overlapping estimate is
+somewhat better). The line fits weight each point by ``n/m - 1`` (the inverse of that relative
+variance), and each read-out reports the error of the best-determined point its fit uses (the
+smallest tau; neighbouring points are correlated, so the fit is not much better than that).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._toml import dumps
+
+__all__ = ["AxisNoise", "NoiseModel", "noise_parameters", "fit_allan", "FILTER_NOISE"]
+
+#: the noise parameters of each filter (``filters/tables.py``): name -> (sensor, term). All are
+#: continuous-time densities: ``gyro_noise`` rad/s/sqrt(Hz) = the ARW, ``acc_noise``
+#: m/s^2/sqrt(Hz) = the VRW, ``*_bias_noise`` unit/s/sqrt(Hz) = the rate random walk.
+#: MargFilter (a complementary filter) has no noise parameters.
+FILTER_NOISE = {
+    "QuaternionEKF": {"gyro_noise": ("gyro", "white"), "gyro_bias_noise": ("gyro", "bias_rw")},
+    "EulerEKF": {"gyro_noise": ("gyro", "white"), "gyro_bias_noise": ("gyro", "bias_rw")},
+    "NavFilter13": {"gyro_noise": ("gyro", "white"), "acc_noise": ("acc", "white"),
+                    "gyro_bias_noise": ("gyro", "bias_rw"), "acc_bias_noise": ("acc", "bias_rw")},
+    "GpsInsFilter": {"gyro_noise": ("gyro", "white"), "acc_noise": ("acc", "white"),
+                     "gyro_bias_noise": ("gyro", "bias_rw"), "acc_bias_noise": ("acc", "bias_rw")},
+}
+
+
+def _rel_err(n, m):
+    return 1.0 / np.sqrt(2.0 * np.maximum(n / m - 1.0, 1.0))
+
+
+@dataclass
+class AxisNoise:
+    """Allan read-outs of one axis, in the signal's unit: ``white`` (/sqrt(Hz)),
+    ``bias_instability`` (at ``tau_bias_instability`` s), ``rate_random_walk`` (/s/sqrt(Hz), NaN
+    when not seen), and the relative standard error of each (``*_rel_err``)."""
+
+    white: float
+    white_rel_err: float
+    bias_instability: float
+    tau_bias_instability: float
+    bias_instability_rel_err: float
+    rate_random_walk: float
+    rate_random_walk_rel_err: float
+
+
+def fit_allan(taus, adev, n_samples, rate_hz, slope_tol=0.2):
+    """The three read-outs of one Allan-deviation curve (see the module doc) as an AxisNoise."""
+    taus, adev = np.asarray(taus, float), np.asarray(adev, float)
+    lt, la = np.log(taus), np.log(adev)
+    slope = np.gradient(la, lt)
+    k = np.ones(3) / 3.0
+    slope = np.convolve(np.pad(slope, 1, mode="edge"), k, mode="valid")
+    i_min = int(np.argmin(adev))
+    m = np.round(taus * rate_hz)
+    # white: slope -1/2 before the minimum (at least the first points)
+    sel = (np.abs(slope + 0.5) < slope_tol) & (np.arange(len(taus)) <= i_min)
+    if not sel.any():
+        sel = np.arange(len(taus)) < 3
+    w = np.maximum(n_samples / m - 1.0, 1.0)  # 1 / relative variance of each point
+    sel_k = (np.abs(slope - 0.5) < slope_tol) & (np.arange(len(taus)) > i_min)
+    var = adev ** 2
+    white, rrw = 0.0, 0.0
+    # the terms are independent, so their Allan variances add: each line is fitted on the
+    # curve with the other's contribution removed (a few rounds; it converges at once)
+    for _ in range(4):
+        v = np.maximum(var - rrw ** 2 * taus / 3.0, 0.25 * var)
+        white = float(np.exp(np.average(0.5 * np.log(v[sel]) + 0.5 * lt[sel], weights=w[sel])))
+        if sel_k.sum() < 2:
+            rrw = 0.0
+            break
+        v = np.maximum(var - white ** 2 / taus, 0.25 * var)
+        rrw = float(np.exp(np.average(0.5 * np.log(v[sel_k]) - 0.5 * (lt[sel_k] - np.log(3.0)), weights=w[sel_k])))
+    white_err = float(_rel_err(n_samples, m[sel].min()))
+    if sel_k.sum() >= 2:
+        rrw_err = float(_rel_err(n_samples, m[sel_k].min()))
+    else:
+        rrw, rrw_err = float("nan"), float("nan")
+    return AxisNoise(white, white_err, float(adev[i_min] / 0.664), float(taus[i_min]),
+                     float(_rel_err(n_samples, m[i_min])), rrw, rrw_err)
+
+
+@dataclass
+class NoiseModel:
+    """Allan read-outs of a static log: ``gyro`` and ``acc`` lists of 3 :class:`AxisNoise`
+    (x, y, z; either may be None), the curves (``taus``, ``adev`` per sensor) and the log's
+    ``rate_hz`` and ``duration``."""
+
+    gyro: list | None
+    acc: list | None
+    rate_hz: float
+    duration: float
+    curves: dict = field(default_factory=dict)
+
+    def term(self, sensor, term):
+        """One value for a filter (which takes one density for the three axes): the RMS over the
+        axes; the rate random walk replaced by its bias-instability equivalent when not seen."""
+        axes = getattr(self, sensor)
+        if axes is None:
+            return None
+        if term == "white":
+            return float(np.sqrt(np.mean([a.white ** 2 for a in axes])))
+        k = np.array([a.rate_random_walk for a in axes])
+        if np.isfinite(k).all():
+            return float(np.sqrt(np.mean(k ** 2)))
+        # not seen in the log: the random walk whose Allan deviation at the bias-instability tau
+        # equals the floor, K sqrt(tau/3) = 0.664 B
+        return float(np.sqrt(np.mean([(0.664 * a.bias_instability) ** 2 * 3.0 / a.tau_bias_instability
+                                      for a in axes])))
+
+    def bias_source(self, sensor):
+        axes = getattr(self, sensor)
+        if axes is None:
+            return None
+        return "rate_random_walk" if all(np.isfinite(a.rate_random_walk) for a in axes) else "bias_instability"
+
+    def filter_params(self) -> dict:
+        """``{filter name: {parameter: value}}`` under each filter's own parameter names."""
+        out = {}
+        for f, table in FILTER_NOISE.items():
+            d = {}
+            for name, (sensor, term) in table.items():
+                v = self.term(sensor, term)
+                if v is not None:
+                    d[name] = v
+            out[f] = d
+        return out
+
+    def to_toml(self) -> str:
+        params = self.filter_params()
+        doc = {"filter": params["GpsInsFilter"], "parameters": params, "allan": {
+            "rate_hz": self.rate_hz, "duration_s": self.duration}}
+        for s in ("gyro", "acc"):
+            axes = getattr(self, s)
+            if axes is None:
+                continue
+            doc["allan"][s] = {k: [getattr(a, k) for a in axes] for k in AxisNoise.__dataclass_fields__}
+            doc["allan"][s]["bias_noise_from"] = self.bias_source(s)
+        return dumps(doc, header=(
+            "quatnav noise parameters from the Allan deviation of a static log\n"
+            "[filter]: GpsInsFilter parameters (read by 'quatnav ins run --config FILE')\n"
+            "[parameters.NAME]: the same densities under each filter's parameter names; MargFilter has none\n"
+            "[allan.gyro], [allan.acc]: per-axis read-outs (x, y, z), SI units; *_rel_err: relative std error"))
+
+
+def noise_parameters(rate_hz, gyr=None, acc=None, points_per_decade=10):
+    """Allan read-outs of a static log (``gyr`` rad/s and/or ``acc`` m/s^2, shape (N, 3), uniform
+    rate ``rate_hz``) as a :class:`NoiseModel`."""
+    from ..sim.allan import allan_deviation
+    if gyr is None and acc is None:
+        raise ValueError("give gyr and/or acc")
+    out, curves, n = {}, {}, None
+    for name, x in (("gyro", gyr), ("acc", acc)):
+        if x is None:
+            out[name] = None
+            continue
+        x = np.asarray(x, float)
+        if x.ndim != 2 or x.shape[1] != 3 or x.shape[0] < 100:
+            raise ValueError(f"{name} must have shape (N, 3) with N >= 100, got {x.shape}")
+        n = x.shape[0]
+        taus, adev = allan_deviation(x, rate_hz, points_per_decade=points_per_decade)
+        curves[name] = (taus, adev)
+        out[name] = [fit_allan(taus, adev[:, i], n, rate_hz) for i in range(3)]
+    return NoiseModel(out["gyro"], out["acc"], float(rate_hz), n / rate_hz, curves)
+
+
+def plot_allan(model: NoiseModel, path):
+    """Log-log Allan deviation per axis with the fitted -1/2, 0 and +1/2 lines."""
+    from .. import _plotting
+    sensors = [s for s in ("gyro", "acc") if s in model.curves]
+    fig = _plotting.figure((5.2 * len(sensors), 4.0))
+    units = {"gyro": "rad/s", "acc": "m/s^2"}
+    for k, s in enumerate(sensors):
+        ax = fig.add_subplot(1, len(sensors), k + 1)
+        taus, adev = model.curves[s]
+        for i, axis in enumerate("xyz"):
+            a = getattr(model, s)[i]
+            line, = ax.loglog(taus, adev[:, i], lw=1.2, label=f"{axis}")
+            c = line.get_color()
+            ax.loglog(taus, a.white / np.sqrt(taus), "--", color=c, lw=0.7)
+            ax.loglog(taus, np.full_like(taus, 0.664 * a.bias_instability), ":", color=c, lw=0.7)
+            if np.isfinite(a.rate_random_walk):
+                ax.loglog(taus, a.rate_random_walk * np.sqrt(taus / 3.0), "-.", color=c, lw=0.7)
+        ax.set_ylim(adev.min() / 3, adev.max() * 3)
+        ax.set_xlabel("tau (s)")
+        ax.set_ylabel(f"Allan deviation ({units[s]})")
+        ax.set_title(f"{s}: white --, bias instability :, rate random walk -.", fontsize=8)
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7)
+    return _plotting.save(fig, path)

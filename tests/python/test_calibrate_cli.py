@@ -1,0 +1,110 @@
+"""``quatnav calibrate mag|acc|gyro`` on CSV logs, and ``--calibration FILE`` of ``ins run``."""
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("scipy")
+pytest.importorskip("pandas")
+import quatnav  # noqa: E402
+import quatnav.calibration as cal  # noqa: E402
+
+PYTHON_DIR = str(Path(quatnav.__file__).resolve().parents[1])
+HEADER = "time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z,mag_x,mag_y,mag_z"
+
+
+def run(*args, cwd=None):
+    env = dict(os.environ, PYTHONPATH=PYTHON_DIR + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("QUATNAV_TRACEBACK", None)
+    return subprocess.run([sys.executable, "-m", "quatnav", *map(str, args)], capture_output=True, text=True,
+                          env=env, cwd=cwd, timeout=120)
+
+
+@pytest.fixture(scope="module")
+def logs(tmp_path_factory):
+    d = tmp_path_factory.mktemp("cal")
+    rng = np.random.default_rng(0)
+    dt = 0.01
+    # six static poses joined by motion, gyro bias, magnetometer hard iron on random directions
+    six = np.array([(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)], float)
+    b_acc, b_gyr, hard = np.array([0.1, -0.05, 0.2]), np.array([0.01, -0.02, 0.004]), np.array([20.0, -10.0, 5.0])
+    acc, gyr = [], []
+    for f in six:
+        acc.append(np.tile(9.80665 * f + b_acc, (300, 1)) + rng.normal(scale=0.003, size=(300, 3)))
+        gyr.append(np.tile(b_gyr, (300, 1)) + rng.normal(scale=1e-3, size=(300, 3)))
+        acc.append(rng.normal(scale=2.0, size=(100, 3)) + 9.80665 * f)
+        gyr.append(rng.normal(scale=1.0, size=(100, 3)))
+    acc, gyr = np.concatenate(acc), np.concatenate(gyr)
+    n = len(acc)
+    u = rng.normal(size=(n, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    mag = 50.0 * u + hard + rng.normal(scale=0.2, size=(n, 3))
+    t = np.arange(n) * dt
+    np.savetxt(d / "log.csv", np.column_stack([t, gyr, acc, mag]), delimiter=",", header=HEADER, comments="",
+               fmt="%.9g")
+    np.savetxt(d / "nomag.csv", np.column_stack([t, gyr, acc]), delimiter=",", header=HEADER.rsplit(",", 3)[0],
+               comments="", fmt="%.9g")
+    return d, b_acc, b_gyr, hard
+
+
+def test_calibrate_all_three_into_one_file(logs):
+    d, b_acc, b_gyr, hard = logs
+    out = d / "cal.toml"
+    for sensor in ("mag", "acc", "gyro"):
+        p = run("calibrate", sensor, d / "log.csv", "--out", out)
+        assert p.returncode == 0, p.stderr
+        assert f"wrote {out}" in p.stdout and p.stdout.startswith(sensor)
+    doc = tomllib.loads(out.read_text())
+    assert set(doc) == {"mag", "acc", "gyro"}
+    c = cal.load_calibration(out)
+    np.testing.assert_allclose(c.mag.offset, hard, atol=0.1)
+    np.testing.assert_allclose(c.acc.offset, b_acc, atol=2e-3)
+    np.testing.assert_allclose(c.gyro.offset, b_gyr, atol=2e-4)
+    assert c.acc.info["poses"] == 6 and c.mag.model == "full"
+
+
+def test_calibrate_plot_and_json(logs, tmp_path):
+    pytest.importorskip("matplotlib")
+    d = logs[0]
+    p = run("calibrate", "mag", d / "log.csv", "--out", tmp_path / "c.toml", "--model", "offset",
+            "--plot", tmp_path / "m.png", "--json", tmp_path / "m.json")
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "m.png").stat().st_size > 1000 and (tmp_path / "m.json").exists()
+
+
+@pytest.mark.parametrize("args, expect", [
+    (("mag", "nomag.csv"), "no mag_x"),
+    (("acc", "log.csv", "--model", "full"), "acc models are"),
+    (("gyro", "log.csv", "--model", "full"), "--model is for mag and acc"),
+    (("mag", "missing.csv"), "cannot open"),
+])
+def test_calibrate_user_errors_are_one_line(logs, args, expect):
+    d = logs[0]
+    p = run("calibrate", *args, "--out", "x.toml", cwd=d)
+    assert p.returncode == 2, p.stderr
+    assert "Traceback" not in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    assert expect in p.stderr
+
+
+def test_ins_run_takes_a_calibration(logs, tmp_path):
+    p = run("ins", "run", "-h")
+    assert "--calibration" in p.stdout
+    t = np.arange(0, 20.0, 0.01)
+    imu = np.column_stack([t, np.zeros((len(t), 5)), np.full(len(t), -9.80665)])
+    np.savetxt(tmp_path / "imu.csv", imu, delimiter=",", header=HEADER.rsplit(",", 3)[0], comments="", fmt="%.9g")
+    tg = np.arange(0, 20.0, 1.0)
+    np.savetxt(tmp_path / "gnss.csv", np.column_stack([tg, np.full(len(tg), 47.0), np.full(len(tg), 8.0),
+                                                        np.full(len(tg), 500.0)]),
+               delimiter=",", header="time,lat,lon,h", comments="", fmt="%.9g")
+    (tmp_path / "bad.toml").write_text("[acc]\noffset = [1]\n")
+    base = ("ins", "run", "--imu", tmp_path / "imu.csv", "--gnss", tmp_path / "gnss.csv", "--out", tmp_path / "o.csv")
+    p = run(*base, "--calibration", tmp_path / "bad.toml")
+    assert p.returncode == 2 and "offset must have 3 numbers" in p.stderr, p.stderr
+    cal.save_calibration(tmp_path / "good.toml", acc=cal.SensorCalibration("acc", "diagonal", np.zeros(3),
+                                                                             np.eye(3)))
+    p = run(*base, "--calibration", tmp_path / "good.toml")
+    assert p.returncode in (0, 1) and "wrote" in p.stdout, p.stderr
