@@ -53,7 +53,7 @@ namespace quatnav {
 template <class S> struct QuaternionEKFParams {
   S gyro_noise = S(0.01);         ///< gyro white-noise density [rad/s/sqrt(Hz)] (paper default 0.005)
   S gyro_bias_noise = S(1e-4);    ///< gyro bias random-walk density [rad/s^2/sqrt(Hz)] (paper 1e-5)
-  S acc_noise = S(0.3);           ///< std of each component of the normalized accelerometer [-] (paper 0.05)
+  S acc_noise = S(0.4);           ///< std of each component of the normalized accelerometer [-] (paper 0.05)
   S mag_noise = S(1.0);           ///< std of each component of the normalized magnetometer [-] (paper 0.1)
   S init_att_sigma = S(0.5);      ///< initial attitude one-sigma after initialize() [rad] (paper 0.05)
   S init_bias_sigma = S(0.1);     ///< initial gyro-bias one-sigma [rad/s] (paper 0.01)
