@@ -189,7 +189,7 @@ def run_qekf(d, dtype=np.float64, mag=True, **params):
     out = {"t": _times_of(d)}
     _cols(out, "q", r.quat, WXYZ)
     _cols(out, "bias", r.bias, XYZ)
-    _cols(out, "sigma", r.sigma, ("q0", "q1", "q2", "q3", "bx", "by", "bz"))
+    _cols(out, "sigma", r.sigma, r.sigma_names)  # q0..q3, bx..bz (paper) or dtheta_x..z, bx..bz
     _cols(out, "att_sigma", r.att_sigma, XYZ)
     out["flags"] = r.flags
     return out, {}

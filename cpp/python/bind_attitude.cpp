@@ -34,6 +34,7 @@ template <class S> void bind_qekf(py::module_& m) {
       .def_readwrite("acc_gate", &P::acc_gate)
       .def_readwrite("acc_recovery_time", &P::acc_recovery_time)
       .def_readwrite("acc_lp_tau", &P::acc_lp_tau)
+      .def_readwrite("acc_lp_bias_sigma", &P::acc_lp_bias_sigma)
       .def_readwrite("mag_norm_tol", &P::mag_norm_tol)
       .def_readwrite("mag_dip_tol", &P::mag_dip_tol)
       .def_readwrite("mag_gate", &P::mag_gate)

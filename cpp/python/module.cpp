@@ -5,6 +5,7 @@ namespace quatnav_py {
 // One translation unit each (bind_*.cpp), so that the filters compile in parallel.
 void bind_math(py::module_& m);
 void bind_attitude(py::module_& m);  // QuaternionEKF
+void bind_eskf(py::module_& m);  // QuaternionESKF
 void bind_euler(py::module_& m);
 void bind_strapdown(py::module_& m);
 void bind_marg_f64(py::module_& m);
@@ -36,6 +37,7 @@ PYBIND11_MODULE(_core, m) {
   // the functions that take or return it.
   quatnav_py::bind_math(m);
   quatnav_py::bind_attitude(m);
+  quatnav_py::bind_eskf(m);
   quatnav_py::bind_euler(m);
   quatnav_py::bind_strapdown(m);
   quatnav_py::bind_marg_f64(m);

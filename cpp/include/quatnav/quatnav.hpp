@@ -18,6 +18,7 @@
 
 #include "attitude/attitude.hpp"
 #include "attitude/quaternion_ekf.hpp"
+#include "attitude/quaternion_eskf.hpp"
 #include "attitude/euler_ekf.hpp"
 #include "attitude/marg_filter.hpp"
 #include "attitude/batch.hpp"

@@ -80,6 +80,12 @@ class QuaternionEKFParams_f64:
     def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def acc_lp_bias_sigma(self) -> float:
+        ...
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def acc_noise(self) -> float:
         ...
     @acc_noise.setter
@@ -288,6 +294,60 @@ class QuaternionEKF_f64:
         """
         q_nb [w, x, y, z]
         """
+class QuaternionESKF_f64:
+    def __init__(self, params: QuaternionEKFParams_f64) -> None:
+        ...
+    def get_state(self) -> dict:
+        ...
+    def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
+        ...
+    def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
+        ...
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
+        """
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        """
+    def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def set_state(self, state: dict) -> str:
+        ...
+    def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
+        ...
+    def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f64:
+        ...
+    def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def attitude_covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        ...
+    @property
+    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        gyro bias [rad/s]
+        """
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
+        ...
+    @property
+    def extra_flags(self) -> int:
+        ...
+    @property
+    def initialized(self) -> bool:
+        ...
+    @property
+    def params(self) -> QuaternionEKFParams_f64:
+        ...
+    @property
+    def quat(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"]:
+        """
+        q_nb [w, x, y, z]
+        """
+
 class UpdateResult3_f32:
     """
     Outcome of one measurement update.
@@ -357,6 +417,12 @@ class QuaternionEKFParams_f32:
         ...
     @acc_lp_tau.setter
     def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        ...
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def acc_noise(self) -> float:
@@ -567,6 +633,60 @@ class QuaternionEKF_f32:
         """
         q_nb [w, x, y, z]
         """
+class QuaternionESKF_f32:
+    def __init__(self, params: QuaternionEKFParams_f32) -> None:
+        ...
+    def get_state(self) -> dict:
+        ...
+    def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"] | None = None) -> str:
+        ...
+    def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
+        ...
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
+        """
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        """
+    def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def set_state(self, state: dict) -> str:
+        ...
+    def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
+        ...
+    def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f32:
+        ...
+    def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def attitude_covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 3]"]:
+        ...
+    @property
+    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        """
+        gyro bias [rad/s]
+        """
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[6, 6]"]:
+        ...
+    @property
+    def extra_flags(self) -> int:
+        ...
+    @property
+    def initialized(self) -> bool:
+        ...
+    @property
+    def params(self) -> QuaternionEKFParams_f32:
+        ...
+    @property
+    def quat(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[4, 1]"]:
+        """
+        q_nb [w, x, y, z]
+        """
+
 class EulerEKFParams_f64:
     def __init__(self) -> None:
         ...

@@ -174,7 +174,11 @@ class _AttitudeFilter(Filter):
 class QuaternionEKF(_AttitudeFilter):
     """Quaternion EKF with gyro-bias states (Kim & Jang 2019; paper 000), robust on real data.
 
-    State ``[q0, q1, q2, q3, bx, by, bz]``: ``q_nb`` and the gyro bias. Measurements: the
+    The default filter is the error-state (multiplicative) form: the nominal ``q_nb`` and gyro
+    bias, with the 6x6 covariance of ``[dtheta, db]``, ``dtheta`` the attitude error as a
+    rotation vector in the BODY frame (``q_true = q * exp(dtheta)``); ``sigma`` has the columns
+    ``dtheta_x..z, bx..bz``. ``paper=True`` gives paper 000's 7-state filter, state
+    ``[q0, q1, q2, q3, bx, by, bz]`` (``sigma`` columns ``q0..q3, bx..bz``). Measurements: the
     normalized accelerometer (gravity ``[0, 0, -1]`` in NED) and the magnetometer (reference
     ``[m_x, 0, m_z]``, x = magnetic north, learned from the first samples unless
     :meth:`set_mag_dip` is called). ``QuaternionEKF(paper=True)`` is the plain filter of the
@@ -187,7 +191,7 @@ class QuaternionEKF(_AttitudeFilter):
         Gyro white-noise density, rad/s/sqrt(Hz).
     gyro_bias_noise : float, default 1e-4 [1e-5]
         Gyro bias random-walk density, rad/s^2/sqrt(Hz).
-    acc_sigma : float, default 0.3 [0.05]
+    acc_sigma : float, default 0.4 [0.05]
         Standard deviation of each component of the normalized accelerometer (dimensionless).
     mag_sigma : float, default 1.0 [0.1]
         Standard deviation of each component of the normalized magnetometer (dimensionless).
@@ -241,6 +245,11 @@ class QuaternionEKF(_AttitudeFilter):
     acc_lp_tau : float, default 3
         Low-pass the accelerometer in a quasi-inertial frame (carried by the bias-corrected
         gyro) with this time constant before the update, s; linear accelerations average out.
+    acc_lp_bias_sigma : float, default 0.006 [0]
+        While the largest gyro-bias one-sigma ``sigma_b`` exceeds this (rad/s), the low-pass time
+        constant is ``acc_lp_tau * (acc_lp_bias_sigma / sigma_b)**2``: the low-pass frame, carried
+        by the bias-corrected gyro, is only trusted as far as the bias is known (error-state
+        filter only). 0: always ``acc_lp_tau``.
     mag_norm_tol : float, default 0.05
         Reject the magnetometer when ``||m| / m_ref - 1|`` exceeds this (m_ref learned).
     mag_dip_tol : float, default 0.05
@@ -268,12 +277,22 @@ class QuaternionEKF(_AttitudeFilter):
     BROAD benchmark (one set for all trials); see ``docs/broad.md``.
     """
 
-    _core_name = "QuaternionEKF"
+    _core_name = "QuaternionESKF"
     _core_params = "QuaternionEKFParams"
     PARAMS = QEKF_PARAMS
     FLAGS = ATTITUDE_FLAGS
-    _sigma_names = ("q0", "q1", "q2", "q3", "bx", "by", "bz")
-    n_states = 7
+    _sigma_names = ("dtheta_x", "dtheta_y", "dtheta_z", "bx", "by", "bz")
+    n_states = 6
+    _PAPER_SIGMA_NAMES = ("q0", "q1", "q2", "q3", "bx", "by", "bz")
+
+    def _make(self, p):
+        core = self._core_module()
+        if self._opts.get("paper"):
+            # paper 000's 7-state filter [q, b], exactly as the paper (with its listed fixes)
+            self._sigma_names, self.n_states = self._PAPER_SIGMA_NAMES, 7
+            p = self._core_struct(getattr(core, self._core_params + self._suffix).paper())
+            return getattr(core, "QuaternionEKF" + self._suffix)(p)
+        return getattr(core, self._core_name + self._suffix)(p)
 
     @property
     def at_rest(self) -> bool:
@@ -281,18 +300,23 @@ class QuaternionEKF(_AttitudeFilter):
         return bool(self._f.at_rest)
 
     def reset(self, quat, bias=None, P=None) -> None:
-        """Start from a given ``q_nb``, gyro bias (rad/s) and 7x7 covariance."""
+        """Start from a given ``q_nb``, gyro bias (rad/s) and covariance: 6x6 of the error state
+        ``[dtheta (body, rad), db (rad/s)]`` by default, 7x7 of ``[q, b]`` with ``paper=True``."""
         q = V.vector(quat, "quat", 4, dtype=self.dtype, nonzero=True)
         b = np.zeros(3, self.dtype) if bias is None else V.vector(bias, "bias", dtype=self.dtype)
+        n = self.n_states
         if P is None:
             p = self._f.params
-            X = Q.xi(q / np.linalg.norm(q))
-            P = np.zeros((7, 7))
-            P[:4, :4] = (p.init_att_sigma / 2) ** 2 * X @ X.T
-            P[4:, 4:] = np.eye(3) * p.init_bias_sigma**2
+            if n == 7:
+                X = Q.xi(q / np.linalg.norm(q))
+                P = np.zeros((7, 7))
+                P[:4, :4] = (p.init_att_sigma / 2) ** 2 * X @ X.T
+                P[4:, 4:] = np.eye(3) * p.init_bias_sigma**2
+            else:
+                P = np.diag([p.init_att_sigma**2] * 3 + [p.init_bias_sigma**2] * 3)
         P = np.asarray(P, dtype=self.dtype)
-        if P.shape != (7, 7) or not np.all(np.isfinite(P)):
-            raise ValueError(f"P: expected a finite 7x7 matrix, got shape {P.shape}")
+        if P.shape != (n, n) or not np.all(np.isfinite(P)):
+            raise ValueError(f"P: expected a finite {n}x{n} matrix, got shape {P.shape}")
         self._check_reset(self._f.reset(q, b, P))
 
     def update_acc_mag(self, acc, mag, gate: float = 0.0):

@@ -180,7 +180,7 @@ QEKF_PARAMS = (
        "the other arguments are applied on top", "bool", None),
     _gyro_noise(0.01),
     _gyro_bias_noise(1e-4),
-    _p("acc_sigma", 0.3, "1 (normalized)", "std of each component of the normalized accelerometer",
+    _p("acc_sigma", 0.4, "1 (normalized)", "std of each component of the normalized accelerometer",
        core="acc_noise"),
     _p("mag_sigma", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer",
        core="mag_noise"),
@@ -199,6 +199,8 @@ QEKF_PARAMS = (
        "again (0: never)", "pos0"),
     _p("acc_lp_tau", 3.0, "s", "low-pass time constant of the accelerometer in a quasi-inertial frame "
        "(0: off)", "pos0"),
+    _p("acc_lp_bias_sigma", 0.006, "rad/s", "above this gyro-bias one-sigma the accelerometer low-pass "
+       "time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off)", "pos0"),
     _p("mag_norm_tol", 0.05, "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)", "pos0"),
     _p("mag_dip_tol", 0.05, "rad", "reject the magnetometer when its dip differs from the reference by more "
        "(0: off)", "pos0"),

@@ -132,19 +132,29 @@ class QuaternionEKF(_Base):
     State x = [q0 q1 q2 q3 bx by bz]. ``QuaternionEKF(paper=True)`` is the plain paper filter.
     """
 
-    defaults = dict(gyro_noise=0.01, gyro_bias_noise=1e-4, acc_noise=0.3, mag_noise=1.0,
+    defaults = dict(gyro_noise=0.01, gyro_bias_noise=1e-4, acc_noise=0.4, mag_noise=1.0,
                     init_att_sigma=0.5, init_bias_sigma=0.1, mag_ref_samples=100, max_dt=1.0,
                     mag_heading_only=True, gravity=9.81, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
-                    acc_recovery_time=0.0, acc_lp_tau=3.0, mag_norm_tol=0.05, mag_dip_tol=0.05,
+                    acc_recovery_time=0.0, acc_lp_tau=3.0, acc_lp_bias_sigma=0.006, mag_norm_tol=0.05,
+                    mag_dip_tol=0.05,
                     mag_gate=9.0, mag_settle_time=0.0, mag_ref_tau=30.0, mag_recovery_time=0.0,
                     rest_detection=True, rest_gyr_th=0.03, rest_acc_th=0.5, rest_time=1.5,
                     rest_tau=0.5, rest_rate_noise=0.02, declination=0.0)
     paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
                            init_att_sigma=0.05, init_bias_sigma=0.01, mag_heading_only=False, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
-                           acc_recovery_time=0.0, acc_lp_tau=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0,
+                           acc_recovery_time=0.0, acc_lp_tau=0.0, acc_lp_bias_sigma=0.0, mag_norm_tol=0.0,
+                           mag_dip_tol=0.0,
                            mag_gate=0.0, mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0,
                            rest_detection=False)
     n_states = 7
+
+    def __new__(cls, paper=False, **params):
+        # As the public QuaternionEKF: the default is the 6-state error-state filter
+        # (QuaternionESKF), paper=True the 7-state filter of paper 000 (QuaternionEKF7 with the
+        # robust defaults).
+        if cls is QuaternionEKF and not paper:
+            return super().__new__(QuaternionESKF)
+        return super().__new__(cls)
 
     def __init__(self, paper=False, **params):
         if paper:
@@ -296,7 +306,7 @@ class QuaternionEKF(_Base):
                 self.acc_i_lp = a_i
                 self.acc_lp_init = True
             else:
-                self.acc_i_lp = _lowpass(self.acc_i_lp, a_i, dt, p.acc_lp_tau)
+                self.acc_i_lp = _lowpass(self.acc_i_lp, a_i, dt, self._acc_lp_tau())
             acc_used = Q.rotate_inv(self.q_i, self.acc_i_lp)
         g = p.gravity
         dev = abs(np.linalg.norm(acc_used) - g) if g > 0 else 0.0
@@ -317,6 +327,9 @@ class QuaternionEKF(_Base):
             self.flags |= FLAG_ACC_REJECTED
         return res
 
+    def _acc_lp_tau(self):
+        return self.p.acc_lp_tau  # the 7-state filter ignores acc_lp_bias_sigma
+
     def _rest_step(self, acc):
         p, dt = self.p, self.dt_last
         if not self.lp_init or not dt > 0:
@@ -333,8 +346,8 @@ class QuaternionEKF(_Base):
         if self.rest_t < p.rest_time:
             return
         self.flags |= FLAG_AT_REST
-        H = np.zeros((3, 7))
-        H[:, 4:] = np.eye(3)
+        H = np.zeros((3, self.n_states))
+        H[:, -3:] = np.eye(3)
         r = p.gyro_noise**2 / dt + p.rest_rate_noise**2
         self._correct(H, np.eye(3) * r, self.gyr_last - self.bias, 0.0)
 
@@ -481,6 +494,139 @@ class QuaternionEKF(_Base):
         P[4:, :4] = P[:4, 4:].T
         self.q, self.bias, self.P = qh, self.bias + dx[4:], P
         return res
+
+
+class QuaternionEKF7(QuaternionEKF):
+    """The 7-state filter [q, b] of paper 000 whatever ``paper`` says (the robust defaults
+    without ``paper=True``); ``QuaternionEKF(paper=True)`` is this class."""
+
+
+class QuaternionESKF(QuaternionEKF):
+    """The 6-state error-state form of :class:`QuaternionEKF` (quaternion_eskf.hpp), in numpy.
+
+    Nominal state [q, b]; covariance of dx = [dtheta, db] with q_true = q * exp(dtheta)
+    (dtheta in the body frame). Same parameters, measurements and robustness steps.
+    """
+
+    n_states = 6
+
+    def initialize(self, acc, mag=None):
+        status = super().initialize(acc, mag)
+        if status == "ok":
+            self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_bias_sigma**2] * 3)
+        return status
+
+    def _acc_lp_tau(self):
+        sb = self.p.acc_lp_bias_sigma
+        vb = np.max(np.diag(self.P)[3:])
+        return self.p.acc_lp_tau * (sb * sb / vb) if sb > 0 and vb > sb * sb else self.p.acc_lp_tau
+
+    @staticmethod
+    def propagate(q, bias, gyr, dt):
+        """q+ = q * exp((w - b) dt); Phi = [C(dq)^T, -dt I; 0, I]."""
+        dq = Q.from_rotvec((np.asarray(gyr, float) - bias) * dt)
+        Phi = np.eye(6)
+        Phi[:3, :3] = Q.to_rotmat(dq).T
+        Phi[:3, 3:] = -dt * np.eye(3)
+        return Q.mul(q, dq), Phi
+
+    def predict(self, gyr, dt):
+        if not self.initialized:
+            return "not_initialized"
+        if not np.all(np.isfinite(gyr)):
+            return "non_finite"
+        if not (0 < dt <= self.p.max_dt):
+            return "invalid_dt"
+        q_new, Phi = self.propagate(self.q, self.bias, gyr, dt)
+        Qn = np.diag([dt * self.p.gyro_noise**2] * 3 + [dt * self.p.gyro_bias_noise**2] * 3)
+        P = Phi @ self.P @ Phi.T + Qn
+        self.P = 0.5 * (P + P.T)
+        self.q = q_new / np.linalg.norm(q_new)
+        self.flags = 0
+        gyr = np.asarray(gyr, float)
+        if self.p.acc_lp_tau > 0:
+            qi = Q.mul(self.q_i, Q.from_rotvec((gyr - self.bias) * dt))
+            self.q_i = qi / np.linalg.norm(qi)
+        self.gyr_last = gyr.copy()
+        self.dt_last = dt
+        if self.p.rest_detection and self.lp_init:
+            self.gyr_lp = _lowpass(self.gyr_lp, gyr, dt, self.p.rest_tau)
+        return "ok"
+
+    @staticmethod
+    def direction_model(q, r_n):
+        """h = C_bn(q) r_n and dh/d[dtheta, db] = [[h x], 0]."""
+        h = Q.rotate(Q.conj(q), r_n)
+        H = np.zeros((3, 6))
+        H[:, :3] = Q.skew(h)
+        return h, H
+
+    def _mag_reference_vector(self):
+        rx, rz, ry = self.mag_reference()
+        return np.array([rx, ry, rz])
+
+    def _update3(self, v, rx, rz, sigma, gate, ry=0.0):
+        status, u = _unit(v)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        h, H = self.direction_model(self.q, np.array([rx, ry, rz]))
+        return self._correct(H, np.eye(3) * sigma**2, u - h, gate)
+
+    def update_acc_mag(self, acc, mag, gate=0.0):
+        sa, a = _unit(acc)
+        sm, m = _unit(mag)
+        if sa != "ok" or sm != "ok":
+            return SimpleNamespace(status=sa if sa != "ok" else sm)
+        self._learn_mag_ref(Q.rotate(self.q, m))
+        ha, Ha = self.direction_model(self.q, np.array([0.0, 0.0, -1.0]))
+        hm, Hm = self.direction_model(self.q, self._mag_reference_vector())
+        R = np.diag([self.p.acc_noise**2] * 3 + [self.p.mag_noise**2] * 3)
+        return self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate)
+
+    def update_heading(self, m_unit, gate=0.0):
+        """Heading-only update: H = [u^T, 0] with u = C_nb^T e_z, gain projected on u, R
+        inflated by the navigation-frame tilt covariance seen through the field's dip."""
+        C = Q.to_rotmat(self.q)
+        mn = C @ m_unit
+        horiz2 = mn[0] ** 2 + mn[1] ** 2
+        if not horiz2 > 1e-6:
+            return SimpleNamespace(status="zero_norm")
+        h = np.arctan2(mn[1], mn[0])
+        J = -np.array([-mn[1] / horiz2, mn[0] / horiz2, 0.0]) @ Q.skew(mn)
+        u = C[2]
+        vt = C[0] * J[0] + C[1] * J[1]
+        R = self.p.mag_noise**2 / horiz2 + vt @ self.P[:3, :3] @ vt
+        H = np.zeros(6)
+        H[:3] = u
+        y = float(Q.wrap_pi(self.p.declination - h))
+        PHt = self.P @ H
+        Sv = H @ PHt + R
+        res = SimpleNamespace(status="ok", innovation=np.array([y, 0.0, 0.0]),
+                              innovation_cov=np.diag([Sv, 0.0, 0.0]), nis=y * y / Sv)
+        if gate > 0 and not res.nis <= gate:
+            res.status = "rejected"
+            return res
+        K = PHt / Sv
+        K[:3] = u * (u @ K[:3])
+        IKH = np.eye(6) - np.outer(K, H)
+        P = IKH @ self.P @ IKH.T + R * np.outer(K, K)
+        self._inject(K * y, 0.5 * (P + P.T))
+        return res
+
+    def _correct(self, H, R, y, gate):
+        status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
+        res = SimpleNamespace(status=status, innovation=y, innovation_cov=S, nis=nis)
+        if status == "ok":
+            self._inject(dx, P)
+        return res
+
+    def _inject(self, dx, P):
+        """q <- q * exp(dtheta), b <- b + db; covariance reset G = I - [dtheta/2 x]."""
+        G = np.eye(6)
+        G[:3, :3] -= Q.skew(0.5 * dx[:3])
+        P = G @ P @ G.T
+        q = Q.mul(self.q, Q.from_rotvec(dx[:3]))
+        self.q, self.bias, self.P = q / np.linalg.norm(q), self.bias + dx[3:], 0.5 * (P + P.T)
 
 
 class EulerEKF(_Base):

@@ -53,7 +53,7 @@ namespace quatnav {
 template <class S> struct QuaternionEKFParams {
   S gyro_noise = S(0.01);         ///< gyro white-noise density [rad/s/sqrt(Hz)] (paper default 0.005)
   S gyro_bias_noise = S(1e-4);    ///< gyro bias random-walk density [rad/s^2/sqrt(Hz)] (paper 1e-5)
-  S acc_noise = S(0.3);           ///< std of each component of the normalized accelerometer [-] (paper 0.05)
+  S acc_noise = S(0.4);           ///< std of each component of the normalized accelerometer [-] (paper 0.05)
   S mag_noise = S(1.0);           ///< std of each component of the normalized magnetometer [-] (paper 0.1)
   S init_att_sigma = S(0.5);      ///< initial attitude one-sigma after initialize() [rad] (paper 0.05)
   S init_bias_sigma = S(0.1);     ///< initial gyro-bias one-sigma [rad/s] (paper 0.01)
@@ -87,6 +87,12 @@ template <class S> struct QuaternionEKFParams {
   /// update. Linear accelerations average out in that frame (their mean over an interval is a
   /// velocity change over its length) while gravity stays. [s]; 0: raw samples.
   S acc_lp_tau = S(3);
+  /// Bias-aware low-pass (QuaternionESKF only; QuaternionEKF ignores it): the frame of the
+  /// low-pass is carried by the bias-corrected gyro, so a bias error sigma_b turns it by about
+  /// sigma_b * tau. While the largest gyro-bias one-sigma sigma_b exceeds this value the time
+  /// constant is acc_lp_tau * (acc_lp_bias_sigma / sigma_b)^2, so that the low-pass follows the
+  /// bias uncertainty; below it, acc_lp_tau [rad/s]; 0: always acc_lp_tau.
+  S acc_lp_bias_sigma = S(0.006);
   S mag_norm_tol = S(0.05);        ///< reject mag when ||m| / m_ref - 1| exceeds this [-]; 0: no norm test
   S mag_dip_tol = S(0.05);        ///< reject mag when |dip - dip_ref| exceeds this [rad]; 0: no dip test
   S mag_gate = S(9);               ///< default NIS gate of update_mag when none is passed; 0: none
@@ -115,6 +121,7 @@ template <class S> struct QuaternionEKFParams {
     p.init_bias_sigma = S(0.01);
     p.mag_heading_only = false;
     p.acc_adapt = p.acc_reject = p.acc_gate = p.acc_recovery_time = p.acc_lp_tau = S(0);
+    p.acc_lp_bias_sigma = S(0);
     p.mag_norm_tol = p.mag_dip_tol = p.mag_gate = p.mag_ref_tau = p.mag_recovery_time = S(0);
     p.mag_settle_time = S(0);
     p.rest_detection = false;

@@ -1,0 +1,527 @@
+// quatnav: the quaternion EKF of paper 000 as a 6-state multiplicative error-state filter.
+//
+// Same measurements (normalized accelerometer against gravity, magnetometer: 3-row field or
+// heading only), same parameters (QuaternionEKFParams) and the same robustness parts as
+// QuaternionEKF (quaternion_ekf.hpp), but the covariance is that of the error state
+//     dx = [dtheta (3, rad), db (3, rad/s)],   q_true = q * exp(dtheta),  b_true = b + db,
+// with dtheta a rotation vector in the BODY frame. The nominal quaternion is kept unit length
+// (q <- q * exp(dtheta) after each correction), so there is no normalization Jacobian and no
+// singular direction in P.
+//
+// Time update (exact for a constant rate w~ = w - b over dt, dq = exp(w~ dt)):
+//     dtheta+ = C(dq)^T dtheta - dt db,   db+ = db,
+// i.e. Phi = [F -dt I; 0 I], F = C(dq)^T (the transpose of dq's rotation matrix); the right
+// Jacobian of exp that multiplies -dt db exactly is taken as I (its error is O(|w~| dt), 0.2 %
+// at 0.8 rad/s and 200 Hz). Q = diag(dt sigma_g^2 I, dt sigma_b^2 I): the same densities as the
+// 7-state filter (there Q_qq = dt sigma_g^2 / 4 Xi Xi^T is this Q_aa mapped to the quaternion).
+//
+// Measurement Jacobians: h(q) = C_bn(q) r (r = [0, 0, -1] for gravity, the reference field for
+// the magnetometer); C_bn(q exp(dtheta)) = (I - [dtheta x]) C_bn(q), so dh/ddtheta = [h x]
+// and dh/ddb = 0: each row has 2 nonzero coefficients out of 6. The rows are uncorrelated and
+// processed as scalar sequential Joseph updates (kalman_correct_diagonal). After injecting
+// dtheta the covariance is reset to the new nominal attitude (G = I - [dtheta/2 x]).
+//
+// One covariance health check per sample: after the time update the error covariance is tested
+// (an LDL^T of P - cov_floor I) and floored only when that fails (covariance.hpp). The updates
+// keep P symmetric by construction (joseph_update_scalar writes both halves once).
+#pragma once
+
+#include <cmath>
+#include <algorithm>
+#include <cstdint>
+
+#include "attitude.hpp"
+#include "quaternion_ekf.hpp"
+#include "../core/commit.hpp"
+#include "../core/covariance.hpp"
+#include "../core/kalman.hpp"
+#include "../core/quaternion.hpp"
+#include "../core/types.hpp"
+
+namespace quatnav {
+
+/// The complete state of QuaternionESKF; get_state()/set_state() round-trip exactly. As
+/// QuaternionEKFState but with the 6x6 error-state covariance.
+template <class S> struct QuaternionESKFState {
+  Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
+  Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
+  Mat<S, 6, 6> P = Mat<S, 6, 6>::Identity();      ///< covariance of [dtheta (body, rad), db (rad/s)]
+  MagRef<S> mag;                                  ///< reference field, learned or given
+  bool initialized = false;
+  S mag_norm_ref = S(0);
+  Vec3<S> gyr_last = Vec3<S>::Zero();
+  S dt_last = S(0);
+  Vec3<S> gyr_lp = Vec3<S>::Zero();
+  Vec3<S> acc_lp = Vec3<S>::Zero();
+  bool lp_init = false;
+  S rest_t = S(0);
+  S acc_reject_t = S(0);
+  S mag_reject_t = S(0);
+  S mag_ok_t = S(1e9);
+  Quat<S> q_i = quat::identity<S>();
+  Vec3<S> acc_i_lp = Vec3<S>::Zero();
+  bool acc_lp_init = false;
+};
+
+namespace detail {
+
+/// The error-state time update: nominal q+ = q * exp((w - b) dt) and F = C(dq)^T, the
+/// attitude-error block of Phi = [F -dt I; 0 I].
+template <class S>
+void eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
+  const Quat<S> dq = quat::from_rotvec(Vec3<S>((gyr - bias) * dt));
+  q_out = quat::mul(q, dq);
+  F = quat::to_rotmat(dq).transpose();
+}
+
+/// P+ = Phi P Phi^T + Q for Phi = [F -dt I; 0 I], Q = diag(qa I, qb I), by blocks (P = [A C; C^T D]):
+///   P+_aa = F A F^T - dt (F C + (F C)^T) + dt^2 D + qa I,  P+_ab = F C - dt D,  P+_bb = D + qb I.
+/// Every block is written exactly symmetric (the attitude block by its lower triangle). In place.
+template <class S> void eskf_predict_covariance(Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb) {
+  const Mat3<S> A = P.template topLeftCorner<3, 3>();
+  const Mat3<S> C = P.template topRightCorner<3, 3>();
+  const Mat3<S> D = P.template bottomRightCorner<3, 3>();
+  Mat3<S> FC;
+  FC.noalias() = F * C;
+  Mat3<S> FA;
+  FA.noalias() = F * A;
+  const Mat3<S> U = FC - dt * D;  // top-right block
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) {
+      const S v = FA.row(i).dot(F.row(j)) - dt * (FC(i, j) + FC(j, i)) + dt * dt * D(i, j) + (i == j ? qa : S(0));
+      P(i, j) = P(j, i) = v;
+    }
+  P.template topRightCorner<3, 3>() = U;
+  P.template bottomLeftCorner<3, 3>() = U.transpose();
+  P.template bottomRightCorner<3, 3>().diagonal().array() += qb;
+}
+
+/// The direction model h = C_bn(q) r_n and its error-state Jacobian [[h x], 0] (3 x 6).
+template <class S> void eskf_direction_model(const Quat<S>& q, const Vec3<S>& r_n, Vec3<S>& h, Mat<S, 3, 6>& H) {
+  h = quat::rotate_inv(q, r_n);
+  H.setZero();
+  H.template leftCols<3>() = quat::skew(h);
+}
+
+/// Heading model in the error state: with m_n = C_nb m, h = atan2(m_n,y, m_n,x). A body-frame
+/// error dtheta is the navigation-frame rotation phi = C_nb dtheta; dh/dphi = [J_tilt, 1].
+/// `u` (body frame) = C_nb^T e_z, the direction of a yaw change in the error space, so that
+/// H (yaw part only) = u^T; `v_tilt` = C_nb^T [J_tilt, 0] maps the tilt part. False for a
+/// (nearly) vertical field.
+template <class S>
+bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
+  const Mat3<S> C = quat::to_rotmat(q);  // C_nb
+  const Vec3<S> mn = C * m_unit;
+  horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
+  if (!(horiz2 > S(1e-6))) return false;
+  h = std::atan2(mn[1], mn[0]);
+  const Eigen::Matrix<S, 1, 3> dpsi_dmn(-mn[1] / horiz2, mn[0] / horiz2, S(0));
+  const Eigen::Matrix<S, 1, 3> J = -dpsi_dmn * quat::skew(mn);
+  u = C.row(2).transpose();
+  v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
+  return true;
+}
+
+/// The covariance reset after injecting dtheta: the error of q+ = q * exp(dtheta) is
+/// dtheta+ = G (dtheta_true - dtheta), G = I - [dtheta/2 x] to first order, so
+/// P_aa <- G P_aa G^T and P_ab <- G P_ab (the bias block is unchanged). In place, symmetric.
+template <class S> void eskf_reset_covariance(Mat<S, 6, 6>& P, const Vec3<S>& dtheta) {
+  const Mat3<S> G = Mat3<S>::Identity() - quat::skew(Vec3<S>(dtheta * S(0.5)));
+  const Mat3<S> A = P.template topLeftCorner<3, 3>();
+  Mat3<S> GA;
+  GA.noalias() = G * A;
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) P(i, j) = P(j, i) = GA.row(i).dot(G.row(j));
+  const Mat3<S> C = G * P.template topRightCorner<3, 3>();
+  P.template topRightCorner<3, 3>() = C;
+  P.template bottomLeftCorner<3, 3>() = C.transpose();
+}
+
+}  // namespace detail
+
+/// Quaternion EKF with gyro-bias states in error-state form (see the top of this file).
+/// Parameters: QuaternionEKFParams (the same fields, meanings and defaults).
+template <class S> class QuaternionESKF {
+ public:
+  using Scalar = S;
+  using Params = QuaternionEKFParams<S>;
+  using State = QuaternionESKFState<S>;
+  using Mat6 = Mat<S, 6, 6>;
+  static constexpr int kStates = 6;
+
+  QuaternionESKF() = default;
+  explicit QuaternionESKF(const Params& p) : params_(p) {}
+
+  const Params& params() const { return params_; }
+  const State& state() const { return st_; }
+  const Quat<S>& quat() const { return st_.q; }
+  const Vec3<S>& bias() const { return st_.bias; }
+  const Mat6& covariance() const { return st_.P; }
+  bool initialized() const { return st_.initialized; }
+  std::uint32_t extra_flags() const { return flags_; }
+  bool at_rest() const { return params_.rest_detection && st_.rest_t >= params_.rest_time; }
+
+  Status set_state(const State& s) {
+    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite() ||
+        !s.gyr_last.allFinite() || !s.gyr_lp.allFinite() || !s.acc_lp.allFinite() ||
+        !std::isfinite(s.mag_norm_ref) || !std::isfinite(s.dt_last) || !std::isfinite(s.rest_t) ||
+        !std::isfinite(s.acc_reject_t) || !std::isfinite(s.mag_reject_t) || !std::isfinite(s.mag_ok_t) ||
+        !s.q_i.allFinite() || !s.acc_i_lp.allFinite())
+      return Status::NonFinite;
+    if (std::abs(s.q.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
+    if (!detail::acceptable_covariance<S, 6>(s.P)) return Status::InvalidArgument;
+    st_ = s;
+    return Status::Ok;
+  }
+
+  /// Attitude covariance of dtheta (body frame, rad^2): the top-left block of P.
+  Mat3<S> attitude_covariance() const { return st_.P.template topLeftCorner<3, 3>(); }
+  Vec3<S> attitude_variance() const { return st_.P.diagonal().template head<3>(); }
+
+  void set_mag_dip(S dip) { st_.mag.fix(dip); }
+
+  Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
+  Status initialize(const Vec3<S>& acc, const Vec3<S>& mag) { return init_impl(acc, &mag); }
+
+  /// Start from a given attitude, bias and 6x6 error-state covariance.
+  Status reset(const Quat<S>& q, const Vec3<S>& bias, const Mat6& P) {
+    if (!q.allFinite() || !bias.allFinite() || !P.allFinite()) return Status::NonFinite;
+    const S n = q.norm();
+    if (!(n > S(0.5)) || !std::isfinite(n)) return Status::InvalidArgument;
+    if (!(P.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
+    Mat6 P_sym = P;
+    symmetrize(P_sym);
+    if (!P_sym.allFinite()) return Status::InvalidArgument;
+    st_.q = q / n;
+    st_.bias = bias;
+    st_.P = P_sym;
+    st_.initialized = true;
+    return Status::Ok;
+  }
+
+  /// Time update with one gyro sample [rad/s] over dt [s]; the one covariance health check of
+  /// the sample.
+  Status predict(const Vec3<S>& gyr, S dt) {
+    if (!st_.initialized) return Status::NotInitialized;
+    if (!all_finite(gyr)) return Status::NonFinite;
+    if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
+    if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
+    Quat<S> q_new;
+    Mat3<S> F;
+    detail::eskf_propagate(st_.q, st_.bias, gyr, dt, q_new, F);
+    Mat6 P_new = st_.P;
+    detail::eskf_predict_covariance<S>(P_new, F, dt, dt * params_.gyro_noise * params_.gyro_noise,
+                                       dt * params_.gyro_bias_noise * params_.gyro_bias_noise);
+    if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
+    st_.q = q_new / q_new.norm();
+    if (params_.cov_floor > S(0)) floor_covariance<S, 6>(P_new, params_.cov_floor);
+    st_.P = P_new;
+    flags_ = 0;
+    if (params_.acc_lp_tau > S(0)) {
+      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.bias) * dt)));
+      st_.q_i = qi / qi.norm();
+    }
+    st_.gyr_last = gyr;
+    st_.dt_last = dt;
+    if (params_.rest_detection && st_.lp_init) detail::lowpass(st_.gyr_lp, Vec3<S>(gyr), dt, params_.rest_tau);
+    return Status::Ok;
+  }
+
+  /// Accelerometer update: the robustness steps of QuaternionEKF::update_acc, then 3 scalar rows.
+  UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
+    UpdateResult<S, 3> res;
+    if (!st_.initialized) return res;
+    if (detail::saturated(acc, params_.acc_range)) return saturated_result<3>();
+    Vec3<S> a;
+    res.status = detail::unit_vector(acc, a);
+    if (res.status != Status::Ok) return res;
+    const S dt = st_.dt_last;
+    if (params_.rest_detection) rest_step(acc);
+    Vec3<S> acc_used = acc;
+    if (params_.acc_lp_tau > S(0)) {
+      const Vec3<S> a_i = quat::rotate(st_.q_i, acc);
+      if (!st_.acc_lp_init || !(dt > S(0))) {
+        st_.acc_i_lp = a_i;
+        st_.acc_lp_init = true;
+      } else {
+        detail::lowpass(st_.acc_i_lp, a_i, dt, acc_lp_time_constant());
+      }
+      acc_used = quat::rotate_inv(st_.q_i, st_.acc_i_lp);
+    }
+    const S g = params_.gravity;
+    const S dev = g > S(0) ? std::abs(acc_used.norm() - g) : S(0);
+    const bool recovering = params_.acc_recovery_time > S(0) && st_.acc_reject_t >= params_.acc_recovery_time;
+    if (params_.acc_reject > S(0) && dev > params_.acc_reject && !recovering) {
+      res.status = Status::Rejected;
+      if (params_.acc_recovery_time > S(0)) st_.acc_reject_t += dt;
+      flags_ |= flags::kAccRejected;
+      return res;
+    }
+    const S sigma = params_.acc_noise + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
+    const S gt = gate > S(0) ? gate : (recovering ? S(0) : params_.acc_gate);
+    res = update3(acc_used, Vec3<S>(S(0), S(0), S(-1)), sigma, gt);
+    if (res.status == Status::Ok) {
+      st_.acc_reject_t = S(0);
+    } else if (res.status == Status::Rejected) {
+      if (params_.acc_recovery_time > S(0)) st_.acc_reject_t += dt;
+      flags_ |= flags::kAccRejected;
+    }
+    return res;
+  }
+
+  /// Magnetometer update: the disturbance tests and reference learning of
+  /// QuaternionEKF::update_mag, then the heading-only or the 3-row update.
+  UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
+    UpdateResult<S, 3> res;
+    if (!st_.initialized) return res;
+    Vec3<S> m;
+    res.status = detail::unit_vector(mag, m);
+    if (res.status != Status::Ok) return res;
+    const S mnorm = mag.norm();
+    const MagRef<S> mag_before = st_.mag;
+    const Vec3<S> mn = quat::rotate(st_.q, m);
+    st_.mag.learn(mn, params_.mag_ref_samples);
+    if (!(st_.mag_norm_ref > S(0))) st_.mag_norm_ref = mnorm;
+    const S dt = st_.dt_last;
+    const S dip = std::asin(std::max(S(-1), std::min(S(1), mn[2])));
+    const S dip_ref = std::atan2(st_.mag.ref[2], st_.mag.ref[0]);
+    const bool disturbed = (params_.mag_norm_tol > S(0) &&
+                            std::abs(mnorm / st_.mag_norm_ref - S(1)) > params_.mag_norm_tol) ||
+                           (params_.mag_dip_tol > S(0) && std::abs(dip - dip_ref) > params_.mag_dip_tol);
+    if (params_.mag_settle_time > S(0)) st_.mag_ok_t = disturbed ? S(0) : st_.mag_ok_t + dt;
+    if (!disturbed && st_.mag_ok_t < params_.mag_settle_time) {
+      st_.mag_reject_t += dt;
+      res.status = Status::Rejected;
+      flags_ |= flags::kMagRejected;
+      st_.mag = mag_before;
+      return res;
+    }
+    if (disturbed) {
+      st_.mag_reject_t += dt;
+      if (!(params_.mag_recovery_time > S(0) && st_.mag_reject_t >= params_.mag_recovery_time)) {
+        res.status = Status::Rejected;
+        flags_ |= flags::kMagRejected;
+        st_.mag = mag_before;
+        return res;
+      }
+      if (!st_.mag.fixed) {
+        st_.mag = MagRef<S>();
+        st_.mag.learn(mn, params_.mag_ref_samples);
+      }
+      st_.mag_norm_ref = mnorm;
+    }
+    const S gt = gate > S(0) ? gate : params_.mag_gate;
+    if (params_.mag_heading_only) {
+      res = update_heading(m, gt);
+    } else {
+      res = update3(mag, mag_reference(), params_.mag_noise, gt);
+    }
+    if (res.status == Status::Ok) {
+      st_.mag_reject_t = S(0);
+      if (params_.mag_ref_tau > S(0) && dt > S(0)) {
+        if (!st_.mag.fixed && st_.mag.count >= params_.mag_ref_samples) {
+          const Vec3<S> mn2 = quat::rotate(st_.q, m);
+          const S dip2 = std::asin(std::max(S(-1), std::min(S(1), mn2[2])));
+          S d = dip_ref;
+          detail::lowpass(d, dip2, dt, params_.mag_ref_tau);
+          st_.mag.ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
+        }
+        detail::lowpass(st_.mag_norm_ref, mnorm, dt, params_.mag_ref_tau);
+      }
+    } else if (res.status == Status::Rejected) {
+      if (params_.mag_recovery_time > S(0)) st_.mag_reject_t += dt;
+      flags_ |= flags::kMagRejected;
+    }
+    if (res.status != Status::Ok && !disturbed) st_.mag = mag_before;
+    return res;
+  }
+
+  /// Joint accelerometer + magnetometer update (6 scalar rows).
+  UpdateResult<S, 6> update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag, S gate = S(0)) {
+    UpdateResult<S, 6> res;
+    if (!st_.initialized) return res;
+    if (detail::saturated(acc, params_.acc_range)) return saturated_result<6>();
+    Vec3<S> a, m;
+    res.status = detail::unit_vector(acc, a);
+    if (res.status != Status::Ok) return res;
+    res.status = detail::unit_vector(mag, m);
+    if (res.status != Status::Ok) return res;
+    const MagRef<S> mag_before = st_.mag;
+    st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
+    Vec3<S> ha, hm;
+    Mat<S, 3, 6> Ha, Hm;
+    detail::eskf_direction_model(st_.q, Vec3<S>(S(0), S(0), S(-1)), ha, Ha);
+    detail::eskf_direction_model(st_.q, mag_reference(), hm, Hm);
+    Mat<S, 6, 6> H;
+    H << Ha, Hm;
+    Vec<S, 6> y, r;
+    y << a - ha, m - hm;
+    r << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
+        Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
+    apply_correction<6, 0, 3>(H, r, y, res, gate);
+    if (res.status != Status::Ok) st_.mag = mag_before;
+    return res;
+  }
+
+ private:
+  void rest_step(const Vec3<S>& acc) {
+    const S dt = st_.dt_last;
+    if (!st_.lp_init || !(dt > S(0))) {
+      st_.gyr_lp = st_.gyr_last;
+      st_.acc_lp = acc;
+      st_.lp_init = dt > S(0);
+      st_.rest_t = S(0);
+      return;
+    }
+    detail::lowpass(st_.acc_lp, acc, dt, params_.rest_tau);
+    const bool still = (st_.gyr_last - st_.gyr_lp).norm() < params_.rest_gyr_th &&
+                       (st_.gyr_lp - st_.bias).norm() < params_.rest_gyr_th &&
+                       (acc - st_.acc_lp).norm() < params_.rest_acc_th;
+    st_.rest_t = still ? st_.rest_t + dt : S(0);
+    if (st_.rest_t < params_.rest_time) return;
+    flags_ |= flags::kAtRest;
+    Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
+    H.template rightCols<3>().setIdentity();
+    const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
+    UpdateResult<S, 3> res;
+    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
+  }
+
+  /// The time constant of the accelerometer low-pass: acc_lp_tau, shrunk by
+  /// (acc_lp_bias_sigma / sigma_b)^2 while the largest gyro-bias variance sigma_b^2 is above
+  /// acc_lp_bias_sigma^2 (QuaternionEKFParams::acc_lp_bias_sigma).
+  S acc_lp_time_constant() const {
+    const S sb = params_.acc_lp_bias_sigma;
+    if (!(sb > S(0))) return params_.acc_lp_tau;
+    const S vb = st_.P.diagonal().template tail<3>().maxCoeff();
+    return vb > sb * sb ? params_.acc_lp_tau * (sb * sb / vb) : params_.acc_lp_tau;
+  }
+
+  /// The reference field in the filter's frame: [m_x, 0, m_z] turned by the declination.
+  Vec3<S> mag_reference() const {
+    const Vec3<S> r(st_.mag.ref[0], S(0), st_.mag.ref[2]);
+    if (params_.declination == S(0)) return r;
+    return quat::rotate(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), r);
+  }
+
+  /// Heading-only magnetometer update (as QuaternionEKF::update_heading, in the error space):
+  /// H = [u^T 0], the gain's attitude part projected on u, R inflated by the tilt uncertainty.
+  UpdateResult<S, 3> update_heading(const Vec3<S>& m_unit, S gate) {
+    UpdateResult<S, 3> res;
+    S h, horiz2;
+    Vec3<S> u, vt;
+    if (!detail::eskf_heading_model(st_.q, m_unit, h, horiz2, u, vt)) {
+      res.status = Status::ZeroNorm;
+      return res;
+    }
+    const Mat3<S> A = st_.P.template topLeftCorner<3, 3>();
+    const S R = params_.mag_noise * params_.mag_noise / horiz2 + vt.dot(A * vt);
+    const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
+    Vec<S, 6> PHt;
+    PHt.noalias() = st_.P.template leftCols<3>() * u;
+    const S Sv = u.dot(PHt.template head<3>()) + R;
+    res.innovation[0] = y;
+    res.innovation_cov(0, 0) = Sv;
+    if (!std::isfinite(Sv) || !std::isfinite(y)) {
+      res.status = Status::NumericalFailure;
+      return res;
+    }
+    if (!(Sv > S(0))) {
+      res.status = Status::SolveFailed;
+      return res;
+    }
+    res.nis = y * y / Sv;
+    if (gate > S(0) && !(res.nis <= gate)) {
+      res.status = Status::Rejected;
+      return res;
+    }
+    Vec<S, 6> K = PHt / Sv;
+    K.template head<3>() = (u * u.dot(K.template head<3>())).eval();
+    Mat6 P = st_.P;
+    joseph_update_scalar<S, 6>(P, K, PHt, Sv);
+    const Vec<S, 6> dx = K * y;
+    res.status = Status::Ok;
+    commit(res, P, dx);
+    return res;
+  }
+
+  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate) {
+    UpdateResult<S, 3> res;
+    Vec3<S> u;
+    res.status = detail::unit_vector(v, u);
+    if (res.status != Status::Ok) return res;
+    Vec3<S> h;
+    Mat<S, 3, 6> H;
+    detail::eskf_direction_model(st_.q, r_n, h, H);
+    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
+    return res;
+  }
+
+  Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
+    if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
+    Quat<S> q;
+    Vec3<S> mref;
+    if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
+    if (mag && params_.declination != S(0)) q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
+    st_.q = q;
+    st_.bias.setZero();
+    st_.lp_init = false;
+    st_.acc_lp_init = false;
+    st_.q_i = quat::identity<S>();
+    st_.rest_t = st_.acc_reject_t = st_.mag_reject_t = S(0);
+    st_.mag_ok_t = S(1e9);
+    st_.dt_last = S(0);
+    flags_ = 0;
+    if (mag) {
+      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
+      st_.mag_norm_ref = mag->norm();
+    }
+    st_.P.setZero();
+    st_.P.diagonal().template head<3>().setConstant(params_.init_att_sigma * params_.init_att_sigma);
+    st_.P.diagonal().template tail<3>().setConstant(params_.init_bias_sigma * params_.init_bias_sigma);
+    st_.initialized = true;
+    return Status::Ok;
+  }
+
+  template <int M> static UpdateResult<S, M> saturated_result() {
+    UpdateResult<S, M> r;
+    r.status = Status::Saturated;
+    return r;
+  }
+
+  /// Scalar sequential Joseph updates of the rows of H (nonzero in NC columns from C0 on).
+  template <int M, int C0, int NC>
+  void apply_correction(const Mat<S, M, 6>& H, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
+                        S gate) {
+    Mat6 P = st_.P;
+    Vec<S, 6> dx;
+    kalman_correct_diagonal<S, 6, M, C0, NC>(P, H, r, y, dx, res, gate);
+    commit(res, P, dx);
+  }
+
+  /// inject (q * exp(dtheta), b + db) -> check (finite) -> commit (core/commit.hpp).
+  template <int M> void commit(UpdateResult<S, M>& res, const Mat6& P, const Vec<S, 6>& dx) {
+    Mat6 Pc = P;
+    if (res.status == Status::Ok) detail::eskf_reset_covariance<S>(Pc, Vec3<S>(dx.template head<3>()));
+    inject_and_commit(
+        res, Pc,
+        [&] {
+          const Quat<S> q = quat::mul(st_.q, quat::from_rotvec(Vec3<S>(dx.template head<3>())));
+          return Quat<S>(q / q.norm());
+        },
+        [&](const Quat<S>& q, const Mat6& Pk) { return all_finite(Pk) && all_finite(dx) && all_finite(q); },
+        Always{},
+        [&](const Quat<S>& q, const Mat6& Pk) {
+          st_.q = q;
+          st_.bias += dx.template tail<3>();
+          st_.P = Pk;
+        });
+  }
+
+  Params params_{};
+  State st_{};
+  std::uint32_t flags_ = 0;
+};
+
+}  // namespace quatnav

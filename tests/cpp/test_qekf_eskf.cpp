@@ -1,0 +1,291 @@
+// QuaternionESKF (the 6-state error-state form of paper 000's filter): Jacobians against finite
+// differences, no heap in any step, bad input leaves the state untouched bit for bit, agreement
+// with the 7-state QuaternionEKF on clean data, the startup gyro-bias case, NEES on noisy runs.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include <quatnav/attitude/batch.hpp>
+#include <quatnav/attitude/quaternion_eskf.hpp>
+#include <quatnav/attitude/quaternion_ekf.hpp>
+
+using namespace quatnav;
+
+template <class S> class Eskf : public ::testing::Test {};
+using Scalars = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(Eskf, Scalars);
+
+namespace {
+
+/// A clean three-axis rotation (|w| about 0.2-0.8 rad/s) at 200 Hz with a dipping field.
+struct Clean {
+  std::vector<Vec4<double>> q;
+  std::vector<Vec3<double>> gyr, acc, mag;
+  double dt = 0.005;
+};
+
+Clean clean_rotation(double seconds, const Vec3<double>& bias) {
+  Clean c;
+  const int n = int(seconds / c.dt);
+  Quat<double> q = quat::from_euler<double>(0.2, -0.1, 0.5);
+  const Vec3<double> g_n(0, 0, -9.81), m_n(20, 0, 40);
+  for (int k = 0; k < n; ++k) {
+    const double t = k * c.dt;
+    const Vec3<double> w(0.45 * std::sin(0.7 * t + 0.3), 0.45 * std::cos(0.5 * t), 0.35 * std::sin(0.3 * t + 1.0) + 0.2);
+    if (k > 0) q = quat::normalized(quat::mul(q, quat::from_rotvec<double>(Vec3<double>(w * c.dt))));
+    c.q.push_back(q);
+    c.gyr.push_back(w + bias);
+    c.acc.push_back(quat::rotate_inv(q, g_n));
+    c.mag.push_back(quat::rotate_inv(q, m_n));
+  }
+  return c;
+}
+
+template <class F> double rmse_second_half_deg(F& f, const Clean& c) {
+  using S = typename F::Scalar;
+  const int n = int(c.q.size());
+  double se = 0;
+  int cnt = 0;
+  for (int k = 0; k < n; ++k) {
+    if (k == 0) {
+      f.initialize(c.acc[0].cast<S>(), c.mag[0].cast<S>());
+    } else {
+      f.predict(c.gyr[k].cast<S>(), S(c.dt));
+      f.update_acc(c.acc[k].cast<S>());
+      f.update_mag(c.mag[k].cast<S>());
+    }
+    if (k >= n / 2) {
+      const double e = quat::angle_between<double>(f.quat().template cast<double>(), c.q[k]);
+      se += e * e;
+      ++cnt;
+    }
+  }
+  return std::sqrt(se / cnt) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+TEST(EskfJacobian, DirectionModelMatchesFiniteDifferences) {
+  const Quat<double> q = quat::from_euler<double>(0.3, -0.4, 1.1);
+  const Vec3<double> r(0.4, 0.1, 0.9);
+  Vec3<double> h;
+  Mat<double, 3, 6> H;
+  detail::eskf_direction_model<double>(q, r, h, H);
+  const double e = 1e-6;
+  for (int j = 0; j < 3; ++j) {
+    Vec3<double> d = Vec3<double>::Zero();
+    d[j] = e;
+    Vec3<double> hp, hm;
+    Mat<double, 3, 6> tmp;
+    detail::eskf_direction_model<double>(quat::mul(q, quat::from_rotvec<double>(d)), r, hp, tmp);
+    detail::eskf_direction_model<double>(quat::mul(q, quat::from_rotvec<double>(Vec3<double>(-d))), r, hm, tmp);
+    EXPECT_LT(((hp - hm) / (2 * e) - H.col(j)).norm(), 1e-8) << j;
+  }
+  EXPECT_EQ(H.rightCols<3>().norm(), 0.0);
+}
+
+TEST(EskfJacobian, HeadingModelMatchesFiniteDifferences) {
+  const Quat<double> q = quat::from_euler<double>(0.2, 0.3, -2.0);
+  const Vec3<double> m = Vec3<double>(0.3, -0.5, 0.8).normalized();
+  double h, h2;
+  Vec3<double> u, vt;
+  ASSERT_TRUE(detail::eskf_heading_model<double>(q, m, h, h2, u, vt));
+  const Vec3<double> full = u + vt;  // dh/ddtheta: the yaw part u^T plus the tilt part
+  const double e = 1e-6;
+  for (int j = 0; j < 3; ++j) {
+    Vec3<double> d = Vec3<double>::Zero();
+    d[j] = e;
+    double hp, hm, t;
+    Vec3<double> a, b;
+    detail::eskf_heading_model<double>(quat::mul(q, quat::from_rotvec<double>(d)), m, hp, t, a, b);
+    detail::eskf_heading_model<double>(quat::mul(q, quat::from_rotvec<double>(Vec3<double>(-d))), m, hm, t, a, b);
+    EXPECT_NEAR(quat::wrap_pi(hp - hm) / (2 * e), full[j], 1e-7) << j;
+  }
+}
+
+TEST(EskfJacobian, TransitionMatchesFiniteDifferences) {
+  // dtheta+ = F dtheta - dt db to first order: perturb the true state and compare errors.
+  const Quat<double> q = quat::from_euler<double>(0.1, 0.2, 0.3);
+  const Vec3<double> b(0.01, -0.02, 0.03), w(0.5, -0.7, 0.4);
+  const double dt = 0.01, e = 1e-6;
+  Quat<double> q1;
+  Mat3<double> F;
+  detail::eskf_propagate<double>(q, b, w, dt, q1, F);
+  for (int j = 0; j < 6; ++j) {
+    Vec<double, 6> dx = Vec<double, 6>::Zero();
+    dx[j] = e;
+    const Quat<double> qt = quat::mul(q, quat::from_rotvec<double>(Vec3<double>(dx.head<3>())));
+    Quat<double> qt1;
+    Mat3<double> Ft;
+    detail::eskf_propagate<double>(qt, Vec3<double>(b + dx.tail<3>()), w, dt, qt1, Ft);
+    const Vec3<double> err = quat::to_rotvec<double>(quat::mul(quat::conj(q1), qt1)) / e;
+    Vec3<double> expect = j < 3 ? Vec3<double>(F.col(j)) : Vec3<double>(-dt * Vec3<double>::Unit(j - 3));
+    // the bias column is -dt J_r(w~ dt) = -dt (I - [w~ dt x]/2 + ...): -dt I up to |w~| dt^2 / 2
+    EXPECT_LT((err - expect).norm(), j < 3 ? 1e-8 : 0.6 * (w - b).norm() * dt * dt) << j;
+  }
+}
+
+TYPED_TEST(Eskf, PredictCovarianceMatchesDenseProduct) {
+  using S = TypeParam;
+  Mat<S, 6, 6> P;
+  P << 4, 1, 0, 1, 0, 0, 1, 3, 1, 0, 1, 0, 0, 1, 2, 0, 0, 1, 1, 0, 0, 2, 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 0, 2;
+  P *= S(0.01);
+  const Mat3<S> F = quat::to_rotmat(quat::from_rotvec<S>(Vec3<S>(S(0.01), S(-0.02), S(0.005)))).transpose();
+  const S dt = S(0.01), qa = S(1e-6), qb = S(1e-9);
+  Mat<S, 6, 6> Phi = Mat<S, 6, 6>::Identity();
+  Phi.template topLeftCorner<3, 3>() = F;
+  Phi.template topRightCorner<3, 3>() = -dt * Mat3<S>::Identity();
+  Mat<S, 6, 6> Qn = Mat<S, 6, 6>::Zero();
+  Qn.diagonal() << qa, qa, qa, qb, qb, qb;
+  const Mat<S, 6, 6> dense = Phi * P * Phi.transpose() + Qn;
+  Mat<S, 6, 6> Pb = P;
+  detail::eskf_predict_covariance<S>(Pb, F, dt, qa, qb);
+  EXPECT_LT((Pb - dense).norm(), sizeof(S) == 4 ? 1e-7 : 1e-15);
+  EXPECT_EQ(Pb, Pb.transpose());
+}
+
+TYPED_TEST(Eskf, NoHeapInAnyStepAndBatch) {
+  using S = TypeParam;
+  const Clean c = clean_rotation(3.0, Vec3<double>(0.01, -0.02, 0.015));
+  const int n = int(c.q.size());
+  std::vector<S> gyr(3 * n), acc(3 * n), mag(3 * n), dt(n, S(c.dt)), qo(4 * n), so(6 * n), ao(3 * n);
+  std::vector<std::uint32_t> fl(n);
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < 3; ++i) {
+      gyr[3 * k + i] = S(c.gyr[k][i]);
+      acc[3 * k + i] = S(c.acc[k][i]);
+      mag[3 * k + i] = S(c.mag[k][i]);
+    }
+  QuaternionESKF<S> f;
+  Eigen::internal::set_is_malloc_allowed(false);
+  run_attitude_batch(f, gyr.data(), acc.data(), mag.data(), dt.data(), std::size_t(n), qo.data(),
+                     static_cast<S*>(nullptr), so.data(), ao.data(), fl.data());
+  f.update_acc_mag(Vec3<S>(Eigen::Map<const Vec3<S>>(acc.data())), Vec3<S>(Eigen::Map<const Vec3<S>>(mag.data())));
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE(f.quat().allFinite());
+}
+
+TYPED_TEST(Eskf, BadInputLeavesStateUntouched) {
+  using S = TypeParam;
+  auto p = QuaternionEKFParams<S>();
+  p.acc_reject = S(2);
+  p.mag_settle_time = S(0.2);
+  QuaternionESKF<S> f(p);
+  const Clean c = clean_rotation(1.0, Vec3<double>(0.01, -0.02, 0.015));
+  f.initialize(c.acc[0].cast<S>(), c.mag[0].cast<S>());
+  for (int k = 1; k < int(c.q.size()); ++k) {
+    f.predict(c.gyr[k].cast<S>(), S(c.dt));
+    f.update_acc(c.acc[k].cast<S>());
+    f.update_mag(c.mag[k].cast<S>());
+  }
+  const auto before = f.state();
+  const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  EXPECT_EQ(f.predict(Vec3<S>(nan, S(0), S(0)), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(Vec3<S>(inf, S(0), S(0)), S(0.01)), Status::NonFinite);
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), S(-1)), Status::InvalidDt);
+  EXPECT_EQ(f.predict(Vec3<S>::Zero(), S(0)), Status::InvalidDt);
+  EXPECT_EQ(f.update_acc(Vec3<S>(S(0), nan, S(0))).status, Status::NonFinite);
+  EXPECT_EQ(f.update_acc(Vec3<S>::Zero()).status, Status::ZeroNorm);
+  EXPECT_EQ(f.update_mag(Vec3<S>(nan, S(0), S(0))).status, Status::NonFinite);
+  EXPECT_EQ(f.update_mag(Vec3<S>::Zero()).status, Status::ZeroNorm);
+  EXPECT_EQ(f.update_acc_mag(Vec3<S>::Zero(), Vec3<S>::UnitX()).status, Status::ZeroNorm);
+  Mat<S, 6, 6> bad = Mat<S, 6, 6>::Identity();
+  bad(0, 0) = nan;
+  EXPECT_EQ(f.reset(quat::identity<S>(), Vec3<S>::Zero(), bad), Status::NonFinite);
+  const auto after = f.state();
+  EXPECT_EQ(std::memcmp(before.q.data(), after.q.data(), sizeof(S) * 4), 0);
+  EXPECT_EQ(std::memcmp(before.P.data(), after.P.data(), sizeof(S) * 36), 0);
+  EXPECT_EQ(std::memcmp(before.bias.data(), after.bias.data(), sizeof(S) * 3), 0);
+  EXPECT_EQ(before.acc_i_lp, after.acc_i_lp);
+  EXPECT_EQ(before.gyr_lp, after.gyr_lp);
+  EXPECT_EQ(before.rest_t, after.rest_t);
+  EXPECT_EQ(before.mag_norm_ref, after.mag_norm_ref);
+}
+
+TYPED_TEST(Eskf, HeadingOnlyMagnetometerNeverTilts) {
+  using S = TypeParam;
+  auto p = QuaternionEKFParams<S>::paper();
+  p.mag_heading_only = true;
+  QuaternionESKF<S> f(p);
+  const Quat<S> q = quat::from_euler<S>(S(0.3), S(-0.2), S(1.0));
+  const Vec3<S> acc = quat::rotate_inv(q, Vec3<S>(S(0), S(0), S(-9.81)));
+  const Vec3<S> mag = quat::rotate_inv(q, Vec3<S>(S(20), S(0), S(40)));
+  ASSERT_EQ(f.initialize(acc, mag), Status::Ok);
+  const Vec3<S> down = quat::rotate_inv(f.quat(), Vec3<S>(S(0), S(0), S(1)));
+  const Vec3<S> bad = quat::rotate(quat::from_rotvec<S>(Vec3<S>(S(0.2), S(0.3), S(0.1))), mag);
+  const auto r = f.update_mag(bad);
+  ASSERT_EQ(r.status, Status::Ok);
+  EXPECT_GT(std::abs(r.innovation[0]), S(0.05));
+  const Vec3<S> down2 = quat::rotate_inv(f.quat(), Vec3<S>(S(0), S(0), S(1)));
+  EXPECT_LT((down2 - down).norm(), sizeof(S) == 4 ? 1e-5 : 1e-12);
+}
+
+TYPED_TEST(Eskf, PaperParametersAgreeWithSevenStateFilter) {
+  using S = TypeParam;
+  const Clean c = clean_rotation(10.0, Vec3<double>(0.01, -0.02, 0.015));
+  QuaternionESKF<S> e(QuaternionEKFParams<S>::paper());
+  QuaternionEKF<S> f(QuaternionEKFParams<S>::paper());
+  const double re = rmse_second_half_deg(e, c), rf = rmse_second_half_deg(f, c);
+  EXPECT_LT(re, 0.2);
+  EXPECT_LT(std::abs(re - rf), 0.05);
+  EXPECT_LT((e.bias() - f.bias()).norm(), 1e-3);
+}
+
+TYPED_TEST(Eskf, StartupBiasWithDefaults) {
+  // 30 s clean rotation with a constant gyro bias: below 0.5 deg over the second half.
+  using S = TypeParam;
+  const Clean c = clean_rotation(30.0, Vec3<double>(0.01, -0.02, 0.015));
+  QuaternionESKF<S> e;
+  EXPECT_LT(rmse_second_half_deg(e, c), 0.5);
+  EXPECT_LT((e.bias().template cast<double>() - Vec3<double>(0.01, -0.02, 0.015)).norm(), 1e-3);
+}
+
+TEST(EskfConsistency, NeesWithinChiSquareBounds) {
+  // Monte Carlo: gyro white noise and bias random walk as the filter's model, acc and mag
+  // with white noise; the average NEES of [dtheta, db] over runs and the second half of each run
+  // is near 6 (the paper's plain filter, no robustness parts: the model is exact).
+  auto p = QuaternionEKFParams<double>::paper();
+  p.mag_heading_only = false;
+  const int runs = 20, n = 2000;
+  const double dt = 0.01;
+  double nees = 0;
+  int cnt = 0;
+  for (int r = 0; r < runs; ++r) {
+    std::mt19937 rng(100 + r);
+    std::normal_distribution<double> nd(0.0, 1.0);
+    auto randn3 = [&] { return Vec3<double>(nd(rng), nd(rng), nd(rng)); };
+    Quat<double> q = quat::from_euler<double>(0.1, -0.2, 0.3);
+    Vec3<double> b = p.init_bias_sigma * randn3();
+    QuaternionESKF<double> f(p);
+    const Vec3<double> g_n(0, 0, -1), m_n = Vec3<double>(0.5, 0, 0.8).normalized();
+    // start from the truth perturbed by the initial covariance
+    Mat<double, 6, 6> P0 = Mat<double, 6, 6>::Zero();
+    P0.diagonal() << Vec3<double>::Constant(p.init_att_sigma * p.init_att_sigma),
+        Vec3<double>::Constant(p.init_bias_sigma * p.init_bias_sigma);
+    f.reset(quat::mul(q, quat::from_rotvec<double>(Vec3<double>(p.init_att_sigma * randn3()))), Vec3<double>::Zero(), P0);
+    f.set_mag_dip(std::atan2(m_n[2], m_n[0]));
+    for (int k = 1; k < n; ++k) {
+      const double t = k * dt;
+      const Vec3<double> w(0.5 * std::sin(0.5 * t), 0.4 * std::cos(0.3 * t), 0.3);
+      q = quat::normalized(quat::mul(q, quat::from_rotvec<double>(Vec3<double>(w * dt))));
+      const Vec3<double> gyr = w + b + p.gyro_noise / std::sqrt(dt) * randn3();
+      b += p.gyro_bias_noise * std::sqrt(dt) * randn3();
+      f.predict(gyr, dt);
+      f.update_acc(Vec3<double>(quat::rotate_inv(q, g_n) + p.acc_noise * randn3()));
+      f.update_mag(Vec3<double>(quat::rotate_inv(q, m_n) + p.mag_noise * randn3()));
+      if (k > n / 2) {
+        Vec<double, 6> e;
+        e << quat::to_rotvec<double>(quat::mul(quat::conj(f.quat()), q)), b - f.bias();
+        nees += e.dot(f.covariance().ldlt().solve(e));
+        ++cnt;
+      }
+    }
+  }
+  nees /= cnt;
+  EXPECT_GT(nees, 6.0 * 0.7);
+  EXPECT_LT(nees, 6.0 * 1.3);
+}
