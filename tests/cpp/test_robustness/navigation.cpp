@@ -35,7 +35,7 @@ TEST(NavFilter13Robust, BatchFlagsSaturation) {
     t[k] = 0.01 * (k + 1);
   }
   wb[3 * 2] = 11;  // row 2 saturated
-  run_nav13_batch<NavFilter13<double>, double>(f, fb.data(), wb.data(), t.data(), dt.data(), std::size_t(n), nullptr, nullptr, 0, nullptr,
+  run_nav13_batch<NavFilter13<double>, double>(f, wb.data(), fb.data(), t.data(), dt.data(), std::size_t(n), nullptr, nullptr, 0, nullptr,
                   nullptr, 0, 0.0, 0.0, x.data(), nullptr, nullptr, nullptr, fl.data(), nullptr, nullptr, nullptr,
                   nullptr, nullptr, nullptr);
   for (int k = 0; k < n; ++k) EXPECT_EQ((fl[k] & flags::kSaturated) != 0, k == 2) << k;
