@@ -528,7 +528,7 @@ def compare(case: Case, path: Path | None = None) -> dict:
     (list of str) and ``differences`` (list of :class:`Difference`)."""
     path = path or OUT_DIR / f"{case.name}.csv"
     res = compute(case)
-    out = {"ok": True, "messages": [], "differences": [], "result": res}
+    out = {"ok": True, "messages": [], "differences": [], "result": res, "inputs_changed": False}
     if not path.is_file():
         out["ok"] = False
         out["messages"].append(f"{path.relative_to(REPO) if path.is_relative_to(REPO) else path}: missing")
@@ -539,6 +539,7 @@ def compare(case: Case, path: Path | None = None) -> dict:
     out["ok"] = False
     header, names, cols = read(path)
     if _header_field(header, "inputs sha256") != _header_field(res.header, "inputs sha256"):
+        out["inputs_changed"] = True
         out["messages"].append("the inputs changed (scenario, simulator, data or numpy): the difference may not "
                                "come from the filter")
     key = "outputs sha256 (every sample)"

@@ -48,6 +48,12 @@ def test_reference_outputs(case):
         if env:  # not necessarily a change of quatnav: the inputs or libm may differ here
             pytest.skip(R.report(case, cmp) + "\n  this environment differs from the one the files were written in "
                         f"({R.ENV_FILE.name}): " + "; ".join(env))
+        if cmp["inputs_changed"] and case.scenario != "broad":
+            # numpy's vectorized sin/cos can differ in the last bit between two CPUs with the same
+            # recorded features (seen on AMD EPYC against the machine the files were written on):
+            # the simulated inputs then differ and the file cannot judge the filter. A change of
+            # the simulator itself shows in tools/regression.py (exit 1) and in the sim tests.
+            pytest.skip(R.report(case, cmp) + "\n  the simulated inputs differ on this machine")
         pytest.fail(R.report(case, cmp), pytrace=False)
 
 
