@@ -203,12 +203,12 @@ template <class S, TimeUpdate TU> struct NavAdapter<NavFilter13<S, TU>> {
   static constexpr int kErr = 12;
   static F make(double sg, double sa) {
     NavFilter13Params<S> p;
-    p.accel_noise = S(sa);
+    p.acc_noise = S(sa);
     p.gyro_noise = S(sg);
-    p.accel_bias_noise = S(1e-5);
+    p.acc_bias_noise = S(1e-5);
     p.gyro_bias_noise = S(1e-6);
-    p.vel_noise = S(0.03);
-    p.yaw_noise = S(0.035);
+    p.gps_vel_sigma = S(0.03);
+    p.yaw_sigma = S(0.035);
     p.cov_floor = sizeof(S) == 4 ? S(1e-9) : S(1e-12);
     return F(p);
   }

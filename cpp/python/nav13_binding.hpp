@@ -7,27 +7,13 @@
 #include <quatnav/nav/nav_filter13.hpp>
 
 #include "common.hpp"
+#include "fields_binding.hpp"
 
 namespace quatnav_py {
 
 template <class S> void bind_params(py::module_& m) {
-  using P = quatnav::NavFilter13Params<S>;
-  py::class_<P>(m, cls_name<S>("NavFilter13Params").c_str())
-      .def(py::init<>())
-      .def_readwrite("accel_noise", &P::accel_noise)
-      .def_readwrite("gyro_noise", &P::gyro_noise)
-      .def_readwrite("accel_bias_noise", &P::accel_bias_noise)
-      .def_readwrite("gyro_bias_noise", &P::gyro_bias_noise)
-      .def_readwrite("vel_noise", &P::vel_noise)
-      .def_readwrite("yaw_noise", &P::yaw_noise)
-      .def_readwrite("ukf_alpha", &P::ukf_alpha)
-      .def_readwrite("ukf_beta", &P::ukf_beta)
-      .def_readwrite("ukf_kappa", &P::ukf_kappa)
-      .def_readwrite("max_dt", &P::max_dt)
-      .def_readwrite("gyro_range", &P::gyro_range)
-      .def_readwrite("acc_range", &P::acc_range)
-      .def_readwrite("cov_floor", &P::cov_floor)
-      .def_readwrite("earth_rotation", &P::earth_rotation);
+  bind_fields_struct<quatnav::NavFilter13Params<S>>(m, cls_name<S>("NavFilter13Params"),
+                                                     "Parameters of NavFilter13 (nav_filter13.hpp).");
 }
 
 template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb, const carray<typename F::Scalar>& fb,
@@ -83,7 +69,6 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
 
 template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, const char* base) {
   using F = quatnav::NavFilter13<S, TU>;
-  using St = typename F::State;
   using V3 = quatnav::Vec3<S>;
   using Q4 = quatnav::Quat<S>;
   using M13 = typename F::Mat13;
@@ -98,7 +83,7 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
       .def_property_readonly("error_covariance", [](const F& f) { return quatnav::Mat<S, 12, 12>(f.error_covariance()); })
       .def("reset", [](F& f, const V3& v, const Q4& q, const V3& ba, const V3& bg, const M13& P, double lat, double lon, double h) {
             return status_str(f.reset(v, q, ba, bg, P, lat, lon, h));
-          }, py::arg("v_n"), py::arg("q_nb"), py::arg("accel_bias"), py::arg("gyro_bias"), py::arg("P"),
+          }, py::arg("v_n"), py::arg("q_nb"), py::arg("acc_bias"), py::arg("gyro_bias"), py::arg("P"),
           py::arg("lat"), py::arg("lon"), py::arg("h"))
       .def("set_position", [](F& f, double lat, double lon, double h) { return status_str(f.set_position(lat, lon, h)); },
            py::arg("lat"), py::arg("lon"), py::arg("h"))
@@ -110,37 +95,11 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
            py::arg("gate") = S(0))
       .def("update_velocity_yaw", [](F& f, const V3& v, S yaw, S gate) { return f.update_velocity_yaw(v, yaw, gate); },
            py::arg("v_n"), py::arg("yaw"), py::arg("gate") = S(0))
-      .def("get_state", [](const F& f) {
-        const St& s = f.state();
-        py::dict d;
-        d["v_n"] = V3(s.v_n);
-        d["q_nb"] = Q4(s.q_nb);
-        d["accel_bias"] = V3(s.accel_bias);
-        d["gyro_bias"] = V3(s.gyro_bias);
-        d["P"] = M13(s.P);
-        d["lat"] = s.lat;
-        d["lon"] = s.lon;
-        d["h"] = s.h;
-        d["initialized"] = s.initialized;
-        return d;
-      })
-      .def("set_state", [](F& f, const py::dict& d) {
-        St s;
-        s.v_n = d["v_n"].cast<V3>();
-        s.q_nb = d["q_nb"].cast<Q4>();
-        s.accel_bias = d["accel_bias"].cast<V3>();
-        s.gyro_bias = d["gyro_bias"].cast<V3>();
-        s.P = d["P"].cast<M13>();
-        s.lat = d["lat"].cast<double>();  // the position is double for every S
-        s.lon = d["lon"].cast<double>();
-        s.h = d["h"].cast<double>();
-        s.initialized = d["initialized"].cast<bool>();
-        return status_str(f.set_state(s));
-      }, py::arg("state"))
       .def("run", &nav13_run<F>, py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("t"), py::arg("dt"),
            py::arg("vel_t"), py::arg("vel"), py::arg("yaw_t"), py::arg("yaw"), py::arg("gate_vel") = S(0),
            py::arg("gate_yaw") = S(0), py::arg("return_covariance") = false,
            "Batch run (GIL released). Returns a dict of arrays.");
+  def_state_dict<F>(cls);
 }
 
 template <class S> void bind_all(py::module_& m) {

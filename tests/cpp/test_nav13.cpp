@@ -247,7 +247,7 @@ template <class F> F make_filter() {
 }
 
 template <class S> bool same_state(const NavFilter13State<S>& a, const NavFilter13State<S>& b) {
-  return a.v_n == b.v_n && a.q_nb == b.q_nb && a.accel_bias == b.accel_bias && a.gyro_bias == b.gyro_bias &&
+  return a.v_n == b.v_n && a.q_nb == b.q_nb && a.acc_bias == b.acc_bias && a.gyro_bias == b.gyro_bias &&
          a.P == b.P && a.lat == b.lat && a.lon == b.lon && a.h == b.h && a.initialized == b.initialized;
 }
 }  // namespace

@@ -40,12 +40,12 @@ template <TimeUpdate TU> void anees(std::vector<double>& att, std::vector<double
     std::normal_distribution<double> N(0.0, 1.0);
     auto n3 = [&] { return Vec3<double>(N(rng), N(rng), N(rng)); };
     NavFilter13Params<double> p;
-    p.accel_noise = sa;
+    p.acc_noise = sa;
     p.gyro_noise = sg;
-    p.accel_bias_noise = 1e-5;
+    p.acc_bias_noise = 1e-5;
     p.gyro_bias_noise = 1e-6;
-    p.vel_noise = 0.03;
-    p.yaw_noise = 0.035;
+    p.gps_vel_sigma = 0.03;
+    p.yaw_sigma = 0.035;
     NavFilter13<double, TU> f(p);
     // Initial errors drawn from the initial covariance (attitude 0.03 rad, velocity 0.1 m/s,
     // biases 0.05 m/s^2 and 1e-3 rad/s per axis); the true biases are constant.

@@ -63,10 +63,10 @@ struct RunResult {
 template <class F> RunResult run(const Recording& r) {
   using S = typename F::Scalar;
   typename F::Params p;
-  p.accel_noise = S(r.accel_noise);
+  p.acc_noise = S(r.accel_noise);
   p.gyro_noise = S(r.gyro_noise);
-  p.vel_noise = S(r.vel_noise);
-  p.yaw_noise = S(r.yaw_noise);
+  p.gps_vel_sigma = S(r.vel_noise);
+  p.yaw_sigma = S(r.yaw_noise);
   p.earth_rotation = false;
   F f(p);
   const Quat<double> q0 = quat::from_euler(10.0 * kDeg, 10.0 * kDeg, r.psi0 + 20.0 * kDeg);

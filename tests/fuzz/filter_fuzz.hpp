@@ -335,12 +335,12 @@ template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
   static typename F::Params params(Reader& r) {
     typename F::Params p;
     // The paper's noise is tiny (30 ug, 0.3 deg/h); spread it and the aids over decades.
-    p.accel_noise = r.positive<S>(S(1e-3));
+    p.acc_noise = r.positive<S>(S(1e-3));
     p.gyro_noise = r.positive<S>(S(1e-4));
-    p.accel_bias_noise = (r.byte() & 1) ? r.positive<S>(S(1e-4)) : S(0);
+    p.acc_bias_noise = (r.byte() & 1) ? r.positive<S>(S(1e-4)) : S(0);
     p.gyro_bias_noise = (r.byte() & 1) ? r.positive<S>(S(1e-5)) : S(0);
-    p.vel_noise = r.positive<S>(p.vel_noise);
-    p.yaw_noise = r.positive<S>(p.yaw_noise);
+    p.gps_vel_sigma = r.positive<S>(p.gps_vel_sigma);
+    p.yaw_sigma = r.positive<S>(p.yaw_sigma);
     p.max_dt = r.positive<S>(p.max_dt);
     p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
     p.acc_range = (r.byte() & 1) ? r.positive<S>(S(160)) : S(0);
@@ -349,13 +349,13 @@ template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
     return p;
   }
   static bool same(const State& a, const State& b) {
-    return bits_equal(a.v_n, b.v_n) && bits_equal(a.q_nb, b.q_nb) && bits_equal(a.accel_bias, b.accel_bias) &&
+    return bits_equal(a.v_n, b.v_n) && bits_equal(a.q_nb, b.q_nb) && bits_equal(a.acc_bias, b.acc_bias) &&
            bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) && bits_equal(a.lat, b.lat) &&
            bits_equal(a.lon, b.lon) && bits_equal(a.h, b.h) && a.initialized == b.initialized;
   }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
-    if (!s.v_n.allFinite() || !s.q_nb.allFinite() || !s.accel_bias.allFinite() || !s.gyro_bias.allFinite() ||
+    if (!s.v_n.allFinite() || !s.q_nb.allFinite() || !s.acc_bias.allFinite() || !s.gyro_bias.allFinite() ||
         !s.P.allFinite() || !std::isfinite(s.lat) || !std::isfinite(s.lon) || !std::isfinite(s.h))
       return why = "non-finite state", false;
     if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
@@ -411,7 +411,7 @@ template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
         State s = f.state();
         switch (r.byte() % 4) {
           case 0: for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>(); break;
-          case 1: s.v_n = r.vec3<S>(); s.accel_bias = r.vec3<S>(); s.gyro_bias = r.vec3<S>(); break;
+          case 1: s.v_n = r.vec3<S>(); s.acc_bias = r.vec3<S>(); s.gyro_bias = r.vec3<S>(); break;
           case 2: s.P = random_P(r); break;
           default: s.lat = r.scalar<S>(); s.h = r.scalar<S>(); s.initialized = r.byte() & 1; break;
         }

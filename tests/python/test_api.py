@@ -12,6 +12,7 @@ import pytest
 
 import quatnav
 from quatnav import Aid
+from quatnav.filters._base import core
 from quatnav.filters.tables import FLAG_TABLES, PARAM_TABLES, STATUS_NAMES
 from quatnav.sim.scenarios import make_scenario
 
@@ -205,6 +206,49 @@ def test_table_defaults_equal_the_cpp_defaults(name):
             assert v == p.default, p.name
 
 
+#: Filter -> its C++ parameter struct and (one of) its C++ classes, as bound in quatnav._core.
+_CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf")}
+
+
+@pytest.mark.parametrize("name", sorted(_CORE_CLASSES))
+@pytest.mark.parametrize("suffix", ["_f64", "_f32"])
+def test_parameters_are_declared_once_and_the_python_table_equals_it(name, suffix):
+    """The C++ Params struct declares each field once (core/fields.hpp); the Python table holds
+    the same name, default, unit and meaning for every field, and nothing under another name."""
+    params, _ = _CORE_CLASSES[name]
+    cpp = {n: (d, u, doc) for n, d, u, doc in getattr(core(), params + suffix).fields()}
+    py = {p.name: p for p in PARAM_TABLES[name] if p.core_name is not None}
+    assert all(p.core_name == p.name for p in py.values()), "one vocabulary: the C++ field has the Python name"
+    assert sorted(py) == sorted(cpp)
+    tol = 1e-7 if suffix == "_f32" else 0
+    for n, (d, u, doc) in cpp.items():
+        p = py[n]
+        assert (u, doc) == (p.unit, p.doc), n
+        if isinstance(p.default, tuple):
+            np.testing.assert_array_equal(np.ravel(d), p.default)
+        elif isinstance(p.default, float):
+            assert d == pytest.approx(p.default, rel=tol, abs=0), n
+        else:
+            assert d == p.default, n
+
+
+@pytest.mark.parametrize("name", sorted(_CORE_CLASSES))
+def test_state_dict_round_trip_refuses_unknown_and_missing_keys(name):
+    """get_state/set_state come from the State declaration: every field, exactly, and no other."""
+    cls = getattr(core(), _CORE_CLASSES[name][1] + "_f64")
+    f = cls(getattr(core(), _CORE_CLASSES[name][0] + "_f64")())
+    s = f.get_state()
+    assert [row[0] for row in cls.state_fields()] == list(s)
+    assert f.set_state(s) == "ok"
+    with pytest.raises(ValueError, match="unknown key 'bogus'"):
+        f.set_state({**s, "bogus": 1.0})
+    missing = next(iter(s))
+    with pytest.raises(ValueError, match=f"missing key '{missing}'"):
+        f.set_state({k: v for k, v in s.items() if k != missing})
+    with pytest.raises(TypeError, match="P: expected an array of shape"):
+        f.set_state({**s, "P": np.zeros(2)})
+
+
 def test_one_vocabulary_of_shared_parameter_names():
     """A parameter name means one thing with one unit in every filter that has it."""
     seen = {}
@@ -215,6 +259,8 @@ def test_one_vocabulary_of_shared_parameter_names():
             seen[p.name] = p
     for old in ("gyro_bias_rw", "accel_noise", "accel_bias_rw", "accel_bias_noise", "init_bias_sigma", "vel_noise"):
         assert old not in seen
+    from quatnav.reference import nav13 as ref_nav13
+    assert set(ref_nav13.DEFAULTS) == {p.name for p in PARAM_TABLES["NavFilter13"] if p.core_name}
 
 
 def test_parameters_page_lists_every_parameter():

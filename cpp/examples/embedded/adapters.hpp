@@ -110,10 +110,10 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
     std::uint32_t fl = 0;
     if (k == 0) {
       typename Filter::Params p;
-      p.accel_noise = S(qn_input::accel_noise);
+      p.acc_noise = S(qn_input::accel_noise);
       p.gyro_noise = S(qn_input::gyro_noise);
-      p.vel_noise = S(qn_input::vel_noise);
-      p.yaw_noise = S(qn_input::yaw_noise);
+      p.gps_vel_sigma = S(qn_input::vel_noise);
+      p.yaw_sigma = S(qn_input::yaw_noise);
       p.earth_rotation = qn_input::earth_rotation != 0;
       f = Filter(p);
       quatnav::Mat<S, 13, 13> P0;

@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -74,16 +74,16 @@ class QuaternionEKFParams_f64:
     def acc_gate(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
-    def acc_lp_tau(self) -> float:
-        ...
-    @acc_lp_tau.setter
-    def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
     def acc_lp_bias_sigma(self) -> float:
         ...
     @acc_lp_bias_sigma.setter
     def acc_lp_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        ...
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def acc_noise(self) -> float:
@@ -294,60 +294,6 @@ class QuaternionEKF_f64:
         """
         q_nb [w, x, y, z]
         """
-class QuaternionESKF_f64:
-    def __init__(self, params: QuaternionEKFParams_f64) -> None:
-        ...
-    def get_state(self) -> dict:
-        ...
-    def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
-        ...
-    def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
-        ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
-        ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
-        """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
-        """
-    def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    def set_state(self, state: dict) -> str:
-        ...
-    def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
-        ...
-    def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f64:
-        ...
-    def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
-        ...
-    @property
-    def at_rest(self) -> bool:
-        ...
-    @property
-    def attitude_covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
-        ...
-    @property
-    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
-        """
-        gyro bias [rad/s]
-        """
-    @property
-    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
-        ...
-    @property
-    def extra_flags(self) -> int:
-        ...
-    @property
-    def initialized(self) -> bool:
-        ...
-    @property
-    def params(self) -> QuaternionEKFParams_f64:
-        ...
-    @property
-    def quat(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"]:
-        """
-        q_nb [w, x, y, z]
-        """
-
 class UpdateResult3_f32:
     """
     Outcome of one measurement update.
@@ -413,16 +359,16 @@ class QuaternionEKFParams_f32:
     def acc_gate(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
-    def acc_lp_tau(self) -> float:
-        ...
-    @acc_lp_tau.setter
-    def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
     def acc_lp_bias_sigma(self) -> float:
         ...
     @acc_lp_bias_sigma.setter
     def acc_lp_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        ...
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def acc_noise(self) -> float:
@@ -633,6 +579,59 @@ class QuaternionEKF_f32:
         """
         q_nb [w, x, y, z]
         """
+class QuaternionESKF_f64:
+    def __init__(self, params: QuaternionEKFParams_f64) -> None:
+        ...
+    def get_state(self) -> dict:
+        ...
+    def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
+        ...
+    def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
+        ...
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
+        """
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        """
+    def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def set_state(self, state: dict) -> str:
+        ...
+    def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
+        ...
+    def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f64:
+        ...
+    def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def attitude_covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        ...
+    @property
+    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        gyro bias [rad/s]
+        """
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"]:
+        ...
+    @property
+    def extra_flags(self) -> int:
+        ...
+    @property
+    def initialized(self) -> bool:
+        ...
+    @property
+    def params(self) -> QuaternionEKFParams_f64:
+        ...
+    @property
+    def quat(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"]:
+        """
+        q_nb [w, x, y, z]
+        """
 class QuaternionESKF_f32:
     def __init__(self, params: QuaternionEKFParams_f32) -> None:
         ...
@@ -686,7 +685,6 @@ class QuaternionESKF_f32:
         """
         q_nb [w, x, y, z]
         """
-
 class EulerEKFParams_f64:
     def __init__(self) -> None:
         ...
@@ -1294,95 +1292,152 @@ class UpdateResult4_f64:
     def status(self) -> str:
         ...
 class NavFilter13Params_f64:
-    earth_rotation: bool
+    """
+    Parameters of NavFilter13 (nav_filter13.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> NavFilter13Params_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
         ...
-    @property
-    def accel_bias_noise(self) -> float:
+    def __repr__(self) -> str:
         ...
-    @accel_bias_noise.setter
-    def accel_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def to_dict(self) -> dict:
         ...
     @property
-    def accel_noise(self) -> float:
-        ...
-    @accel_noise.setter
-    def accel_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def gyro_bias_noise(self) -> float:
-        ...
-    @gyro_bias_noise.setter
-    def gyro_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_bias_noise(self) -> float:
+        """
+        accelerometer-bias random-walk density [m/s^3/sqrt(Hz)]
+        """
+    @acc_bias_noise.setter
+    def acc_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
-    def gyro_noise(self) -> float:
-        ...
-    @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def max_dt(self) -> float:
-        ...
-    @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_noise(self) -> float:
+        """
+        accelerometer white-noise density (velocity random walk) [m/s^2/sqrt(Hz)]
+        """
+    @acc_noise.setter
+    def acc_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def earth_rotation(self) -> bool:
+        """
+        include the Earth rate, transport rate and Coriolis terms [-]
+        """
+    @earth_rotation.setter
+    def earth_rotation(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_vel_sigma(self) -> float:
+        """
+        one-sigma of each measured velocity component [m/s]
+        """
+    @gps_vel_sigma.setter
+    def gps_vel_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_bias_noise(self) -> float:
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
+    @gyro_bias_noise.setter
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_noise(self) -> float:
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
+    @gyro_noise.setter
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def max_dt(self) -> float:
+        """
+        longest accepted IMU step [s]
+        """
+    @max_dt.setter
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def ukf_alpha(self) -> float:
-        ...
+        """
+        unscented transform: alpha [1]
+        """
     @ukf_alpha.setter
-    def ukf_alpha(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ukf_alpha(self, arg1: typing.Any) -> None:
         ...
     @property
     def ukf_beta(self) -> float:
-        ...
+        """
+        unscented transform: beta [1]
+        """
     @ukf_beta.setter
-    def ukf_beta(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ukf_beta(self, arg1: typing.Any) -> None:
         ...
     @property
     def ukf_kappa(self) -> float:
-        ...
+        """
+        unscented transform: kappa (alpha^2 (12 + kappa) must be positive) [1]
+        """
     @ukf_kappa.setter
-    def ukf_kappa(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ukf_kappa(self, arg1: typing.Any) -> None:
         ...
     @property
-    def vel_noise(self) -> float:
-        ...
-    @vel_noise.setter
-    def vel_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def yaw_noise(self) -> float:
-        ...
-    @yaw_noise.setter
-    def yaw_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def yaw_sigma(self) -> float:
+        """
+        one-sigma of the measured yaw [rad]
+        """
+    @yaw_sigma.setter
+    def yaw_sigma(self, arg1: typing.Any) -> None:
         ...
 class NavFilter13Ekf_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: NavFilter13Params_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
@@ -1391,7 +1446,9 @@ class NavFilter13Ekf_f64:
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_velocity_yaw(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], yaw: typing.SupportsFloat | typing.SupportsIndex, gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult4_f64:
@@ -1420,13 +1477,20 @@ class NavFilter13Ekf_f64:
     def x(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[13, 1]"]:
         ...
 class NavFilter13SecondOrder_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: NavFilter13Params_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
@@ -1435,7 +1499,9 @@ class NavFilter13SecondOrder_f64:
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_velocity_yaw(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], yaw: typing.SupportsFloat | typing.SupportsIndex, gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult4_f64:
@@ -1464,13 +1530,20 @@ class NavFilter13SecondOrder_f64:
     def x(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[13, 1]"]:
         ...
 class NavFilter13Ukf_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: NavFilter13Params_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
@@ -1479,7 +1552,9 @@ class NavFilter13Ukf_f64:
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_velocity_yaw(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], yaw: typing.SupportsFloat | typing.SupportsIndex, gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult4_f64:
@@ -1550,95 +1625,152 @@ class UpdateResult4_f32:
     def status(self) -> str:
         ...
 class NavFilter13Params_f32:
-    earth_rotation: bool
+    """
+    Parameters of NavFilter13 (nav_filter13.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> NavFilter13Params_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
         ...
-    @property
-    def accel_bias_noise(self) -> float:
+    def __repr__(self) -> str:
         ...
-    @accel_bias_noise.setter
-    def accel_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def to_dict(self) -> dict:
         ...
     @property
-    def accel_noise(self) -> float:
-        ...
-    @accel_noise.setter
-    def accel_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def gyro_bias_noise(self) -> float:
-        ...
-    @gyro_bias_noise.setter
-    def gyro_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_bias_noise(self) -> float:
+        """
+        accelerometer-bias random-walk density [m/s^3/sqrt(Hz)]
+        """
+    @acc_bias_noise.setter
+    def acc_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
-    def gyro_noise(self) -> float:
-        ...
-    @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def max_dt(self) -> float:
-        ...
-    @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_noise(self) -> float:
+        """
+        accelerometer white-noise density (velocity random walk) [m/s^2/sqrt(Hz)]
+        """
+    @acc_noise.setter
+    def acc_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def earth_rotation(self) -> bool:
+        """
+        include the Earth rate, transport rate and Coriolis terms [-]
+        """
+    @earth_rotation.setter
+    def earth_rotation(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_vel_sigma(self) -> float:
+        """
+        one-sigma of each measured velocity component [m/s]
+        """
+    @gps_vel_sigma.setter
+    def gps_vel_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_bias_noise(self) -> float:
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
+    @gyro_bias_noise.setter
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_noise(self) -> float:
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
+    @gyro_noise.setter
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def max_dt(self) -> float:
+        """
+        longest accepted IMU step [s]
+        """
+    @max_dt.setter
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def ukf_alpha(self) -> float:
-        ...
+        """
+        unscented transform: alpha [1]
+        """
     @ukf_alpha.setter
-    def ukf_alpha(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ukf_alpha(self, arg1: typing.Any) -> None:
         ...
     @property
     def ukf_beta(self) -> float:
-        ...
+        """
+        unscented transform: beta [1]
+        """
     @ukf_beta.setter
-    def ukf_beta(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ukf_beta(self, arg1: typing.Any) -> None:
         ...
     @property
     def ukf_kappa(self) -> float:
-        ...
+        """
+        unscented transform: kappa (alpha^2 (12 + kappa) must be positive) [1]
+        """
     @ukf_kappa.setter
-    def ukf_kappa(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ukf_kappa(self, arg1: typing.Any) -> None:
         ...
     @property
-    def vel_noise(self) -> float:
-        ...
-    @vel_noise.setter
-    def vel_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def yaw_noise(self) -> float:
-        ...
-    @yaw_noise.setter
-    def yaw_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def yaw_sigma(self) -> float:
+        """
+        one-sigma of the measured yaw [rad]
+        """
+    @yaw_sigma.setter
+    def yaw_sigma(self, arg1: typing.Any) -> None:
         ...
 class NavFilter13Ekf_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: NavFilter13Params_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
@@ -1647,7 +1779,9 @@ class NavFilter13Ekf_f32:
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_velocity_yaw(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], yaw: typing.SupportsFloat | typing.SupportsIndex, gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult4_f32:
@@ -1676,13 +1810,20 @@ class NavFilter13Ekf_f32:
     def x(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[13, 1]"]:
         ...
 class NavFilter13SecondOrder_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: NavFilter13Params_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
@@ -1691,7 +1832,9 @@ class NavFilter13SecondOrder_f32:
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_velocity_yaw(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], yaw: typing.SupportsFloat | typing.SupportsIndex, gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult4_f32:
@@ -1720,13 +1863,20 @@ class NavFilter13SecondOrder_f32:
     def x(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[13, 1]"]:
         ...
 class NavFilter13Ukf_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: NavFilter13Params_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
         """
@@ -1735,7 +1885,9 @@ class NavFilter13Ukf_f32:
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_velocity_yaw(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], yaw: typing.SupportsFloat | typing.SupportsIndex, gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult4_f32:
@@ -1770,6 +1922,12 @@ class GpsInsParams_f64:
     earth_rotation: bool
     heading_from_gps: bool
     def __init__(self) -> None:
+        ...
+    @property
+    def acc_range(self) -> float:
+        ...
+    @acc_range.setter
+    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def accel_bias_rw(self) -> float:
@@ -1824,6 +1982,12 @@ class GpsInsParams_f64:
         ...
     @compass_sigma.setter
     def compass_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def cov_floor(self) -> float:
+        ...
+    @cov_floor.setter
+    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def declination(self) -> float:
@@ -1898,6 +2062,12 @@ class GpsInsParams_f64:
     def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def gyro_range(self) -> float:
+        ...
+    @gyro_range.setter
+    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def init_accel_bias_sigma(self) -> float:
         ...
     @init_accel_bias_sigma.setter
@@ -1940,24 +2110,6 @@ class GpsInsParams_f64:
     def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
-    def acc_range(self) -> float:
-        ...
-    @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def cov_floor(self) -> float:
-        ...
-    @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def gyro_range(self) -> float:
-        ...
-    @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
     def min_speed_for_heading(self) -> float:
         ...
     @min_speed_for_heading.setter
@@ -1966,16 +2118,15 @@ class GpsInsParams_f64:
 class GpsInsFilter_f64:
     def __init__(self, params: GpsInsParams_f64) -> None:
         ...
-    def get_state(self) -> dict:
-        ...
-    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
-        ...
-    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
-        ...
     def clear(self) -> None:
         """
         Back to the start of alignment (parameters kept).
         """
+    def get_state(self) -> dict:
+        ...
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> dict:
         """
@@ -2037,6 +2188,12 @@ class GpsInsParams_f32:
     def __init__(self) -> None:
         ...
     @property
+    def acc_range(self) -> float:
+        ...
+    @acc_range.setter
+    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def accel_bias_rw(self) -> float:
         ...
     @accel_bias_rw.setter
@@ -2089,6 +2246,12 @@ class GpsInsParams_f32:
         ...
     @compass_sigma.setter
     def compass_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def cov_floor(self) -> float:
+        ...
+    @cov_floor.setter
+    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def declination(self) -> float:
@@ -2163,6 +2326,12 @@ class GpsInsParams_f32:
     def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def gyro_range(self) -> float:
+        ...
+    @gyro_range.setter
+    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def init_accel_bias_sigma(self) -> float:
         ...
     @init_accel_bias_sigma.setter
@@ -2205,24 +2374,6 @@ class GpsInsParams_f32:
     def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
-    def acc_range(self) -> float:
-        ...
-    @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def cov_floor(self) -> float:
-        ...
-    @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def gyro_range(self) -> float:
-        ...
-    @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
     def min_speed_for_heading(self) -> float:
         ...
     @min_speed_for_heading.setter
@@ -2231,16 +2382,15 @@ class GpsInsParams_f32:
 class GpsInsFilter_f32:
     def __init__(self, params: GpsInsParams_f32) -> None:
         ...
-    def get_state(self) -> dict:
-        ...
-    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
-        ...
-    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
-        ...
     def clear(self) -> None:
         """
         Back to the start of alignment (parameters kept).
         """
+    def get_state(self) -> dict:
+        ...
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> dict:
         """
@@ -2297,12 +2447,12 @@ def flag_table() -> list:
     """
     The per-sample flags of every filter: a list of (name, bit mask, meaning).
     """
-def status_names() -> list:
-    """
-    The names of quatnav::Status by code.
-    """
 def nav13_time_update_cost_ns(repeats: typing.SupportsInt | typing.SupportsIndex = 21, iterations: typing.SupportsInt | typing.SupportsIndex = 2000) -> dict:
     """
     Cost of one NavFilter13 time update per policy (ns, float64): the median over `repeats` of the mean over `iterations` consecutive predicts, the three policies interleaved in each repeat.
+    """
+def status_names() -> list:
+    """
+    The names of quatnav::Status by code.
     """
 __version__: str = '0.1.0'

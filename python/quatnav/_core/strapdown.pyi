@@ -1,5 +1,5 @@
 """
-NED strapdown mechanization (see quatnav/strapdown.hpp)
+NED strapdown mechanization (see quatnav/nav/strapdown.hpp)
 """
 from __future__ import annotations
 import numpy

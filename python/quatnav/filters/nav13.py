@@ -127,7 +127,8 @@ class NavFilter13(Filter):
         return self.x[3:7]
 
     @property
-    def accel_bias(self) -> np.ndarray:
+    def acc_bias(self) -> np.ndarray:
+        """Accelerometer bias, m/s^2."""
         return self.x[7:10]
 
     @property
@@ -144,7 +145,7 @@ class NavFilter13(Filter):
         """(12, 12) covariance of ``[dv, dtheta, db_a, db_g]`` (dtheta: body-frame attitude error, rad)."""
         return np.asarray(self._f.error_covariance, dtype=float)
 
-    def reset(self, v_n, q_nb, accel_bias=None, gyro_bias=None, P=None, lat=0.0, lon=0.0, h=0.0) -> None:
+    def reset(self, v_n, q_nb, acc_bias=None, gyro_bias=None, P=None, lat=0.0, lon=0.0, h=0.0) -> None:
         """Start from a given state.
 
         Parameters
@@ -153,7 +154,7 @@ class NavFilter13(Filter):
             NED velocity, m/s.
         q_nb : (4,) array_like
             Attitude [w, x, y, z] (normalized here).
-        accel_bias, gyro_bias : (3,) array_like, optional
+        acc_bias, gyro_bias : (3,) array_like, optional
             m/s^2 and rad/s; zero when omitted.
         P : (13, 13) array_like, optional
             Covariance; default :func:`initial_covariance` with 0.3 m/s, 10/10/20 deg,
@@ -165,7 +166,7 @@ class NavFilter13(Filter):
         """
         v = V.vector(v_n, "v_n", dtype=self.dtype)
         q = V.vector(q_nb, "q_nb", 4, dtype=self.dtype, nonzero=True)
-        ba = np.zeros(3, self.dtype) if accel_bias is None else V.vector(accel_bias, "accel_bias", dtype=self.dtype)
+        ba = np.zeros(3, self.dtype) if acc_bias is None else V.vector(acc_bias, "acc_bias", dtype=self.dtype)
         bg = np.zeros(3, self.dtype) if gyro_bias is None else V.vector(gyro_bias, "gyro_bias", dtype=self.dtype)
         if P is None:
             P = initial_covariance(q, 0.3048, np.radians([10.0, 10.0, 20.0]), 2000e-6 * 9.80665,

@@ -11,14 +11,14 @@ import numpy as np
 
 from ..core import earth
 from ..core import quaternion as Q
+from ..filters.tables import NAV13_PARAMS
 from .kalman import kalman_correct
 
 TIME_UPDATES = ("ekf", "second_order", "ukf")
 V, QI, BA, BG = slice(0, 3), slice(3, 7), slice(7, 10), slice(10, 13)
 
-DEFAULTS = dict(accel_noise=2.9420e-5, gyro_noise=1.4544e-7, accel_bias_noise=0.0, gyro_bias_noise=0.0,
-                vel_noise=0.03048, yaw_noise=0.034906585, ukf_alpha=1.0, ukf_beta=2.0, ukf_kappa=0.0,
-                max_dt=1.0, earth_rotation=True)
+#: The parameters of the C++ filter with its defaults (the one table, quatnav.filters.tables).
+DEFAULTS = {p.name: p.default for p in NAV13_PARAMS if p.core_name is not None}
 
 
 def quad_rotmat(M):
@@ -108,9 +108,9 @@ def process_noise(q, dt, p):
     Qm = np.zeros((13, 13))
     C = rotmat_hom(q)
     X = Q.xi(q)
-    Qm[V, V] = dt * p.accel_noise**2 * C @ C.T
+    Qm[V, V] = dt * p.acc_noise**2 * C @ C.T
     Qm[QI, QI] = dt * p.gyro_noise**2 / 4 * X @ X.T
-    Qm[BA, BA] = dt * p.accel_bias_noise**2 * np.eye(3)
+    Qm[BA, BA] = dt * p.acc_bias_noise**2 * np.eye(3)
     Qm[BG, BG] = dt * p.gyro_bias_noise**2 * np.eye(3)
     return Qm
 
@@ -178,6 +178,9 @@ class NavFilter13:
         if time_update not in TIME_UPDATES:
             raise ValueError(f"time_update: expected one of {TIME_UPDATES}, got {time_update!r}")
         self.time_update = time_update
+        unknown = sorted(set(params) - set(DEFAULTS))
+        if unknown:
+            raise TypeError(f"NavFilter13: unknown parameter {unknown[0]!r}; known: {', '.join(DEFAULTS)}")
         p = dict(DEFAULTS)
         p.update(params)
         self.params = SimpleNamespace(**p)
@@ -189,8 +192,8 @@ class NavFilter13:
         self.initialized = False
 
     # -- state --------------------------------------------------------------------------
-    def reset(self, v_n, q_nb, accel_bias, gyro_bias, P, lat, lon, h):
-        x = np.concatenate([v_n, q_nb, accel_bias, gyro_bias]).astype(float)
+    def reset(self, v_n, q_nb, acc_bias, gyro_bias, P, lat, lon, h):
+        x = np.concatenate([v_n, q_nb, acc_bias, gyro_bias]).astype(float)
         P = np.asarray(P, float)
         self.x, self.P = normalize(x, 0.5 * (P + P.T))
         self.lat, self.lon, self.h = float(lat), float(lon), float(h)
@@ -198,12 +201,12 @@ class NavFilter13:
         return "ok"
 
     def get_state(self):
-        return dict(v_n=self.x[V].copy(), q_nb=self.x[QI].copy(), accel_bias=self.x[BA].copy(),
+        return dict(v_n=self.x[V].copy(), q_nb=self.x[QI].copy(), acc_bias=self.x[BA].copy(),
                     gyro_bias=self.x[BG].copy(), P=self.P.copy(), lat=self.lat, lon=self.lon, h=self.h,
                     initialized=self.initialized)
 
     def set_state(self, s):
-        self.x = np.concatenate([s["v_n"], s["q_nb"], s["accel_bias"], s["gyro_bias"]]).astype(float)
+        self.x = np.concatenate([s["v_n"], s["q_nb"], s["acc_bias"], s["gyro_bias"]]).astype(float)
         self.P = np.array(s["P"], float)
         self.lat, self.lon, self.h = float(s["lat"]), float(s["lon"]), float(s["h"])
         self.initialized = bool(s["initialized"])
@@ -301,13 +304,13 @@ class NavFilter13:
     def update_velocity(self, v_meas, gate=0.0):
         H = np.zeros((3, 13))
         H[:, V] = np.eye(3)
-        R = np.eye(3) * self.params.vel_noise**2
+        R = np.eye(3) * self.params.gps_vel_sigma**2
         return self._correct(H, R, np.asarray(v_meas, float) - self.x[V], gate)
 
     def update_yaw(self, yaw, gate=0.0):
         H = np.zeros((1, 13))
         H[0, QI] = yaw_jacobian(self.x[QI])
-        R = np.array([[self.params.yaw_noise**2]])
+        R = np.array([[self.params.yaw_sigma**2]])
         y = np.array([Q.wrap_pi(float(yaw) - yaw_of(self.x[QI]))])
         return self._correct(H, R, y, gate)
 
@@ -315,6 +318,6 @@ class NavFilter13:
         H = np.zeros((4, 13))
         H[0:3, V] = np.eye(3)
         H[3, QI] = yaw_jacobian(self.x[QI])
-        R = np.diag([self.params.vel_noise**2] * 3 + [self.params.yaw_noise**2])
+        R = np.diag([self.params.gps_vel_sigma**2] * 3 + [self.params.yaw_sigma**2])
         y = np.concatenate([np.asarray(v_meas, float) - self.x[V], [Q.wrap_pi(float(yaw) - yaw_of(self.x[QI]))]])
         return self._correct(H, R, y, gate)

@@ -112,8 +112,8 @@ template <class F> void nav13_bad_input() {
 /// rounding, about eps32 * max eigenvalue = 1e-10 here, would hide what is measured).
 template <class S, TimeUpdate TU> double nav13_near_singular(S floor, int steps, int stride = 10) {
   NavFilter13Params<S> p;
-  p.vel_noise = S(1e-4);
-  p.yaw_noise = S(1e-4);
+  p.gps_vel_sigma = S(1e-4);
+  p.yaw_sigma = S(1e-4);
   p.cov_floor = floor;
   NavFilter13<S, TU> f(p);
   const Quat<S> q = quat::from_euler(S(0.1), S(-0.05), S(0.4));

@@ -81,6 +81,7 @@
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
 #include "../core/earth.hpp"
+#include "../core/fields.hpp"
 #include "../core/kalman.hpp"
 #include "../core/quat_block.hpp"
 #include "../core/quaternion.hpp"
@@ -104,37 +105,46 @@ inline const char* to_string(TimeUpdate t) {
 /// Parameters of NavFilter13. Every field has its unit and default. The noise defaults are the
 /// paper's section IV values: (30 ug)^2 and (0.3 deg/h)^2 per sample at 100 Hz, velocity
 /// (0.1 ft/s)^2, yaw (2 deg)^2.
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_NAV13_PARAMS(X)                                                                       \
+  X(S, acc_noise, S(2.9420e-5), "m/s^2/sqrt(Hz)", "accelerometer white-noise density (velocity random walk)") \
+  X(S, gyro_noise, S(1.4544e-7), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")      \
+  X(S, acc_bias_noise, S(0), "m/s^3/sqrt(Hz)", "accelerometer-bias random-walk density")                \
+  X(S, gyro_bias_noise, S(0), "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density")                      \
+  X(S, gps_vel_sigma, S(0.03048), "m/s", "one-sigma of each measured velocity component")               \
+  X(S, yaw_sigma, S(0.034906585), "rad", "one-sigma of the measured yaw")                                \
+  X(S, ukf_alpha, S(1), "1", "unscented transform: alpha")                                              \
+  X(S, ukf_beta, S(2), "1", "unscented transform: beta")                                                \
+  X(S, ukf_kappa, S(0), "1", "unscented transform: kappa (alpha^2 (12 + kappa) must be positive)")      \
+  X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                  \
+  X(S, gyro_range, S(0), "rad/s",                                                                       \
+    "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")   \
+  X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")           \
+  /* applied only when the 12x12 error-state covariance is not positive definite above it */           \
+  X(S, cov_floor, S(0), "state units^2", "eigenvalue floor of the error covariance (0: off)")            \
+  X(bool, earth_rotation, true, "-", "include the Earth rate, transport rate and Coriolis terms")
+
 template <class S> struct NavFilter13Params {
-  S accel_noise = S(2.9420e-5);      ///< accelerometer white-noise density [m/s^2/sqrt(Hz)]
-  S gyro_noise = S(1.4544e-7);       ///< gyro white-noise density [rad/s/sqrt(Hz)]
-  S accel_bias_noise = S(0);         ///< accelerometer bias random-walk density [m/s^3/sqrt(Hz)]
-  S gyro_bias_noise = S(0);          ///< gyro bias random-walk density [rad/s^2/sqrt(Hz)]
-  S vel_noise = S(0.03048);          ///< one-sigma of each NED velocity component measured [m/s]
-  S yaw_noise = S(0.034906585);      ///< one-sigma of the yaw measurement [rad]
-  S ukf_alpha = S(1);                ///< unscented transform alpha [-] (unscented.hpp)
-  S ukf_beta = S(2);                 ///< unscented transform beta [-]
-  S ukf_kappa = S(0);                ///< unscented transform kappa [-]
-  S max_dt = S(1);                   ///< a predict with dt above this is refused [s]
-  S gyro_range = S(0);   ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
-  S acc_range = S(0);    ///< accelerometer range per axis; |f_i| >= it is Saturated [m/s^2]; 0: unlimited
-  S cov_floor = S(0);    ///< eigenvalue floor of the 12x12 error-state covariance (covariance.hpp),
-                         ///< applied only when it is not positive definite above it; 0: off
-  bool earth_rotation = true;        ///< include Earth rate, transport rate and Coriolis terms
+  QUATNAV_FIELDS(NavFilter13Params, QUATNAV_NAV13_PARAMS)
 };
+
+// The carried position is double for every S (as GpsInsFilter's): a float latitude resolves
+// 0.38 m and an increment v_N dt / (R_M + h) below 19 m/s at 100 Hz rounds away entirely.
+#define QUATNAV_NAV13_STATE(X)                                                                        \
+  X(Vec3<S>, v_n, Vec3<S>::Zero(), "m/s", "NED velocity")                                              \
+  X(Quat<S>, q_nb, quat::identity<S>(), "1", "attitude q_nb [w, x, y, z]")                              \
+  X(Vec3<S>, acc_bias, Vec3<S>::Zero(), "m/s^2", "accelerometer bias b_a")                             \
+  X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias b_g")                                     \
+  X(Mat13, P, Mat13::Identity(), "state units^2", "covariance of [v_n, q_nb, b_a, b_g]")                \
+  X(double, lat, 0.0, "rad", "carried geodetic latitude (not estimated: integrated from v_n)")          \
+  X(double, lon, 0.0, "rad", "carried longitude")                                                       \
+  X(double, h, 0.0, "m", "carried height above the ellipsoid")                                          \
+  X(bool, initialized, false, "-", "the filter has a state")
 
 /// The complete filter state; state()/set_state() round-trip exactly.
 template <class S> struct NavFilter13State {
-  Vec3<S> v_n = Vec3<S>::Zero();                  ///< NED velocity [m/s]
-  Quat<S> q_nb = quat::identity<S>();             ///< attitude [w, x, y, z]
-  Vec3<S> accel_bias = Vec3<S>::Zero();           ///< b_a [m/s^2]
-  Vec3<S> gyro_bias = Vec3<S>::Zero();            ///< b_g [rad/s]
-  Mat<S, 13, 13> P = Mat<S, 13, 13>::Identity();  ///< covariance of [v_n, q_nb, b_a, b_g]
-  // The carried position is double for every S (as GpsInsFilter's): a float latitude resolves
-  // 0.38 m and an increment v_N dt / (R_M + h) below 19 m/s at 100 Hz rounds away entirely.
-  double lat = 0.0;  ///< carried geodetic latitude [rad] (not estimated: integrated from v_n)
-  double lon = 0.0;  ///< carried longitude [rad]
-  double h = 0.0;    ///< carried height above the ellipsoid [m]
-  bool initialized = false;
+  using Mat13 = Mat<S, 13, 13>;
+  QUATNAV_FIELDS(NavFilter13State, QUATNAV_NAV13_STATE)
 };
 
 /// The inputs of one Euler step: sensor readings, step length and the Earth terms.
@@ -287,9 +297,9 @@ template <class S> Mat13<S> nav13_process_noise(const Quat<S>& q, S dt, const Na
   Mat13<S> Q = Mat13<S>::Zero();
   const Mat3<S> C = rotmat_hom(q);
   const Mat43<S> X = quat::xi(q);
-  Q.template block<3, 3>(kV, kV) = (dt * p.accel_noise * p.accel_noise) * C * C.transpose();
+  Q.template block<3, 3>(kV, kV) = (dt * p.acc_noise * p.acc_noise) * C * C.transpose();
   Q.template block<4, 4>(kQ, kQ) = (dt * p.gyro_noise * p.gyro_noise / S(4)) * X * X.transpose();
-  Q.template block<3, 3>(kBa, kBa).diagonal().setConstant(dt * p.accel_bias_noise * p.accel_bias_noise);
+  Q.template block<3, 3>(kBa, kBa).diagonal().setConstant(dt * p.acc_bias_noise * p.acc_bias_noise);
   Q.template block<3, 3>(kBg, kBg).diagonal().setConstant(dt * p.gyro_bias_noise * p.gyro_bias_noise);
   return Q;
 }
@@ -442,7 +452,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   /// The state as one 13-vector [v_n, q_nb, b_a, b_g].
   Vec13 x() const {
     Vec13 v;
-    v << st_.v_n, st_.q_nb, st_.accel_bias, st_.gyro_bias;
+    v << st_.v_n, st_.q_nb, st_.acc_bias, st_.gyro_bias;
     return v;
   }
   const Mat13& covariance() const { return st_.P; }
@@ -458,15 +468,15 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 
   /// Start from a given state. P is the 13x13 covariance of [v_n, q_nb, b_a, b_g]; its quaternion
   /// block is projected onto the tangent space of the normalized q. lat, lon in rad, h in m.
-  Status reset(const Vec3<S>& v_n, const Quat<S>& q_nb, const Vec3<S>& accel_bias, const Vec3<S>& gyro_bias,
+  Status reset(const Vec3<S>& v_n, const Quat<S>& q_nb, const Vec3<S>& acc_bias, const Vec3<S>& gyro_bias,
                const Mat13& P, double lat, double lon, double h) {
-    if (!v_n.allFinite() || !q_nb.allFinite() || !accel_bias.allFinite() || !gyro_bias.allFinite() ||
+    if (!v_n.allFinite() || !q_nb.allFinite() || !acc_bias.allFinite() || !gyro_bias.allFinite() ||
         !P.allFinite() || !std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h))
       return Status::NonFinite;
     if (!(q_nb.norm() > S(0.5)) || !(std::abs(lat) < 1.5)) return Status::InvalidArgument;
     State s;
     Vec13 xv;
-    xv << v_n, q_nb, accel_bias, gyro_bias;
+    xv << v_n, q_nb, acc_bias, gyro_bias;
     Mat13 Pn = P;
     symmetrize(Pn);
     detail::nav13_normalize(xv, Pn);
@@ -486,7 +496,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 
   /// Restore a state read with state(). Refused when anything is non-finite or |q| != 1.
   Status set_state(const State& s) {
-    if (!s.v_n.allFinite() || !s.q_nb.allFinite() || !s.accel_bias.allFinite() || !s.gyro_bias.allFinite() ||
+    if (!s.v_n.allFinite() || !s.q_nb.allFinite() || !s.acc_bias.allFinite() || !s.gyro_bias.allFinite() ||
         !s.P.allFinite() || !std::isfinite(s.lat) || !std::isfinite(s.lon) || !std::isfinite(s.h))
       return Status::NonFinite;
     if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
@@ -520,7 +530,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     if (detail::saturated(omega_ib_b, params_.gyro_range) || detail::saturated(f_ib_b, params_.acc_range))
       return Status::Saturated;
     Nav13Input<S> u;
-    u.f_ib_b = detail::nav13_rotation_correction(f_ib_b, omega_ib_b, st_.accel_bias, st_.gyro_bias, dt);
+    u.f_ib_b = detail::nav13_rotation_correction(f_ib_b, omega_ib_b, st_.acc_bias, st_.gyro_bias, dt);
     u.omega_ib_b = omega_ib_b;
     u.dt = dt;
     detail::nav13_earth_terms(S(st_.lat), S(st_.h), st_.v_n, params_.earth_rotation, u);
@@ -559,7 +569,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     }
     Mat<S, 3, 13> H = Mat<S, 3, 13>::Zero();
     H.template block<3, 3>(0, detail::kV).setIdentity();
-    const Mat3<S> R = Mat3<S>::Identity() * (params_.vel_noise * params_.vel_noise);
+    const Mat3<S> R = Mat3<S>::Identity() * (params_.gps_vel_sigma * params_.gps_vel_sigma);
     apply_correction<3>(H, R, Vec3<S>(v_meas - st_.v_n), res, gate);
     return res;
   }
@@ -575,7 +585,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     Mat<S, 1, 13> H = Mat<S, 1, 13>::Zero();
     H.template block<1, 4>(0, detail::kQ) = detail::nav13_yaw_jacobian(st_.q_nb);
     Mat<S, 1, 1> R;
-    R(0, 0) = params_.yaw_noise * params_.yaw_noise;
+    R(0, 0) = params_.yaw_sigma * params_.yaw_sigma;
     Vec<S, 1> y;
     y[0] = quat::wrap_pi(yaw - detail::nav13_yaw(st_.q_nb));
     apply_correction<1>(H, R, y, res, gate);
@@ -594,7 +604,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     H.template block<3, 3>(0, detail::kV).setIdentity();
     H.template block<1, 4>(3, detail::kQ) = detail::nav13_yaw_jacobian(st_.q_nb);
     Mat<S, 4, 4> R = Mat<S, 4, 4>::Zero();
-    R.diagonal() << Vec3<S>::Constant(params_.vel_noise * params_.vel_noise), params_.yaw_noise * params_.yaw_noise;
+    R.diagonal() << Vec3<S>::Constant(params_.gps_vel_sigma * params_.gps_vel_sigma), params_.yaw_sigma * params_.yaw_sigma;
     Vec<S, 4> y;
     y << v_meas - st_.v_n, quat::wrap_pi(yaw - detail::nav13_yaw(st_.q_nb));
     apply_correction<4>(H, R, y, res, gate);
@@ -605,15 +615,15 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
   void set_params(const Params& p) {
     params_ = p;
     params_ok_ = weights_.compute(UnscentedParams<S>{p.ukf_alpha, p.ukf_beta, p.ukf_kappa});
-    params_ok_ = params_ok_ && p.accel_noise >= S(0) && p.gyro_noise >= S(0) && p.accel_bias_noise >= S(0) &&
-                 p.gyro_bias_noise >= S(0) && p.vel_noise > S(0) && p.yaw_noise > S(0) && p.max_dt > S(0) &&
+    params_ok_ = params_ok_ && p.acc_noise >= S(0) && p.gyro_noise >= S(0) && p.acc_bias_noise >= S(0) &&
+                 p.gyro_bias_noise >= S(0) && p.gps_vel_sigma > S(0) && p.yaw_sigma > S(0) && p.max_dt > S(0) &&
                  p.gyro_range >= S(0) && p.acc_range >= S(0) && p.cov_floor >= S(0);
   }
 
   static void unpack(const Vec13& xv, State& s) {
     s.v_n = xv.template segment<3>(detail::kV);
     s.q_nb = xv.template segment<4>(detail::kQ);
-    s.accel_bias = xv.template segment<3>(detail::kBa);
+    s.acc_bias = xv.template segment<3>(detail::kBa);
     s.gyro_bias = xv.template segment<3>(detail::kBg);
   }
 
