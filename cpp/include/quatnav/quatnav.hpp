@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "core/fields.hpp"
 #include "core/checks.hpp"
 #include "core/quaternion.hpp"
 #include "core/quat_block.hpp"
