@@ -495,18 +495,23 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
+    from .csvio import progress_bar, write_table
+    bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
     r = f.run(gg, aa, t=tt, **kw)
+    bar.update(len(tt))
+    bar.set_description("ins run: write")
     nav = r.navigating & original
     s = r.sigma[nav]
     cols = [r.t[nav], np.degrees(r.lat[nav]), np.degrees(r.lon[nav]), r.h[nav], *r.velocity[nav].T,
             *np.degrees(r.euler[nav]).T, *r.acc_bias[nav].T, *(r.bias[nav] / _DEG_H).T,
             *s[:, 0:6].T, *np.degrees(s[:, 6:9]).T, *s[:, 9:12].T, *(s[:, 12:15] / _DEG_H).T]
-    table = np.column_stack(cols) if nav.any() else np.zeros((0, len(OUTPUT_COLUMNS)))
     fmt = ["%.6f", "%.10f", "%.10f"] + ["%.6g"] * (len(OUTPUT_COLUMNS) - 3)
     try:
-        np.savetxt(out, table, delimiter=",", header=",".join(OUTPUT_COLUMNS), comments="", fmt=fmt)
+        write_table(out, OUTPUT_COLUMNS, cols, fmt, progress=bar)
     except OSError as e:
         raise InputError(f"output {out}: cannot write ({e.strerror})") from None
+    finally:
+        bar.close()
     if tracks is not None:
         tracks.update(result=r, nav=nav, gnss=d_g)
     rej = {k: v for k, v in r.rejections.items() if v}
