@@ -382,7 +382,7 @@ def _columns_of(log, what):
         d = {"time": b.t, "h": b.altitude}
     else:
         c = log.require("compass").compass
-        d = {"time": c.t, "heading": np.degrees(c.heading)}
+        d = {"time": c.t, "heading": np.degrees(c.heading), "north": getattr(c, "north", "magnetic")}
     return d, np.arange(1, len(d["time"]) + 1)
 
 
@@ -478,9 +478,12 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     if baro or baro_from_log:
         d_b, _ = read_csv(baro, BARO_COLUMNS, what="BARO")
         kw.update(baro=quatnav.Aid(d_b["time"], d_b["h"]))
-    if compass:
+    if compass or (log is not None and log.compass is not None):
         d_c, _ = read_csv(compass, COMPASS_COLUMNS, what="COMPASS")
-        kw.update(compass=quatnav.Aid(d_c["time"], np.radians(d_c["heading"])))
+        heading = np.radians(d_c["heading"])
+        if d_c.get("north") == "true":  # a GNSS heading: the filter adds the declination to a magnetic one
+            heading = heading - float(f.params["declination"])
+        kw.update(compass=quatnav.Aid(d_c["time"], heading))
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
