@@ -102,9 +102,12 @@ warnings (stderr, once each): gyro in deg/s, accelerometer in g or mg, gravity n
   (forward-right-down sees (0, 0, -9.8) m/s^2), lat/lon in radians, GNSS and IMU times that do
   not overlap
 other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by quatnav.io.read)
-  gives the IMU, GNSS and barometer it holds; --imu, --gnss, --baro take any supported file
-  instead of CSV (e.g. --gnss solution.pos from RTKLIB, or an NMEA log) and replace the log's
+  gives the IMU, GNSS, barometer and compass it holds; --imu, --gnss, --baro, --compass take any
+  supported file instead of CSV (e.g. --gnss solution.pos from RTKLIB, or an NMEA log whose
+  HDT/THS sentences give a true heading, used without the declination) and replace the log's
   stream; --format forces the format of the files.
+--out OUT.parquet writes Parquet (pyarrow) instead of CSV; a long run shows a progress bar on a
+  terminal
 --kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude,
   biases and the difference to the log's own attitude estimate (e.g. PX4's) when it has one
 --json FILE writes a summary (rows, navigation start, gaps, warnings); --json - prints it
