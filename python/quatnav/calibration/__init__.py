@@ -16,12 +16,13 @@ from pathlib import Path
 import numpy as np
 
 from ._toml import dumps
+from .online import OnlineHardIron, hard_iron_track
 from .sensors import (STANDARD_GRAVITY, SensorCalibration, accelerometer, gyroscope, magnetometer,
                       rest_segments, sphere_coverage)
 
 __all__ = ["Calibration", "SensorCalibration", "magnetometer", "accelerometer", "gyroscope",
            "rest_segments", "sphere_coverage", "apply", "save_calibration", "load_calibration",
-           "apply_calibration_args", "STANDARD_GRAVITY"]
+           "apply_calibration_args", "STANDARD_GRAVITY", "OnlineHardIron", "hard_iron_track"]
 
 _SENSORS = ("gyro", "acc", "mag")
 
