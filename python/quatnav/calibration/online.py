@@ -17,6 +17,7 @@ results come back in the input's unit.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["OnlineHardIron", "hard_iron_track"]
 
@@ -50,7 +51,8 @@ def _check(mag, name="mag") -> np.ndarray:
     return m
 
 
-def hard_iron_track(mag, forgetting: float = 0.9995, prior_weight: float = 10.0):
+def hard_iron_track(mag: ArrayLike, forgetting: float = 0.9995,
+                    prior_weight: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
     """Hard-iron offset after every sample of ``mag``.
 
     Parameters
@@ -120,7 +122,7 @@ class OnlineHardIron:
         self.field = np.nan
         self.samples = 0
 
-    def update(self, m) -> np.ndarray:
+    def update(self, m: ArrayLike) -> np.ndarray:
         """Take one sample (3,); returns the offset estimate after it (a NaN sample is skipped)."""
         m = np.asarray(m, dtype=float).reshape(3)
         if not np.isfinite(m).all():
