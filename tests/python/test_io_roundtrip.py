@@ -180,7 +180,7 @@ def rot():
     return rotation_scenario(n=800, rate=100.0, seed=5)
 
 
-@pytest.mark.parametrize("version", [1, 2])
+@pytest.mark.parametrize("version", [1])   # ROS 2 through ahrs run: test_io_rosbag.py
 def test_bag_round_trip_ahrs_run(rot, tmp_path, version):
     pytest.importorskip("rosbags")
     s = rot

@@ -65,6 +65,12 @@ def _nonneg(obj, name, allow_inf=False):
     return v
 
 
+def _finite(obj, name):
+    v = getattr(obj, name)
+    if not np.isfinite(v):
+        raise ValueError(f"{type(obj).__name__}.{name} must be finite, got {v!r}")
+
+
 def _positive(obj, name, allow_inf=False, allow_none=False):
     raw = getattr(obj, name)
     if raw is None and allow_none:
@@ -551,8 +557,7 @@ class BaroSpec:
     def __post_init__(self):
         _positive(self, "rate_hz")
         _nonneg(self, "noise_m")
-        if not np.isfinite(self.bias_m):
-            raise ValueError(f"BaroSpec.bias_m must be finite, got {self.bias_m!r}")
+        _finite(self, "bias_m")
         _nonneg(self, "drift_m_per_sqrt_h")
 
 
@@ -590,8 +595,7 @@ class CompassSpec:
     def __post_init__(self):
         _positive(self, "rate_hz")
         _nonneg(self, "noise_deg")
-        if not np.isfinite(self.bias_deg):
-            raise ValueError(f"CompassSpec.bias_deg must be finite, got {self.bias_deg!r}")
+        _finite(self, "bias_deg")
 
 
 @dataclass
@@ -629,8 +633,7 @@ class OdometerSpec:
     def __post_init__(self):
         _positive(self, "rate_hz")
         _nonneg(self, "noise_m_s")
-        if not np.isfinite(self.scale_factor_ppm):
-            raise ValueError(f"OdometerSpec.scale_factor_ppm must be finite, got {self.scale_factor_ppm!r}")
+        _finite(self, "scale_factor_ppm")
         _nonneg(self, "quantization_m_s")
 
 
