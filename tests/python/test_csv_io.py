@@ -195,3 +195,26 @@ def test_write_table_csv_and_parquet(tmp_path, monkeypatch):
     write_table(tmp_path / "c.parquet", names, cols, fmts)
     pq = pd.read_parquet(tmp_path / "c.parquet")
     np.testing.assert_array_equal(pq["x"].to_numpy(), v)   # Parquet keeps every bit
+
+
+def test_progress_bar_only_on_a_terminal_and_for_long_jobs(monkeypatch):
+    import io as _io
+
+    from quatnav.csvio import progress_bar
+    pytest.importorskip("tqdm")
+    short, off = progress_bar(1000), progress_bar(10 ** 6)   # pytest's stderr is no terminal
+    for b in (short, off):
+        b.update(10)
+        b.close()
+        assert type(b).__name__ == "_Null"
+
+    class Tty(_io.StringIO):
+        def isatty(self):
+            return True
+    err = Tty()
+    monkeypatch.setattr(sys, "stderr", err)
+    bar = progress_bar(10 ** 6, desc="ins run")
+    bar.update(5 * 10 ** 5)
+    bar.close()
+    assert type(bar).__name__ == "tqdm" and "ins run" in err.getvalue()
+    assert type(progress_bar(10)).__name__ == "_Null"          # short job: no bar even on a terminal
