@@ -181,6 +181,8 @@ def read_table(path, required, optional=(), what: str = "file", increasing: str 
         raise CsvError(f"{where}: cannot open ({e.strerror})") from None
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
+    if b"\n" not in data and b"\r" in data:  # classic Mac line ends
+        data = data.replace(b"\r", b"\n")
     try:
         data.decode("utf-8")  # C speed; the bytes go to the parser as they are
     except UnicodeDecodeError as e:

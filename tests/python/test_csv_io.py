@@ -137,6 +137,8 @@ def test_reader_paths_give_the_same_rows(tmp_path):
     assert list(u.lines) == [2, 3, 6, 8, 9, 11]
     for c in COLS:
         np.testing.assert_array_equal(u[c], t[c])
+    cr = read_table(_write(tmp_path, plain.replace("\n", "\r"), "cr.csv"), COLS)   # classic Mac line ends
+    np.testing.assert_array_equal(cr["accel_z"], t["accel_z"])
     # a bad cell after skipped lines is reported on its own line of the file
     bad = mixed.replace("  0.04,0.4", "  0.04,x")
     _err(_write(tmp_path, bad, "c.csv"), match="line 9, column 'gyro_x'")
