@@ -1,4 +1,4 @@
-"""``quatnav simulate``: build a named scenario, save it, optionally plot it.
+r"""``quatnav simulate``: build a named scenario, save it, optionally plot it.
 
     quatnav simulate --list
     quatnav simulate NAME --seed S [--out FILE.npz] [--csv DIR | --csv FILE.csv] [--plot FILE.png]
