@@ -207,7 +207,7 @@ def test_table_defaults_equal_the_cpp_defaults(name):
 
 
 #: Filter -> its C++ parameter struct and (one of) its C++ classes, as bound in quatnav._core.
-_CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf")}
+_CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf"), "GpsInsFilter": ("GpsInsParams", "GpsInsFilter")}
 
 
 @pytest.mark.parametrize("name", sorted(_CORE_CLASSES))
@@ -261,6 +261,10 @@ def test_one_vocabulary_of_shared_parameter_names():
         assert old not in seen
     from quatnav.reference import nav13 as ref_nav13
     assert set(ref_nav13.DEFAULTS) == {p.name for p in PARAM_TABLES["NavFilter13"] if p.core_name}
+    from quatnav.reference import gpsins as ref_gpsins
+    assert set(ref_gpsins.DEFAULTS) == {p.name for p in PARAM_TABLES["GpsInsFilter"] if p.core_name}
+    with pytest.raises(TypeError, match="unknown parameter 'accel_noise'"):
+        ref_gpsins.GpsInsFilter(accel_noise=1e-3)
 
 
 def test_parameters_page_lists_every_parameter():
