@@ -261,9 +261,9 @@ template <class S> struct NavAdapter<GpsInsFilter<S>> {
   static F make(double sg, double sa) {
     GpsInsParams<S> p;
     p.gyro_noise = S(sg);
-    p.accel_noise = S(sa);
-    p.gyro_bias_rw = S(1e-6);
-    p.accel_bias_rw = S(1e-5);
+    p.acc_noise = S(sa);
+    p.gyro_bias_noise = S(1e-6);
+    p.acc_bias_noise = S(1e-5);
     p.gps_pos_sigma_h = S(2.5);
     p.gps_pos_sigma_v = S(5.0);
     p.gps_vel_sigma = S(0.1);

@@ -39,8 +39,14 @@ template <class Root, class Visitor> void visit_flat(Visitor&& visitor) {
   visit_flat<Root, Root>(self, visitor);
 }
 
-/// A field's value as a Python object (Eigen matrices as new numpy arrays).
-template <class M> py::object field_to_py(const M& v) { return py::cast(v); }
+/// A field's value as a Python object (Eigen matrices as new numpy arrays, enums as their integer).
+template <class M> py::object field_to_py(const M& v) {
+  if constexpr (std::is_enum_v<M>) {
+    return py::int_(static_cast<std::underlying_type_t<M>>(v));
+  } else {
+    return py::cast(v);
+  }
+}
 
 /// Convert `h` to the field's type; a TypeError names the field and says what it expects.
 template <class M> M field_from_py(const py::handle& h, const char* name, const char* what) {
@@ -49,12 +55,17 @@ template <class M> M field_from_py(const py::handle& h, const char* name, const 
       if (!py::isinstance<py::bool_>(h) && !py::isinstance(h, py::module_::import("numpy").attr("bool_")))
         throw py::cast_error();
     }
-    return h.cast<M>();
+    if constexpr (std::is_enum_v<M>) {
+      if (py::isinstance<py::bool_>(h)) throw py::cast_error();
+      return static_cast<M>(h.cast<std::underlying_type_t<M>>());
+    } else {
+      return h.cast<M>();
+    }
   } catch (const py::cast_error&) {
     std::string want;
     if constexpr (std::is_same_v<M, bool>) {
       want = "a bool";
-    } else if constexpr (std::is_arithmetic_v<M>) {
+    } else if constexpr (std::is_arithmetic_v<M> || std::is_enum_v<M>) {
       want = "a number";
     } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<M>, M>) {
       want = M::ColsAtCompileTime == 1 ? "an array of shape (" + std::to_string(M::RowsAtCompileTime) + ",)"

@@ -6,19 +6,20 @@
 #include <quatnav/nav/gps_ins.hpp>
 
 #include "common.hpp"
+#include "fields_binding.hpp"
 
 namespace quatnav_py {
 
-template <class S> py::dict counters_dict(const quatnav::GpsInsCounters& c) {
-  static const char* names[5] = {"gps_pos", "gps_vel", "baro", "baro_vd", "compass"};
+/// The counters as {aid kind: {"accepted", "rejected", "skipped", "resets"}}.
+inline py::dict counters_dict(const quatnav::GpsInsCounters& c) {
   py::dict d;
-  for (int k = 0; k < 5; ++k) {
+  for (int k = 0; k < quatnav::kGpsInsAidKinds; ++k) {
     py::dict e;
     e["accepted"] = c.accepted[k];
     e["rejected"] = c.rejected[k];
     e["skipped"] = c.skipped[k];
-    if (k < 2) e["resets"] = c.resets[k];
-    d[names[k]] = e;
+    e["resets"] = c.resets[k];
+    d[quatnav::kGpsInsAidNames[k]] = e;
   }
   return d;
 }
@@ -27,49 +28,10 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
   using namespace quatnav;
   using F = GpsInsFilter<S>;
   using P = GpsInsParams<S>;
-  using St = GpsInsState<S>;
   using V3 = Vec3<S>;
   bind_update_result<S, 1>(m);
   bind_update_result<S, 3>(m);
-
-  py::class_<P> pc(m, cls_name<S>("GpsInsParams").c_str(), "Parameters of GpsInsFilter (see gps_ins.hpp).");
-  pc.def(py::init<>());
-#define QN_FIELD(name) pc.def_readwrite(#name, &P::name)
-  QN_FIELD(gyro_noise);
-  QN_FIELD(accel_noise);
-  QN_FIELD(gyro_bias_rw);
-  QN_FIELD(accel_bias_rw);
-  QN_FIELD(gyro_bias_tau);
-  QN_FIELD(accel_bias_tau);
-  QN_FIELD(init_gyro_bias_sigma);
-  QN_FIELD(init_accel_bias_sigma);
-  QN_FIELD(init_level_sigma);
-  QN_FIELD(init_yaw_sigma);
-  QN_FIELD(init_vel_sigma);
-  QN_FIELD(gps_pos_sigma_h);
-  QN_FIELD(gps_pos_sigma_v);
-  QN_FIELD(gps_vel_sigma);
-  QN_FIELD(lever_arm_b);
-  QN_FIELD(baro_sigma);
-  QN_FIELD(baro_rate_baseline);
-  QN_FIELD(baro_vd_sigma);
-  QN_FIELD(baro_offset_fixes);
-  QN_FIELD(compass_sigma);
-  QN_FIELD(declination);
-  QN_FIELD(gate_gps_pos);
-  QN_FIELD(gate_gps_vel);
-  QN_FIELD(gate_baro);
-  QN_FIELD(gate_compass);
-  QN_FIELD(gps_reset_after);
-  QN_FIELD(align_time);
-  QN_FIELD(min_speed_for_heading);
-  QN_FIELD(heading_from_gps);
-  QN_FIELD(earth_rotation);
-  QN_FIELD(max_dt);
-  QN_FIELD(gyro_range);
-  QN_FIELD(acc_range);
-  QN_FIELD(cov_floor);
-#undef QN_FIELD
+  bind_fields_struct<P>(m, cls_name<S>("GpsInsParams"), "Parameters of GpsInsFilter (nav/gps_ins/params.hpp).");
 
   py::class_<F> cls(m, cls_name<S>("GpsInsFilter").c_str());
   cls.def(py::init<const P&>(), py::arg("params"))
@@ -80,16 +42,16 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
       .def_property_readonly("q_nb", [](const F& f) { return Quat<S>(f.q_nb()); })
       .def_property_readonly("v_n", [](const F& f) { return V3(f.v_n()); })
       .def_property_readonly("llh", &F::llh)
-      .def_property_readonly("accel_bias", [](const F& f) { return V3(f.accel_bias()); })
+      .def_property_readonly("acc_bias", [](const F& f) { return V3(f.acc_bias()); })
       .def_property_readonly("gyro_bias", [](const F& f) { return V3(f.gyro_bias()); })
       .def_property_readonly("covariance", [](const F& f) { return typename F::Mat15(f.covariance()); })
       .def_property_readonly("time", &F::time)
-      .def_property_readonly("counters", [](const F& f) { return counters_dict<S>(f.state().counters); })
+      .def_property_readonly("counters", [](const F& f) { return counters_dict(f.state().counters); })
       .def("clear", &F::clear, "Back to the start of alignment (parameters kept).")
       .def("reset",
            [](F& f, const Quat<S>& q, const V3& v, double lat, double lon, double h, const V3& ba, const V3& bg,
               const typename F::Mat15& Pm) { return status_str(f.reset(q, v, lat, lon, h, ba, bg, Pm)); },
-           py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("accel_bias"),
+           py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("acc_bias"),
            py::arg("gyro_bias"), py::arg("P"))
       .def("predict", [](F& f, const V3& w, const V3& a, S dt) { return status_str(f.predict(w, a, dt)); },
            py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("dt"))
@@ -111,93 +73,6 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
            },
            py::arg("h"))
       .def("update_compass", [](F& f, S yaw) { return f.update_compass(yaw); }, py::arg("heading"))
-      .def("get_state",
-           [](const F& f) {
-             const St& s = f.state();
-             py::dict d;
-             d["q_nb"] = Quat<S>(s.nav.q_nb);
-             d["v_n"] = V3(s.nav.v_n);
-             d["lat"] = s.nav.lat;
-             d["lon"] = s.nav.lon;
-             d["h"] = s.nav.h;
-             d["dtheta_prev"] = V3(s.nav.dtheta_prev);
-             d["dv_prev"] = V3(s.nav.dv_prev);
-             d["has_prev"] = s.nav.has_prev;
-             d["accel_bias"] = V3(s.b_a);
-             d["gyro_bias"] = V3(s.b_g);
-             d["P"] = typename F::Mat15(s.P);
-             d["t"] = s.t;
-             d["omega_b"] = V3(s.omega_b);
-             d["f_b"] = V3(s.f_b);
-             d["phase"] = int(s.phase);
-             d["align_sum"] = Vec3<double>(s.align_sum);
-             d["align_time"] = s.align_time;
-             d["heading_known"] = s.heading_known;
-             d["baro_offset_valid"] = s.baro_offset_valid;
-             d["baro_offset"] = s.baro_offset;
-             d["baro_last"] = s.baro_last;
-             d["baro_last_valid"] = s.baro_last_valid;
-             d["baro_ref_valid"] = s.baro_ref_valid;
-             d["baro_ref_h"] = s.baro_ref_h;
-             d["baro_ref_t"] = s.baro_ref_t;
-             d["baro_offset_n"] = s.baro_offset_n;
-             py::list cnt;
-             for (int k = 0; k < 5; ++k)
-               cnt.append(py::make_tuple(s.counters.accepted[k], s.counters.rejected[k], s.counters.skipped[k]));
-             d["counters"] = cnt;
-             d["resets"] = py::make_tuple(s.counters.resets[0], s.counters.resets[1]);
-             d["gps_pos_reject_run"] = s.gps_pos_reject_run;
-             d["gps_vel_reject_run"] = s.gps_vel_reject_run;
-             return d;
-           })
-      .def("set_state",
-           [](F& f, const py::dict& d) {
-             St s;
-             s.nav.q_nb = d["q_nb"].cast<Quat<S>>();
-             s.nav.v_n = d["v_n"].cast<V3>();
-             s.nav.lat = d["lat"].cast<double>();
-             s.nav.lon = d["lon"].cast<double>();
-             s.nav.h = d["h"].cast<double>();
-             s.nav.dtheta_prev = d["dtheta_prev"].cast<V3>();
-             s.nav.dv_prev = d["dv_prev"].cast<V3>();
-             s.nav.has_prev = d["has_prev"].cast<bool>();
-             s.b_a = d["accel_bias"].cast<V3>();
-             s.b_g = d["gyro_bias"].cast<V3>();
-             s.P = d["P"].cast<typename F::Mat15>();
-             s.t = d["t"].cast<double>();
-             s.omega_b = d["omega_b"].cast<V3>();
-             s.f_b = d["f_b"].cast<V3>();
-             const int ph = d["phase"].cast<int>();
-             if (ph < 0 || ph > 2) throw py::value_error("state['phase']: expected 0, 1 or 2");
-             s.phase = GpsInsPhase(ph);
-             s.align_sum = d["align_sum"].cast<Vec3<double>>();
-             s.align_time = d["align_time"].cast<double>();
-             s.heading_known = d["heading_known"].cast<bool>();
-             s.baro_offset_valid = d["baro_offset_valid"].cast<bool>();
-             s.baro_offset = d["baro_offset"].cast<double>();
-             s.baro_last = d["baro_last"].cast<double>();
-             s.baro_last_valid = d["baro_last_valid"].cast<bool>();
-             s.baro_ref_valid = d["baro_ref_valid"].cast<bool>();
-             s.baro_ref_h = d["baro_ref_h"].cast<double>();
-             s.baro_ref_t = d["baro_ref_t"].cast<double>();
-             s.baro_offset_n = d["baro_offset_n"].cast<double>();
-             const py::list cnt = d["counters"].cast<py::list>();
-             for (int k = 0; k < 5 && k < int(cnt.size()); ++k) {
-               const py::tuple c = cnt[k].cast<py::tuple>();
-               s.counters.accepted[k] = c[0].cast<std::uint32_t>();
-               s.counters.rejected[k] = c[1].cast<std::uint32_t>();
-               s.counters.skipped[k] = c[2].cast<std::uint32_t>();
-             }
-             if (d.contains("resets")) {
-               const py::tuple rs = d["resets"].cast<py::tuple>();
-               s.counters.resets[0] = rs[0].cast<std::uint32_t>();
-               s.counters.resets[1] = rs[1].cast<std::uint32_t>();
-             }
-             if (d.contains("gps_pos_reject_run")) s.gps_pos_reject_run = d["gps_pos_reject_run"].cast<std::uint32_t>();
-             if (d.contains("gps_vel_reject_run")) s.gps_vel_reject_run = d["gps_vel_reject_run"].cast<std::uint32_t>();
-             return status_str(f.set_state(s));
-           },
-           py::arg("state"))
       .def(
           "run",
           [](F& f, const carray<double>& t, const carray<S>& gyro, const carray<S>& accel, const carray<double>& gps_t,
@@ -243,8 +118,8 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             io.llh = llh.mutable_data();
             io.v_n = v.mutable_data();
             io.q_nb = q.mutable_data();
-            io.b_a = ba.mutable_data();
-            io.b_g = bg.mutable_data();
+            io.acc_bias = ba.mutable_data();
+            io.gyro_bias = bg.mutable_data();
             io.sigma = sig.mutable_data();
             io.flags = fl.mutable_data();
             io.gps_innov = gi.mutable_data();
@@ -264,7 +139,7 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             d["llh"] = llh;
             d["v_n"] = v;
             d["q_nb"] = q;
-            d["accel_bias"] = ba;
+            d["acc_bias"] = ba;
             d["gyro_bias"] = bg;
             d["sigma"] = sig;
             d["flags"] = fl;
@@ -283,6 +158,7 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
           py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"), py::arg("baro_h"),
           py::arg("compass_t"), py::arg("compass_yaw"),
           "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays.");
+  def_state_dict<F>(cls);
 }
 
 }  // namespace quatnav_py

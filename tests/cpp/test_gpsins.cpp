@@ -17,8 +17,8 @@ template <class S> bool same_bits(const GpsInsState<S>& a, const GpsInsState<S>&
          std::memcmp(&a.nav.lat, &b.nav.lat, sizeof(double)) == 0 &&
          std::memcmp(&a.nav.lon, &b.nav.lon, sizeof(double)) == 0 &&
          std::memcmp(&a.nav.h, &b.nav.h, sizeof(double)) == 0 &&
-         std::memcmp(a.b_a.data(), b.b_a.data(), 3 * sizeof(S)) == 0 &&
-         std::memcmp(a.b_g.data(), b.b_g.data(), 3 * sizeof(S)) == 0 &&
+         std::memcmp(a.acc_bias.data(), b.acc_bias.data(), 3 * sizeof(S)) == 0 &&
+         std::memcmp(a.gyro_bias.data(), b.gyro_bias.data(), 3 * sizeof(S)) == 0 &&
          std::memcmp(a.P.data(), b.P.data(), 225 * sizeof(S)) == 0 &&
          std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.phase == b.phase;
 }

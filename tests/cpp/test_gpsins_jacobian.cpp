@@ -48,7 +48,7 @@ X xdot(const X& x, const Case& c) {
   d.h = -x.v[2];
   d.v = x.C * f_b + Vec3<double>(0.0, 0.0, earth::gravity<double>(x.lat, x.h)) - (2.0 * w_ie + w_en).cross(x.v);
   d.C = x.C * quat::skew(w_b) - quat::skew(Vec3<double>(w_ie + w_en)) * x.C;
-  d.ba = c.p.accel_bias_tau > 0 ? Vec3<double>(-x.ba / c.p.accel_bias_tau) : Vec3<double>::Zero();
+  d.ba = c.p.acc_bias_tau > 0 ? Vec3<double>(-x.ba / c.p.acc_bias_tau) : Vec3<double>::Zero();
   d.bg = c.p.gyro_bias_tau > 0 ? Vec3<double>(-x.bg / c.p.gyro_bias_tau) : Vec3<double>::Zero();
   return d;
 }
@@ -100,7 +100,7 @@ Mat<double, 15, 15> fd_F(const Case& c) {
 Case make_case(bool earth_rotation, double tau) {
   Case c;
   c.p.earth_rotation = earth_rotation;
-  c.p.accel_bias_tau = tau;
+  c.p.acc_bias_tau = tau;
   c.p.gyro_bias_tau = 2 * tau;
   // A fast, climbing vehicle at 50 deg N: the small transport-rate and Coriolis terms are far
   // above the differencing noise.

@@ -429,11 +429,11 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
   static typename F::Params params(Reader& r) {
     typename F::Params p;
     p.gyro_noise = r.positive<S>(p.gyro_noise);
-    p.accel_noise = r.positive<S>(p.accel_noise);
-    p.gyro_bias_rw = r.positive<S>(p.gyro_bias_rw);
-    p.accel_bias_rw = r.positive<S>(p.accel_bias_rw);
+    p.acc_noise = r.positive<S>(p.acc_noise);
+    p.gyro_bias_noise = r.positive<S>(p.gyro_bias_noise);
+    p.acc_bias_noise = r.positive<S>(p.acc_bias_noise);
     p.gyro_bias_tau = (r.byte() & 1) ? r.positive<S>(S(100)) : S(0);
-    p.accel_bias_tau = (r.byte() & 1) ? r.positive<S>(S(100)) : S(0);
+    p.acc_bias_tau = (r.byte() & 1) ? r.positive<S>(S(100)) : S(0);
     p.gps_pos_sigma_h = r.positive<S>(p.gps_pos_sigma_h);
     p.gps_vel_sigma = r.positive<S>(p.gps_vel_sigma);
     p.lever_arm_b = Vec3<S>(S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>())) / S(64);
@@ -457,7 +457,7 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
     const auto& n = b.nav;
     return bits_equal(m.q_nb, n.q_nb) && bits_equal(m.v_n, n.v_n) && bits_equal(m.lat, n.lat) &&
            bits_equal(m.lon, n.lon) && bits_equal(m.h, n.h) && bits_equal(m.dtheta_prev, n.dtheta_prev) &&
-           bits_equal(m.dv_prev, n.dv_prev) && m.has_prev == n.has_prev && bits_equal(a.b_a, b.b_a) && bits_equal(a.b_g, b.b_g) && bits_equal(a.P, b.P) &&
+           bits_equal(m.dv_prev, n.dv_prev) && m.has_prev == n.has_prev && bits_equal(a.acc_bias, b.acc_bias) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
            bits_equal(a.t, b.t) && bits_equal(a.omega_b, b.omega_b) && bits_equal(a.f_b, b.f_b) &&
            a.phase == b.phase && bits_equal(a.align_sum, b.align_sum) && bits_equal(a.align_time, b.align_time) &&
            a.heading_known == b.heading_known && a.baro_offset_valid == b.baro_offset_valid &&
@@ -469,7 +469,7 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
     if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) ||
-        !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) || !s.b_a.allFinite() || !s.b_g.allFinite() ||
+        !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) || !s.acc_bias.allFinite() || !s.gyro_bias.allFinite() ||
         !s.P.allFinite() || !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() ||
         !s.align_sum.allFinite() || !std::isfinite(s.baro_offset) || !std::isfinite(s.baro_last) ||
         !std::isfinite(s.baro_ref_h))
@@ -558,7 +558,7 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
         State s = f.state();
         switch (r.byte() % 4) {
           case 0: for (int i = 0; i < 4; ++i) s.nav.q_nb[i] = r.scalar<S>(); break;
-          case 1: s.nav.v_n = r.vec3<S>(); s.b_a = r.vec3<S>(); s.b_g = r.vec3<S>(); break;
+          case 1: s.nav.v_n = r.vec3<S>(); s.acc_bias = r.vec3<S>(); s.gyro_bias = r.vec3<S>(); break;
           case 2:
             for (int i = 0; i < 15; ++i)
               for (int j = 0; j <= i; ++j)

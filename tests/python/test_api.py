@@ -211,7 +211,8 @@ _CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf"),
                  "QuaternionEKF": ("QuaternionEKFParams", "QuaternionESKF"),
                  "QuaternionEKF paper": ("QuaternionEKFParams", "QuaternionEKF"),
                  "EulerEKF": ("EulerEKFParams", "EulerEKF"),
-                 "MargFilter": ("MargFilterParams", "MargFilter")}
+                 "MargFilter": ("MargFilterParams", "MargFilter"),
+                 "GpsInsFilter": ("GpsInsParams", "GpsInsFilter")}
 
 
 @pytest.mark.parametrize("name", sorted(_CORE_CLASSES))
@@ -272,6 +273,10 @@ def test_one_vocabulary_of_shared_parameter_names():
         assert twin.defaults == {p.name: p.default for p in PARAM_TABLES[name] if p.core_name}, name
         with pytest.raises(TypeError, match="unknown parameter 'acc_noise'; known: "):
             twin(acc_noise=0.1)
+    from quatnav.reference import gpsins as ref_gpsins
+    assert set(ref_gpsins.DEFAULTS) == {p.name for p in PARAM_TABLES["GpsInsFilter"] if p.core_name}
+    with pytest.raises(TypeError, match="unknown parameter 'accel_noise'"):
+        ref_gpsins.GpsInsFilter(accel_noise=1e-3)
 
 
 def test_twin_paper_values_equal_the_cpp_paper_parameters():

@@ -49,7 +49,7 @@ def test_cpp_matches_reference_step_by_step(walk):
     np.testing.assert_allclose(r.velocity[nav], ref["v_n"][nav], rtol=0, atol=1e-9)
     np.testing.assert_allclose(r.quat[nav], ref["q_nb"][nav], rtol=0, atol=1e-9)
     np.testing.assert_allclose(r.bias, ref["gyro_bias"], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(r.acc_bias, ref["accel_bias"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(r.acc_bias, ref["acc_bias"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(r.sigma[nav], ref["sigma"][nav], rtol=1e-7, atol=1e-12)
     np.testing.assert_array_equal(r.flags & 0xF, ref["flags"] & 0xF)  # phase bits; the reference keeps no aid bits
 

@@ -64,7 +64,7 @@ def _error_state(f, traj, k_traj, imu, k_imu):
     dv = f.v_n - traj.v_n[k_traj]
     E = Q.to_rotmat(f.quat) @ Q.to_rotmat(traj.q_nb[k_traj]).T  # exp([psi x])
     psi = Q.to_rotvec(Q.from_rotmat(E))
-    return np.concatenate([dp, dv, psi, f.accel_bias - imu.accel_bias[k_imu], f.gyro_bias - imu.gyro_bias[k_imu]])
+    return np.concatenate([dp, dv, psi, f.acc_bias - imu.accel_bias[k_imu], f.gyro_bias - imu.gyro_bias[k_imu]])
 
 
 def _nees_samples(use_baro):

@@ -57,7 +57,7 @@ def _xdot(x, f_m, w_m, p, lat_frozen):
     d = dict(lat=v[0] / (R_M + h), lon=v[1] / ((R_N + h) * math.cos(lat)), h=-v[2],
              v=C @ f_b + np.array([0.0, 0.0, g]) - np.cross(2.0 * w_ie + w_en, v),
              C=C @ Q.skew(w_b) - Q.skew(w_ie + w_en) @ C,
-             ba=-x["ba"] / p.accel_bias_tau if p.accel_bias_tau > 0 else np.zeros(3),
+             ba=-x["ba"] / p.acc_bias_tau if p.acc_bias_tau > 0 else np.zeros(3),
              bg=-x["bg"] / p.gyro_bias_tau if p.gyro_bias_tau > 0 else np.zeros(3))
     return d
 
@@ -124,7 +124,7 @@ def _fd_F(xt, f_m, w_m, p, lat_frozen):
 
 
 def _case(earth_rotation, tau):
-    p = GpsInsParams(earth_rotation=earth_rotation, accel_bias_tau=tau, gyro_bias_tau=2 * tau)
+    p = GpsInsParams(earth_rotation=earth_rotation, acc_bias_tau=tau, gyro_bias_tau=2 * tau)
     q = Q.from_euler(np.array([0.3, -0.4, 2.0]))
     # A fast, climbing vehicle at 50 deg N so that the small transport-rate and Coriolis terms
     # are far above the differencing noise.

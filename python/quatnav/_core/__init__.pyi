@@ -2355,205 +2355,302 @@ class NavFilter13Ukf_f32:
         ...
 class GpsInsParams_f64:
     """
-    Parameters of GpsInsFilter (see gps_ins.hpp).
+    Parameters of GpsInsFilter (nav/gps_ins/params.hpp).
     """
-    earth_rotation: bool
-    heading_from_gps: bool
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> GpsInsParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_bias_noise(self) -> float:
+        """
+        accelerometer-bias random-walk density [m/s^3/sqrt(Hz)]
+        """
+    @acc_bias_noise.setter
+    def acc_bias_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_bias_tau(self) -> float:
+        """
+        Gauss-Markov time constant of the accelerometer bias (0: random walk) [s]
+        """
+    @acc_bias_tau.setter
+    def acc_bias_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_noise(self) -> float:
+        """
+        accelerometer white-noise density (velocity random walk) [m/s^2/sqrt(Hz)]
+        """
+    @acc_noise.setter
+    def acc_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def accel_bias_rw(self) -> float:
-        ...
-    @accel_bias_rw.setter
-    def accel_bias_rw(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def accel_bias_tau(self) -> float:
-        ...
-    @accel_bias_tau.setter
-    def accel_bias_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def accel_noise(self) -> float:
-        ...
-    @accel_noise.setter
-    def accel_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def align_time(self) -> float:
-        ...
+        """
+        duration of the static alignment [s]
+        """
     @align_time.setter
-    def align_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def align_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_offset_fixes(self) -> float:
-        ...
+        """
+        GPS fixes over which the altimeter offset is averaged [1]
+        """
     @baro_offset_fixes.setter
-    def baro_offset_fixes(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_offset_fixes(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_rate_baseline(self) -> float:
-        ...
+        """
+        baseline of the altimeter's vertical-velocity difference [s]
+        """
     @baro_rate_baseline.setter
-    def baro_rate_baseline(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_rate_baseline(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_sigma(self) -> float:
-        ...
+        """
+        one-sigma of an altimeter height [m]
+        """
     @baro_sigma.setter
-    def baro_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_vd_sigma(self) -> float:
-        ...
+        """
+        one-sigma of the altimeter's vertical velocity [m/s]
+        """
     @baro_vd_sigma.setter
-    def baro_vd_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_vd_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def compass_sigma(self) -> float:
-        ...
+        """
+        one-sigma of a compass heading [rad]
+        """
     @compass_sigma.setter
-    def compass_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def compass_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
     def declination(self) -> float:
-        ...
+        """
+        magnetic declination, east of true north (added to compass headings) [rad]
+        """
     @declination.setter
-    def declination(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def declination(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def earth_rotation(self) -> bool:
+        """
+        include the Earth rate, transport rate and Coriolis terms [-]
+        """
+    @earth_rotation.setter
+    def earth_rotation(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_baro(self) -> float:
-        ...
+        """
+        NIS gate of the altimeter (0: off) [1 (chi-square, 1 dof)]
+        """
     @gate_baro.setter
-    def gate_baro(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_baro(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_compass(self) -> float:
-        ...
+        """
+        NIS gate of the compass (0: off) [1 (chi-square, 1 dof)]
+        """
     @gate_compass.setter
-    def gate_compass(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_compass(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_gps_pos(self) -> float:
-        ...
+        """
+        NIS gate of the GPS position (0: off) [1 (chi-square, 3 dof)]
+        """
     @gate_gps_pos.setter
-    def gate_gps_pos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_gps_pos(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_gps_vel(self) -> float:
-        ...
+        """
+        NIS gate of the GPS velocity (0: off) [1 (chi-square, 3 dof)]
+        """
     @gate_gps_vel.setter
-    def gate_gps_vel(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_gps_vel(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_pos_sigma_h(self) -> float:
-        ...
+        """
+        horizontal one-sigma of a GPS position (per-fix sigma overrides) [m]
+        """
     @gps_pos_sigma_h.setter
-    def gps_pos_sigma_h(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_pos_sigma_h(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_pos_sigma_v(self) -> float:
-        ...
+        """
+        vertical one-sigma of a GPS position [m]
+        """
     @gps_pos_sigma_v.setter
-    def gps_pos_sigma_v(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_reset_after(self) -> float:
-        ...
+        """
+        consecutive gate rejections before a GPS reset (0: never) [1]
+        """
     @gps_reset_after.setter
-    def gps_reset_after(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_reset_after(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_vel_sigma(self) -> float:
-        ...
+        """
+        one-sigma of each GPS velocity component [m/s]
+        """
     @gps_vel_sigma.setter
-    def gps_vel_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_vel_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
-    def gyro_bias_rw(self) -> float:
-        ...
-    @gyro_bias_rw.setter
-    def gyro_bias_rw(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_noise(self) -> float:
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
+    @gyro_bias_noise.setter
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_tau(self) -> float:
-        ...
+        """
+        Gauss-Markov time constant of the gyro bias (0: random walk) [s]
+        """
     @gyro_bias_tau.setter
-    def gyro_bias_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
-        ...
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
     @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
-    def init_accel_bias_sigma(self) -> float:
+    def heading_from_gps(self) -> bool:
+        """
+        initialize the heading from the GPS track (without compass) [-]
+        """
+    @heading_from_gps.setter
+    def heading_from_gps(self, arg1: typing.Any) -> None:
         ...
-    @init_accel_bias_sigma.setter
-    def init_accel_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    @property
+    def init_acc_bias_sigma(self) -> float:
+        """
+        accelerometer-bias one-sigma at the start of navigation [m/s^2]
+        """
+    @init_acc_bias_sigma.setter
+    def init_acc_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_gyro_bias_sigma(self) -> float:
-        ...
+        """
+        gyro-bias one-sigma at the start of navigation [rad/s]
+        """
     @init_gyro_bias_sigma.setter
-    def init_gyro_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_level_sigma(self) -> float:
-        ...
+        """
+        roll/pitch one-sigma after the alignment [rad]
+        """
     @init_level_sigma.setter
-    def init_level_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_level_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_vel_sigma(self) -> float:
-        ...
+        """
+        velocity one-sigma at the start of navigation [m/s]
+        """
     @init_vel_sigma.setter
-    def init_vel_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_vel_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_yaw_sigma(self) -> float:
-        ...
+        """
+        yaw one-sigma after the alignment [rad]
+        """
     @init_yaw_sigma.setter
-    def init_yaw_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_yaw_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def lever_arm_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
-        ...
+        """
+        GPS antenna relative to the IMU, body FRD [m]
+        """
     @lever_arm_b.setter
-    def lever_arm_b(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+    def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def min_speed_for_heading(self) -> float:
-        ...
+        """
+        GPS speed above which the heading comes from the GPS track [m/s]
+        """
     @min_speed_for_heading.setter
-    def min_speed_for_heading(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def min_speed_for_heading(self, arg1: typing.Any) -> None:
         ...
 class GpsInsFilter_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: GpsInsParams_f64) -> None:
         ...
     def clear(self) -> None:
@@ -2561,10 +2658,12 @@ class GpsInsFilter_f64:
         Back to the start of alignment (parameters kept).
         """
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> dict:
         """
@@ -2573,7 +2672,9 @@ class GpsInsFilter_f64:
     def set_params(self, params: GpsInsParams_f64) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[UpdateResult1_f64, UpdateResult1_f64]:
         ...
     def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> UpdateResult1_f64:
@@ -2585,7 +2686,7 @@ class GpsInsFilter_f64:
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> UpdateResult3_f64:
         ...
     @property
-    def accel_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+    def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...
     @property
     def counters(self) -> dict:
@@ -2619,205 +2720,302 @@ class GpsInsFilter_f64:
         ...
 class GpsInsParams_f32:
     """
-    Parameters of GpsInsFilter (see gps_ins.hpp).
+    Parameters of GpsInsFilter (nav/gps_ins/params.hpp).
     """
-    earth_rotation: bool
-    heading_from_gps: bool
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> GpsInsParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_bias_noise(self) -> float:
+        """
+        accelerometer-bias random-walk density [m/s^3/sqrt(Hz)]
+        """
+    @acc_bias_noise.setter
+    def acc_bias_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_bias_tau(self) -> float:
+        """
+        Gauss-Markov time constant of the accelerometer bias (0: random walk) [s]
+        """
+    @acc_bias_tau.setter
+    def acc_bias_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_noise(self) -> float:
+        """
+        accelerometer white-noise density (velocity random walk) [m/s^2/sqrt(Hz)]
+        """
+    @acc_noise.setter
+    def acc_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def accel_bias_rw(self) -> float:
-        ...
-    @accel_bias_rw.setter
-    def accel_bias_rw(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def accel_bias_tau(self) -> float:
-        ...
-    @accel_bias_tau.setter
-    def accel_bias_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def accel_noise(self) -> float:
-        ...
-    @accel_noise.setter
-    def accel_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def align_time(self) -> float:
-        ...
+        """
+        duration of the static alignment [s]
+        """
     @align_time.setter
-    def align_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def align_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_offset_fixes(self) -> float:
-        ...
+        """
+        GPS fixes over which the altimeter offset is averaged [1]
+        """
     @baro_offset_fixes.setter
-    def baro_offset_fixes(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_offset_fixes(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_rate_baseline(self) -> float:
-        ...
+        """
+        baseline of the altimeter's vertical-velocity difference [s]
+        """
     @baro_rate_baseline.setter
-    def baro_rate_baseline(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_rate_baseline(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_sigma(self) -> float:
-        ...
+        """
+        one-sigma of an altimeter height [m]
+        """
     @baro_sigma.setter
-    def baro_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_vd_sigma(self) -> float:
-        ...
+        """
+        one-sigma of the altimeter's vertical velocity [m/s]
+        """
     @baro_vd_sigma.setter
-    def baro_vd_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def baro_vd_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def compass_sigma(self) -> float:
-        ...
+        """
+        one-sigma of a compass heading [rad]
+        """
     @compass_sigma.setter
-    def compass_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def compass_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
     def declination(self) -> float:
-        ...
+        """
+        magnetic declination, east of true north (added to compass headings) [rad]
+        """
     @declination.setter
-    def declination(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def declination(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def earth_rotation(self) -> bool:
+        """
+        include the Earth rate, transport rate and Coriolis terms [-]
+        """
+    @earth_rotation.setter
+    def earth_rotation(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_baro(self) -> float:
-        ...
+        """
+        NIS gate of the altimeter (0: off) [1 (chi-square, 1 dof)]
+        """
     @gate_baro.setter
-    def gate_baro(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_baro(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_compass(self) -> float:
-        ...
+        """
+        NIS gate of the compass (0: off) [1 (chi-square, 1 dof)]
+        """
     @gate_compass.setter
-    def gate_compass(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_compass(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_gps_pos(self) -> float:
-        ...
+        """
+        NIS gate of the GPS position (0: off) [1 (chi-square, 3 dof)]
+        """
     @gate_gps_pos.setter
-    def gate_gps_pos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_gps_pos(self, arg1: typing.Any) -> None:
         ...
     @property
     def gate_gps_vel(self) -> float:
-        ...
+        """
+        NIS gate of the GPS velocity (0: off) [1 (chi-square, 3 dof)]
+        """
     @gate_gps_vel.setter
-    def gate_gps_vel(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gate_gps_vel(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_pos_sigma_h(self) -> float:
-        ...
+        """
+        horizontal one-sigma of a GPS position (per-fix sigma overrides) [m]
+        """
     @gps_pos_sigma_h.setter
-    def gps_pos_sigma_h(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_pos_sigma_h(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_pos_sigma_v(self) -> float:
-        ...
+        """
+        vertical one-sigma of a GPS position [m]
+        """
     @gps_pos_sigma_v.setter
-    def gps_pos_sigma_v(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_reset_after(self) -> float:
-        ...
+        """
+        consecutive gate rejections before a GPS reset (0: never) [1]
+        """
     @gps_reset_after.setter
-    def gps_reset_after(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_reset_after(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_vel_sigma(self) -> float:
-        ...
+        """
+        one-sigma of each GPS velocity component [m/s]
+        """
     @gps_vel_sigma.setter
-    def gps_vel_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_vel_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
-    def gyro_bias_rw(self) -> float:
-        ...
-    @gyro_bias_rw.setter
-    def gyro_bias_rw(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_noise(self) -> float:
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
+    @gyro_bias_noise.setter
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_tau(self) -> float:
-        ...
+        """
+        Gauss-Markov time constant of the gyro bias (0: random walk) [s]
+        """
     @gyro_bias_tau.setter
-    def gyro_bias_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
-        ...
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
     @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
-    def init_accel_bias_sigma(self) -> float:
+    def heading_from_gps(self) -> bool:
+        """
+        initialize the heading from the GPS track (without compass) [-]
+        """
+    @heading_from_gps.setter
+    def heading_from_gps(self, arg1: typing.Any) -> None:
         ...
-    @init_accel_bias_sigma.setter
-    def init_accel_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    @property
+    def init_acc_bias_sigma(self) -> float:
+        """
+        accelerometer-bias one-sigma at the start of navigation [m/s^2]
+        """
+    @init_acc_bias_sigma.setter
+    def init_acc_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_gyro_bias_sigma(self) -> float:
-        ...
+        """
+        gyro-bias one-sigma at the start of navigation [rad/s]
+        """
     @init_gyro_bias_sigma.setter
-    def init_gyro_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_level_sigma(self) -> float:
-        ...
+        """
+        roll/pitch one-sigma after the alignment [rad]
+        """
     @init_level_sigma.setter
-    def init_level_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_level_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_vel_sigma(self) -> float:
-        ...
+        """
+        velocity one-sigma at the start of navigation [m/s]
+        """
     @init_vel_sigma.setter
-    def init_vel_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_vel_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_yaw_sigma(self) -> float:
-        ...
+        """
+        yaw one-sigma after the alignment [rad]
+        """
     @init_yaw_sigma.setter
-    def init_yaw_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_yaw_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def lever_arm_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
-        ...
+        """
+        GPS antenna relative to the IMU, body FRD [m]
+        """
     @lever_arm_b.setter
-    def lever_arm_b(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> None:
+    def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def min_speed_for_heading(self) -> float:
-        ...
+        """
+        GPS speed above which the heading comes from the GPS track [m/s]
+        """
     @min_speed_for_heading.setter
-    def min_speed_for_heading(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def min_speed_for_heading(self, arg1: typing.Any) -> None:
         ...
 class GpsInsFilter_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: GpsInsParams_f32) -> None:
         ...
     def clear(self) -> None:
@@ -2825,10 +3023,12 @@ class GpsInsFilter_f32:
         Back to the start of alignment (parameters kept).
         """
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, accel_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> dict:
         """
@@ -2837,7 +3037,9 @@ class GpsInsFilter_f32:
     def set_params(self, params: GpsInsParams_f32) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[UpdateResult1_f32, UpdateResult1_f32]:
         ...
     def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> UpdateResult1_f32:
@@ -2849,7 +3051,7 @@ class GpsInsFilter_f32:
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> UpdateResult3_f32:
         ...
     @property
-    def accel_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+    def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property
     def counters(self) -> dict:

@@ -150,8 +150,9 @@ class GpsInsFilter(Filter):
         return np.array(self._f.llh)
 
     @property
-    def accel_bias(self) -> np.ndarray:
-        return np.array(self._f.accel_bias)
+    def acc_bias(self) -> np.ndarray:
+        """Accelerometer bias, m/s^2."""
+        return np.array(self._f.acc_bias)
 
     @property
     def gyro_bias(self) -> np.ndarray:
@@ -167,18 +168,11 @@ class GpsInsFilter(Filter):
         """Accepted / rejected / skipped counts per measurement kind."""
         return self._f.counters
 
-    def set_state(self, state: dict) -> None:
-        """Restore a state from :meth:`get_state`."""
-        s = self._f.set_state(state)
-        if s != "ok":
-            raise ValueError(f"state: rejected by the filter ({s})")
-
     def clear(self) -> None:
         """Back to the start of alignment (parameters kept): the next IMU samples align again."""
         self._f.clear()
 
-    def reset(self, q_nb, v_n, llh, accel_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0),
-                   P=None) -> None:
+    def reset(self, q_nb, v_n, llh, acc_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0), P=None) -> None:
         """Start navigation from a given state, skipping the static alignment (e.g. from a
         dataset's own initial alignment when the vehicle is not at rest at the start). As in every
         filter, ``reset`` starts from a state and ``initialize`` (attitude filters) from sensor
@@ -192,7 +186,7 @@ class GpsInsFilter(Filter):
             NED velocity of the IMU, m/s.
         llh : (3,) array_like
             IMU [lat (rad), lon (rad), h (m)].
-        accel_bias, gyro_bias : (3,) array_like
+        acc_bias, gyro_bias : (3,) array_like
             Initial bias estimates, m/s^2 and rad/s.
         P : (15, 15) array_like, optional
             Error-state covariance (:data:`STATE_NAMES`); default: the parameters' initial sigmas
@@ -201,12 +195,12 @@ class GpsInsFilter(Filter):
         q = V.vector(q_nb, "q_nb", 4, self.dtype)
         v = V.vector(v_n, "v_n", 3, self.dtype)
         llh = V.vector(llh, "llh", 3, np.float64)
-        ba = V.vector(accel_bias, "accel_bias", 3, self.dtype)
+        ba = V.vector(acc_bias, "acc_bias", 3, self.dtype)
         bg = V.vector(gyro_bias, "gyro_bias", 3, self.dtype)
         if P is None:
             p = self._f.params
             d = np.array([p.gps_pos_sigma_h, p.gps_pos_sigma_h, p.gps_pos_sigma_v] + [p.init_vel_sigma] * 3
-                         + [p.init_level_sigma] * 2 + [p.init_yaw_sigma] + [p.init_accel_bias_sigma] * 3
+                         + [p.init_level_sigma] * 2 + [p.init_yaw_sigma] + [p.init_acc_bias_sigma] * 3
                          + [p.init_gyro_bias_sigma] * 3)
             P = np.diag(d ** 2)
         P = np.asarray(V._numeric(P, "P"), dtype=self.dtype)
@@ -375,4 +369,4 @@ class GpsInsFilter(Filter):
                                         d["compass_status"])
         return GpsInsResult("GpsInsFilter", t, d["q_nb"], d["gyro_bias"], d["sigma"], flags, aids=aids,
                             skipped_rows=skipped, sigma_names=STATE_NAMES, velocity=d["v_n"],
-                            acc_bias=d["accel_bias"], position=d["llh"], counters=self.counters)
+                            acc_bias=d["acc_bias"], position=d["llh"], counters=self.counters)

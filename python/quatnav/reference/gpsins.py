@@ -11,57 +11,36 @@ truth, attitude error the phi-angle ``C_nb_est = (I + [psi x]) C_nb``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
+from types import SimpleNamespace
 
 import numpy as np
 
 from ..core import earth
 from ..core import quaternion as Q
 from ..core.strapdown import StrapdownState, strapdown_step
-from ..filters.tables import FLAGS
+from ..filters.tables import FLAGS, GPSINS_PARAMS
 from .kalman import kalman_correct
 
-__all__ = ["GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING"]
+__all__ = ["DEFAULTS", "GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING"]
 
 ALIGNING, LEVELLED, NAVIGATING = 0, 1, 2
 KINDS = ("gps_pos", "gps_vel", "baro", "baro_vd", "compass")
 
 
-@dataclass
-class GpsInsParams:
-    """Parameters; the same names, units and defaults as ``quatnav::GpsInsParams``."""
+#: The parameters of the C++ filter with its defaults (the one table, quatnav.filters.tables).
+DEFAULTS = {p.name: p.default for p in GPSINS_PARAMS if p.core_name is not None}
 
-    gyro_noise: float = 8.7e-4
-    accel_noise: float = 2.0e-3
-    gyro_bias_rw: float = 1.0e-5
-    accel_bias_rw: float = 1.0e-4
-    gyro_bias_tau: float = 0.0
-    accel_bias_tau: float = 0.0
-    init_gyro_bias_sigma: float = 5.0e-3
-    init_accel_bias_sigma: float = 0.1
-    init_level_sigma: float = 0.035
-    init_yaw_sigma: float = 0.175
-    init_vel_sigma: float = 0.5
-    gps_pos_sigma_h: float = 2.5
-    gps_pos_sigma_v: float = 5.0
-    gps_vel_sigma: float = 0.1
-    lever_arm_b: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    baro_sigma: float = 0.5
-    baro_rate_baseline: float = 1.0
-    baro_vd_sigma: float = 0.1
-    baro_offset_fixes: float = 100.0
-    compass_sigma: float = 0.035
-    declination: float = 0.0
-    gate_gps_pos: float = 21.108
-    gate_gps_vel: float = 21.108
-    gate_baro: float = 15.137
-    gate_compass: float = 15.137
-    gps_reset_after: float = 5.0
-    align_time: float = 2.0
-    min_speed_for_heading: float = 1.0
-    heading_from_gps: bool = True
-    earth_rotation: bool = True
-    max_dt: float = 1.0
+
+def GpsInsParams(**params) -> SimpleNamespace:
+    """The parameters: the names, units and defaults of ``quatnav::GpsInsParams`` (the table
+    :data:`quatnav.filters.tables.GPSINS_PARAMS`); an unknown name is a TypeError."""
+    unknown = sorted(set(params) - set(DEFAULTS))
+    if unknown:
+        raise TypeError(f"GpsInsFilter: unknown parameter {unknown[0]!r}; known: {', '.join(DEFAULTS)}")
+    p = SimpleNamespace(**{**DEFAULTS, **params})
+    p.lever_arm_b = np.asarray(p.lever_arm_b, float).reshape(3)
+    return p
 
 
 def _radii(lat):
@@ -69,7 +48,7 @@ def _radii(lat):
     return float(np.asarray(r[0])), float(np.asarray(r[1]))
 
 
-def gpsins_F(nav: StrapdownState, f_b, p: GpsInsParams) -> np.ndarray:
+def gpsins_F(nav: StrapdownState, f_b, p) -> np.ndarray:
     """Continuous error dynamics F (15 x 15) at ``nav`` for the bias-corrected specific force."""
     F = np.zeros((15, 15))
     L, h = float(nav.lat), float(nav.h)
@@ -121,16 +100,16 @@ def gpsins_F(nav: StrapdownState, f_b, p: GpsInsParams) -> np.ndarray:
     F[6:9, 3:6] = Fpsi_v
     F[6:9, 6:9] = -Q.skew(w_in)
     F[6:9, 12:15] = -C
-    if p.accel_bias_tau > 0:
-        F[9:12, 9:12] = -np.eye(3) / p.accel_bias_tau
+    if p.acc_bias_tau > 0:
+        F[9:12, 9:12] = -np.eye(3) / p.acc_bias_tau
     if p.gyro_bias_tau > 0:
         F[12:15, 12:15] = -np.eye(3) / p.gyro_bias_tau
     return F
 
 
 def _qc_diag(p):
-    return np.concatenate([np.zeros(3), np.full(3, p.accel_noise ** 2), np.full(3, p.gyro_noise ** 2),
-                           np.full(3, p.accel_bias_rw ** 2), np.full(3, p.gyro_bias_rw ** 2)])
+    return np.concatenate([np.zeros(3), np.full(3, p.acc_noise ** 2), np.full(3, p.gyro_noise ** 2),
+                           np.full(3, p.acc_bias_noise ** 2), np.full(3, p.gyro_bias_noise ** 2)])
 
 
 def geodetic_diff(lat_a, lon_a, h_a, lat_b, lon_b, h_b):
@@ -153,8 +132,8 @@ def _from_euler(r, p, y):
 @dataclass
 class _State:
     nav: StrapdownState
-    b_a: np.ndarray
-    b_g: np.ndarray
+    acc_bias: np.ndarray
+    gyro_bias: np.ndarray
     P: np.ndarray
     t: float = 0.0
     omega_b: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -173,13 +152,11 @@ class _State:
     baro_offset_n: float = 0.0
     gps_pos_reject_run: int = 0
     gps_vel_reject_run: int = 0
-    counters: dict = field(default_factory=lambda: {k: ({"accepted": 0, "rejected": 0, "skipped": 0, "resets": 0}
-                                                        if k in ("gps_pos", "gps_vel") else
-                                                        {"accepted": 0, "rejected": 0, "skipped": 0})
+    counters: dict = field(default_factory=lambda: {k: {"accepted": 0, "rejected": 0, "skipped": 0, "resets": 0}
                                                     for k in KINDS})
 
     def copy(self):
-        return replace(self, nav=self.nav.copy(), b_a=self.b_a.copy(), b_g=self.b_g.copy(),
+        return replace(self, nav=self.nav.copy(), acc_bias=self.acc_bias.copy(), gyro_bias=self.gyro_bias.copy(),
                        P=self.P.copy(), omega_b=self.omega_b.copy(), f_b=self.f_b.copy(),
                        align_sum=self.align_sum.copy(),
                        counters={k: dict(v) for k, v in self.counters.items()})
@@ -188,7 +165,7 @@ class _State:
 def _new_state():
     return _State(nav=StrapdownState(q_nb=np.array([1.0, 0, 0, 0]), v_n=np.zeros(3), lat=0.0,
                                      lon=0.0, h=0.0),
-                  b_a=np.zeros(3), b_g=np.zeros(3), P=np.zeros((15, 15)))
+                  acc_bias=np.zeros(3), gyro_bias=np.zeros(3), P=np.zeros((15, 15)))
 
 
 @dataclass
@@ -214,7 +191,6 @@ class GpsInsFilter:
 
     def __init__(self, **params):
         self.p = GpsInsParams(**params)
-        self.p.lever_arm_b = np.asarray(self.p.lever_arm_b, float).reshape(3)
         self.s = _new_state()
 
     # --- accessors ------------------------------------------------------------------------
@@ -239,12 +215,12 @@ class GpsInsFilter:
         return np.array([self.s.nav.lat, self.s.nav.lon, self.s.nav.h])
 
     @property
-    def accel_bias(self):
-        return self.s.b_a.copy()
+    def acc_bias(self):
+        return self.s.acc_bias.copy()
 
     @property
     def gyro_bias(self):
-        return self.s.b_g.copy()
+        return self.s.gyro_bias.copy()
 
     @property
     def covariance(self):
@@ -261,16 +237,16 @@ class GpsInsFilter:
         p = self.p
         d = np.concatenate([np.asarray(pos_sigma, float), np.full(3, vel_sigma),
                             [p.init_level_sigma, p.init_level_sigma, p.init_yaw_sigma],
-                            np.full(3, p.init_accel_bias_sigma), np.full(3, p.init_gyro_bias_sigma)])
+                            np.full(3, p.init_acc_bias_sigma), np.full(3, p.init_gyro_bias_sigma)])
         return np.diag(d ** 2)
 
-    def reset(self, q_nb, v_n, lat, lon, h, accel_bias, gyro_bias, P):
+    def reset(self, q_nb, v_n, lat, lon, h, acc_bias, gyro_bias, P):
         s = self.s.copy()
         q = np.asarray(q_nb, float)
         s.nav = StrapdownState(q_nb=q / np.linalg.norm(q), v_n=np.asarray(v_n, float).copy(),
                                lat=float(lat), lon=float(lon), h=float(h))
-        s.b_a = np.asarray(accel_bias, float).copy()
-        s.b_g = np.asarray(gyro_bias, float).copy()
+        s.acc_bias = np.asarray(acc_bias, float).copy()
+        s.gyro_bias = np.asarray(gyro_bias, float).copy()
         s.P = np.asarray(P, float).copy()
         s.phase = NAVIGATING
         s.heading_known = True
@@ -288,8 +264,8 @@ class GpsInsFilter:
         if not (np.all(np.isfinite(w_m)) and np.all(np.isfinite(f_m))):
             return "non_finite"
         s = self.s.copy()
-        w = w_m - s.b_g
-        f = f_m - s.b_a
+        w = w_m - s.gyro_bias
+        f = f_m - s.acc_bias
         if s.phase == ALIGNING:
             s.align_sum = s.align_sum + f_m * dt
             s.align_time += dt
@@ -319,10 +295,10 @@ class GpsInsFilter:
             Qd = 0.5 * dt * (Phi * qc) @ Phi.T + np.diag(0.5 * dt * qc)
             P = Phi @ s.P @ Phi.T + Qd
             P = 0.5 * (P + P.T)
-            if p.accel_bias_tau > 0:
-                s.b_a = s.b_a * math.exp(-dt / p.accel_bias_tau)
+            if p.acc_bias_tau > 0:
+                s.acc_bias = s.acc_bias * math.exp(-dt / p.acc_bias_tau)
             if p.gyro_bias_tau > 0:
-                s.b_g = s.b_g * math.exp(-dt / p.gyro_bias_tau)
+                s.gyro_bias = s.gyro_bias * math.exp(-dt / p.gyro_bias_tau)
             s.P = P
         s.omega_b = w
         s.f_b = f
@@ -353,8 +329,8 @@ class GpsInsFilter:
         s.nav.v_n = s.nav.v_n - dx[3:6]
         q = Q.mul(Q.from_rotvec(-dx[6:9]), s.nav.q_nb)
         s.nav.q_nb = q / np.linalg.norm(q)
-        s.b_a = s.b_a - dx[9:12]
-        s.b_g = s.b_g - dx[12:15]
+        s.acc_bias = s.acc_bias - dx[9:12]
+        s.gyro_bias = s.gyro_bias - dx[12:15]
 
     def _pos_sigma(self, sigma):
         s = np.asarray(sigma, float)
@@ -561,7 +537,7 @@ class GpsInsFilter:
         gps_pos_sigma = nan3 if gps_pos_sigma is None else np.asarray(gps_pos_sigma, float)
         gps_vel_sigma = nan3 if gps_vel_sigma is None else np.asarray(gps_vel_sigma, float)
         out = {"llh": np.full((n, 3), np.nan), "v_n": np.full((n, 3), np.nan),
-               "q_nb": np.full((n, 4), np.nan), "accel_bias": np.zeros((n, 3)),
+               "q_nb": np.full((n, 4), np.nan), "acc_bias": np.zeros((n, 3)),
                "gyro_bias": np.zeros((n, 3)), "sigma": np.full((n, 15), np.nan),
                "flags": np.zeros(n, np.uint32),
                "gps_innov": np.full((ng, 6), np.nan), "gps_nis": np.full((ng, 2), np.nan),
@@ -615,8 +591,8 @@ class GpsInsFilter:
                 out["sigma"][k] = np.sqrt(np.maximum(np.diag(self.s.P), 0.0))
             if self.s.phase != ALIGNING:
                 out["q_nb"][k] = self.q_nb
-            out["accel_bias"][k] = self.s.b_a
-            out["gyro_bias"][k] = self.s.b_g
+            out["acc_bias"][k] = self.s.acc_bias
+            out["gyro_bias"][k] = self.s.gyro_bias
             out["flags"][k] = (FLAGS[("aligning", "levelled", "navigating")[self.s.phase]]
                                | (FLAGS["initialized"] if (not was_nav and self.navigating) else 0))
         return out

@@ -145,9 +145,9 @@ TEST(GpsInsRobust, BadInputRefusedStateKept) {
 template <class S> double gpsins_near_singular(S floor, int steps) {
   GpsInsParams<S> p;
   p.gyro_noise = S(1e-6);
-  p.accel_noise = S(1e-6);
-  p.gyro_bias_rw = S(1e-9);
-  p.accel_bias_rw = S(1e-9);
+  p.acc_noise = S(1e-6);
+  p.gyro_bias_noise = S(1e-9);
+  p.acc_bias_noise = S(1e-9);
   p.baro_sigma = S(1e-3);
   p.compass_sigma = S(1e-5);
   p.gate_gps_pos = p.gate_gps_vel = p.gate_baro = p.gate_compass = S(0);

@@ -87,87 +87,13 @@
 #include "../core/earth.hpp"
 #include "../core/kalman.hpp"
 #include "../core/quaternion.hpp"
-#include "strapdown.hpp"
 #include "../core/types.hpp"
+#include "gps_ins/aids.hpp"
+#include "gps_ins/model.hpp"
+#include "gps_ins/params.hpp"
+#include "strapdown.hpp"
 
 namespace quatnav {
-
-/// Parameters (units beside each field; defaults fit a MEMS IMU and a standalone GPS).
-template <class S> struct GpsInsParams {
-  S gyro_noise = S(8.7e-4);          ///< gyro white noise density (rad/s/sqrt(Hz)); 0.05 deg/s/sqrt(Hz)
-  S accel_noise = S(2.0e-3);         ///< accelerometer white noise density (m/s^2/sqrt(Hz))
-  S gyro_bias_rw = S(1.0e-5);        ///< gyro bias driving noise (rad/s/sqrt(s))
-  S accel_bias_rw = S(1.0e-4);       ///< accelerometer bias driving noise (m/s^2/sqrt(s))
-  S gyro_bias_tau = S(0);            ///< gyro bias correlation time (s); <= 0: random walk
-  S accel_bias_tau = S(0);           ///< accelerometer bias correlation time (s); <= 0: random walk
-  S init_gyro_bias_sigma = S(5.0e-3);   ///< initial gyro bias one-sigma (rad/s)
-  S init_accel_bias_sigma = S(0.1);     ///< initial accelerometer bias one-sigma (m/s^2)
-  S init_level_sigma = S(0.035);     ///< initial roll/pitch one-sigma (rad)
-  S init_yaw_sigma = S(0.175);       ///< initial yaw one-sigma (rad)
-  S init_vel_sigma = S(0.5);         ///< initial velocity one-sigma (m/s)
-  S gps_pos_sigma_h = S(2.5);        ///< GPS horizontal position one-sigma (m), when a fix gives none
-  S gps_pos_sigma_v = S(5.0);        ///< GPS vertical position one-sigma (m), when a fix gives none
-  S gps_vel_sigma = S(0.1);          ///< GPS velocity one-sigma per axis (m/s), when a fix gives none
-  Vec3<S> lever_arm_b = Vec3<S>::Zero();  ///< GPS antenna position in the body frame from the IMU (m)
-  S baro_sigma = S(0.5);             ///< altimeter height one-sigma (m)
-  S baro_rate_baseline = S(1.0);     ///< baseline of the altimeter derivative (s); <= 0: no v_D update
-  S baro_vd_sigma = S(0.1);          ///< extra one-sigma of the altimeter vertical velocity (m/s)
-  S baro_offset_fixes = S(100);      ///< GPS fixes averaged into the altimeter offset (window); 0: fixed at start
-  S compass_sigma = S(0.035);        ///< compass heading one-sigma (rad)
-  S declination = S(0);              ///< magnetic declination added to the compass (rad)
-  S gate_gps_pos = S(21.108);        ///< chi-square gate, 3 dof (0.9999); 0: off
-  S gate_gps_vel = S(21.108);        ///< chi-square gate, 3 dof (0.9999); 0: off
-  S gate_baro = S(15.137);           ///< chi-square gate, 1 dof (0.9999); 0: off
-  S gate_compass = S(15.137);        ///< chi-square gate, 1 dof (0.9999); 0: off
-  S gps_reset_after = S(5);          ///< consecutive gate-rejected GPS positions (velocities) after which
-                                     ///< the next rejected one resets position (velocity) to it; 0: never
-  S align_time = S(2.0);             ///< accelerometer averaging at rest before levelling (s)
-  S min_speed_for_heading = S(1.0);  ///< GPS speed above which its course gives the heading (m/s)
-  bool heading_from_gps = true;      ///< take the heading from GPS course when no compass has come
-  bool earth_rotation = true;        ///< Earth rate, Coriolis and transport terms
-  S max_dt = S(1.0);                 ///< longest accepted IMU interval (s)
-  S gyro_range = S(0);               ///< gyro range per axis; |w_i| >= it is Saturated (rad/s); 0: unlimited
-  S acc_range = S(0);                ///< accelerometer range per axis; |f_i| >= it is Saturated (m/s^2); 0: unlimited
-  S cov_floor = S(0);                ///< eigenvalue floor of P (covariance.hpp), applied only when P is not
-                                     ///< positive definite above it (units of each state squared); 0: off
-};
-
-/// Alignment phase.
-enum class GpsInsPhase : std::uint8_t { Aligning = 0, Levelled = 1, Navigating = 2 };
-
-/// Counts of measurement outcomes (accepted, rejected by the gate, skipped as invalid).
-struct GpsInsCounters {
-  std::uint32_t accepted[5] = {0, 0, 0, 0, 0};  ///< gps_pos, gps_vel, baro, baro_vd, compass
-  std::uint32_t rejected[5] = {0, 0, 0, 0, 0};
-  std::uint32_t skipped[5] = {0, 0, 0, 0, 0};
-  std::uint32_t resets[2] = {0, 0};  ///< gate-lockout resets of gps_pos, gps_vel
-};
-
-/// Everything the filter holds (plain data; state()/set_state() round-trip exactly).
-template <class S> struct GpsInsState {
-  StrapdownState<S> nav;                 ///< nominal navigation state
-  Vec3<S> b_a = Vec3<S>::Zero();         ///< accelerometer bias estimate (m/s^2)
-  Vec3<S> b_g = Vec3<S>::Zero();         ///< gyro bias estimate (rad/s)
-  Mat<S, 15, 15> P = Mat<S, 15, 15>::Zero();  ///< error-state covariance
-  double t = 0.0;                        ///< filter time: sum of the accepted IMU intervals (s)
-  Vec3<S> omega_b = Vec3<S>::Zero();     ///< last bias-corrected body rate (rad/s)
-  Vec3<S> f_b = Vec3<S>::Zero();         ///< last bias-corrected specific force (m/s^2)
-  GpsInsPhase phase = GpsInsPhase::Aligning;
-  Vec3<double> align_sum = Vec3<double>::Zero();  ///< sum of f_ib_b * dt while aligning
-  double align_time = 0.0;               ///< time accumulated while aligning (s)
-  bool heading_known = false;            ///< Levelled: the yaw has been set
-  bool baro_offset_valid = false;
-  double baro_offset = 0.0;              ///< added to the altimeter height (m)
-  double baro_last = 0.0;                ///< latest altimeter height seen before navigation (m)
-  bool baro_last_valid = false;
-  bool baro_ref_valid = false;
-  double baro_ref_h = 0.0;               ///< start of the current derivative baseline (m)
-  double baro_ref_t = 0.0;               ///< its time (s)
-  double baro_offset_n = 0.0;            ///< fixes averaged into baro_offset so far
-  std::uint32_t gps_pos_reject_run = 0;  ///< consecutive gate rejections of GPS position
-  std::uint32_t gps_vel_reject_run = 0;  ///< consecutive gate rejections of GPS velocity
-  GpsInsCounters counters;
-};
 
 /// Outcome of an altimeter sample: its height update and (when a baseline was complete) its
 /// vertical-velocity update (status NotInitialized when none was made).
@@ -182,130 +108,6 @@ template <class S> struct GpsResult {
   UpdateResult<S, 3> vel;
 };
 
-namespace detail {
-
-template <class S> using Mat15 = Mat<S, 15, 15>;
-
-/// Largest |latitude| (rad) the filter navigates at: the Earth model divides by cos(lat) (about
-/// 10 m from the pole). A state, fix or correction beyond it is refused.
-constexpr double kGpsInsMaxAbsLat = 1.5707;
-
-/// The nominal navigation state and the biases as the filter keeps them: finite, |q| = 1 to
-/// rounding (a quaternion whose norm overflowed normalizes to zero, which this refuses) and the
-/// latitude off the poles. Checked on every candidate state before it is committed.
-template <class S> bool gpsins_nav_ok(const GpsInsState<S>& s) {
-  return s.nav.q_nb.allFinite() && s.nav.v_n.allFinite() && std::isfinite(s.nav.lat) && std::isfinite(s.nav.lon) &&
-         std::isfinite(s.nav.h) && std::abs(s.nav.lat) < kGpsInsMaxAbsLat && s.b_a.allFinite() &&
-         s.b_g.allFinite() && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3);
-}
-
-/// Continuous-time error dynamics matrix F (15 x 15) at a nominal state, for the bias-corrected
-/// specific force f_b (m/s^2). Block layout and equations: see the file comment.
-template <class S>
-Mat15<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
-  using std::cos;
-  using std::sin;
-  using std::tan;
-  Mat15<S> F = Mat15<S>::Zero();
-  const double L = nav.lat, h = nav.h;
-  const earth::Radii<double> r = earth::radii<double>(L);
-  const double Rm = r.R_M + h, Rn = r.R_N + h;
-  const Vec3<double> v = nav.v_n.template cast<double>();
-  const double tL = tan(L), sL = sin(L), cL = cos(L);
-  const Mat3<S> C = quat::to_rotmat(nav.q_nb);
-  const Vec3<S> f_n = C * f_b;
-
-  // eq. (9): position error (m) from the exact linearization of the geodetic rates.
-  Mat3<double> Fpp = Mat3<double>::Zero();
-  Fpp(0, 0) = -v[2] / Rm;
-  Fpp(0, 2) = v[0] / Rm;
-  Fpp(1, 0) = v[1] * tL / Rm;
-  Fpp(1, 1) = -v[2] / Rn - v[0] * tL / Rm;
-  Fpp(1, 2) = v[1] / Rn;
-  F.template block<3, 3>(0, 0) = Fpp.template cast<S>();
-  F.template block<3, 3>(0, 3).setIdentity();
-
-  // Gravity error: dg_D = dg/dh dh + dg/dL dL with dh = -dp_D, dL = dp_N / Rm.
-  const double s2 = sL * sL;
-  const double dg_dh = earth::kG2 + earth::kG3 * s2;
-  const double dg_dL = (earth::kG1 + earth::kG3 * h) * 2.0 * sL * cL;
-  Mat3<double> Fvp = Mat3<double>::Zero();
-  Fvp(2, 2) = -dg_dh;
-  Fvp(2, 0) = dg_dL / Rm;
-
-  Mat3<double> Fvv = Mat3<double>::Zero();
-  Mat3<double> Fpsi_p = Mat3<double>::Zero();
-  Mat3<double> Fpsi_v = Mat3<double>::Zero();
-  Vec3<double> w_in = Vec3<double>::Zero();
-  if (p.earth_rotation) {
-    const Vec3<double> w_ie = earth::earth_rate_n<double>(L);
-    const Vec3<double> w_en = earth::transport_rate_n<double>(L, h, v);
-    w_in = w_ie + w_en;
-    // d w_en / d v
-    Mat3<double> Wv = Mat3<double>::Zero();
-    Wv(0, 1) = 1.0 / Rn;
-    Wv(1, 0) = -1.0 / Rm;
-    Wv(2, 1) = -tL / Rn;
-    // d w_ie / d p and d w_en / d p (columns N and D; radii taken constant in latitude)
-    Mat3<double> Wie_p = Mat3<double>::Zero();
-    Wie_p(0, 0) = -earth::kOmegaIe * sL / Rm;
-    Wie_p(2, 0) = -earth::kOmegaIe * cL / Rm;
-    Mat3<double> Wen_p = Mat3<double>::Zero();
-    Wen_p(2, 0) = -v[1] / (Rn * cL * cL * Rm);
-    Wen_p(0, 2) = v[1] / (Rn * Rn);
-    Wen_p(1, 2) = -v[0] / (Rm * Rm);
-    Wen_p(2, 2) = -v[1] * tL / (Rn * Rn);
-    const Mat3<double> Vx = quat::skew<double>(v);
-    // eq. (8): Coriolis and transport terms.
-    Fvv = -quat::skew<double>(2.0 * w_ie + w_en) + Vx * Wv;
-    Fvp += Vx * (2.0 * Wie_p + Wen_p);
-    // eq. (10) (corrected): -[w_in x] psi - dw_in.
-    Fpsi_v = -Wv;
-    Fpsi_p = -(Wie_p + Wen_p);
-  }
-  F.template block<3, 3>(3, 0) = Fvp.template cast<S>();
-  F.template block<3, 3>(3, 3) = Fvv.template cast<S>();
-  F.template block<3, 3>(3, 6) = -quat::skew<S>(f_n);
-  F.template block<3, 3>(3, 9) = -C;
-  F.template block<3, 3>(6, 0) = Fpsi_p.template cast<S>();
-  F.template block<3, 3>(6, 3) = Fpsi_v.template cast<S>();
-  F.template block<3, 3>(6, 6) = -quat::skew<S>(w_in.template cast<S>());
-  F.template block<3, 3>(6, 12) = -C;
-  if (p.accel_bias_tau > S(0)) F.template block<3, 3>(9, 9) = -Mat3<S>::Identity() / p.accel_bias_tau;
-  if (p.gyro_bias_tau > S(0)) F.template block<3, 3>(12, 12) = -Mat3<S>::Identity() / p.gyro_bias_tau;
-  return F;
-}
-
-/// Continuous process noise spectral density Qc (diagonal, 15 x 15).
-template <class S> Vec<S, 15> gpsins_Qc_diag(const GpsInsParams<S>& p) {
-  Vec<S, 15> q = Vec<S, 15>::Zero();
-  q.template segment<3>(3).setConstant(p.accel_noise * p.accel_noise);
-  q.template segment<3>(6).setConstant(p.gyro_noise * p.gyro_noise);
-  q.template segment<3>(9).setConstant(p.accel_bias_rw * p.accel_bias_rw);
-  q.template segment<3>(12).setConstant(p.gyro_bias_rw * p.gyro_bias_rw);
-  return q;
-}
-
-/// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).
-template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, 15>& dx) {
-  const Vec3<double> dp = dx.template segment<3>(0).template cast<double>();
-  earth::geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, Vec3<double>(-dp));
-  s.nav.v_n -= dx.template segment<3>(3);
-  Quat<S> q = quat::mul(quat::from_rotvec(Vec3<S>(-dx.template segment<3>(6))), s.nav.q_nb);
-  s.nav.q_nb = q / q.norm();
-  s.b_a -= dx.template segment<3>(9);
-  s.b_g -= dx.template segment<3>(12);
-}
-
-/// Yaw-error row of the compass: d yaw / d psi = [tan(theta) cos(yaw), tan(theta) sin(yaw), 1].
-template <class S> Vec3<S> compass_row(const Quat<S>& q_nb) {
-  const Vec3<S> e = quat::to_euler(q_nb);
-  const S tp = std::tan(e[1]);
-  return Vec3<S>(tp * std::cos(e[2]), tp * std::sin(e[2]), S(1));
-}
-
-}  // namespace detail
-
 /// The 15-state feedback GPS/INS filter.
 template <class S_> class GpsInsFilter {
  public:
@@ -316,7 +118,6 @@ template <class S_> class GpsInsFilter {
   using Mat15 = Mat<S, 15, 15>;
   using Vec15 = Vec<S, 15>;
   static constexpr int kStates = 15;
-  enum Kind { kGpsPos = 0, kGpsVel = 1, kBaro = 2, kBaroVd = 3, kCompass = 4 };
 
   explicit GpsInsFilter(const Params& params = Params()) : p_(params) {}
 
@@ -347,8 +148,8 @@ template <class S_> class GpsInsFilter {
   Vec3<S> euler() const { return quat::to_euler(s_.nav.q_nb); }
   const Vec3<S>& v_n() const { return s_.nav.v_n; }
   Vec3<double> llh() const { return Vec3<double>(s_.nav.lat, s_.nav.lon, s_.nav.h); }
-  const Vec3<S>& accel_bias() const { return s_.b_a; }
-  const Vec3<S>& gyro_bias() const { return s_.b_g; }
+  const Vec3<S>& acc_bias() const { return s_.acc_bias; }
+  const Vec3<S>& gyro_bias() const { return s_.gyro_bias; }
   const Mat15& covariance() const { return s_.P; }
   double time() const { return s_.t; }
 
@@ -357,9 +158,9 @@ template <class S_> class GpsInsFilter {
   /// sensor readings, reset() from a state). InvalidArgument when anything is non-finite or P is
   /// not symmetric.
   Status reset(const Quat<S>& q_nb, const Vec3<S>& v_n, double lat, double lon, double h,
-                    const Vec3<S>& b_a, const Vec3<S>& b_g, const Mat15& P) {
+                    const Vec3<S>& acc_bias, const Vec3<S>& gyro_bias, const Mat15& P) {
     if (!q_nb.allFinite() || !v_n.allFinite() || !std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) ||
-        !b_a.allFinite() || !b_g.allFinite() || !P.allFinite() || !(q_nb.norm() > S(0.5)))
+        !acc_bias.allFinite() || !gyro_bias.allFinite() || !P.allFinite() || !(q_nb.norm() > S(0.5)))
       return Status::InvalidArgument;
     if (!((P - P.transpose()).cwiseAbs().maxCoeff() <= S(1e-6) * (S(1) + P.cwiseAbs().maxCoeff())))
       return Status::InvalidArgument;
@@ -375,8 +176,8 @@ template <class S_> class GpsInsFilter {
     s.nav.lat = lat;
     s.nav.lon = lon;
     s.nav.h = h;
-    s.b_a = b_a;
-    s.b_g = b_g;
+    s.acc_bias = acc_bias;
+    s.gyro_bias = gyro_bias;
     s.P = Ps;
     s.phase = GpsInsPhase::Navigating;
     s.heading_known = true;
@@ -390,7 +191,7 @@ template <class S_> class GpsInsFilter {
   Mat15 initial_covariance(const Vec3<S>& pos_sigma, S vel_sigma) const {
     Vec15 d;
     d << pos_sigma, Vec3<S>::Constant(vel_sigma), p_.init_level_sigma, p_.init_level_sigma, p_.init_yaw_sigma,
-        Vec3<S>::Constant(p_.init_accel_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma);
+        Vec3<S>::Constant(p_.init_acc_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma);
     return d.cwiseAbs2().asDiagonal();
   }
 
@@ -403,8 +204,8 @@ template <class S_> class GpsInsFilter {
     if (detail::saturated(omega_ib_b, p_.gyro_range) || detail::saturated(f_ib_b, p_.acc_range))
       return Status::Saturated;
     State s = s_;
-    const Vec3<S> w = omega_ib_b - s.b_g;
-    const Vec3<S> f = f_ib_b - s.b_a;
+    const Vec3<S> w = omega_ib_b - s.gyro_bias;
+    const Vec3<S> f = f_ib_b - s.acc_bias;
     if (s.phase == GpsInsPhase::Aligning) {
       s.align_sum += f_ib_b.template cast<double>() * double(dt);
       s.align_time += double(dt);
@@ -443,8 +244,8 @@ template <class S_> class GpsInsFilter {
       Qd.diagonal() += S(0.5) * dt * qc;
       Mat15 P = fixed_mul(fixed_mul(Phi, s.P), Phi.transpose()) + Qd;
       symmetrize(P);
-      if (p_.accel_bias_tau > S(0)) s.b_a *= std::exp(-dt / p_.accel_bias_tau);
-      if (p_.gyro_bias_tau > S(0)) s.b_g *= std::exp(-dt / p_.gyro_bias_tau);
+      if (p_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / p_.acc_bias_tau);
+      if (p_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / p_.gyro_bias_tau);
       if (!P.allFinite()) return Status::NumericalFailure;
       floor_covariance<S, 15>(P, p_.cov_floor);
       s.P = P;
@@ -465,12 +266,12 @@ template <class S_> class GpsInsFilter {
     UpdateResult<S, 3> res;
     if (!std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) || std::abs(lat) > 1.5707963267948966) {
       res.status = Status::NonFinite;
-      return count(kGpsPos, res);
+      return count(GpsInsAid::GpsPos, res);
     }
     const Vec3<S> sig = gps_pos_sigma(sigma);
     if (!(sig.minCoeff() > S(0)) || !sig.allFinite()) {
       res.status = Status::InvalidArgument;
-      return count(kGpsPos, res);
+      return count(GpsInsAid::GpsPos, res);
     }
     if (s_.phase == GpsInsPhase::Aligning) {
       res.status = Status::NotInitialized;
@@ -485,18 +286,10 @@ template <class S_> class GpsInsFilter {
       return res;
     }
     const State saved = s_;  // the offset tracking below is undone if the update fails
-    const Mat3<S> C = quat::to_rotmat(s_.nav.q_nb);
-    const Vec3<S> l_n = C * p_.lever_arm_b;
+    const Vec3<S> l_n = quat::to_rotmat(s_.nav.q_nb) * p_.lever_arm_b;
     track_baro_offset(h + double(l_n[2]));  // IMU height from the antenna fix
-    // INS antenna position minus the fix, in NED metres about the fix.
-    double la = s_.nav.lat, lo = s_.nav.lon, hh = s_.nav.h;
-    earth::geodetic_add(la, lo, hh, l_n.template cast<double>());
-    const Vec3<S> y = earth::geodetic_diff<S>(la, lo, hh, lat, lon, h);
-    Mat<S, 3, 15> H = Mat<S, 3, 15>::Zero();
-    H.template block<3, 3>(0, 0).setIdentity();
-    H.template block<3, 3>(0, 6) = -quat::skew<S>(l_n);
     const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
-    const UpdateResult<S, 3> r = correct<3>(kGpsPos, H, R, y, p_.gate_gps_pos);
+    const UpdateResult<S, 3> r = apply(gpsins_aid::GpsPosition<S>{lat, lon, h, sig});
     if (r.status != Status::Ok && r.status != Status::Rejected) restore(saved);
     if (lockout(r.status, s_.gps_pos_reject_run)) {
       // Gate lockout: the IMU position from the fix, its covariance block from the fix's (not
@@ -509,7 +302,7 @@ template <class S_> class GpsInsFilter {
       reset_block(s.P, 0, R);
       if (detail::gpsins_nav_ok(s)) {
         s_ = s;
-        ++s_.counters.resets[0];
+        ++s_.counters.resets[std::size_t(GpsInsAid::GpsPos)];
       }
     }
     return r;
@@ -521,12 +314,12 @@ template <class S_> class GpsInsFilter {
     UpdateResult<S, 3> res;
     if (!v_n.allFinite()) {
       res.status = Status::NonFinite;
-      return count(kGpsVel, res);
+      return count(GpsInsAid::GpsVel, res);
     }
     const Vec3<S> sig = gps_vel_sigma(sigma);
     if (!(sig.minCoeff() > S(0)) || !sig.allFinite()) {
       res.status = Status::InvalidArgument;
-      return count(kGpsVel, res);
+      return count(GpsInsAid::GpsVel, res);
     }
     if (s_.phase != GpsInsPhase::Navigating) {
       res.status = Status::NotInitialized;
@@ -538,20 +331,15 @@ template <class S_> class GpsInsFilter {
     }
     const Mat3<S> C = quat::to_rotmat(s_.nav.q_nb);
     const Vec3<S> wl = s_.omega_b.cross(p_.lever_arm_b);
-    const Vec3<S> y = s_.nav.v_n + C * wl - v_n;
-    Mat<S, 3, 15> H = Mat<S, 3, 15>::Zero();
-    H.template block<3, 3>(0, 3).setIdentity();
-    H.template block<3, 3>(0, 6) = -quat::skew<S>(Vec3<S>(C * wl));
-    H.template block<3, 3>(0, 12) = C * quat::skew<S>(p_.lever_arm_b);
     const Mat3<S> R = sig.cwiseAbs2().asDiagonal();
-    const UpdateResult<S, 3> r = correct<3>(kGpsVel, H, R, y, p_.gate_gps_vel);
+    const UpdateResult<S, 3> r = apply(gpsins_aid::GpsVelocity<S>{v_n, sig});
     if (lockout(r.status, s_.gps_vel_reject_run)) {
       State s = s_;
       s.nav.v_n = v_n - C * wl;  // gate lockout: the IMU velocity from the fix
       reset_block(s.P, 3, R);
       if (detail::gpsins_nav_ok(s)) {
         s_ = s;
-        ++s_.counters.resets[1];
+        ++s_.counters.resets[std::size_t(GpsInsAid::GpsVel)];
       }
     }
     return r;
@@ -580,7 +368,7 @@ template <class S_> class GpsInsFilter {
     BaroResult<S> r;
     if (!std::isfinite(h_baro)) {
       r.height.status = Status::NonFinite;
-      count(kBaro, r.height);
+      count(GpsInsAid::Baro, r.height);
       return r;
     }
     const State saved = s_;  // restored (but for the counters) when the height update fails
@@ -596,19 +384,10 @@ template <class S_> class GpsInsFilter {
       s_.baro_offset_valid = true;
       s_.baro_offset_n = 1.0;
     }
-    {
-      const S y = S(s_.nav.h - (h_baro + s_.baro_offset));
-      Mat<S, 1, 15> H = Mat<S, 1, 15>::Zero();
-      H(0, 2) = S(-1);
-      Mat<S, 1, 1> R;
-      // The offset's own uncertainty (a mean of n GPS heights) adds to the altimeter noise.
-      R(0, 0) = p_.baro_sigma * p_.baro_sigma +
-                p_.gps_pos_sigma_v * p_.gps_pos_sigma_v / S(s_.baro_offset_n > 1.0 ? s_.baro_offset_n : 1.0);
-      r.height = correct<1>(kBaro, H, R, Vec<S, 1>(y), p_.gate_baro);
-      if (r.height.status != Status::Ok && r.height.status != Status::Rejected) {
-        restore(saved);
-        return r;
-      }
+    r.height = apply(gpsins_aid::BaroHeight<S>{h_baro});
+    if (r.height.status != Status::Ok && r.height.status != Status::Rejected) {
+      restore(saved);
+      return r;
     }
     if (p_.baro_rate_baseline > S(0)) {
       if (!s_.baro_ref_valid) {
@@ -616,14 +395,7 @@ template <class S_> class GpsInsFilter {
         s_.baro_ref_h = h_baro;
         s_.baro_ref_t = s_.t;
       } else if (s_.t - s_.baro_ref_t >= double(p_.baro_rate_baseline)) {
-        const double T = s_.t - s_.baro_ref_t;
-        const S vd_baro = S(-(h_baro - s_.baro_ref_h) / T);
-        const S y = s_.nav.v_n[2] - vd_baro;
-        Mat<S, 1, 15> H = Mat<S, 1, 15>::Zero();
-        H(0, 5) = S(1);
-        Mat<S, 1, 1> R;
-        R(0, 0) = S(2) * p_.baro_sigma * p_.baro_sigma / S(T * T) + p_.baro_vd_sigma * p_.baro_vd_sigma;
-        r.vd = correct<1>(kBaroVd, H, R, Vec<S, 1>(y), p_.gate_baro);
+        r.vd = apply(gpsins_aid::BaroVerticalVelocity<S>{h_baro, s_.baro_ref_h, s_.t - s_.baro_ref_t});
         if (r.vd.status == Status::Ok || r.vd.status == Status::Rejected) {
           s_.baro_ref_h = h_baro;
           s_.baro_ref_t = s_.t;
@@ -639,7 +411,7 @@ template <class S_> class GpsInsFilter {
     UpdateResult<S, 1> res;
     if (!std::isfinite(heading)) {
       res.status = Status::NonFinite;
-      return count(kCompass, res);
+      return count(GpsInsAid::Compass, res);
     }
     if (s_.phase == GpsInsPhase::Aligning) {
       res.status = Status::NotInitialized;
@@ -651,13 +423,7 @@ template <class S_> class GpsInsFilter {
       res.status = Status::NotInitialized;
       return res;
     }
-    const Vec3<S> e = quat::to_euler(s_.nav.q_nb);
-    const S y = quat::wrap_pi(e[2] - yaw_meas);
-    Mat<S, 1, 15> H = Mat<S, 1, 15>::Zero();
-    H.template block<1, 3>(0, 6) = detail::compass_row(s_.nav.q_nb).transpose();
-    Mat<S, 1, 1> R;
-    R(0, 0) = p_.compass_sigma * p_.compass_sigma;
-    return correct<1>(kCompass, H, R, Vec<S, 1>(y), p_.gate_compass);
+    return apply(gpsins_aid::CompassHeading<S>{yaw_meas});
   }
 
  private:
@@ -743,7 +509,8 @@ template <class S_> class GpsInsFilter {
   }
 
   template <int M>
-  UpdateResult<S, M> count(Kind k, const UpdateResult<S, M>& r) {
+  UpdateResult<S, M> count(GpsInsAid kind, const UpdateResult<S, M>& r) {
+    const std::size_t k = std::size_t(kind);
     if (r.status == Status::Ok)
       ++s_.counters.accepted[k];
     else if (r.status == Status::Rejected)
@@ -753,14 +520,19 @@ template <class S_> class GpsInsFilter {
     return r;
   }
 
-  template <int M>
-  UpdateResult<S, M> correct(Kind k, const Mat<S, M, 15>& H, const Mat<S, M, M>& R, const Vec<S, M>& y, S gate) {
+  /// The one gated correction path of every aid (gpsins_aid pieces): the piece's innovation, H
+  /// and R at the current state, the chi-square gate, the Kalman correction (its H nonzero only
+  /// in the piece's columns), the injection into the nominal state and the counters.
+  template <class Aid> UpdateResult<S, Aid::M> apply(const Aid& aid) {
+    constexpr int M = Aid::M;
+    AidMeasurement<S, M> m;
+    aid.measure(s_, p_, m);
     UpdateResult<S, M> res;
     Mat15 P = s_.P;
     Vec15 dx = Vec15::Zero();
     // kalman_correct refuses an infinite NIS (a finite reading near the float maximum, a height
     // of 1e300 m) with NumericalFailure.
-    kalman_correct<S, 15, M>(P, H, R, y, dx, res, gate);
+    kalman_correct<S, 15, M>(P, m.H, m.R, m.y, dx, res, Aid::gate(p_));
     inject_and_commit(
         res, P,
         [&] {
@@ -779,7 +551,7 @@ template <class S_> class GpsInsFilter {
           s.P = Pc;
           s_ = s;
         });
-    return count(k, res);
+    return count(Aid::kind, res);
   }
 
   Params p_;
@@ -798,7 +570,7 @@ template <class S_> class GpsInsFilter {
 ///   gps_t (ng), gps_llh (ng x 3: lat, lon rad, h m; double), gps_vel (ng x 3, m/s or NaN),
 ///   gps_pos_sigma (ng x 3, m, NaN: parameters), gps_vel_sigma (ng x 3, m/s, NaN: parameters);
 ///   baro_t (nb), baro_h (nb, m); compass_t (nc), compass_yaw (nc, rad).
-/// Outputs (any may be null): llh (n x 3, double), v_n (n x 3), q_nb (n x 4), b_a, b_g (n x 3),
+/// Outputs (any may be null): llh (n x 3, double), v_n (n x 3), q_nb (n x 4), acc_bias, gyro_bias (n x 3),
 ///   sigma (n x 15), flags (n); gps_innov (ng x 6: position then velocity, INS minus GPS),
 ///   gps_nis (ng x 2), gps_status (ng x 2); baro_innov (nb x 2: height, v_D), baro_nis (nb x 2),
 ///   baro_status (nb x 2); compass_innov (nc), compass_nis (nc), compass_status (nc). Unused
@@ -823,8 +595,8 @@ template <class S> struct GpsInsBatchIo {
   double* llh = nullptr;
   S* v_n = nullptr;
   S* q_nb = nullptr;
-  S* b_a = nullptr;
-  S* b_g = nullptr;
+  S* acc_bias = nullptr;
+  S* gyro_bias = nullptr;
   S* sigma = nullptr;
   std::uint32_t* flags = nullptr;
   S* gps_innov = nullptr;
@@ -914,7 +686,8 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
       while (ig < io.ng && io.gps_t[ig] <= tk) {
         const double* llh = io.gps_llh + 3 * ig;
         GpsResult<S> r;
-        const std::uint32_t resets0 = f.state().counters.resets[0] + f.state().counters.resets[1];
+        const auto& resets = f.state().counters.resets;
+        const std::uint32_t resets0 = resets[0] + resets[1];
         r.pos.status = Status::NonFinite;
         if (!(std::isnan(llh[0]) && std::isnan(llh[1]) && std::isnan(llh[2]))) {
           const Vec3<S> vel = io.gps_vel ? Vec3<S>(Eigen::Map<const Vec3<S>>(io.gps_vel + 3 * ig))
@@ -926,7 +699,7 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
           r = f.update_gps(llh[0], llh[1], llh[2], vel, ps, vs);
           fl |= detail::gpsins_aid_flag(r.pos, gf::kGpsPosUsed, gf::kGpsPosRejected);
           fl |= detail::gpsins_aid_flag(r.vel, gf::kGpsVelUsed, gf::kGpsVelRejected);
-          if (f.state().counters.resets[0] + f.state().counters.resets[1] != resets0) fl |= gf::kGpsReset;
+          if (resets[0] + resets[1] != resets0) fl |= gf::kGpsReset;
         }
         const UpdateResult<S, 3>* rr[2] = {&r.pos, &r.vel};
         for (int c = 0; c < 2; ++c) {
@@ -953,8 +726,8 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
     if (io.v_n) Eigen::Map<Vec3<S>>(io.v_n + 3 * k) = nav ? f.v_n() : Vec3<S>::Constant(nan);
     if (io.q_nb)
       Eigen::Map<Vec4<S>>(io.q_nb + 4 * k) = f.levelled() ? f.q_nb() : Vec4<S>(Vec4<S>::Constant(nan));
-    if (io.b_a) Eigen::Map<Vec3<S>>(io.b_a + 3 * k) = f.accel_bias();
-    if (io.b_g) Eigen::Map<Vec3<S>>(io.b_g + 3 * k) = f.gyro_bias();
+    if (io.acc_bias) Eigen::Map<Vec3<S>>(io.acc_bias + 3 * k) = f.acc_bias();
+    if (io.gyro_bias) Eigen::Map<Vec3<S>>(io.gyro_bias + 3 * k) = f.gyro_bias();
     if (io.sigma)
       Eigen::Map<Vec<S, 15>>(io.sigma + 15 * k) =
           nav ? Vec<S, 15>(f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt()) : Vec<S, 15>::Constant(nan);

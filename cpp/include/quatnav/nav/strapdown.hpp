@@ -34,6 +34,7 @@
 #include <cstdint>
 
 #include "../core/earth.hpp"
+#include "../core/fields.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
 
@@ -45,15 +46,19 @@ struct StrapdownParams {
 };
 
 /// Navigation state of the strapdown mechanization (plain data: copy it out and back freely).
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_STRAPDOWN_STATE(X)                                                                    \
+  X(Quat<S>, q_nb, Quat<S>(S(1), S(0), S(0), S(0)), "1", "attitude q_nb [w, x, y, z], body to NED")     \
+  X(Vec3<S>, v_n, Vec3<S>::Zero(), "m/s", "velocity with respect to the Earth, NED")                    \
+  X(double, lat, 0.0, "rad", "geodetic latitude")                                                      \
+  X(double, lon, 0.0, "rad", "longitude")                                                              \
+  X(double, h, 0.0, "m", "height above the ellipsoid")                                                 \
+  X(Vec3<S>, dtheta_prev, Vec3<S>::Zero(), "rad", "previous angle increment (coning term)")             \
+  X(Vec3<S>, dv_prev, Vec3<S>::Zero(), "m/s", "previous velocity increment (sculling term)")             \
+  X(bool, has_prev, false, "-", "whether dtheta_prev and dv_prev hold a step")
+
 template <class S> struct StrapdownState {
-  Quat<S> q_nb = Quat<S>(S(1), S(0), S(0), S(0));  ///< attitude [w, x, y, z], body to NED
-  Vec3<S> v_n = Vec3<S>::Zero();                   ///< velocity w.r.t. the Earth in NED (m/s)
-  double lat = 0.0;                                 ///< geodetic latitude (rad)
-  double lon = 0.0;                                 ///< longitude (rad)
-  double h = 0.0;                                   ///< height above the ellipsoid (m)
-  Vec3<S> dtheta_prev = Vec3<S>::Zero();            ///< previous angle increment (rad)
-  Vec3<S> dv_prev = Vec3<S>::Zero();                ///< previous velocity increment (m/s)
-  bool has_prev = false;                            ///< whether the *_prev fields hold a step
+  QUATNAV_FIELDS(StrapdownState, QUATNAV_STRAPDOWN_STATE)
 };
 
 namespace detail {
