@@ -16,6 +16,7 @@
 #include "core/covariance.hpp"
 #include "core/unscented.hpp"
 #include "core/earth.hpp"
+#include "core/smoother.hpp"
 
 #include "attitude/attitude.hpp"
 #include "attitude/quaternion_ekf.hpp"
