@@ -2,7 +2,7 @@
 //
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
 //   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization and batch loop
-//   nav/       strapdown, NavFilter13, GpsInsFilter and their batch loops
+//   nav/       strapdown, NavFilter13, GpsInsFilter, their batch loops and smoothers
 // attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
 
@@ -28,3 +28,4 @@
 #include "nav/strapdown.hpp"
 #include "nav/nav_filter13.hpp"
 #include "nav/gps_ins.hpp"
+#include "nav/nav13_smoother.hpp"
