@@ -1,7 +1,7 @@
 // quatnav: every public header.
 //
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
-//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization and batch loop
+//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization, batch loop and smoothers
 //   nav/       strapdown, NavFilter13, GpsInsFilter, their batch loops and smoothers
 // attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
@@ -24,6 +24,7 @@
 #include "attitude/euler_ekf.hpp"
 #include "attitude/marg_filter.hpp"
 #include "attitude/batch.hpp"
+#include "attitude/smoother.hpp"
 
 #include "nav/strapdown.hpp"
 #include "nav/nav_filter13.hpp"
