@@ -85,8 +85,8 @@ pip_build() {
   hb=$!
   set +e
   "$PY" -m pip install -v "$@" 2>&1 | tee "$log" \
-    | awk '/^ *\[[0-9]+\/[0-9]+\] / {sub(/^ +/, "   "); print; fflush()}
-           /^ *(ERROR|error):|: error:|Successfully installed/ {print "   " $0; fflush()}'
+    | sed -u -n -E -e 's/^ *(\[[0-9]+\/[0-9]+\] )/   \1/p' \
+                   -e '/^ *(ERROR|error):|: error:|Successfully installed/ s/^/   /p'
   rc=${PIPESTATUS[0]}
   set -e
   kill "$hb" 2>/dev/null; wait "$hb" 2>/dev/null || true

@@ -2,7 +2,7 @@
 
 ::
 
-    quatnav ahrs run --log FILE [--format FMT] | --imu IMU.csv [--mag MAG.csv]
+    quatnav ahrs run --log FILE [--format FMT] [--topic KIND=TOPIC] | --imu IMU.csv [--mag MAG.csv]
                      [--filter qekf|euler-ekf|marg] [--declination DEG] [--rate HZ] [--no-mag]
                      --out OUT.csv|OUT.parquet [--plot FILE.png]
 
@@ -26,6 +26,8 @@ inputs: --log FILE is any format quatnav.io.read knows (RTKLIB .pos, PX4 .ulg, R
   with time, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s^2), body
   forward-right-down (optional mag_x, mag_y, mag_z); --mag MAG.csv a CSV with time, mag_x, mag_y,
   mag_z (any unit, body frame).
+--topic KIND=TOPIC (repeat): the topic of a stream instead of the first of its type: imu, mag in
+  a ROS bag (e.g. --topic imu=/imu/data_raw); mag (vehicle_magnetometer, sensor_mag, ...) in a ULog.
 --rate HZ: average the IMU over blocks to about HZ before filtering (default: every sample).
 --declination DEG: east of true north; yaw is then relative to true north.
 output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w, q_x, q_y, q_z
@@ -48,6 +50,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     src.add_argument("--log", metavar="FILE", help="a log file in any supported format")
     src.add_argument("--imu", metavar="IMU.csv", help="IMU samples as CSV")
     r.add_argument("--format", default="auto", help="format of --log: auto (default), rtklib, ulog, rosbag, nmea, csv")
+    r.add_argument("--topic", action="append", default=[], metavar="KIND=TOPIC",
+                   help="read stream KIND (imu, mag) of a bag or ULog from TOPIC (repeat)")
     r.add_argument("--mag", metavar="MAG.csv", help="magnetometer samples as CSV (with --imu)")
     r.add_argument("--filter", default="qekf", choices=list(FILTERS), help="qekf (default), euler-ekf or marg")
     r.add_argument("--declination", type=float, default=0.0, metavar="DEG", help="magnetic declination, deg east")
@@ -62,10 +66,33 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+#: --topic KIND -> the reader option, per format
+TOPIC_OPTIONS = {"rosbag": {"imu": "imu_topic", "mag": "mag_topic"}, "ulog": {"mag": "mag_topic"}}
+
+
+def topic_options(topics, path, fmt="auto") -> dict:
+    """Reader options of ``--topic KIND=TOPIC`` values for the log ``path``."""
+    if not topics:
+        return {}
+    from . import io
+    kind = io.detect(path) if fmt == "auto" else fmt
+    known = TOPIC_OPTIONS.get(kind, {})
+    out = {}
+    for text in topics:
+        name, sep, topic = text.partition("=")
+        name, topic = name.strip(), topic.strip()
+        if not sep or not name or not topic:
+            raise UsageError(f"--topic {text}: expected KIND=TOPIC (e.g. imu=/imu/data)")
+        if name not in known:
+            raise UsageError(f"--topic {text}: a {kind} log takes " + (", ".join(known) or "no topic options"))
+        out[known[name]] = topic
+    return out
+
+
 def load_inputs(args):
     from . import io
     if args.log:
-        log = io.read(args.log, format=args.format)
+        log = io.read(args.log, format=args.format, **topic_options(getattr(args, "topic", []), args.log, args.format))
     else:
         log = io.read(args.imu, format="csv", kind="imu")
         if args.mag:

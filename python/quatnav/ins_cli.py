@@ -102,9 +102,12 @@ warnings (stderr, once each): gyro in deg/s, accelerometer in g or mg, gravity n
   (forward-right-down sees (0, 0, -9.8) m/s^2), lat/lon in radians, GNSS and IMU times that do
   not overlap
 other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by quatnav.io.read)
-  gives the IMU, GNSS and barometer it holds; --imu, --gnss, --baro take any supported file
-  instead of CSV (e.g. --gnss solution.pos from RTKLIB, or an NMEA log) and replace the log's
+  gives the IMU, GNSS, barometer and compass it holds; --imu, --gnss, --baro, --compass take any
+  supported file instead of CSV (e.g. --gnss solution.pos from RTKLIB, or an NMEA log whose
+  HDT/THS sentences give a true heading, used without the declination) and replace the log's
   stream; --format forces the format of the files.
+--out OUT.parquet writes Parquet (pyarrow) instead of CSV; a long run shows a progress bar on a
+  terminal
 --kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude,
   biases and the difference to the log's own attitude estimate (e.g. PX4's) when it has one
 --json FILE writes a summary (rows, navigation start, gaps, warnings); --json - prints it
@@ -382,7 +385,7 @@ def _columns_of(log, what):
         d = {"time": b.t, "h": b.altitude}
     else:
         c = log.require("compass").compass
-        d = {"time": c.t, "heading": np.degrees(c.heading)}
+        d = {"time": c.t, "heading": np.degrees(c.heading), "north": getattr(c, "north", "magnetic")}
     return d, np.arange(1, len(d["time"]) + 1)
 
 
@@ -478,9 +481,12 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     if baro or baro_from_log:
         d_b, _ = read_csv(baro, BARO_COLUMNS, what="BARO")
         kw.update(baro=quatnav.Aid(d_b["time"], d_b["h"]))
-    if compass:
+    if compass or (log is not None and log.compass is not None):
         d_c, _ = read_csv(compass, COMPASS_COLUMNS, what="COMPASS")
-        kw.update(compass=quatnav.Aid(d_c["time"], np.radians(d_c["heading"])))
+        heading = np.radians(d_c["heading"])
+        if d_c.get("north") == "true":  # a GNSS heading: the filter adds the declination to a magnetic one
+            heading = heading - float(f.params["declination"])
+        kw.update(compass=quatnav.Aid(d_c["time"], heading))
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
@@ -495,18 +501,23 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
+    from .csvio import progress_bar, write_table
+    bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
     r = f.run(gg, aa, t=tt, **kw)
+    bar.update(len(tt))
+    bar.set_description("ins run: write")
     nav = r.navigating & original
     s = r.sigma[nav]
     cols = [r.t[nav], np.degrees(r.lat[nav]), np.degrees(r.lon[nav]), r.h[nav], *r.velocity[nav].T,
             *np.degrees(r.euler[nav]).T, *r.acc_bias[nav].T, *(r.bias[nav] / _DEG_H).T,
             *s[:, 0:6].T, *np.degrees(s[:, 6:9]).T, *s[:, 9:12].T, *(s[:, 12:15] / _DEG_H).T]
-    table = np.column_stack(cols) if nav.any() else np.zeros((0, len(OUTPUT_COLUMNS)))
     fmt = ["%.6f", "%.10f", "%.10f"] + ["%.6g"] * (len(OUTPUT_COLUMNS) - 3)
     try:
-        np.savetxt(out, table, delimiter=",", header=",".join(OUTPUT_COLUMNS), comments="", fmt=fmt)
+        write_table(out, OUTPUT_COLUMNS, cols, fmt, progress=bar)
     except OSError as e:
         raise InputError(f"output {out}: cannot write ({e.strerror})") from None
+    finally:
+        bar.close()
     if tracks is not None:
         tracks.update(result=r, nav=nav, gnss=d_g)
     rej = {k: v for k, v in r.rejections.items() if v}

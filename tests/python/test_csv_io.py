@@ -120,3 +120,103 @@ def test_numpy_alone_imports_quatnav():
     import os
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=dict(os.environ, **env))
     assert p.returncode == 0, p.stderr
+
+
+def test_reader_paths_give_the_same_rows(tmp_path):
+    # one contiguous body (the fast path: one slice of the file) and bodies with comments, blank
+    # lines, CRLF line ends, indented comments and no final newline (the bytes gathered by mask)
+    rows = [(k * 0.01, 0.1 * k, -9.8 + k) for k in range(6)]
+    plain = "time,gyro_x,accel_z\n" + "".join(f"{a:g},{b:g},{c:g}\n" for a, b, c in rows)
+    t = read_table(_write(tmp_path, plain, "a.csv"), COLS)
+    assert list(t.lines) == [2, 3, 4, 5, 6, 7]
+    mixed = ("time,gyro_x,accel_z\r\n" + "".join(f"{a:g},{b:g},{c:g}\r\n" for a, b, c in rows[:2]) + "\r\n"
+             + "   # indented comment\r\n" + f"{rows[2][0]:g},{rows[2][1]:g},{rows[2][2]:g}\r\n#x\n"
+             + "".join(f"  {a:g},{b:g},{c:g}\n" for a, b, c in rows[3:5]) + "\t\n"
+             + f"{rows[5][0]:g},{rows[5][1]:g},{rows[5][2]:g}")
+    u = read_table(_write(tmp_path, mixed, "b.csv"), COLS)
+    assert list(u.lines) == [2, 3, 6, 8, 9, 11]
+    for c in COLS:
+        np.testing.assert_array_equal(u[c], t[c])
+    cr = read_table(_write(tmp_path, plain.replace("\n", "\r"), "cr.csv"), COLS)   # classic Mac line ends
+    np.testing.assert_array_equal(cr["accel_z"], t["accel_z"])
+    # a bad cell after skipped lines is reported on its own line of the file
+    bad = mixed.replace("  0.04,0.4", "  0.04,x")
+    _err(_write(tmp_path, bad, "c.csv"), match="line 9, column 'gyro_x'")
+
+
+def _fmt_values():
+    rng = np.random.default_rng(5)
+    v = rng.normal(size=4000) * 10.0 ** rng.integers(-9, 9, 4000)
+    return np.concatenate([v, [0.0, -0.0, 1e-4, 9.99995e-5, 123456.5, 1e6, 0.5, np.nan, np.inf, -np.inf]])
+
+
+@pytest.mark.parametrize("fmt", ["%.6g", "%.10g", "%.3g", "%.6f", "%.10f"])
+def test_round_to_format_gives_printf_numbers(fmt):
+    from quatnav.csvio import round_to_format
+    v = _fmt_values()
+    if fmt.endswith("f"):
+        v = v[~(np.abs(v) > (400.0 if fmt == "%.10f" else 1e5))]   # %.10f: latitudes, longitudes
+    r = round_to_format(v, fmt)
+    ref = np.array([float(fmt % x) for x in v])
+    same = (r == ref) | (np.isnan(r) & np.isnan(ref))
+    # only values within the double product's rounding error of a tie may differ, by one unit in
+    # the last printed digit
+    assert (~same).mean() < 2e-3, v[~same]
+    assert np.all(np.abs(r[~same] - ref[~same]) <= 1.01 * np.abs(ref[~same]) * 10.0 ** (1 - int(fmt[2:-1]))
+                  if fmt.endswith("g") else np.abs(r[~same] - ref[~same]) <= 1.01 * 10.0 ** -int(fmt[2:-1]))
+
+
+def test_write_table_csv_and_parquet(tmp_path, monkeypatch):
+    import pandas as pd
+    from quatnav.csvio import write_table
+    v = _fmt_values()
+    v = v[np.isfinite(v)]
+    t = np.arange(len(v)) * 0.005
+    names, cols, fmts = ["time", "x", "y"], [t, v, v / 7.0], ["%.6f", "%.6g", "%.10g"]
+    seen = []
+
+    class P:
+        def update(self, n):
+            seen.append(n)
+    write_table(tmp_path / "a.csv", names, cols, fmts, chunk_rows=1000, progress=P())
+    assert sum(seen) == len(v) and len(seen) == -(-len(v) // 1000)
+    df = pd.read_csv(tmp_path / "a.csv")
+    assert list(df.columns) == names
+    for c, col, f in zip(names, cols, fmts):
+        ref = np.array([float(f % x) for x in col])
+        assert np.mean(df[c].to_numpy() != ref) < 1e-3
+        np.testing.assert_allclose(df[c].to_numpy(), ref, rtol=1e-5, atol=1e-6)
+    pytest.importorskip("pyarrow.parquet")
+    write_table(tmp_path / "c.parquet", names, cols, fmts)
+    pq = pd.read_parquet(tmp_path / "c.parquet")
+    np.testing.assert_array_equal(pq["x"].to_numpy(), v)   # Parquet keeps every bit
+    # without pyarrow: numpy.savetxt with the formats, the same numbers (monkeypatch puts the
+    # module back after the test)
+    monkeypatch.setitem(sys.modules, "pyarrow", None)
+    write_table(tmp_path / "b.csv", names, cols, fmts)
+    text = (tmp_path / "b.csv").read_text().splitlines()
+    assert text[1] == ",".join(f % c[0] for f, c in zip(fmts, cols))
+    np.testing.assert_allclose(pd.read_csv(tmp_path / "b.csv").to_numpy(), df.to_numpy(), rtol=2e-6, atol=1e-6)
+
+
+def test_progress_bar_only_on_a_terminal_and_for_long_jobs(monkeypatch):
+    import io as _io
+
+    from quatnav.csvio import progress_bar
+    pytest.importorskip("tqdm")
+    short, off = progress_bar(1000), progress_bar(10 ** 6)   # pytest's stderr is no terminal
+    for b in (short, off):
+        b.update(10)
+        b.close()
+        assert type(b).__name__ == "_Null"
+
+    class Tty(_io.StringIO):
+        def isatty(self):
+            return True
+    err = Tty()
+    monkeypatch.setattr(sys, "stderr", err)
+    bar = progress_bar(10 ** 6, desc="ins run")
+    bar.update(5 * 10 ** 5)
+    bar.close()
+    assert type(bar).__name__ == "tqdm" and "ins run" in err.getvalue()
+    assert type(progress_bar(10)).__name__ == "_Null"          # short job: no bar even on a terminal

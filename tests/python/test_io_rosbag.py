@@ -5,68 +5,33 @@ from __future__ import annotations
 
 import json
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 pytest.importorskip("rosbags")
-from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
 import quatnav  # noqa: E402
 from quatnav import cli, io  # noqa: E402
 from quatnav.core import quaternion as Q  # noqa: E402
 from quatnav.demo import rotation_scenario  # noqa: E402
-from quatnav.io.rosbag import FLU_TO_FRD, Q_FLU_FRD  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).parent))
+from _formats import write_bag  # noqa: E402
 
 T0 = 1_700_000_000.0
 LAT, LON, H = math.radians(47.3977), math.radians(8.5456), 488.0
 
 
 def _write(path, version, s):
-    ts = get_typestore(Stores.ROS2_HUMBLE if version == 2 else Stores.ROS1_NOETIC)
-    T = ts.types
-    Header, Time = T["std_msgs/msg/Header"], T["builtin_interfaces/msg/Time"]
-    V3, Qm = T["geometry_msgs/msg/Vector3"], T["geometry_msgs/msg/Quaternion"]
-    if version == 2:
-        from rosbags.rosbag2 import Writer
-        w = Writer(path, version=8)
-        ser = ts.serialize_cdr
-    else:
-        from rosbags.rosbag1 import Writer
-        w = Writer(path)
-        ser = ts.serialize_ros1
-
-    def hdr(t):
-        sec = int(t)
-        kw = dict(stamp=Time(sec=sec, nanosec=int(round((t - sec) * 1e9))), frame_id="imu")
-        return Header(seq=0, **kw) if version == 1 else Header(**kw)
-
-    # the body FLU and nav ENU quantities of the simulated FRD/NED truth
-    q_enu_flu = Q.mul(Q.mul(Q.conj(Q.Q_NED_ENU), s.q_nb), Q.conj(Q_FLU_FRD))
-    gyr, acc, mag = s.gyr * FLU_TO_FRD, s.acc * FLU_TO_FRD, s.mag * 1e-6 * FLU_TO_FRD
-    with w:
-        ci = w.add_connection("/imu/data", "sensor_msgs/msg/Imu", typestore=ts)
-        cm = w.add_connection("/imu/mag", "sensor_msgs/msg/MagneticField", typestore=ts)
-        cg = w.add_connection("/fix", "sensor_msgs/msg/NavSatFix", typestore=ts)
-        for k in range(len(s.t)):
-            t = T0 + s.t[k]
-            ns = int(round(t * 1e9))
-            q = q_enu_flu[k]
-            m = T["sensor_msgs/msg/Imu"](header=hdr(t), orientation=Qm(x=q[1], y=q[2], z=q[3], w=q[0]),
-                                         orientation_covariance=np.zeros(9), angular_velocity=V3(*gyr[k]),
-                                         angular_velocity_covariance=np.zeros(9),
-                                         linear_acceleration=V3(*acc[k]), linear_acceleration_covariance=np.zeros(9))
-            w.write(ci, ns, ser(m, "sensor_msgs/msg/Imu"))
-            m = T["sensor_msgs/msg/MagneticField"](header=hdr(t), magnetic_field=V3(*mag[k]),
-                                                   magnetic_field_covariance=np.zeros(9))
-            w.write(cm, ns, ser(m, "sensor_msgs/msg/MagneticField"))
-            if k % 20 == 0:
-                st = T["sensor_msgs/msg/NavSatStatus"](status=0, service=1)
-                cov = np.diag([4.0, 9.0, 16.0]).ravel()  # E, N, U variances
-                m = T["sensor_msgs/msg/NavSatFix"](header=hdr(t), status=st, latitude=math.degrees(LAT),
-                                                   longitude=math.degrees(LON), altitude=H,
-                                                   position_covariance=cov, position_covariance_type=2)
-                w.write(cg, ns, ser(m, "sensor_msgs/msg/NavSatFix"))
+    """The rotation as a bag: Imu (with the truth as orientation), MagneticField, and a
+    NavSatFix every 20th sample with E, N, U variances 4, 9, 16 m^2."""
+    k = np.arange(0, len(s.t), 20)
+    write_bag(path, version, T0, imu=(s.t, s.gyr, s.acc), mag=(s.t, s.mag * 1e-6), q_nb=s.q_nb,
+              fix=(s.t[k], np.full(len(k), LAT), np.full(len(k), LON), np.full(len(k), H),
+                   np.tile([3.0, 2.0, 4.0], (len(k), 1))))
 
 
 @pytest.fixture(scope="module")

@@ -10,18 +10,21 @@ Every model is ``calibrated = matrix @ (raw - offset)``; see ``docs/CALIBRATION.
 """
 from __future__ import annotations
 
+import argparse
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._toml import dumps
+from .online import OnlineHardIron, hard_iron_track
 from .sensors import (STANDARD_GRAVITY, SensorCalibration, accelerometer, gyroscope, magnetometer,
                       rest_segments, sphere_coverage)
 
 __all__ = ["Calibration", "SensorCalibration", "magnetometer", "accelerometer", "gyroscope",
            "rest_segments", "sphere_coverage", "apply", "save_calibration", "load_calibration",
-           "apply_calibration_args", "STANDARD_GRAVITY"]
+           "apply_calibration_args", "STANDARD_GRAVITY", "OnlineHardIron", "hard_iron_track"]
 
 _SENSORS = ("gyro", "acc", "mag")
 
@@ -54,7 +57,9 @@ def _as_calibration(cal) -> Calibration:
     raise TypeError(f"cal must be a Calibration, a SensorCalibration or a path, got {type(cal).__name__}")
 
 
-def save_calibration(path, cal=None, *, gyro=None, acc=None, mag=None) -> Calibration:
+def save_calibration(path: "str | Path", cal: "Calibration | SensorCalibration | str | Path | None" = None, *,
+                     gyro: SensorCalibration | None = None, acc: SensorCalibration | None = None,
+                     mag: SensorCalibration | None = None) -> Calibration:
     """Write a calibration TOML file; with an existing file, the sensors given replace theirs and
     the others are kept (so ``calibrate mag`` then ``calibrate gyro`` build one file)."""
     new = _as_calibration(cal) if cal is not None else Calibration()
@@ -69,7 +74,7 @@ def save_calibration(path, cal=None, *, gyro=None, acc=None, mag=None) -> Calibr
     return new
 
 
-def load_calibration(path) -> Calibration:
+def load_calibration(path: "str | Path") -> Calibration:
     """Read a calibration TOML file (tables ``[gyro]``, ``[acc]``, ``[mag]``, each with ``offset``
     (3 numbers) and ``matrix`` (3 rows of 3); a missing one is the identity / zero)."""
     import tomllib
@@ -91,7 +96,8 @@ def load_calibration(path) -> Calibration:
         raise ValueError(f"calibration {path}: {e}") from None
 
 
-def apply(cal, gyr=None, acc=None, mag=None):
+def apply(cal: "Calibration | SensorCalibration | str | Path", gyr: ArrayLike | None = None,
+          acc: ArrayLike | None = None, mag: ArrayLike | None = None) -> tuple:
     """Calibrated ``(gyr, acc, mag)``: each given array through its sensor's calibration
     (unchanged when ``cal`` has none for it; None stays None). ``cal``: a :class:`Calibration`,
     a :class:`SensorCalibration` or a path to a calibration file."""
@@ -103,7 +109,8 @@ def apply(cal, gyr=None, acc=None, mag=None):
     return tuple(out)
 
 
-def apply_calibration_args(args, gyr=None, acc=None, mag=None):
+def apply_calibration_args(args: argparse.Namespace, gyr: ArrayLike | None = None, acc: ArrayLike | None = None,
+                           mag: ArrayLike | None = None) -> tuple:
     """For a command with a ``--calibration FILE`` option (``args.calibration``): the samples
     calibrated with the file, or unchanged without the option. A bad file raises
     :class:`quatnav.cliutil.UsageError` (one line, exit 2)."""
@@ -118,7 +125,7 @@ def apply_calibration_args(args, gyr=None, acc=None, mag=None):
     return apply(cal, gyr=gyr, acc=acc, mag=mag)
 
 
-def add_calibration_argument(parser) -> None:
+def add_calibration_argument(parser: argparse.ArgumentParser) -> None:
     """Add ``--calibration FILE`` to an argparse parser (read by :func:`apply_calibration_args`)."""
     parser.add_argument("--calibration", metavar="CAL.toml",
                         help="apply this sensor calibration (from 'quatnav calibrate') to the samples first")

@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._toml import dumps
 
@@ -61,7 +62,8 @@ class AxisNoise:
     rate_random_walk_rel_err: float
 
 
-def fit_allan(taus, adev, n_samples, rate_hz, slope_tol=0.2):
+def fit_allan(taus: ArrayLike, adev: ArrayLike, n_samples: int, rate_hz: float,
+              slope_tol: float = 0.2) -> "AxisNoise":
     """The three read-outs of one Allan-deviation curve (see the module doc) as an AxisNoise."""
     taus, adev = np.asarray(taus, float), np.asarray(adev, float)
     lt, la = np.log(taus), np.log(adev)
@@ -109,7 +111,7 @@ class NoiseModel:
     duration: float
     curves: dict = field(default_factory=dict)
 
-    def term(self, sensor, term):
+    def term(self, sensor: str, term: str) -> float:
         """One value for a filter (which takes one density for the three axes): the RMS over the
         axes; the rate random walk replaced by its bias-instability equivalent when not seen."""
         axes = getattr(self, sensor)
@@ -125,7 +127,7 @@ class NoiseModel:
         return float(np.sqrt(np.mean([(0.664 * a.bias_instability) ** 2 * 3.0 / a.tau_bias_instability
                                       for a in axes])))
 
-    def bias_source(self, sensor):
+    def bias_source(self, sensor: str) -> str:
         axes = getattr(self, sensor)
         if axes is None:
             return None
@@ -160,7 +162,8 @@ class NoiseModel:
             "[allan.gyro], [allan.acc]: per-axis read-outs (x, y, z), SI units; *_rel_err: relative std error"))
 
 
-def noise_parameters(rate_hz, gyr=None, acc=None, points_per_decade=10):
+def noise_parameters(rate_hz: float, gyr: ArrayLike | None = None, acc: ArrayLike | None = None,
+                     points_per_decade: int = 10) -> "NoiseModel":
     """Allan read-outs of a static log (``gyr`` rad/s and/or ``acc`` m/s^2, shape (N, 3), uniform
     rate ``rate_hz``) as a :class:`NoiseModel`."""
     from ..sim.allan import allan_deviation

@@ -7,9 +7,11 @@ in the sensor's own unit; see ``docs/CALIBRATION.md``.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["SensorCalibration", "magnetometer", "accelerometer", "gyroscope", "rest_segments",
            "sphere_coverage", "STANDARD_GRAVITY"]
@@ -49,7 +51,7 @@ class SensorCalibration:
     residual: float = float("nan")
     info: dict = field(default_factory=dict)
 
-    def apply(self, x):
+    def apply(self, x: ArrayLike) -> np.ndarray:
         """Calibrated samples ``(raw - offset) @ matrix.T`` of ``x`` (shape (N, 3) or (3,))."""
         x = np.asarray(x, float)
         return (x - self.offset) @ self.matrix.T
@@ -114,7 +116,7 @@ def _fibonacci_sphere(n):
     return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
 
 
-def sphere_coverage(directions, cells=100, min_count=1):
+def sphere_coverage(directions: ArrayLike, cells: int = 100, min_count: int = 1) -> float:
     """Fraction of ``cells`` near-equal-area cells of the unit sphere (Voronoi cells of a
     Fibonacci lattice) that hold at least ``min_count`` of ``directions`` ((N, 3), any norm)."""
     d = np.asarray(directions, float)
@@ -207,7 +209,8 @@ def _unpack(model, p):
     return W + np.triu(W, 1).T
 
 
-def magnetometer(mag, model="full", robust=True, coverage_min=MIN_COVERAGE):
+def magnetometer(mag: ArrayLike, model: str = "full", robust: bool = True,
+                 coverage_min: float = MIN_COVERAGE) -> SensorCalibration:
     """Fit a magnetometer calibration from samples taken while rotating the sensor.
 
     The samples of a constant field under rotation lie on an ellipsoid
@@ -304,7 +307,9 @@ def _moving_std(x, w):
     return np.sqrt(np.maximum(v, 0.0).sum(axis=1))
 
 
-def rest_segments(t, acc=None, gyr=None, window_s=0.5, acc_std=0.05, gyr_std=0.02, min_duration_s=1.0):
+def rest_segments(t: ArrayLike, acc: ArrayLike | None = None, gyr: ArrayLike | None = None, window_s: float = 0.5,
+                  acc_std: float = 0.05, gyr_std: float = 0.02,
+                  min_duration_s: float = 1.0) -> list[tuple[int, int]]:
     """Intervals where the sensor is at rest: windowed standard deviation (norm over the axes)
     of the accelerometer below ``acc_std`` (m/s^2) and of the gyroscope below ``gyr_std``
     (rad/s), for at least ``min_duration_s``.
@@ -346,8 +351,9 @@ def _tri_unpack(p):
     return T
 
 
-def accelerometer(poses=None, *, acc=None, t=None, gyr=None, g=STANDARD_GRAVITY, model=None,
-                  still_std=0.05, min_duration_s=1.0):
+def accelerometer(poses: ArrayLike | None = None, *, acc: ArrayLike | None = None, t: ArrayLike | None = None,
+                  gyr: ArrayLike | None = None, g: float = STANDARD_GRAVITY, model: str | None = None,
+                  still_std: float = 0.05, min_duration_s: float = 1.0) -> SensorCalibration:
     """Accelerometer bias, scale factors and misalignment from static poses.
 
     Give either ``poses`` (a list of (N_i, 3) arrays, one per static orientation) or a whole log
@@ -431,8 +437,11 @@ def accelerometer(poses=None, *, acc=None, t=None, gyr=None, g=STANDARD_GRAVITY,
 # ----------------------------------------------------------------------------------------------
 # gyroscope
 # ----------------------------------------------------------------------------------------------
-def gyroscope(gyr, t, *, acc=None, rotations=None, rates=None, rest=None, gyr_std=0.02, acc_std=0.05,
-              min_duration_s=1.0):
+def gyroscope(gyr: ArrayLike, t: ArrayLike, *, acc: ArrayLike | None = None,
+              rotations: Sequence[tuple[float, float, ArrayLike]] | None = None,
+              rates: Sequence[tuple[float, float, ArrayLike]] | None = None,
+              rest: tuple[float, float] | None = None, gyr_std: float = 0.02, acc_std: float = 0.05,
+              min_duration_s: float = 1.0) -> SensorCalibration:
     """Gyroscope bias from rest, and scale/misalignment from known rotations.
 
     Parameters

@@ -1,7 +1,8 @@
 """Parameter optimization of a filter over one or many logs with a reference.
 
 :func:`optimize` minimizes the mean over logs of a metric (BROAD's RMSE, a heading RMSE on a
-simulated run, any ``evaluate(params, log) -> float``) over chosen parameters within bounds.
+simulated run, the GNSS/INS horizontal RMS of :func:`gnss_ins_metric`, any
+``evaluate(params, log) -> float``) over chosen parameters within bounds.
 Two methods:
 
 * ``"powell"`` (default): :func:`scipy.optimize.minimize` with Powell's method, bounded, in
@@ -29,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["optimize", "OptimizationResult", "broad_metric", "scenario_heading_metric", "SerialExecutor"]
+__all__ = ["optimize", "OptimizationResult", "broad_metric", "scenario_heading_metric", "gnss_ins_metric",
+           "parse_gnss_ins_log", "SerialExecutor"]
 
 
 class SerialExecutor(Executor):
@@ -84,6 +86,98 @@ def scenario_heading_metric(filter="QuaternionEKF"):
     """``evaluate(params, (scenario, seed, duration))``: heading RMSE (deg, after the first 10 s)
     of ``filter`` in 9D on a simulated MARG scenario (``handheld_marg``...)."""
     return functools.partial(_scenario_heading, filter=filter)
+
+
+def parse_gnss_ins_log(text):
+    """A log of :func:`gnss_ins_metric` from its text: ``walk``, ``walk-degraded``, ``navego``,
+    ``sim:NAME[:SEED]`` (e.g. ``sim:paper004_walk:2``); a tuple is returned as it is."""
+    if isinstance(text, tuple):
+        return text
+    t = str(text).strip()
+    if t in ("walk", "walk-rtk"):
+        return ("walk", "rtk")
+    if t == "walk-degraded":
+        return ("walk", "degraded")
+    if t == "navego":
+        return ("navego",)
+    if t.startswith("sim:"):
+        parts = t.split(":")
+        if len(parts) in (2, 3) and parts[1]:
+            try:
+                return ("sim", parts[1], int(parts[2]) if len(parts) == 3 else 0)
+            except ValueError:
+                pass
+    raise ValueError(f"log {text!r}: expected walk, walk-degraded, navego or sim:NAME[:SEED]")
+
+
+@functools.lru_cache(maxsize=8)
+def _sim_inputs(name, seed):
+    from .. import sim
+    return sim.make_scenario(name, seed=seed)
+
+
+def _sim_horizontal(params, name, seed, skip_s=0.0):
+    """GpsInsFilter on a simulated scenario's GNSS (+ altimeter, compass): horizontal RMS (m)
+    of the IMU position against the truth while navigating."""
+    import quatnav
+    from ..core import earth as E
+    s = _sim_inputs(name, int(seed))
+    imu, g, tr = s.imu, s.gps, s.truth
+    p = dict(params)
+    p.setdefault("lever_arm_b", tuple(float(x) for x in np.broadcast_to(
+        np.asarray(s.params.get("gps", {}).get("lever_arm_b_m", 0.0), float), (3,))))
+    gs = s.params.get("gps", {})
+    sig = np.broadcast_to([gs.get("pos_sigma_h_m", 2.0), gs.get("pos_sigma_h_m", 2.0), gs.get("pos_sigma_v_m", 4.0)],
+                          (len(g.t), 3))
+    kw = dict(gps_pos=quatnav.Aid(g.t_stamp, np.column_stack([g.lat, g.lon, g.h]), sig),
+              gps_vel=quatnav.Aid(g.t_stamp, g.v_n, np.full((len(g.t), 3), gs.get("vel_sigma_m_s", 0.1))))
+    if s.baro is not None:
+        kw["baro"] = quatnav.Aid(s.baro.t, s.baro.h)
+    if s.compass is not None:
+        kw["compass"] = quatnav.Aid(s.compass.t, s.compass.yaw)
+    r = quatnav.GpsInsFilter(**p).run(imu.gyro, imu.accel, t=imu.t, on_invalid="skip", **kw)
+    m = r.navigating & (r.t >= imu.t[0] + skip_s)
+    if not m.any():
+        return float("inf")  # never navigated: the worst score
+    k = imu.index[m]
+    d = E.geodetic_to_ned(r.lat[m], r.lon[m], r.h[m], tr.lat[0], tr.lon[0], tr.h[0]) - tr.pos_n[k]
+    return float(np.sqrt(np.mean(d[:, 0] ** 2 + d[:, 1] ** 2)))
+
+
+def _gnss_ins(params, log, seconds=None, directory=None):
+    log = parse_gnss_ins_log(log)
+    if log[0] == "walk":
+        from ..experiments.walk_rtk import run_walk
+        run = log[1]
+        summary, _ = run_walk(directory=None if directory is None else Path(directory) / "gnss_imu_walk",
+                              runs=(run,), params=dict(params), seconds=seconds)
+        return float(summary[run]["all_fixed"]["horizontal_m"]["rms"])
+    if log[0] == "navego":
+        from ..experiments.navego import run_navego
+        summary, _ = run_navego(directory=None if directory is None else Path(directory) / "navego_synthetic",
+                                seconds=seconds, params=dict(params))
+        return float(summary["ins_gnss"]["horizontal_rmse_m"])
+    return _sim_horizontal(params, log[1], log[2])
+
+
+def gnss_ins_metric(seconds=None, directory=None):
+    """``evaluate(params, log)``: the horizontal position RMS (m) of :class:`quatnav.GpsInsFilter`
+    with ``params`` on ``log``:
+
+    * ``"walk"``: the real walk (``gnss_imu_walk``) with its RTK fixes, scored at the RTK-fixed
+      epochs (:func:`quatnav.experiments.walk_rtk.run_walk`, its parameters overridden by
+      ``params``); ``"walk-degraded"``: the same walk fed GNSS with 2.5 m of added noise, scored
+      against the RTK fixes (the case where tuning matters);
+    * ``"navego"``: NaveGo's synthetic ADIS16405 run against its truth
+      (:func:`quatnav.experiments.navego.run_navego`);
+    * ``"sim:NAME[:SEED]"``: a simulated scenario with GNSS (``paper004_walk``,
+      ``paper001_constant_turn``, ...) against its truth.
+
+    ``seconds`` shortens the real logs (their first seconds); ``directory`` is the shared data
+    folder (default: ``QUATNAV_DATA`` or ``../shared/data``). Picklable, for process pools and
+    dask. A run that never navigates scores ``inf``.
+    """
+    return functools.partial(_gnss_ins, seconds=seconds, directory=directory)
 
 
 @dataclass
@@ -235,11 +329,19 @@ examples:
   quatnav tune --param gyro_noise=1e-4:1e-1 --param acc_sigma=0.01:1 --budget 40 --jobs 2
   quatnav tune DIR --filter euler-ekf --param gain=0.1:10 --method lhs --budget 64
   quatnav tune --param mag_sigma=0.02:3 --scheduler tcp://host:8786 --json best.json
+  quatnav tune --target gnss-ins --logs walk-degraded,navego,sim:paper004_walk \\
+               --param gyro_noise=1e-4:1e-2 --param acc_noise=1e-3:1e-1 --jobs 2
 
-Each evaluation runs every trial (in parallel with --jobs N or on a dask.distributed cluster
-with --scheduler) and takes the mean of BROAD's RMSE over the movement phases. The report gives
-the best parameters, the RMSE per trial, and the change of the mean when each parameter moves
-by -+10 %% (a flat optimum: the parameter hardly matters there)."""
+--target broad (default): each evaluation runs every BROAD trial with the attitude filter
+--filter and takes the mean of BROAD's RMSE (deg) over the movement phases.
+--target gnss-ins: each evaluation runs quatnav.GpsInsFilter (its parameter names, SI units) on
+every log of --logs and takes the mean horizontal position RMS (m): walk (the real walk, RTK,
+scored at the fixed epochs), walk-degraded (the walk fed GNSS with 2.5 m of noise, scored against
+RTK), navego (NaveGo's synthetic run against its truth), sim:NAME[:SEED] (a simulated scenario
+with GNSS against its truth); --seconds N uses the first N s of the real logs.
+Logs run in parallel with --jobs N or on a dask.distributed cluster with --scheduler. The report
+gives the best parameters, the figure per log, and the change of the mean when each parameter
+moves by -+10 %% (a flat optimum: the parameter hardly matters there)."""
 
 
 def _parse_param(text):
@@ -254,19 +356,30 @@ def _parse_param(text):
     return name.strip(), (lo, hi)
 
 
-def _tune(args) -> int:
+def _targets(args):
+    """(filter class, logs, their labels, evaluate, unit) of ``quatnav tune``'s --target."""
     import quatnav
-    from ..cliutil import UsageError, write_json
+    from ..cliutil import UsageError
+    if args.target == "gnss-ins":
+        from ..datasets import data_dir
+        labels = [x.strip() for x in (args.logs or "walk-degraded,navego").split(",") if x.strip()]
+        try:
+            logs = [parse_gnss_ins_log(x) for x in labels]
+        except ValueError as e:
+            raise UsageError(f"--logs: {e}") from None
+        root = Path(args.dir) if args.dir else data_dir()
+        for lab, lg in zip(labels, logs):
+            sub = {"walk": "gnss_imu_walk", "navego": "navego_synthetic"}.get(lg[0])
+            if sub and not (root / sub).is_dir():
+                raise UsageError(f"--logs {lab}: no {sub} folder in {root} (give DIR, the shared data folder)")
+            if lg[0] == "sim":
+                from ..sim import list_scenarios
+                if lg[1] not in list_scenarios():
+                    raise UsageError(f"--logs {lab}: unknown scenario {lg[1]!r} (quatnav simulate --list)")
+        return (quatnav.GpsInsFilter, logs, labels, gnss_ins_metric(seconds=args.seconds, directory=args.dir),
+                "m")
     from ..datasets import broad
     from .evaluate import FILTERS
-    if not args.param:
-        raise UsageError("give at least one --param NAME=LOW:HIGH")
-    bounds = dict(_parse_param(p) for p in args.param)
-    cls = getattr(quatnav, FILTERS[args.filter])
-    try:
-        cls(**{k: float(np.sqrt(lo * hi)) for k, (lo, hi) in bounds.items()})
-    except (TypeError, ValueError) as e:
-        raise UsageError(f"--param: {e}") from None
     directory = args.dir or broad.default_dir()
     try:
         paths = [str(p) for p in broad.list_trials(directory)]
@@ -276,7 +389,20 @@ def _tune(args) -> int:
         paths = [p for p in paths if any(t in p for t in args.trials.split(","))]
     if not paths:
         raise UsageError(f"no BROAD trials in {directory}" + (f" matching {args.trials!r}" if args.trials else ""))
-    evaluate = broad_metric(args.filter, args.metric)
+    return (getattr(quatnav, FILTERS[args.filter]), paths, [Path(p).stem for p in paths],
+            broad_metric(args.filter, args.metric), "deg")
+
+
+def _tune(args) -> int:
+    from ..cliutil import UsageError, write_json
+    if not args.param:
+        raise UsageError("give at least one --param NAME=LOW:HIGH")
+    bounds = dict(_parse_param(p) for p in args.param)
+    cls, logs, labels, evaluate, unit = _targets(args)
+    try:
+        cls(**{k: float(np.sqrt(lo * hi)) for k, (lo, hi) in bounds.items()})
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"--param: {e}") from None
     if args.scheduler:
         from distributed import Client
         client = Client(args.scheduler)
@@ -287,14 +413,15 @@ def _tune(args) -> int:
     else:
         ex, close = None, (lambda: None)
     try:
-        r = optimize(evaluate, paths, bounds, method=args.method, budget=args.budget, executor=ex, seed=args.seed)
+        r = optimize(evaluate, logs, bounds, method=args.method, budget=args.budget, executor=ex, seed=args.seed)
     finally:
         close()
     print(r.summary())
-    for p, v in zip(paths, r.per_log):
-        print(f"  {Path(p).stem}: {v:.3f} deg")
+    for lab, v in zip(labels, r.per_log):
+        print(f"  {lab}: {v:.4g} {unit}")
     if args.json:
-        write_json({"params": r.params, "score": r.score, "per_log": dict(zip((Path(p).stem for p in paths), r.per_log)),
+        write_json({"target": args.target, "params": r.params, "score": r.score, "unit": unit,
+                    "per_log": dict(zip(labels, r.per_log)),
                     "flatness": {k: list(v) for k, v in r.flatness.items()}, "evaluations": r.evaluations,
                     "method": r.method}, args)
     return 0
@@ -304,11 +431,20 @@ def add_parser(subparsers):
     """Register ``quatnav tune`` on an argparse subparsers object."""
     import argparse
     from .evaluate import FILTERS
-    p = subparsers.add_parser("tune", help="optimize filter parameters on BROAD (Powell or Latin hypercube)",
-                              description="Minimize the mean BROAD RMSE over all trials within bounds, in log-space: "
-                                          "bounded Powell (default) or a seeded Latin-hypercube search.",
+    p = subparsers.add_parser("tune", help="optimize filter parameters on BROAD or GNSS/INS logs (Powell or Latin "
+                                           "hypercube)",
+                              description="Minimize a mean metric over logs within bounds, in log-space: BROAD's RMSE "
+                                          "of an attitude filter, or the horizontal RMS of the GNSS/INS filter; bounded "
+                                          "Powell (default) or a seeded Latin-hypercube search.",
                               epilog=TUNE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("dir", nargs="?", default=None, metavar="DIR", help="folder of BROAD trials (default: the shared data)")
+    p.add_argument("dir", nargs="?", default=None, metavar="DIR",
+                   help="folder of BROAD trials, or with --target gnss-ins the shared data folder (default: the "
+                        "shared data)")
+    p.add_argument("--target", choices=("broad", "gnss-ins"), default="broad",
+                   help="broad (attitude filters on BROAD, default) or gnss-ins (GpsInsFilter, horizontal RMS)")
+    p.add_argument("--logs", metavar="A,B", help="with --target gnss-ins: walk, walk-degraded, navego, sim:NAME[:SEED] "
+                                                 "(default walk-degraded,navego)")
+    p.add_argument("--seconds", type=float, help="with --target gnss-ins: only the first seconds of the real logs")
     p.add_argument("--filter", choices=sorted(FILTERS), default="qekf", help="filter to tune (default qekf)")
     p.add_argument("--param", action="append", metavar="NAME=LOW:HIGH", help="a parameter and its bounds (repeat)")
     p.add_argument("--metric", choices=("total", "heading", "inclination"), default="total",

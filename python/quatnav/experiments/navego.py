@@ -68,8 +68,9 @@ def filter_params(d) -> dict:
         gps_vel_sigma=float(np.mean(d.gnss_vel_sigma)), lever_arm_b=tuple(float(x) for x in d.lever_arm_b))
 
 
-def run_navego(directory=None, seconds=None):
-    """Run the filter on the NaveGo data; returns (summary dict, arrays dict)."""
+def run_navego(directory=None, seconds=None, params=None):
+    """Run the filter on the NaveGo data; returns (summary dict, arrays dict). ``params``
+    overrides entries of :func:`filter_params` (parameter tuning)."""
     import quatnav
     from ..core import quaternion as Q
     from ..datasets import navego
@@ -78,7 +79,7 @@ def run_navego(directory=None, seconds=None):
     n = len(d.imu_t) if seconds is None else int(np.searchsorted(d.imu_t, d.imu_t[0] + seconds, "right"))
     t, gyro, accel = d.imu_t[:n], d.gyro[:n], d.accel[:n]
     gm = d.gnss_t <= t[-1]
-    params = filter_params(d)
+    params = dict(filter_params(d), **(params or {}))
     f = quatnav.GpsInsFilter(**params)
     sig = np.array([d.gnss_pos_sigma[0], d.gnss_pos_sigma[1], d.gnss_pos_sigma[2]] + [params["gps_vel_sigma"]] * 3
                    + [params["init_level_sigma"]] * 2 + [params["init_yaw_sigma"]]

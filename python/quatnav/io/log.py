@@ -54,9 +54,12 @@ class Baro:
 
 @dataclass
 class Compass:
-    """``t`` (C,) s; ``heading`` (C,) rad (magnetic heading, clockwise from north)."""
+    """``t`` (C,) s; ``heading`` (C,) rad, clockwise from north; ``north`` says from which:
+    ``"magnetic"`` (a compass, a magnetometer's heading) or ``"true"`` (a GNSS heading: NMEA
+    HDT/THS, PX4's GPS yaw from two antennas)."""
     t: np.ndarray
     heading: np.ndarray
+    north: str = "magnetic"
 
 
 @dataclass

@@ -1,5 +1,7 @@
 """NMEA 0183 GNSS logs: GGA (position, fix quality, HDOP, geoid separation), RMC (date, course
-and speed over ground) and VTG (course and speed), any talker (GP, GN, GL, GA, BD, ...).
+and speed over ground), VTG (course and speed) and HDT/THS (true heading of a two-antenna
+receiver or a gyrocompass: the ``compass`` stream, ``north="true"``, at the time of the last
+GGA/RMC before it), any talker (GP, GN, GL, GA, BD, HE, ...).
 
 Every sentence's checksum is verified; lines that fail it, lack it, or do not parse are counted
 and reported in ``Log.notes`` (and the count in ``Log.bad_lines``), never used. Height is
@@ -16,7 +18,7 @@ from functools import reduce
 
 import numpy as np
 
-from .log import Gnss, Log
+from .log import Compass, Gnss, Log
 
 __all__ = ["read_nmea", "checksum_ok", "UERE"]
 
@@ -38,7 +40,7 @@ def checksum_ok(line: str) -> bool:
 
 
 def looks_like_nmea(head: str) -> bool:
-    return any(line.strip()[:1] == "$" and line.strip()[3:6] in ("GGA", "RMC", "VTG", "GSA", "GSV")
+    return any(line.strip()[:1] == "$" and line.strip()[3:6] in ("GGA", "RMC", "VTG", "GSA", "GSV", "HDT", "THS")
                for line in head.splitlines()[:20])
 
 
@@ -57,6 +59,7 @@ def read_nmea(path) -> Log:
     """Read GGA/RMC/VTG sentences into a :class:`~quatnav.io.Log` with a ``gnss`` stream (one row
     per GGA with a fix; velocity from the RMC/VTG of the same epoch)."""
     epochs, order, bad, date0, last = {}, [], [], None, None
+    headings = []  # (time of day of the epoch, heading deg)
     with open(path, errors="replace") as fh:
         for no, raw in enumerate(fh, 1):
             line = raw.strip()
@@ -91,6 +94,10 @@ def read_nmea(path) -> Log:
                     if f[2] == "A" and f[7]:
                         e.update(speed=float(f[7]) * _KNOT, course=float(f[8]) if f[8] else math.nan)
                     last = tod
+                elif kind in ("HDT", "THS") and last is not None:
+                    # THS: heading, mode (A autonomous, E estimated, M manual, S simulator, V invalid)
+                    if f[1] and not (kind == "THS" and len(f) > 2 and f[2] == "V"):
+                        headings.append((last, float(f[1])))
                 elif kind == "VTG" and last is not None:
                     spd = float(f[7]) / 3.6 if len(f) > 7 and f[7] else (float(f[5]) * _KNOT if f[5] else math.nan)
                     if math.isfinite(spd):
@@ -122,4 +129,15 @@ def read_nmea(path) -> Log:
              h=np.array([x["h"] for x in e]), vel_n=vel if np.isfinite(spd).any() else None,
              sigma=np.column_stack([sh, sh, 2 * sh]), quality=q,
              weight=np.array([UERE.get(k, ("?", 5.0, 0.0))[2] for k in q]), quality_kind="nmea-gga")
-    return Log(source=str(path), format="nmea", gnss=g, notes=notes, bad_lines=len(bad))
+    compass = None
+    if headings:
+        # the epoch times as for the fixes (midnight unwrapped over every epoch, the date added)
+        every = np.array(order, float)
+        wrap = every + 86400.0 * np.concatenate([[0], np.cumsum(np.diff(every) < -43200)])
+        at = dict(zip(order, wrap + (date0 or 0.0)))
+        th = np.array([at[tod] for tod, _ in headings])
+        hd = np.radians([h for _, h in headings])
+        keep = np.concatenate([[True], np.diff(th) > 0])  # one heading per epoch (the first)
+        compass = Compass(t=th[keep], heading=np.angle(np.exp(1j * hd[keep])), north="true")
+        notes.append(f"{int(keep.sum())} true headings (HDT/THS)")
+    return Log(source=str(path), format="nmea", gnss=g, compass=compass, notes=notes, bad_lines=len(bad))

@@ -12,7 +12,9 @@ Topics read (the first instance, ``multi_id`` 0, unless a topic option names ano
 * GNSS: ``vehicle_gps_position`` or ``sensor_gps``: ``lat lon`` as int 1e-7 deg or ``latitude_deg
   longitude_deg``; ``alt_ellipsoid`` in mm or ``altitude_ellipsoid_m`` (else the MSL altitude, noted);
   ``eph``/``epv`` as sigmas, ``vel_n_m_s vel_e_m_s vel_d_m_s`` when ``vel_ned_valid``,
-  ``s_variance_m_s`` as velocity sigma, ``fix_type`` as quality (rows below a 3-D fix dropped).
+  ``s_variance_m_s`` as velocity sigma, ``fix_type`` as quality (rows below a 3-D fix dropped);
+  ``heading`` (rad, NaN when the receiver has none; a two-antenna GPS yaw) as the ``compass``
+  stream with ``north="true"``.
 * barometer: ``vehicle_air_data`` (``baro_alt_meter``, ``baro_pressure_pa``), else ``baro_alt_meter``
   of ``sensor_combined``.
 * reference: PX4's own estimate, ``vehicle_attitude`` ``q[0..3]`` ([w, x, y, z], FRD to NED as
@@ -25,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .log import Baro, Gnss, Imu, Log, Mag, Reference
+from .log import Baro, Compass, Gnss, Imu, Log, Mag, Reference
 
 __all__ = ["read_ulog", "looks_like_ulog"]
 
@@ -146,6 +148,12 @@ def read_ulog(path, *, mag_topic=None, gnss_topic=None, multi_id: int = 0) -> Lo
                             sigma=np.column_stack([eph, eph, epv])[ok],
                             sigma_vel=None if sv is None else np.column_stack([sv, sv, sv])[ok],
                             quality=fix[ok], weight=w[ok], quality_kind="px4-fix_type")
+            if "heading" in d:
+                hd = np.asarray(d["heading"], float)
+                hk = ok & np.isfinite(hd)
+                if hk.any():
+                    log.compass = Compass(t=tg[hk], heading=np.angle(np.exp(1j * hd[hk])), north="true")
+                    log.notes.append(f"{name}: {int(hk.sum())} GPS headings (true north)")
             break
     # barometer
     d = _topic(u, "vehicle_air_data", multi_id)

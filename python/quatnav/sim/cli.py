@@ -1,12 +1,15 @@
-"""``quatnav simulate``: build a named scenario, save it, optionally plot it.
+r"""``quatnav simulate``: build a named scenario, save it, optionally plot it.
 
     quatnav simulate --list
     quatnav simulate NAME --seed S [--out FILE.npz] [--csv DIR | --csv FILE.csv] [--plot FILE.png]
                      [--json FILE|-]
 
 --csv DIR writes the input files of 'quatnav ins run' into DIR (imu.csv, gnss.csv, baro.csv,
-compass.csv, config.toml, in its columns and units) and truth.csv (time, lat, lon (deg), h,
-v_n, v_e, v_d, roll, pitch, yaw (deg)), so that
+compass.csv, config.toml, in its columns and units), the other streams of the scenario (mag.csv
+in uT, odometer.csv in m/s), scenario.toml (the IMU mounting body-from-IMU, the GNSS latency and
+whether fixes are stamped on delivery, the lever arm, the stops and outages: what a filter must be
+told, e.g. for car_city) and truth.csv (time, lat, lon (deg), h, v_n, v_e, v_d, roll, pitch,
+yaw (deg)), so that
 
     quatnav ins run --imu DIR/imu.csv --gnss DIR/gnss.csv --baro DIR/baro.csv \
                     --compass DIR/compass.csv --config DIR/config.toml --out DIR/out.csv

@@ -3,16 +3,17 @@
 NPZ
 ---
 One array per field, named ``<group>.<field>`` (groups ``truth``, ``imu``, ``gps``, ``mag``,
-``baro``, ``compass``), plus ``meta``: a JSON string with name, seed, description, params and
-the trajectory's rate and Earth-rate flag.
+``baro``, ``compass``, ``odometer``), plus ``meta``: a JSON string with name, seed, description,
+params, the trajectory's rate and Earth-rate flag, the IMU mounting ``q_b_imu`` and whether the
+GNSS fixes are stamped on delivery.
 
 CSV
 ---
 ``save_csv(scenario, "run.csv")`` writes
 
 * ``run.csv``: the truth at every trajectory sample, columns :func:`csv_columns` ``("truth")``;
-* ``run_imu.csv``, ``run_gps.csv``, ``run_mag.csv``, ``run_baro.csv``, ``run_compass.csv`` for the
-  sensors present, columns :func:`csv_columns` ``(group)``;
+* ``run_imu.csv``, ``run_gps.csv``, ``run_mag.csv``, ``run_baro.csv``, ``run_compass.csv``,
+  ``run_odometer.csv`` for the sensors present, columns :func:`csv_columns` ``(group)``;
 * ``run_meta.json``: the metadata.
 
 INS input (``quatnav ins run``)
@@ -25,13 +26,22 @@ and units (``quatnav ins run -h``), so a simulated run goes through the command 
                     --compass run/compass.csv --config run/config.toml --out run/out.csv
 
 * ``imu.csv``: ``time`` (s), ``gyro_x gyro_y gyro_z`` (rad/s), ``accel_x accel_y accel_z``
-  (m/s^2), the simulated (noisy, biased) IMU; row k is the mean over (time[k-1], time[k]];
-* ``gnss.csv``: ``time`` (time of validity, s), ``lat lon`` (deg), ``h`` (m) and ``v_n v_e v_d``
-  (m/s) of the antenna, ``sigma_n sigma_e sigma_d`` (m) and ``sigma_vn sigma_ve sigma_vd`` (m/s)
-  from the receiver's simulated noise;
+  (m/s^2), the simulated (noisy, biased) IMU in the IMU's own axes (rotated from the body
+  when the scenario mounts it rotated: ``scenario.toml`` says how); row k is the mean over
+  (time[k-1], time[k]];
+* ``gnss.csv``: ``time`` (s: the time of validity, or the delivery time when the scenario's
+  receiver stamps fixes on delivery, late by its latency), ``lat lon`` (deg), ``h`` (m) and
+  ``v_n v_e v_d`` (m/s) of the antenna, ``sigma_n sigma_e sigma_d`` (m) and
+  ``sigma_vn sigma_ve sigma_vd`` (m/s) from the receiver's simulated noise;
 * ``baro.csv``: ``time``, ``h`` (m); ``compass.csv``: ``time``, ``heading`` (deg; the simulated
   compass measures true heading, so the configuration leaves ``declination`` at 0);
+* ``mag.csv``: ``time``, ``mag_x mag_y mag_z`` (uT, sensor frame); ``odometer.csv``: ``time``,
+  ``speed`` (m/s, forward along body x);
 * ``config.toml``: ``[filter]`` with the antenna lever arm ``lever_arm_b`` (m);
+* ``scenario.toml``: what the scenario knows and a filter may be told: ``[imu]`` the mounting
+  (``mounting_rpy_deg``, ZYX deg, and ``C_b_imu``, body from IMU), ``[gnss]`` ``lever_arm_b_m``,
+  ``latency_s`` and ``time_stamp`` ("valid" or "delivery"), ``[events]`` the stops and GNSS
+  outages (s);
 * ``truth.csv``: ``time, lat, lon`` (deg), ``h``, ``v_n v_e v_d``, ``roll pitch yaw`` (deg) at
   every trajectory sample: the first columns of ``ins run``'s output, for comparison.
 
@@ -53,17 +63,19 @@ from pathlib import Path
 import numpy as np
 
 from .scenarios import Scenario
-from .sensors import BaroData, CompassData, GpsData, ImuData, MagData
+from .sensors import BaroData, CompassData, GpsData, ImuData, MagData, OdometerData
 from .trajectory import Trajectory
 
 __all__ = ["save_npz", "load_npz", "save_csv", "load_csv", "csv_columns", "save_ins_csv", "TRUTH_COLUMNS"]
 
-_TYPES = {"imu": ImuData, "gps": GpsData, "mag": MagData, "baro": BaroData, "compass": CompassData}
-_SCALARS = {"truth": ("rate_hz", "earth_rate"), "imu": ("rate_hz",)}
+_TYPES = {"imu": ImuData, "gps": GpsData, "mag": MagData, "baro": BaroData, "compass": CompassData,
+          "odometer": OdometerData}
+#: fields that are not per-sample arrays: kept in the metadata
+_META_FIELDS = ("rate_hz", "earth_rate", "q_b_imu", "stamped_on_delivery")
 
 
 def _array_fields(cls):
-    return [f.name for f in dataclasses.fields(cls) if f.name not in ("rate_hz", "earth_rate")]
+    return [f.name for f in dataclasses.fields(cls) if f.name not in _META_FIELDS]
 
 
 def _suffixes(name, width):
@@ -96,7 +108,9 @@ def csv_columns(group):
 def _meta(s: Scenario):
     m = {"name": s.name, "seed": s.seed, "description": s.description, "params": s.params,
          "truth": {"rate_hz": s.truth.rate_hz, "earth_rate": s.truth.earth_rate},
-         "imu": {"rate_hz": s.imu.rate_hz}}
+         "imu": {"rate_hz": s.imu.rate_hz, "q_b_imu": np.asarray(s.imu.q_b_imu, float).tolist()}}
+    if s.gps is not None:
+        m["gps"] = {"stamped_on_delivery": bool(s.gps.stamped_on_delivery)}
     if s.mag is not None:
         m["mag"] = {"field_n": s.mag.field_n.tolist()}
     return m
@@ -136,6 +150,9 @@ def _build(meta, get):
         kw = {f: get(g, f) for f in _array_fields(cls)}
         if g == "imu":
             kw["rate_hz"] = float(meta["imu"]["rate_hz"])
+            kw["q_b_imu"] = np.asarray(meta["imu"].get("q_b_imu", [1.0, 0.0, 0.0, 0.0]), float)
+        if g == "gps":
+            kw["stamped_on_delivery"] = bool(meta.get("gps", {}).get("stamped_on_delivery", False))
         sensors[g] = cls(**kw)
     return Scenario(name=meta["name"], seed=int(meta["seed"]), description=meta["description"],
                     truth=truth, params=meta["params"], **sensors)
@@ -250,21 +267,52 @@ def save_ins_csv(scenario: Scenario, directory) -> list:
         svel = float(spec.get("vel_sigma_m_s", 0.1))
         written.append(_write(d / "gnss.csv", ("time", "lat", "lon", "h", "v_n", "v_e", "v_d", "sigma_n", "sigma_e",
                                                 "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd"),
-                              [g.t_valid, np.degrees(g.lat), np.degrees(g.lon), g.h, *np.asarray(g.v_n).T,
+                              [g.t_stamp, np.degrees(g.lat), np.degrees(g.lon), g.h, *np.asarray(g.v_n).T,
                                *(np.full(k, x) for x in (sh, sh, sv, svel, svel, svel))], "%.15g"))
     if s.baro is not None:
         written.append(_write(d / "baro.csv", ("time", "h"), [s.baro.t, s.baro.h], "%.10g"))
     if s.compass is not None:
         written.append(_write(d / "compass.csv", ("time", "heading"), [s.compass.t, np.degrees(s.compass.yaw)],
                               "%.10g"))
+    if s.mag is not None:
+        written.append(_write(d / "mag.csv", ("time", "mag_x", "mag_y", "mag_z"),
+                              [s.mag.t, *(np.asarray(s.mag.mag) * 1e6).T], "%.10g"))
+    if s.odometer is not None:
+        written.append(_write(d / "odometer.csv", ("time", "speed"), [s.odometer.t, s.odometer.speed], "%.10g"))
     lever = np.broadcast_to(np.asarray(spec.get("lever_arm_b_m", 0.0), float), (3,))
     cfg = d / "config.toml"
     cfg.write_text(f"# quatnav ins run configuration of the simulated scenario {s.name} (seed {s.seed})\n"
                    "[filter]\n"
                    f"lever_arm_b = [{', '.join(repr(float(x)) for x in lever)}]   # m, GPS antenna in the body frame\n")
     written.append(cfg)
+    written.append(_write_scenario_toml(s, d / "scenario.toml", lever))
     tr = s.truth
     written.append(_write(d / "truth.csv", TRUTH_COLUMNS,
                           [tr.t, np.degrees(tr.lat), np.degrees(tr.lon), tr.h, *np.asarray(tr.v_n).T,
                            *np.degrees(np.asarray(tr.rpy)).T], "%.15g"))
     return written
+
+
+def _write_scenario_toml(s: Scenario, path, lever) -> Path:
+    """``scenario.toml``: the sensor model and events of a scenario, for a filter to be told."""
+    from ..calibration._toml import dumps
+    from ..core import quaternion as quat
+    q = np.asarray(s.imu.q_b_imu, float)
+    rpy = s.params.get("imu", {}).get("mounting_rpy_deg", (0.0, 0.0, 0.0))
+    doc = {"scenario": {"name": s.name, "seed": int(s.seed)},
+           "imu": {"rate_hz": float(s.imu.rate_hz),
+                   "mounting_rpy_deg": [float(x) for x in np.broadcast_to(np.asarray(rpy, float), (3,))],
+                   "C_b_imu": [[float(x) for x in row] for row in quat.to_rotmat(q)],
+                   "q_b_imu": [float(x) for x in q]}}
+    if s.gps is not None:
+        gp = s.params.get("gps", {})
+        doc["gnss"] = {"lever_arm_b_m": [float(x) for x in lever], "latency_s": float(gp.get("latency_s", 0.0)),
+                       "time_stamp": "delivery" if s.gps.stamped_on_delivery else "valid"}
+    ev = s.params.get("events")
+    if ev:
+        doc["events"] = {k: v for k, v in ev.items() if k in ("stops", "gnss_outages")}
+    head = (f"quatnav simulate: sensor model and events of {s.name} (seed {s.seed})\n"
+            "imu: the IMU's axes relative to the body (ZYX deg; C_b_imu rotates IMU-frame vectors into the body)\n"
+            "gnss.time_stamp: 'delivery' = the fixes in gnss.csv are stamped late by latency_s")
+    Path(path).write_text(dumps(doc, header=head))
+    return Path(path)

@@ -3,7 +3,7 @@
 ``make_scenario(name, seed)`` builds one; ``list_scenarios()`` names them all (also
 ``quatnav simulate --list``). Random draws come from ``numpy.random.default_rng(seed)``,
 split with ``Generator.spawn`` into one stream per sensor in a fixed order (IMU, GPS,
-magnetometer, altimeter, compass), so a scenario is reproducible from its seed.
+magnetometer, altimeter, compass, odometer), so a scenario is reproducible from its seed.
 
 Choices that the papers leave open are stated in each scenario's docstring and in its
 ``params["choices"]``.
@@ -19,9 +19,10 @@ import numpy as np
 
 from . import units
 from .sensors import (AccelSpec, BaroSpec, BaroData, CompassData, CompassSpec, GpsData, GpsSpec,
-                      GyroSpec, ImuData, ImuSpec, MagData, MagDisturbance, MagSpec, simulate_baro,
-                      simulate_compass, simulate_gps, simulate_imu, simulate_mag)
-from .trajectory import (Accelerate, Cruise, RandomMotion, Rest, Rotate, Trajectory, Turn,
+                      GyroSpec, ImuData, ImuSpec, MagData, MagDisturbance, MagSpec, OdometerData,
+                      OdometerSpec, mounting_quaternion, simulate_baro, simulate_compass,
+                      simulate_gps, simulate_imu, simulate_mag, simulate_odometer)
+from .trajectory import (Accelerate, Climb, Cruise, RandomMotion, Rest, Rotate, Trajectory, Turn,
                          WaypointPath, make_trajectory)
 
 __all__ = ["Scenario", "make_scenario", "list_scenarios", "scenario_description",
@@ -48,7 +49,7 @@ class Scenario:
     truth : Trajectory
         Truth at every trajectory sample.
     imu : ImuData
-    gps, mag, baro, compass : optional sensor outputs
+    gps, mag, baro, compass, odometer : optional sensor outputs
     params : dict
         JSON-serializable: the sensor specifications (datasheet units), trajectory settings and
         the scenario's stated choices; paper scenarios also hold ``initial_errors``.
@@ -63,9 +64,10 @@ class Scenario:
     mag: Optional[MagData] = None
     baro: Optional[BaroData] = None
     compass: Optional[CompassData] = None
+    odometer: Optional[OdometerData] = None
     params: dict = field(default_factory=dict)
 
-    SENSORS = ("imu", "gps", "mag", "baro", "compass")
+    SENSORS = ("imu", "gps", "mag", "baro", "compass", "odometer")
 
 
 def _spec_dict(spec):
@@ -75,9 +77,10 @@ def _spec_dict(spec):
 
 
 def _assemble(name, seed, description, traj, imu=None, gps=None, mag=None, baro=None,
-              compass=None, extra=None) -> Scenario:
+              compass=None, extra=None, odometer=None) -> Scenario:
     rng = np.random.default_rng(seed)
-    r_imu, r_gps, r_mag, r_baro, r_cmp = rng.spawn(5)
+    # spawn(6) gives the same first five streams as spawn(5) did: older scenarios are unchanged
+    r_imu, r_gps, r_mag, r_baro, r_cmp, r_odo = rng.spawn(6)
     params = {"trajectory": {"rate_hz": traj.rate_hz, "earth_rate": traj.earth_rate,
                              "lat0": float(traj.lat[0]), "lon0": float(traj.lon[0]),
                              "h0": float(traj.h[0]), "duration_s": float(traj.t[-1])}}
@@ -85,7 +88,8 @@ def _assemble(name, seed, description, traj, imu=None, gps=None, mag=None, baro=
     params["imu"] = _spec_dict(imu)
     for key, spec, fn, r in (("gps", gps, simulate_gps, r_gps), ("mag", mag, simulate_mag, r_mag),
                              ("baro", baro, simulate_baro, r_baro),
-                             ("compass", compass, simulate_compass, r_cmp)):
+                             ("compass", compass, simulate_compass, r_cmp),
+                             ("odometer", odometer, simulate_odometer, r_odo)):
         if spec is not None:
             out[key] = fn(traj, spec, r)
             params[key] = _spec_dict(spec)
@@ -280,6 +284,117 @@ def _handheld_disturbed(seed=0, **kw):
     return handheld_marg(seed, **kw)
 
 
+# ----------------------------------------------------------------------------------------------
+# Car
+# ----------------------------------------------------------------------------------------------
+#: ZYX Euler angles (deg) of the IMU of ``car_city`` relative to the body: turned 90 deg (its x
+#: axis points to the car's right) and tilted by a few degrees, as an IMU screwed to a bracket.
+CAR_MOUNTING_RPY_DEG = (2.0, -3.0, 90.0)
+#: The upside-down variant: the IMU's z axis points up, its axes are forward-left-up.
+CAR_UPSIDE_DOWN_RPY_DEG = (180.0, 0.0, 0.0)
+
+
+def _car_segments():
+    """(segments, labels): the city drive, about 204 s."""
+    r = np.radians
+    segs = [
+        ("launch", Accelerate(3.5, delta_speed=9.0, from_peak=True)),   # 2 -> 11 m/s, 4.04 m/s^2 at t = 0
+        ("cruise", Cruise(15.0)),
+        ("turn right", Turn(7.0, angle=r(90.0), ramp=1.5)),
+        ("cruise", Cruise(10.0)),
+        ("brake", Accelerate(5.0, to_speed=0.0)),
+        ("stop", Rest(8.0)),
+        ("pull away", Accelerate(6.0, to_speed=13.0)),
+        ("cruise", Cruise(5.0)),
+        ("uphill", Climb(15.0, angle=r(4.0), ramp=4.0)),
+        ("turn left", Turn(8.0, angle=r(-90.0), ramp=2.0)),
+        ("cruise", Cruise(40.0)),
+        ("turn right", Turn(6.0, angle=r(90.0), ramp=1.5)),
+        ("cruise", Cruise(15.0)),
+        ("brake", Accelerate(5.0, to_speed=0.0)),
+        ("stop", Rest(10.0)),
+        ("pull away", Accelerate(5.0, to_speed=9.0)),
+        ("roundabout", Turn(10.0, angle=r(180.0), ramp=2.0)),
+        ("cruise", Cruise(20.0)),
+        ("brake", Accelerate(4.0, to_speed=0.0)),
+        ("stop", Rest(6.0)),
+    ]
+    return [s for _, s in segs], [n for n, _ in segs]
+
+
+def car_city(seed=0, rate_hz=200.0, mounting_rpy_deg=CAR_MOUNTING_RPY_DEG, latency_s=0.125,
+             lever_arm_b_m=(-0.4, 0.2, -1.4), outage_s=30.0, imu_errors=True, name="car_city"):
+    """A car in town: a moving start, turns, a hill, three stops and a GNSS outage, with the IMU
+    mounted rotated, a late-stamped GNSS and a lever arm; wheel odometer and magnetometer.
+
+    * The log starts while the car accelerates: 2 m/s at t = 0 with 4.04 m/s^2 (easing to zero
+      over 3.5 s, reaching 11 m/s): levelling from the accelerometer at t = 0 is 22 deg off.
+    * Turns of 90 deg right and left at 11-13 m/s (lateral acceleration up to 3.5 m/s^2), a 4 deg
+      climb, a half-circle roundabout at 9 m/s; stops of 8, 10 and 6 s standing still
+      (``params["events"]["stops"]``, the car exactly at rest).
+    * GNSS (10 Hz; 0.3 m horizontal, 0.6 m vertical, 0.05 m/s) of an antenna at
+      ``lever_arm_b_m`` (body, m), with a ``latency_s`` latency and **time stamps on delivery**
+      (late by the latency), and an outage of ``outage_s`` s during the long cruise and the
+      right turn after it (``params["events"]["gnss_outages"]``).
+    * IMU (200 Hz, automotive MEMS: 0.1 deg/s-class gyro bias, 0.005 deg/s/sqrt(Hz), mg-class
+      accelerometer bias, 60 ug/sqrt(Hz)) mounted at ``mounting_rpy_deg`` (ZYX, deg) relative to
+      the body: its samples are in the IMU frame. ``imu_errors=False`` gives an ideal IMU (no
+      noise, bias or quantization) for round-trip tests.
+    * Magnetometer (50 Hz, in the IMU's package: the same mounting; 8/-5/3 uT hard iron of the
+      car body) and a wheel odometer (20 Hz forward speed, 0.3 % scale error, 0.03 m/s noise,
+      0.01 m/s steps).
+
+    ``params["sensor_model"]`` states what a filter must be given: the mounting (``rpy_deg``,
+    ``q_b_imu`` and ``C_b_imu``, body from IMU), the GNSS latency and how fixes are stamped, and
+    the lever arm.
+    """
+    segs, labels = _car_segments()
+    traj = make_trajectory(segs, rate_hz, lat0=_LAT0, lon0=_LON0, h0=_H0,
+                           rpy0=(0.0, 0.0, np.radians(60.0)), speed0=2.0)
+    if imu_errors:
+        imu = ImuSpec(gyro=GyroSpec(bias_deg_per_h=(300.0, -250.0, 400.0), bias_instability_deg_per_h=10.0,
+                                    noise_density_dps_per_sqrt_hz=0.005, range_deg_per_s=300.0,
+                                    quantization_deg_per_s=0.004),
+                      accel=AccelSpec(bias_ug=(3000.0, -2000.0, 4000.0), bias_instability_ug=100.0,
+                                      noise_density_ug_per_sqrt_hz=60.0, range_g=8.0, quantization_mg=0.25),
+                      mounting_rpy_deg=tuple(float(x) for x in mounting_rpy_deg))
+    else:
+        imu = ImuSpec(mounting_rpy_deg=tuple(float(x) for x in mounting_rpy_deg))
+    # segment start times (durations are whole samples at rate_hz)
+    starts = np.concatenate([[0.0], np.cumsum([sg.duration for sg in segs])])
+    stops = [[float(starts[i]), float(starts[i + 1])] for i, n in enumerate(labels) if n == "stop"]
+    i_long = labels.index("cruise", labels.index("turn left"))
+    t_out = float(starts[i_long] + 20.0)
+    outages = ((t_out, t_out + float(outage_s)),) if outage_s > 0 else ()
+    gps = GpsSpec(rate_hz=10.0, pos_sigma_h_m=0.3, pos_sigma_v_m=0.6, vel_sigma_m_s=0.05,
+                  lever_arm_b_m=tuple(float(x) for x in lever_arm_b_m), latency_s=float(latency_s),
+                  outages=outages, time_stamp="delivery")
+    mag = MagSpec(hard_iron_uT=(8.0, -5.0, 3.0), noise_uT=0.3, rate_hz=50.0,
+                  mounting_rpy_deg=tuple(float(x) for x in mounting_rpy_deg))
+    odo = OdometerSpec(rate_hz=20.0, noise_m_s=0.03, scale_factor_ppm=3000.0, quantization_m_s=0.01)
+    q = mounting_quaternion(mounting_rpy_deg)
+    from ..core import quaternion as quat
+    sensor_model = {"imu_mounting_rpy_deg": [float(x) for x in mounting_rpy_deg], "q_b_imu": q.tolist(),
+                    "C_b_imu": quat.to_rotmat(q).tolist(), "mag_in_imu_frame": True,
+                    "gnss_latency_s": float(latency_s), "gnss_time_stamp": "delivery",
+                    "lever_arm_b_m": [float(x) for x in lever_arm_b_m]}
+    a0 = float(traj.a_n[0] @ traj.v_n[0] / np.linalg.norm(traj.v_n[0]))
+    events = {"stops": stops, "gnss_outages": [list(o) for o in outages],
+              "moving_start": {"speed_m_s": 2.0, "accel_m_s2": a0},
+              "segments": [[n, float(starts[i]), float(starts[i + 1])] for i, n in enumerate(labels)]}
+    choices = {"imu": "automotive MEMS, typical datasheet values", "imu_errors": bool(imu_errors),
+               "rate_hz": rate_hz, "gnss": "10 Hz, 0.3 m / 0.6 m, stamped on delivery"}
+    return _assemble(name, seed, "car in town: moving start, stops, turns, GNSS outage; IMU mounted "
+                     "rotated, late GNSS stamps, lever arm", traj, imu=imu, gps=gps, mag=mag, odometer=odo,
+                     extra={"sensor_model": sensor_model, "events": events, "choices": choices})
+
+
+def _car_upside_down(seed=0, **kw):
+    kw.setdefault("mounting_rpy_deg", CAR_UPSIDE_DOWN_RPY_DEG)
+    kw.setdefault("name", "car_city_upside_down")
+    return car_city(seed, **kw)
+
+
 _REGISTRY: Dict[str, Callable[..., Scenario]] = {
     "paper002_straight_then_circle": paper002_straight_then_circle,
     "paper004_static": paper004_static,
@@ -288,6 +403,8 @@ _REGISTRY: Dict[str, Callable[..., Scenario]] = {
     "paper001_constant_turn": paper001_constant_turn,
     "handheld_marg": handheld_marg,
     "handheld_marg_disturbed": _handheld_disturbed,
+    "car_city": car_city,
+    "car_city_upside_down": _car_upside_down,
 }
 
 _DESCRIPTIONS = {
@@ -298,6 +415,8 @@ _DESCRIPTIONS = {
     "paper001_constant_turn": "steady turn, IMU offset from the GPS antenna by a lever arm (paper 001)",
     "handheld_marg": "smooth random hand-held rotations, 200 Hz IMU + magnetometer",
     "handheld_marg_disturbed": "handheld_marg with magnet-near events and linear accelerations",
+    "car_city": "car in town: moving start, stops, turns, 30 s GNSS outage; IMU mounted rotated, GNSS 0.125 s late",
+    "car_city_upside_down": "car_city with the IMU mounted upside down (axes forward-left-up)",
 }
 
 

@@ -43,6 +43,7 @@ __all__ = [
     "GpsSpec", "GpsData", "simulate_gps",
     "BaroSpec", "BaroData", "simulate_baro",
     "CompassSpec", "CompassData", "simulate_compass",
+    "OdometerSpec", "OdometerData", "simulate_odometer", "mounting_quaternion",
     "GM_ALLAN_PEAK", "FLICKER_FLOOR",
 ]
 
@@ -62,6 +63,12 @@ def _nonneg(obj, name, allow_inf=False):
         raise ValueError(f"{type(obj).__name__}.{name} must be non-negative"
                          f"{'' if allow_inf else ' and finite'}, got {getattr(obj, name)!r}")
     return v
+
+
+def _finite(obj, name):
+    v = getattr(obj, name)
+    if not np.isfinite(v):
+        raise ValueError(f"{type(obj).__name__}.{name} must be finite, got {v!r}")
 
 
 def _positive(obj, name, allow_inf=False, allow_none=False):
@@ -88,6 +95,19 @@ def _vec(obj, name, n):
 def _misalignment_matrix(m6):
     xy, xz, yx, yz, zx, zy = m6
     return np.array([[1.0, xy, xz], [yx, 1.0, yz], [zx, zy, 1.0]])
+
+
+def mounting_quaternion(rpy_deg):
+    """``q_b_s`` (body from sensor, [w, x, y, z]) of a sensor mounted at ZYX Euler angles
+    ``rpy_deg`` = [roll, pitch, yaw] (deg) relative to the body: a vector in the sensor frame
+    is ``v_b = q_b_s * v_s * conj(q_b_s)``, so the sensor measures ``v_s = C_b_s^T v_b``."""
+    return quat.from_euler(np.radians(np.asarray(rpy_deg, float)))
+
+
+def _mounted(spec, name="mounting_rpy_deg"):
+    """``(q_b_s, rotated)``: the mounting quaternion and whether it differs from identity."""
+    rpy = _vec(spec, name, 3)
+    return mounting_quaternion(rpy), bool(np.any(rpy != 0.0))
 
 
 def _decimation(traj_rate, rate_hz, what):
@@ -198,11 +218,19 @@ class AccelSpec:
 @dataclass(frozen=True)
 class ImuSpec:
     """An IMU: gyro and accelerometer triads and an output rate (Hz; ``None`` = trajectory rate,
-    otherwise it must divide the trajectory rate; samples are means over the output interval)."""
+    otherwise it must divide the trajectory rate; samples are means over the output interval).
+
+    ``mounting_rpy_deg``: the IMU's axes relative to the body, ZYX Euler angles [roll, pitch,
+    yaw] in degrees (:func:`mounting_quaternion` gives ``q_b_imu``, body from IMU). The IMU
+    sits at the body origin; its samples, and its errors, are in the IMU frame:
+    ``omega_imu = C_b_imu^T omega_b``. ``(180, 0, 0)`` is an IMU mounted upside down (its axes
+    forward-left-up); ``(0, 0, 90)`` one whose x axis points to the body's right.
+    """
 
     gyro: GyroSpec = field(default_factory=GyroSpec)
     accel: AccelSpec = field(default_factory=AccelSpec)
     rate_hz: Optional[float] = None
+    mounting_rpy_deg: object = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         if not isinstance(self.gyro, GyroSpec):
@@ -210,6 +238,7 @@ class ImuSpec:
         if not isinstance(self.accel, AccelSpec):
             raise ValueError(f"ImuSpec.accel must be an AccelSpec, got {self.accel!r}")
         _positive(self, "rate_hz", allow_none=True)
+        _vec(self, "mounting_rpy_deg", 3)
 
 
 @dataclass
@@ -226,6 +255,8 @@ class ImuData:
         random walk), in rad/s and m/s^2
     saturated : (K,) bool, any axis clipped at the range
     rate_hz : float
+    q_b_imu : (4,) the mounting, body from IMU ([w, x, y, z]; identity for an IMU aligned with
+        the body). ``gyro``, ``accel`` and the biases are in the IMU frame.
     """
 
     t: np.ndarray
@@ -236,6 +267,12 @@ class ImuData:
     accel_bias: np.ndarray
     saturated: np.ndarray
     rate_hz: float
+    q_b_imu: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
+
+    @property
+    def C_b_imu(self):
+        """(3, 3) rotation matrix body from IMU."""
+        return quat.to_rotmat(self.q_b_imu)
 
     @property
     def dt(self):
@@ -300,10 +337,14 @@ def simulate_imu(traj: Trajectory, spec: ImuSpec, rng: np.random.Generator) -> I
     f[1:] = (cv[idx[1:]] - cv[idx[:-1]]) / dt
     w[0] = traj.omega_ib_b[0]
     f[0] = traj.f_ib_b[0]
+    q_b_imu, rotated = _mounted(spec)
+    if rotated:  # into the IMU frame: x_imu = C_b_imu^T x_b
+        C = quat.to_rotmat(q_b_imu)
+        w, f = w @ C, f @ C
     gyro, gb, gs = _triad(w, spec.gyro.si(), dt, rng)
     accel, ab, as_ = _triad(f, spec.accel.si(), dt, rng)
     return ImuData(t=traj.t[idx], index=idx, gyro=gyro, accel=accel, gyro_bias=gb,
-                   accel_bias=ab, saturated=gs | as_, rate_hz=traj.rate_hz / m)
+                   accel_bias=ab, saturated=gs | as_, rate_hz=traj.rate_hz / m, q_b_imu=q_b_imu)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -332,7 +373,10 @@ class MagSpec:
 
     The Earth field has ``intensity_uT``, ``inclination_deg`` (dip, positive down) and
     ``declination_deg`` (east of true north); defaults are about right for central Korea.
-    Output ``m_b = S C_bn m_n + hard_iron + disturbance + noise``.
+    Output ``m_s = S C_sn m_n + hard_iron + disturbance + noise`` in the sensor frame, which is
+    the body frame rotated by ``mounting_rpy_deg`` (as :attr:`ImuSpec.mounting_rpy_deg`; a
+    magnetometer in the IMU's package has the IMU's mounting). Disturbance fields are given in
+    the sensor frame.
     """
 
     intensity_uT: float = 50.0
@@ -343,9 +387,11 @@ class MagSpec:
     noise_uT: float = 0.3
     rate_hz: Optional[float] = None
     disturbances: Tuple[MagDisturbance, ...] = ()
+    mounting_rpy_deg: object = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         _positive(self, "intensity_uT")
+        _vec(self, "mounting_rpy_deg", 3)
         if not (np.isfinite(self.inclination_deg) and abs(self.inclination_deg) <= 90):
             raise ValueError(f"MagSpec.inclination_deg must be in [-90, 90], got {self.inclination_deg!r}")
         if not np.isfinite(self.declination_deg):
@@ -388,6 +434,9 @@ def simulate_mag(traj: Trajectory, spec: MagSpec, rng: np.random.Generator) -> M
     t = traj.t[idx]
     m_n = earth_field_n(spec)
     m_b = quat.rotate_inv(traj.q_nb[idx], np.broadcast_to(m_n, (len(idx), 3)))
+    q_b_s, rotated = _mounted(spec)
+    if rotated:
+        m_b = m_b @ quat.to_rotmat(q_b_s)
     out = m_b @ np.asarray(spec.soft_iron, float).T + units.microtesla(_vec(spec, "hard_iron_uT", 3))
     disturbed = np.zeros(len(idx), bool)
     for d in spec.disturbances:
@@ -409,7 +458,11 @@ class GpsSpec:
 
     ``lever_arm_b_m`` is the antenna position in the body frame relative to the IMU (m).
     A fix measured at ``t`` is delivered at ``t + latency_s`` (latency rounded to whole
-    trajectory samples). No fix is measured inside an outage ``(t_start, t_end)``.
+    trajectory samples). ``time_stamp`` says which time the receiver writes on a fix:
+    ``"valid"`` (the time of validity; the latency only delays delivery) or ``"delivery"`` (the
+    fix is stamped on arrival, late by ``latency_s``: a filter must be told the latency, as
+    with a receiver whose messages are time-stamped by the logger). No fix is measured inside
+    an outage ``(t_start, t_end)``.
     Noise is white per fix with standard deviations in m (horizontal per axis, vertical) and
     m/s (per axis).
     """
@@ -421,8 +474,11 @@ class GpsSpec:
     lever_arm_b_m: object = 0.0
     latency_s: float = 0.0
     outages: Tuple[Tuple[float, float], ...] = ()
+    time_stamp: str = "valid"
 
     def __post_init__(self):
+        if self.time_stamp not in ("valid", "delivery"):
+            raise ValueError(f"GpsSpec.time_stamp must be 'valid' or 'delivery', got {self.time_stamp!r}")
         _positive(self, "rate_hz")
         _nonneg(self, "pos_sigma_h_m")
         _nonneg(self, "pos_sigma_v_m")
@@ -438,7 +494,8 @@ class GpsSpec:
 class GpsData:
     """GPS fixes (K): ``t`` delivery time (s), ``t_valid`` time of validity (s), ``index`` and
     ``index_valid`` trajectory samples, ``lat``, ``lon`` (rad), ``h`` (m), ``pos_n`` (K, 3) m local
-    NED, ``v_n`` (K, 3) m/s, all of the antenna."""
+    NED, ``v_n`` (K, 3) m/s, all of the antenna. ``t_stamp`` (property): the time the receiver
+    writes on each fix (``t_valid`` or ``t`` as :attr:`GpsSpec.time_stamp` says)."""
 
     t: np.ndarray
     t_valid: np.ndarray
@@ -449,6 +506,12 @@ class GpsData:
     h: np.ndarray
     pos_n: np.ndarray
     v_n: np.ndarray
+    stamped_on_delivery: bool = False
+
+    @property
+    def t_stamp(self):
+        """(K,) s: the time stamp of each fix as the receiver writes it."""
+        return self.t if self.stamped_on_delivery else self.t_valid
 
 
 def simulate_gps(traj: Trajectory, spec: GpsSpec, rng: np.random.Generator) -> GpsData:
@@ -474,7 +537,8 @@ def simulate_gps(traj: Trajectory, spec: GpsSpec, rng: np.random.Generator) -> G
     vel = vel + rng.standard_normal((n, 3)) * spec.vel_sigma_m_s
     lat, lon, h = earth.ned_to_geodetic(pos, traj.lat[0], traj.lon[0], traj.h[0])
     return GpsData(t=traj.t[iv + lag], t_valid=tv[keep], index=iv + lag, index_valid=iv,
-                   lat=lat, lon=lon, h=h, pos_n=pos, v_n=vel)
+                   lat=lat, lon=lon, h=h, pos_n=pos, v_n=vel,
+                   stamped_on_delivery=spec.time_stamp == "delivery")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -493,8 +557,7 @@ class BaroSpec:
     def __post_init__(self):
         _positive(self, "rate_hz")
         _nonneg(self, "noise_m")
-        if not np.isfinite(self.bias_m):
-            raise ValueError(f"BaroSpec.bias_m must be finite, got {self.bias_m!r}")
+        _finite(self, "bias_m")
         _nonneg(self, "drift_m_per_sqrt_h")
 
 
@@ -532,8 +595,7 @@ class CompassSpec:
     def __post_init__(self):
         _positive(self, "rate_hz")
         _nonneg(self, "noise_deg")
-        if not np.isfinite(self.bias_deg):
-            raise ValueError(f"CompassSpec.bias_deg must be finite, got {self.bias_deg!r}")
+        _finite(self, "bias_deg")
 
 
 @dataclass
@@ -552,3 +614,44 @@ def simulate_compass(traj: Trajectory, spec: CompassSpec, rng: np.random.Generat
     yaw = traj.rpy[idx, 2] + np.radians(spec.bias_deg) + \
         rng.standard_normal(len(idx)) * np.radians(spec.noise_deg)
     return CompassData(t=traj.t[idx], index=idx, yaw=np.angle(np.exp(1j * yaw)))
+
+
+# ----------------------------------------------------------------------------------------------
+# Wheel odometer
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class OdometerSpec:
+    """Wheel odometer: the forward speed of the body (m/s, along body x; negative when
+    reversing), as a car's wheel-speed or transmission sensor gives it:
+    ``speed = (1 + scale) v_bx + noise``, rounded to ``quantization_m_s``."""
+
+    rate_hz: float = 10.0
+    noise_m_s: float = 0.05
+    scale_factor_ppm: float = 0.0
+    quantization_m_s: float = 0.0
+
+    def __post_init__(self):
+        _positive(self, "rate_hz")
+        _nonneg(self, "noise_m_s")
+        _finite(self, "scale_factor_ppm")
+        _nonneg(self, "quantization_m_s")
+
+
+@dataclass
+class OdometerData:
+    """Odometer output: ``t`` (K,) s, ``index`` (K,), ``speed`` (K,) m/s forward (body x)."""
+
+    t: np.ndarray
+    index: np.ndarray
+    speed: np.ndarray
+
+
+def simulate_odometer(traj: Trajectory, spec: OdometerSpec, rng: np.random.Generator) -> OdometerData:
+    """Simulate a wheel odometer (forward speed of the body)."""
+    m = _decimation(traj.rate_hz, spec.rate_hz, "OdometerSpec")
+    idx = np.arange(0, len(traj), m)
+    v_b = quat.rotate_inv(traj.q_nb[idx], traj.v_n[idx])
+    y = v_b[:, 0] * (1.0 + units.ppm(spec.scale_factor_ppm)) + rng.standard_normal(len(idx)) * spec.noise_m_s
+    if spec.quantization_m_s > 0:
+        y = np.round(y / spec.quantization_m_s) * spec.quantization_m_s
+    return OdometerData(t=traj.t[idx], index=idx, speed=y)

@@ -247,12 +247,16 @@ class Accelerate(_EulerSegment):
     """Change speed along the path smoothly (raised-cosine speed profile).
 
     Give exactly one of ``to_speed`` (m/s) or ``delta_speed`` (m/s). The peak acceleration is
-    ``pi/2 * |delta| / duration``.
+    ``pi/2 * |delta| / duration``. With ``from_peak`` the speed follows a quarter sine,
+    ``delta sin(pi/2 tau/duration)``: the acceleration is at its peak at the start and eases to
+    zero, as in a log that begins while the vehicle is already accelerating (the segment must
+    then be the first one, started with ``speed0 > 0``).
     """
 
     duration: float
     to_speed: Optional[float] = None
     delta_speed: Optional[float] = None
+    from_peak: bool = False
 
     def __post_init__(self):
         _check_positive("duration", self.duration)
@@ -271,8 +275,13 @@ class Accelerate(_EulerSegment):
 
     def _profile(self, tau, s0):
         d = self._delta(s0)
-        x = np.clip(tau / self.duration, 0.0, 1.0)
-        speed = s0.speed + d * 0.5 * (1.0 - np.cos(np.pi * x))
+        if self.from_peak:
+            # no clip below 0: the sine continues smoothly before the start, so the derivatives
+            # at the first sample are those of an acceleration already under way
+            speed = s0.speed + d * np.sin(0.5 * np.pi * np.minimum(tau / self.duration, 1.0))
+        else:
+            x = np.clip(tau / self.duration, 0.0, 1.0)
+            speed = s0.speed + d * 0.5 * (1.0 - np.cos(np.pi * x))
         return np.zeros((tau.shape[0], 3)), speed, None
 
 
