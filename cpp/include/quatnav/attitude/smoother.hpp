@@ -16,6 +16,7 @@
 // samples take 2.4 GB in double (docs/SMOOTHING.md has the measured figures).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -29,22 +30,71 @@ namespace quatnav {
 
 namespace detail {
 
-/// What both attitude models share: the filter copy that recomputes a time update from a stored
-/// posterior, and the batch run's gyro samples and steps.
-template <class Filter> class AttitudeRtsBase {
+/// What both attitude models share (CRTP; Derived supplies the attitude part): the record
+/// [attitude (NA), gyro bias, P], the filter copy that recomputes a time update from a stored
+/// posterior, and the batch run's gyro samples and steps. Derived provides
+///   static Vec<S, NA> attitude(const Filter&);  static void set_attitude(State&, const Vec<S, NA>&);
+///   Mat6 transition(const Record& post, std::size_t k) const;
+///   static Vec3<S> attitude_local(base, x);  static Vec<S, NA> attitude_retract(base, d);
+template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
  public:
+  using Filter = Filter_;
   using S = typename Filter::Scalar;
-  AttitudeRtsBase(const Filter& f, const S* gyr, const S* dt) : g_(f), st_(f.state()), gyr_(gyr), dt_(dt) {
+  using Scalar = S;
+  static constexpr int kErr = 6;
+  using Mat6 = Mat<S, 6, 6>;
+  struct Record {
+    Vec<S, NA> a;  ///< attitude (q_nb, or Euler angles)
+    Vec3<S> b;     ///< gyro bias
+    PackedSym<S, 6> P;
+  };
+
+  /// f: the filter before the run (parameters, and a complete state for set_state); gyr (n x 3),
+  /// dt (n): the batch run's samples.
+  AttitudeRtsModel(const Filter& f, const S* gyr, const S* dt) : g_(f), st_(f.state()), gyr_(gyr), dt_(dt) {
     st_.initialized = true;
   }
 
- protected:
-  /// The time update of sample k from the state st_ (filled by the model): Predict, Same when
-  /// the filter refuses it (as it did in the forward pass), Restart when the state is refused.
-  RtsLink predict_from_state(std::size_t k) {
-    if (g_.set_state(st_) != Status::Ok) return RtsLink::Restart;
-    return g_.predict(gyro(k), dt_[k]) == Status::Ok ? RtsLink::Predict : RtsLink::Same;
+  bool capture(const Filter& f, Record& r) const {
+    if (!f.initialized()) return false;
+    r.a = Derived::attitude(f);
+    r.b = f.bias();
+    r.P.pack(f.covariance());
+    return true;
   }
+  bool same(const Record& x, const Record& y) const { return x.a == y.a && x.b == y.b && x.P == y.P; }
+  bool restart(const Record&, const Record&) const { return false; }
+
+  /// The time update of sample k from the posterior `post`: Predict (with the transition when
+  /// asked), Same when the filter refuses it (as it did in the forward pass), Restart when the
+  /// state is refused.
+  RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat6* Phi) {
+    Derived::set_attitude(st_, post.a);
+    st_.bias = post.b;
+    st_.P = post.P.unpack();
+    if (g_.set_state(st_) != Status::Ok) return RtsLink::Restart;
+    if (g_.predict(gyro(k), dt_[k]) != Status::Ok) return RtsLink::Same;
+    capture(g_, prior);
+    if (Phi) *Phi = static_cast<const Derived&>(*this).transition(post, k);
+    return RtsLink::Predict;
+  }
+
+  Mat6 error_covariance(const Record& r) const { return r.P.unpack(); }
+
+  /// x [-] base: the attitude part (Derived), then b - b_b.
+  Vec<S, 6> local(const Record& base, const Record& x) const {
+    Vec<S, 6> d;
+    d.template head<3>() = Derived::attitude_local(base.a, x.a);
+    d.template tail<3>() = x.b - base.b;
+    return d;
+  }
+  void retract(const Record& base, const Vec<S, 6>& d, const Mat6& Ps, Record& out) const {
+    out.a = Derived::attitude_retract(base.a, Vec3<S>(d.template head<3>()));
+    out.b = base.b + d.template tail<3>();
+    out.P.pack(Ps);
+  }
+
+ protected:
   Vec3<S> gyro(std::size_t k) const { return Eigen::Map<const Vec3<S>>(gyr_ + 3 * k); }
 
   Filter g_;
@@ -55,140 +105,82 @@ template <class Filter> class AttitudeRtsBase {
 
 }  // namespace detail
 
-/// The smoother model of QuaternionESKF<S>.
-template <class S> class QuaternionESKFRtsModel : public detail::AttitudeRtsBase<QuaternionESKF<S>> {
-  using Base = detail::AttitudeRtsBase<QuaternionESKF<S>>;
+/// The smoother model of QuaternionESKF<S>: attitude error dtheta in the body frame,
+/// q_true = q * exp(dtheta); Phi = [C(dq)^T  -dt I; 0  I] (detail::eskf_propagate).
+template <class S>
+class QuaternionESKFRtsModel : public detail::AttitudeRtsModel<QuaternionESKFRtsModel<S>, QuaternionESKF<S>, 4> {
+  using Base = detail::AttitudeRtsModel<QuaternionESKFRtsModel<S>, QuaternionESKF<S>, 4>;
 
  public:
-  using Filter = QuaternionESKF<S>;
-  using Scalar = S;
-  static constexpr int kErr = 6;
-  using Mat6 = Mat<S, 6, 6>;
-  struct Record {
-    Quat<S> q;
-    Vec3<S> b;
-    PackedSym<S, 6> P;
-  };
+  using typename Base::Filter;
+  using typename Base::Mat6;
+  using typename Base::Record;
+  using Base::Base;
 
-  /// f: the filter before the run (parameters, and a complete state for set_state); gyr (n x 3),
-  /// dt (n): the batch run's samples.
-  QuaternionESKFRtsModel(const Filter& f, const S* gyr, const S* dt) : Base(f, gyr, dt) {}
-
-  bool capture(const Filter& f, Record& r) const {
-    if (!f.initialized()) return false;
-    r.q = f.quat();
-    r.b = f.bias();
-    r.P.pack(f.covariance());
-    return true;
+  static Vec4<S> attitude(const Filter& f) { return f.quat(); }
+  static void set_attitude(typename Filter::State& st, const Vec4<S>& q) { st.q = q; }
+  Mat6 transition(const Record& post, std::size_t k) const {
+    Quat<S> q_next;
+    Mat3<S> F;
+    detail::eskf_propagate(Quat<S>(post.a), post.b, this->gyro(k), this->dt_[k], q_next, F);
+    Mat6 Phi = Mat6::Identity();
+    Phi.template topLeftCorner<3, 3>() = F;
+    Phi.template topRightCorner<3, 3>() = -this->dt_[k] * Mat3<S>::Identity();
+    return Phi;
   }
-  bool same(const Record& a, const Record& b) const { return a.q == b.q && a.b == b.b && a.P == b.P; }
-  bool restart(const Record&, const Record&) const { return false; }
-
-  RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat6* Phi) {
-    this->st_.q = post.q;
-    this->st_.bias = post.b;
-    this->st_.P = post.P.unpack();
-    const RtsLink link = this->predict_from_state(k);
-    if (link != RtsLink::Predict) return link;
-    capture(this->g_, prior);
-    if (Phi) {
-      Quat<S> q_next;
-      Mat3<S> F;
-      detail::eskf_propagate(post.q, post.b, this->gyro(k), this->dt_[k], q_next, F);
-      Phi->setIdentity();
-      Phi->template topLeftCorner<3, 3>() = F;
-      Phi->template topRightCorner<3, 3>() = -this->dt_[k] * Mat3<S>::Identity();
-    }
-    return RtsLink::Predict;
+  /// log(q_b^-1 q) and q_b * exp(d).
+  static Vec3<S> attitude_local(const Vec4<S>& base, const Vec4<S>& q) {
+    return quat::to_rotvec(quat::mul(quat::conj(Quat<S>(base)), Quat<S>(q)));
+  }
+  static Vec4<S> attitude_retract(const Vec4<S>& base, const Vec3<S>& d) {
+    const Quat<S> q = quat::mul(Quat<S>(base), quat::from_rotvec(d));
+    return q / q.norm();
   }
 
-  Mat6 error_covariance(const Record& r) const { return r.P.unpack(); }
-
-  /// x [-] base = [log(q_b^-1 q), b - b_b].
-  Vec<S, 6> local(const Record& base, const Record& x) const {
-    Vec<S, 6> d;
-    d.template head<3>() = quat::to_rotvec(quat::mul(quat::conj(base.q), x.q));
-    d.template tail<3>() = x.b - base.b;
-    return d;
-  }
-  void retract(const Record& base, const Vec<S, 6>& d, const Mat6& Ps, Record& out) const {
-    const Quat<S> q = quat::mul(base.q, quat::from_rotvec(Vec3<S>(d.template head<3>())));
-    out.q = q / q.norm();
-    out.b = base.b + d.template tail<3>();
-    out.P.pack(Ps);
-  }
-
-  static Quat<S> quat_of(const Record& r) { return r.q; }
+  static Quat<S> quat_of(const Record& r) { return r.a; }
   static Vec3<S> att_variance(const Record&, const Mat6& Pe) { return Pe.diagonal().template head<3>(); }
 };
 
-/// The smoother model of EulerEKF<S>.
-template <class S> class EulerEKFRtsModel : public detail::AttitudeRtsBase<EulerEKF<S>> {
-  using Base = detail::AttitudeRtsBase<EulerEKF<S>>;
+/// The smoother model of EulerEKF<S>: additive errors of [roll, pitch, yaw] (roll and yaw
+/// differences wrapped to (-pi, pi]); Phi = the Jacobian of the Euler-rate step
+/// (detail::euler_propagate).
+template <class S> class EulerEKFRtsModel : public detail::AttitudeRtsModel<EulerEKFRtsModel<S>, EulerEKF<S>, 3> {
+  using Base = detail::AttitudeRtsModel<EulerEKFRtsModel<S>, EulerEKF<S>, 3>;
 
  public:
-  using Filter = EulerEKF<S>;
-  using Scalar = S;
-  static constexpr int kErr = 6;
-  using Mat6 = Mat<S, 6, 6>;
-  struct Record {
+  using typename Base::Filter;
+  using typename Base::Mat6;
+  using typename Base::Record;
+  using Base::Base;
+
+  static Vec3<S> attitude(const Filter& f) { return f.euler(); }
+  static void set_attitude(typename Filter::State& st, const Vec3<S>& e) { st.euler = e; }
+  Mat6 transition(const Record& post, std::size_t k) const {
     Vec3<S> e;
-    Vec3<S> b;
-    PackedSym<S, 6> P;
-  };
-
-  EulerEKFRtsModel(const Filter& f, const S* gyr, const S* dt) : Base(f, gyr, dt) {}
-
-  bool capture(const Filter& f, Record& r) const {
-    if (!f.initialized()) return false;
-    r.e = f.euler();
-    r.b = f.bias();
-    r.P.pack(f.covariance());
-    return true;
+    Mat3<S> E;
+    Mat6 F;
+    bool singular = false;
+    detail::euler_propagate(post.a, post.b, this->gyro(k), this->dt_[k], this->g_.params().singular_cos, e, F, E,
+                            singular);
+    return F;
   }
-  bool same(const Record& a, const Record& b) const { return a.e == b.e && a.b == b.b && a.P == b.P; }
-  bool restart(const Record&, const Record&) const { return false; }
-
-  RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat6* Phi) {
-    this->st_.euler = post.e;
-    this->st_.bias = post.b;
-    this->st_.P = post.P.unpack();
-    const RtsLink link = this->predict_from_state(k);
-    if (link != RtsLink::Predict) return link;
-    capture(this->g_, prior);
-    if (Phi) {
-      Vec3<S> e;
-      Mat3<S> E;
-      bool singular = false;
-      detail::euler_propagate(post.e, post.b, this->gyro(k), this->dt_[k], this->g_.params().singular_cos, e, *Phi, E,
-                              singular);
-    }
-    return RtsLink::Predict;
-  }
-
-  Mat6 error_covariance(const Record& r) const { return r.P.unpack(); }
-
-  /// x [-] base: the Euler-angle differences (roll and yaw wrapped to (-pi, pi]) and b - b_b.
-  Vec<S, 6> local(const Record& base, const Record& x) const {
-    Vec<S, 6> d;
-    d.template head<3>() = x.e - base.e;
+  static Vec3<S> attitude_local(const Vec3<S>& base, const Vec3<S>& e) {
+    Vec3<S> d = e - base;
     d[0] = quat::wrap_pi(d[0]);
     d[2] = quat::wrap_pi(d[2]);
-    d.template tail<3>() = x.b - base.b;
     return d;
   }
-  void retract(const Record& base, const Vec<S, 6>& d, const Mat6& Ps, Record& out) const {
-    out.e = base.e + d.template head<3>();
-    out.e[0] = quat::wrap_pi(out.e[0]);
-    out.e[2] = quat::wrap_pi(out.e[2]);
-    out.b = base.b + d.template tail<3>();
-    out.P.pack(Ps);
+  static Vec3<S> attitude_retract(const Vec3<S>& base, const Vec3<S>& d) {
+    Vec3<S> e = base + d;
+    e[0] = quat::wrap_pi(e[0]);
+    e[2] = quat::wrap_pi(e[2]);
+    return e;
   }
 
-  static Quat<S> quat_of(const Record& r) { return quat::from_euler(r.e); }
+  static Quat<S> quat_of(const Record& r) { return quat::from_euler(r.a); }
   /// The body-frame rotation-vector variance W P_ee W^T (EulerEKF::attitude_covariance).
   static Vec3<S> att_variance(const Record& r, const Mat6& Pe) {
-    const S cr = std::cos(r.e[0]), sr = std::sin(r.e[0]), cp = std::cos(r.e[1]), sp = std::sin(r.e[1]);
+    const S cr = std::cos(r.a[0]), sr = std::sin(r.a[0]), cp = std::cos(r.a[1]), sp = std::sin(r.a[1]);
     Mat3<S> W;
     W << S(1), S(0), -sp, S(0), cr, sr * cp, S(0), -sr, cr * cp;
     return (W * Pe.template topLeftCorner<3, 3>() * W.transpose()).diagonal();
