@@ -147,3 +147,27 @@ def test_broad_smoothed_below_causal_and_vqf_offline(data_dir):
     assert smoothed < evaluate_trial(trial, "qekf")["total"]
     if available("vqf-offline")[0]:
         assert smoothed < evaluate_trial(trial, "vqf-offline")["total"]
+
+
+def test_ahrs_run_smooth(rot, tmp_path, capsys):
+    """``quatnav ahrs run --smooth`` writes the smoothed attitude of the API's run(smooth=True)
+    (closer to the truth than without); with marg it is a one-line usage error."""
+    pd = pytest.importorskip("pandas")
+    from quatnav import cli
+    d = rot
+    t = np.arange(len(d.gyr)) * d.dt
+    cols = {"time": t, **{f"gyro_{c}": d.gyr[:, i] for i, c in enumerate("xyz")},
+            **{f"accel_{c}": d.acc[:, i] for i, c in enumerate("xyz")},
+            **{f"mag_{c}": d.mag[:, i] for i, c in enumerate("xyz")}}
+    pd.DataFrame(cols).to_csv(tmp_path / "imu.csv", index=False, float_format="%.17g")
+    out = tmp_path / "s.csv"
+    assert cli.main(["ahrs", "run", "--imu", str(tmp_path / "imu.csv"), "--smooth", "--out", str(out)]) == 0
+    q = pd.read_csv(out)[["q_w", "q_x", "q_y", "q_z"]].to_numpy()
+    r = quatnav.QuaternionEKF().run(d.gyr, d.acc, d.mag, t=t, on_invalid="skip", smooth=True)
+    np.testing.assert_allclose(q, r.quat, atol=1e-9)
+    assert np.mean(Q.angle_between(q, d.q_nb) ** 2) < np.mean(Q.angle_between(r.forward.quat, d.q_nb) ** 2)
+    capsys.readouterr()
+    assert cli.main(["ahrs", "run", "--imu", str(tmp_path / "imu.csv"), "--filter", "marg", "--smooth",
+                     "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--smooth" in err and len(err.splitlines()) == 1
