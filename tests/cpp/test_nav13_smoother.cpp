@@ -160,7 +160,7 @@ TEST(Nav13Smoother, TransitionMatchesFiniteDifferences) {
       return y;
     };
     const Vec<double, 13> y0 = step(x);
-    const Mat<double, 12, 12> Phi = M::transition(x, Quat<double>(y0.segment<4>(3)), u);
+    const Mat<double, 12, 12> Phi = M::ekf_transition(x, Quat<double>(y0.segment<4>(3)), u);
     Mat<double, 12, 12> Num;
     const double eps = 1e-6;
     for (int j = 0; j < 12; ++j) {

@@ -80,12 +80,15 @@ struct CvModel {
   }
   bool same(const Record& a, const Record& b) const { return a.x == b.x && a.P == b.P; }
   bool restart(const Record&, const Record&) const { return false; }
-  RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat4d* Phi) {
+  RtsLink predict(std::size_t k, const Record& post, Record& prior) {
     g.x = post.x;
     g.P = post.P.unpack();
     if (g.predict(dt[k]) != Status::Ok) return RtsLink::Same;
     capture(g, prior);
-    if (Phi) *Phi = CvFilter::Phi(dt[k]);
+    return RtsLink::Predict;
+  }
+  RtsLink transition(std::size_t k, const Record&, const Record&, Mat4d& Phi) const {
+    Phi = CvFilter::Phi(dt[k]);
     return RtsLink::Predict;
   }
   Mat4d error_covariance(const Record& r) const { return r.P.unpack(); }

@@ -34,7 +34,7 @@ namespace detail {
 /// [attitude (NA), gyro bias, P], the filter copy that recomputes a time update from a stored
 /// posterior, and the batch run's gyro samples and steps. Derived provides
 ///   static Vec<S, NA> attitude(const Filter&);  static void set_attitude(State&, const Vec<S, NA>&);
-///   Mat6 transition(const Record& post, std::size_t k) const;
+///   Mat6 step_transition(const Record& post, std::size_t k) const;
 ///   static Vec3<S> attitude_local(base, x);  static Vec<S, NA> attitude_retract(base, d);
 template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
  public:
@@ -65,17 +65,21 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
   bool same(const Record& x, const Record& y) const { return x.a == y.a && x.b == y.b && x.P == y.P; }
   bool restart(const Record&, const Record&) const { return false; }
 
-  /// The time update of sample k from the posterior `post`: Predict (with the transition when
-  /// asked), Same when the filter refuses it (as it did in the forward pass), Restart when the
-  /// state is refused.
-  RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat6* Phi) {
+  /// The filter's time update of sample k from `post`: Predict, Same when the filter refuses it
+  /// (as it did in the forward pass), Restart when the state is refused.
+  RtsLink predict(std::size_t k, const Record& post, Record& prior) {
     Derived::set_attitude(st_, post.a);
     st_.bias = post.b;
     st_.P = post.P.unpack();
     if (g_.set_state(st_) != Status::Ok) return RtsLink::Restart;
     if (g_.predict(gyro(k), dt_[k]) != Status::Ok) return RtsLink::Same;
     capture(g_, prior);
-    if (Phi) *Phi = static_cast<const Derived&>(*this).transition(post, k);
+    return RtsLink::Predict;
+  }
+
+  /// The transition of that step (the one the time update uses).
+  RtsLink transition(std::size_t k, const Record& post, const Record&, Mat6& Phi) const {
+    Phi = static_cast<const Derived&>(*this).step_transition(post, k);
     return RtsLink::Predict;
   }
 
@@ -119,7 +123,7 @@ class QuaternionESKFRtsModel : public detail::AttitudeRtsModel<QuaternionESKFRts
 
   static Vec4<S> attitude(const Filter& f) { return f.quat(); }
   static void set_attitude(typename Filter::State& st, const Vec4<S>& q) { st.q = q; }
-  Mat6 transition(const Record& post, std::size_t k) const {
+  Mat6 step_transition(const Record& post, std::size_t k) const {
     Quat<S> q_next;
     Mat3<S> F;
     detail::eskf_propagate(Quat<S>(post.a), post.b, this->gyro(k), this->dt_[k], q_next, F);
@@ -155,7 +159,7 @@ template <class S> class EulerEKFRtsModel : public detail::AttitudeRtsModel<Eule
 
   static Vec3<S> attitude(const Filter& f) { return f.euler(); }
   static void set_attitude(typename Filter::State& st, const Vec3<S>& e) { st.euler = e; }
-  Mat6 transition(const Record& post, std::size_t k) const {
+  Mat6 step_transition(const Record& post, std::size_t k) const {
     Vec3<S> e;
     Mat3<S> E;
     Mat6 F;

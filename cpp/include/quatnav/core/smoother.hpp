@@ -25,8 +25,10 @@
 //     leaves no record), and
 //   * every `segment` samples otherwise (a checkpoint),
 // and recomputes the pure-prediction stretch between two records, one segment at a time, by
-// the filter's own time update (the same code on the same state and input: the same bits). The
-// transition and the prior of every step are recomputed from the posterior and the IMU sample.
+// the filter's own time update (the same code on the same state and input: the same bits); the
+// posterior of a sample inside such a stretch is the prior of the step into it. The transition
+// of every step, and the prior of a step into a record, are recomputed from the posterior and
+// the IMU sample.
 // What the forward pass decided is kept: a rejected measurement left the state as it was, a
 // skipped time update (saturated or invalid sample) is recomputed as skipped (the link is
 // "same": the state did not move, so neither does the smoothed one), a reset or a
@@ -48,12 +50,14 @@
 //   bool same(const Record&, const Record&) const;  bit-for-bit equal
 //   bool restart(const Record& predicted, const Record& post) const;
 //       the steps of a sample made a reset (not a measurement): the backward pass does not cross it
-//   RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat<S, N, N>* Phi);
-//       the time update of sample k from the posterior of sample k - 1 (Same when the filter
-//       refuses it: the state does not move); with Phi, the error-state transition too (link
-//       Predict), or, for a sigma-point time update, the cross-covariance of the error states
-//       before and after the step (link Cross: the gain is then D P_{k+1|k}^-1, the unscented
-//       RTS smoother of Särkkä 2008)
+//   RtsLink predict(std::size_t k, const Record& post, Record& prior);
+//       the time update of sample k from the posterior of sample k - 1, with the filter's own
+//       predict: Predict, or Same when the filter refuses it (the state does not move)
+//   RtsLink transition(std::size_t k, const Record& post, const Record& prior, Mat<S, N, N>& Phi);
+//       of that time update (prior: its result), the error-state transition (link Predict), or,
+//       for a sigma-point time update, the cross-covariance of the error states before and after
+//       the step (link Cross: the gain is then D P_{k+1|k}^-1, the unscented RTS smoother of
+//       Särkkä 2008); Restart when it cannot be had
 //   Mat<S, N, N> error_covariance(const Record&) const;
 //   Vec<S, N> local(const Record& base, const Record& x) const;   x [-] base
 //   void retract(const Record& base, const Vec<S, N>& d, const Mat<S, N, N>& Ps, Record& out) const;
@@ -206,7 +210,7 @@ template <class Model> class RtsSmoother {
       Entry& e = buf_[size_++];
       e.x = r;
       e.k = k;
-      e.restart = restart;
+      e.link = restart ? RtsLink::Restart : RtsLink::Predict;
     }
     active_ = true;
     last_k_ = k;
@@ -235,17 +239,27 @@ template <class Model> class RtsSmoother {
     for (std::size_t i = size_; i-- > 0;) {
       const std::size_t a = buf_[i].k;
       const std::size_t b = i + 1 < size_ ? buf_[i + 1].k - 1 : last_k_;
-      // The posteriors of the segment [a, b]: its record, then pure predictions.
+      // The posteriors of the segment [a, b]: its record, then pure predictions (each entry
+      // keeps how it was reached: the posterior of k + 1 inside the segment is the prior of the
+      // step from k, so the backward pass recomputes only the transition there).
       segbuf[0].x = buf_[i].x;
       for (std::size_t j = 1; j <= b - a; ++j) {
-        const RtsLink l = m_.predict(a + j, segbuf[j - 1].x, segbuf[j].x, nullptr);
-        if (l != RtsLink::Predict && l != RtsLink::Cross) segbuf[j].x = segbuf[j - 1].x;
+        segbuf[j].link = m_.predict(a + j, segbuf[j - 1].x, segbuf[j].x);
+        if (segbuf[j].link != RtsLink::Predict) segbuf[j].x = segbuf[j - 1].x;
       }
       for (std::size_t k = b + 1; k-- > a;) {
         const Record& post = segbuf[k - a].x;
-        const bool last = k == last_k_;
-        const bool cut = k == b && i + 1 < size_ && buf_[i + 1].restart;
-        const RtsLink link = last || cut ? RtsLink::Restart : m_.predict(k + 1, post, prior, &Phi);
+        RtsLink link = RtsLink::Restart;
+        const Record* pr = &prior;
+        if (k == last_k_ || (k == b && i + 1 < size_ && buf_[i + 1].link == RtsLink::Restart)) {
+          link = RtsLink::Restart;  // the last sample, or a restart at k + 1
+        } else if (k < b) {
+          link = segbuf[k + 1 - a].link;
+          pr = &segbuf[k + 1 - a].x;
+        } else {
+          link = m_.predict(k + 1, post, prior);
+        }
+        if (link == RtsLink::Predict) link = m_.transition(k + 1, post, *pr, Phi);
         if (link != RtsLink::Same) {  // Same: x^s_k = x^s_{k+1}, P^s_k = P^s_{k+1}
           const MatT P = m_.error_covariance(post).template cast<T>();
           Vec<T, N> d;
@@ -254,8 +268,8 @@ template <class Model> class RtsSmoother {
           if (link == RtsLink::Predict) B.noalias() = P.lazyProduct(Phi.template cast<T>().transpose());  // P Phi^T
           if (link == RtsLink::Cross) B = Phi.template cast<T>();
           if ((link == RtsLink::Predict || link == RtsLink::Cross) &&
-              rts_step<T, N>(P, B, m_.error_covariance(prior).template cast<T>(),
-                             m_.local(prior, xs_next).template cast<T>(), Ps_next, d, Ps)) {
+              rts_step<T, N>(P, B, m_.error_covariance(*pr).template cast<T>(),
+                             m_.local(*pr, xs_next).template cast<T>(), Ps_next, d, Ps)) {
             m_.retract(post, VecN(d.template cast<S>()), MatN(Ps.template cast<S>()), xs_next);
             Ps_next = Ps;
           } else {
@@ -273,7 +287,8 @@ template <class Model> class RtsSmoother {
   struct Entry {
     Record x;
     std::size_t k;
-    bool restart;
+    RtsLink link;  ///< a record: Restart when the backward pass does not cross into it (else
+                   ///< Predict); the segment buffer: how the entry was reached from the previous
   };
 
   Model& m_;

@@ -17,12 +17,12 @@
 // Why not the EKF transition there too: with 10-20 deg initial attitude errors the unscented
 // prior is smaller than Phi P Phi^T + Q in the attitude directions, the joint covariance of
 // (x_k, x_{k+1}) that the EKF gain implies is then not positive semi-definite, and the smoothed
-// attitude variance came out negative over the first 13 samples (tests/python/test_smoother.py's
+// attitude variance came out negative over the first 13 samples (tests/python/test_nav13_smoother.py's
 // run); with D it cannot. The prior x_{k+1|k}, P_{k+1|k} is always the one the filter computed.
 // The carried position is not estimated: the smoothed output keeps the forward one.
 //
 // Record (compact posterior): x (13), the upper triangle of P (91) in S, lat, lon, h (double):
-// 832 bytes in double, 444 in float, plus 16 per record (core/smoother.hpp). Records are made
+// 856 bytes in double, 440 in float, plus 16 per record (core/smoother.hpp). Records are made
 // at the samples where a velocity or yaw measurement changed the state and every `segment`
 // samples; a 1e7-sample log with 10 Hz aids at 100 Hz holds about 1.0e6 + 4e4 records, under
 // 1 GB (docs/SMOOTHING.md).
@@ -76,37 +76,34 @@ template <class Filter> struct Nav13RtsModel {
 
   bool restart(const Record&, const Record&) const { return false; }
 
-  RtsLink predict(std::size_t k, const Record& post, Record& prior, Mat12* Phi) {
-    st_.v_n = post.x.template segment<3>(detail::kV);
-    st_.q_nb = post.x.template segment<4>(detail::kQ);
-    st_.acc_bias = post.x.template segment<3>(detail::kBa);
-    st_.gyro_bias = post.x.template segment<3>(detail::kBg);
-    st_.P = post.P.unpack();
-    st_.lat = post.lat;
-    st_.lon = post.lon;
-    st_.h = post.h;
-    st_.initialized = true;
-    if (g_.set_state(st_) != Status::Ok) return RtsLink::Restart;
-    const Vec3<S> w = Eigen::Map<const Vec3<S>>(w_ + 3 * k), fb = Eigen::Map<const Vec3<S>>(f_ + 3 * k);
-    const Nav13Input<S> u = g_.step_input(w, fb, dt_[k]);
-    if (g_.predict(w, fb, dt_[k]) != Status::Ok) return RtsLink::Same;
+  /// The filter's time update of sample k from `post` (Same when it refuses it).
+  RtsLink predict(std::size_t k, const Record& post, Record& prior) {
+    if (!load(post)) return RtsLink::Restart;
+    if (g_.predict(imu_w(k), imu_f(k), dt_[k]) != Status::Ok) return RtsLink::Same;
     capture(g_, prior);
-    if (!Phi) return RtsLink::Predict;
+    return RtsLink::Predict;
+  }
+
+  /// The gain's transition of that step: the EKF one (Predict) or, for the unscented time
+  /// update, its sigma points' cross-covariance (Cross).
+  RtsLink transition(std::size_t k, const Record& post, const Record& prior, Mat12& Phi) {
+    if (!load(post)) return RtsLink::Restart;
+    const Nav13Input<S> u = g_.step_input(imu_w(k), imu_f(k), dt_[k]);
     if constexpr (Filter::kTimeUpdate == TimeUpdate::Ukf) {
-      // The sigma points' cross-covariance (the same unscented transform as the filter's).
+      // The same unscented transform as the filter's, on copies.
       Vec13 xc = post.x;
       Mat13 Pc = st_.P;
-      if (detail::nav13_predict_ukf(xc, Pc, u, g_.params(), g_.ukf_weights(), Phi) != Status::Ok)
+      if (detail::nav13_predict_ukf(xc, Pc, u, g_.params(), g_.ukf_weights(), &Phi) != Status::Ok)
         return RtsLink::Restart;
       return RtsLink::Cross;
     } else {
-      *Phi = transition(post.x, Quat<S>(prior.x.template segment<4>(detail::kQ)), u);
+      Phi = ekf_transition(post.x, Quat<S>(prior.x.template segment<4>(detail::kQ)), u);
       return RtsLink::Predict;
     }
   }
 
   /// The error-state transition T(q_next) J F T'(q) of one Euler step from x with input u.
-  static Mat12 transition(const Vec13& x, const Quat<S>& q_next, const Nav13Input<S>& u) {
+  static Mat12 ekf_transition(const Vec13& x, const Quat<S>& q_next, const Nav13Input<S>& u) {
     const Mat13 F = detail::nav13_jacobian(x, u);
     const Quat<S> qn = detail::nav13_f(x, u).template segment<4>(detail::kQ);
     const S n = qn.norm();
@@ -147,6 +144,22 @@ template <class Filter> struct Nav13RtsModel {
   }
 
  private:
+  /// The filter copy in the state of `post`; false when refused.
+  bool load(const Record& post) {
+    st_.v_n = post.x.template segment<3>(detail::kV);
+    st_.q_nb = post.x.template segment<4>(detail::kQ);
+    st_.acc_bias = post.x.template segment<3>(detail::kBa);
+    st_.gyro_bias = post.x.template segment<3>(detail::kBg);
+    st_.P = post.P.unpack();
+    st_.lat = post.lat;
+    st_.lon = post.lon;
+    st_.h = post.h;
+    st_.initialized = true;
+    return g_.set_state(st_) == Status::Ok;
+  }
+  Vec3<S> imu_w(std::size_t k) const { return Eigen::Map<const Vec3<S>>(w_ + 3 * k); }
+  Vec3<S> imu_f(std::size_t k) const { return Eigen::Map<const Vec3<S>>(f_ + 3 * k); }
+
   Filter g_;
   typename Filter::State st_;
   const S* w_;
