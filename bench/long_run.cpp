@@ -78,8 +78,8 @@ template <class F> Stats run(long steps, long eig_every, unsigned seed) {
   const Vec3<double> bias(0.01, -0.02, 0.005), m_n(0.5, 0.0, 0.866);
   typename F::Params p;
   p.gyro_noise = S(sg);
-  p.acc_noise = S(0.03);
-  p.mag_noise = S(0.03);
+  p.acc_sigma = S(0.03);
+  p.mag_sigma = S(0.03);
   F f(p);
   f.set_mag_dip(S(std::atan2(m_n[2], m_n[0])));
   std::mt19937_64 rng(seed);

@@ -63,9 +63,9 @@ void run(const Rotation& r, std::size_t segment, Outputs<Filter>& fwd, Outputs<F
   if constexpr (std::is_same_v<Filter, QuaternionESKF<S>>) p = Filter::Params::paper();
   p.gyro_noise = S(0.003 * std::sqrt(r.dt));
   p.gyro_bias_noise = S(1e-6);
-  p.acc_noise = S(0.05 / 9.81);
-  p.mag_noise = S(0.01);
-  p.init_bias_sigma = S(0.02);
+  p.acc_sigma = S(0.05 / 9.81);
+  p.mag_sigma = S(0.01);
+  p.init_gyro_bias_sigma = S(0.02);
   Filter f(p);
   f.set_mag_dip(S(std::atan2(0.9, 0.4)));
   Model model(f, gyr.data(), dt.data());

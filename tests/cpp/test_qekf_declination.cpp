@@ -56,7 +56,7 @@ template <class S> void run_pair(MagMode mode, S decl, S& dq_max, S& db_max) {
     const Quat<S> turned = quat::mul(qd, f0.quat());
     const S dq = std::min((turned - f1.quat()).cwiseAbs().maxCoeff(), (turned + f1.quat()).cwiseAbs().maxCoeff());
     dq_max = std::max(dq_max, dq);
-    db_max = std::max(db_max, (f0.state().bias - f1.state().bias).cwiseAbs().maxCoeff());
+    db_max = std::max(db_max, (f0.state().gyro_bias - f1.state().gyro_bias).cwiseAbs().maxCoeff());
   }
   Eigen::internal::set_is_malloc_allowed(true);
   // The turned filter's heading is true north: with the field's heading at `decl`, the true

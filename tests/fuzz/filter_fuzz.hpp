@@ -85,8 +85,8 @@ template <class T> bool bits_equal(const T& a, const T& b) {
 template <class S, int N> bool symmetric(const Mat<S, N, N>& P) { return P == P.transpose(); }
 
 template <class S> bool same_mag(const MagRef<S>& a, const MagRef<S>& b) {
-  return bits_equal(a.ref, b.ref) && bits_equal(a.sin_dip_sum, b.sin_dip_sum) && a.count == b.count &&
-         a.fixed == b.fixed;
+  return bits_equal(a.mag_ref, b.mag_ref) && bits_equal(a.mag_sin_dip_sum, b.mag_sin_dip_sum) &&
+         a.mag_ref_count == b.mag_ref_count && a.mag_ref_fixed == b.mag_ref_fixed;
 }
 
 template <class F> struct FuzzAdapter;  // one specialization per filter
@@ -116,10 +116,10 @@ template <class F> struct AttitudeOps {
     typename F::Params p;
     p.gyro_noise = r.positive<S>(p.gyro_noise);
     p.gyro_bias_noise = r.positive<S>(p.gyro_bias_noise);
-    p.acc_noise = r.positive<S>(p.acc_noise);
-    p.mag_noise = r.positive<S>(p.mag_noise);
+    p.acc_sigma = r.positive<S>(p.acc_sigma);
+    p.mag_sigma = r.positive<S>(p.mag_sigma);
     p.init_att_sigma = r.positive<S>(p.init_att_sigma);
-    p.init_bias_sigma = r.positive<S>(p.init_bias_sigma);
+    p.init_gyro_bias_sigma = r.positive<S>(p.init_gyro_bias_sigma);
     p.mag_ref_samples = 1u + r.byte();
     p.max_dt = r.positive<S>(p.max_dt);
     p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
@@ -159,26 +159,28 @@ template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<Quaternion
   using State = typename F::State;
   static constexpr const char* name = "QuaternionEKF";
   static bool same(const State& a, const State& b) {
-    return bits_equal(a.q, b.q) && bits_equal(a.bias, b.bias) && bits_equal(a.P, b.P) && same_mag(a.mag, b.mag) &&
-           a.initialized == b.initialized;
+    return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
+           same_mag(a.mag, b.mag) && a.initialized == b.initialized;
   }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite()) return why = "non-finite state", false;
-    if (s.initialized && std::abs(s.q.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
+    // the estimate (the parts' low-passes and timers follow the input, which may be huge)
+    if (!s.q_nb.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag))
+      return why = "non-finite state", false;
+    if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
       return why = "quaternion norm off 1", false;
     if (!symmetric<S, 7>(s.P)) return why = "P not symmetric", false;
     return true;
   }
   static State random_state(Reader& r) {
     State s;
-    for (int i = 0; i < 4; ++i) s.q[i] = r.scalar<S>();
-    if (r.byte() & 1) s.q = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
-    s.bias = r.vec3<S>();
+    for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>();
+    if (r.byte() & 1) s.q_nb = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
+    s.gyro_bias = r.vec3<S>();
     for (int i = 0; i < 7; ++i)
       for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
-    s.mag.ref = r.vec3<S>();
-    s.mag.count = r.byte();
+    s.mag.mag_ref = r.vec3<S>();
+    s.mag.mag_ref_count = r.byte();
     s.initialized = r.byte() & 1;
     return s;
   }
@@ -192,7 +194,7 @@ template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<Quaternion
       case 8: return {f.set_state(random_state(r)), true, "set_state"};
       case 9: {
         const State s = random_state(r);
-        return {f.reset(s.q, s.bias, s.P), true, "reset"};
+        return {f.reset(s.q_nb, s.gyro_bias, s.P), true, "reset"};
       }
       default: return AttitudeOps<F>::common_step(f, r, op);
     }
@@ -204,12 +206,13 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
   using State = typename F::State;
   static constexpr const char* name = "EulerEKF";
   static bool same(const State& a, const State& b) {
-    return bits_equal(a.euler, b.euler) && bits_equal(a.bias, b.bias) && bits_equal(a.P, b.P) &&
+    return bits_equal(a.euler, b.euler) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
            same_mag(a.mag, b.mag) && a.initialized == b.initialized;
   }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
-    if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite()) return why = "non-finite state", false;
+    if (!s.euler.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag))
+      return why = "non-finite state", false;
     if (!f.quat().allFinite()) return why = "non-finite quaternion", false;
     if (!symmetric<S, 6>(s.P)) return why = "P not symmetric", false;
     return true;
@@ -217,11 +220,11 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
   static State random_state(Reader& r) {
     State s;
     s.euler = r.vec3<S>();
-    s.bias = r.vec3<S>();
+    s.gyro_bias = r.vec3<S>();
     for (int i = 0; i < 6; ++i)
       for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
-    s.mag.ref = r.vec3<S>();
-    s.mag.count = r.byte();
+    s.mag.mag_ref = r.vec3<S>();
+    s.mag.mag_ref_count = r.byte();
     s.initialized = r.byte() & 1;
     return s;
   }
@@ -231,7 +234,7 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
       case 7: return {f.set_state(random_state(r)), true, "set_state"};
       case 8: {
         const State s = random_state(r);
-        return {f.reset(s.euler, s.bias, s.P), true, "reset"};
+        return {f.reset(s.euler, s.gyro_bias, s.P), true, "reset"};
       }
       default: return AttitudeOps<F>::common_step(f, r, op);
     }
@@ -264,7 +267,7 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
     return p;
   }
   static bool same(const State& a, const State& b) {
-    return bits_equal(a.q, b.q) && bits_equal(a.bias, b.bias) && same_mag(a.mag, b.mag) &&
+    return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && same_mag(a.mag, b.mag) &&
            bits_equal(a.omega_b, b.omega_b) && bits_equal(a.omega_dot_b, b.omega_dot_b) &&
            bits_equal(a.gps_vel_n, b.gps_vel_n) && bits_equal(a.gps_acc_n, b.gps_acc_n) &&
            bits_equal(a.gps_t, b.gps_t) && bits_equal(a.time_since_gps, b.time_since_gps) &&
@@ -273,11 +276,8 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
   }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.mag.finite() || !s.omega_b.allFinite() ||
-        !s.omega_dot_b.allFinite() || !s.gps_vel_n.allFinite() || !s.gps_acc_n.allFinite() ||
-        !std::isfinite(s.gps_t) || !std::isfinite(s.time_since_gps) || !std::isfinite(s.time_since_update))
-      return why = "non-finite state", false;
-    if (s.initialized && std::abs(s.q.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
+    if (!detail::fields_finite(s)) return why = "non-finite state", false;
+    if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
     return true;
   }
   static StepOutcome step(F& f, Reader& r) {
@@ -313,10 +313,10 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
       default: {
         State s = f.state();
         switch (r.byte() % 4) {
-          case 0: for (int i = 0; i < 4; ++i) s.q[i] = r.scalar<S>(); break;
-          case 1: s.bias = r.vec3<S>(); s.omega_dot_b = r.vec3<S>(); break;
+          case 0: for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>(); break;
+          case 1: s.gyro_bias = r.vec3<S>(); s.omega_dot_b = r.vec3<S>(); break;
           case 2: s.gps_t = r.scalar<S>(); s.time_since_gps = r.scalar<S>(); s.gps_fixes = int(r.byte() % 5) - 1; break;
-          default: s.mag.ref = r.vec3<S>(); s.initialized = r.byte() & 1; break;
+          default: s.mag.mag_ref = r.vec3<S>(); s.initialized = r.byte() & 1; break;
         }
         return {f.set_state(s), true, "set_state"};
       }

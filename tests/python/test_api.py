@@ -207,7 +207,11 @@ def test_table_defaults_equal_the_cpp_defaults(name):
 
 
 #: Filter -> its C++ parameter struct and (one of) its C++ classes, as bound in quatnav._core.
-_CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf")}
+_CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf"),
+                 "QuaternionEKF": ("QuaternionEKFParams", "QuaternionESKF"),
+                 "QuaternionEKF paper": ("QuaternionEKFParams", "QuaternionEKF"),
+                 "EulerEKF": ("EulerEKFParams", "EulerEKF"),
+                 "MargFilter": ("MargFilterParams", "MargFilter")}
 
 
 @pytest.mark.parametrize("name", sorted(_CORE_CLASSES))
@@ -217,7 +221,7 @@ def test_parameters_are_declared_once_and_the_python_table_equals_it(name, suffi
     the same name, default, unit and meaning for every field, and nothing under another name."""
     params, _ = _CORE_CLASSES[name]
     cpp = {n: (d, u, doc) for n, d, u, doc in getattr(core(), params + suffix).fields()}
-    py = {p.name: p for p in PARAM_TABLES[name] if p.core_name is not None}
+    py = {p.name: p for p in PARAM_TABLES[name.split()[0]] if p.core_name is not None}
     assert all(p.core_name == p.name for p in py.values()), "one vocabulary: the C++ field has the Python name"
     assert sorted(py) == sorted(cpp)
     tol = 1e-7 if suffix == "_f32" else 0
@@ -245,8 +249,9 @@ def test_state_dict_round_trip_refuses_unknown_and_missing_keys(name):
     missing = next(iter(s))
     with pytest.raises(ValueError, match=f"missing key '{missing}'"):
         f.set_state({k: v for k, v in s.items() if k != missing})
-    with pytest.raises(TypeError, match="P: expected an array of shape"):
-        f.set_state({**s, "P": np.zeros(2)})
+    key = "P" if "P" in s else "q_nb"  # MargFilter has no covariance
+    with pytest.raises(TypeError, match=f"{key}: expected an array of shape"):
+        f.set_state({**s, key: np.zeros(2)})
 
 
 def test_one_vocabulary_of_shared_parameter_names():
@@ -261,6 +266,22 @@ def test_one_vocabulary_of_shared_parameter_names():
         assert old not in seen
     from quatnav.reference import nav13 as ref_nav13
     assert set(ref_nav13.DEFAULTS) == {p.name for p in PARAM_TABLES["NavFilter13"] if p.core_name}
+    from quatnav import reference
+    for name, twin in (("QuaternionEKF", reference.QuaternionEKF), ("EulerEKF", reference.EulerEKF),
+                       ("MargFilter", reference.MargFilter)):
+        assert twin.defaults == {p.name: p.default for p in PARAM_TABLES[name] if p.core_name}, name
+        with pytest.raises(TypeError, match="unknown parameter 'acc_noise'; known: "):
+            twin(acc_noise=0.1)
+
+
+def test_twin_paper_values_equal_the_cpp_paper_parameters():
+    """QuaternionEKF(paper=True): the numpy twin's values are those of QuaternionEKFParams::paper()."""
+    from quatnav import reference
+    cpp = core().QuaternionEKFParams_f64.paper().to_dict()
+    twin = vars(reference.QuaternionEKF(paper=True).p)
+    assert set(cpp) == set(twin)
+    for k, v in cpp.items():
+        assert twin[k] == pytest.approx(v, rel=1e-15), k
 
 
 def test_parameters_page_lists_every_parameter():

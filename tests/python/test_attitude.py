@@ -283,8 +283,8 @@ def test_parameters_checked():
     with pytest.raises(TypeError, match="dtype"):
         quatnav.QuaternionEKF(dtype=np.int32)
     with pytest.raises(ValueError, match="state: missing keys"):
-        quatnav.QuaternionEKF().set_state({"quat": [1, 0, 0, 0]})
+        quatnav.QuaternionEKF().set_state({"q_nb": [1, 0, 0, 0]})
     s = quatnav.QuaternionEKF().get_state()
-    s["quat"] = np.array([2.0, 0, 0, 0])
+    s["q_nb"] = np.array([2.0, 0, 0, 0])
     with pytest.raises(ValueError, match="state: refused"):
         quatnav.QuaternionEKF().set_state(s)

@@ -136,8 +136,8 @@ def test_split_run_and_state_round_trip():
                    gps_vel=quatnav.Aid(d["gps_t"][gsplit:], d["gps_vel_n"][gsplit:]))
     np.testing.assert_array_equal(np.vstack([first.quat, second.quat]), full.quat)
     s = a.get_state()
-    assert set(s) >= {"quat", "bias", "gps_acc_n", "gps_fixes", "time_since_gps"}
-    bad = dict(s, quat=2 * s["quat"])
+    assert set(s) >= {"q_nb", "gyro_bias", "gps_acc_n", "gps_fixes", "time_since_gps"}
+    bad = dict(s, q_nb=2 * s["q_nb"])
     with pytest.raises(ValueError, match="state"):
         b.set_state(bad)
 

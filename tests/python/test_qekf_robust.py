@@ -174,10 +174,9 @@ def test_cpp_matches_reference_with_robustness(extra):
     if "paper" not in extra:
         kw.pop("paper")  # the reference's and the wrapper's defaults are the robust ones
     c = quatnav.QuaternionEKF(**kw).run(gyr, acc, mag, dt=dt)
-    names = {p.name: p.core_name or p.name for p in quatnav.QuaternionEKF.PARAMS}  # the twin keeps the C++ names
     # the default is the 6-state error-state filter, paper=True the 7-state filter of paper 000
     twin = reference.QuaternionEKF if "paper" in extra else reference.QuaternionESKF
-    r = twin(**{names[k]: v for k, v in kw.items()}).run(gyr, acc, mag, dt=dt)
+    r = twin(**kw).run(gyr, acc, mag, dt=dt)
     np.testing.assert_allclose(c.quat, r.quat, atol=1e-9)
     np.testing.assert_allclose(c.bias, r.bias, atol=1e-9)
     np.testing.assert_allclose(c.sigma, r.sigma, atol=1e-9)
@@ -224,10 +223,10 @@ def test_parameter_validation():
     assert d["mag_heading_only"] is True and d["rest_detection"] is True and d["acc_lp_tau"] > 0
     ref = reference.QuaternionEKF()
     cpp_only = {"gyro_range", "acc_range", "cov_floor"}  # input guards of the C++ step (docs/ROBUSTNESS.md)
-    for q in quatnav.QuaternionEKF.PARAMS:  # the numpy twin keeps the C++ field names
+    for q in quatnav.QuaternionEKF.PARAMS:  # the numpy twin has the same names and defaults
         if q.name in cpp_only or q.core_name is None:
             continue
-        assert float(getattr(ref.p, q.core_name)) == pytest.approx(float(d[q.name]), rel=1e-6), q.name
+        assert float(getattr(ref.p, q.name)) == pytest.approx(float(d[q.name]), rel=1e-6), q.name
 
 
 def test_default_consistency_on_simulated_data():

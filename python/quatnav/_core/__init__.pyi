@@ -52,8 +52,19 @@ class UpdateResult6_f64:
     def status(self) -> str:
         ...
 class QuaternionEKFParams_f64:
-    mag_heading_only: bool
-    rest_detection: bool
+    """
+    Parameters of QuaternionEKF and QuaternionESKF (quaternion_ekf.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> QuaternionEKFParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     @staticmethod
     def paper() -> QuaternionEKFParams_f64:
         """
@@ -61,196 +72,283 @@ class QuaternionEKFParams_f64:
         """
     def __init__(self) -> None:
         ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
     @property
     def acc_adapt(self) -> float:
-        ...
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
     @acc_adapt.setter
-    def acc_adapt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_adapt(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_gate(self) -> float:
-        ...
+        """
+        NIS gate of the accelerometer update (0: off) [1 (chi-square, 3 dof)]
+        """
     @acc_gate.setter
-    def acc_gate(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_gate(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_bias_sigma(self) -> float:
-        ...
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
     @acc_lp_bias_sigma.setter
-    def acc_lp_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_tau(self) -> float:
-        ...
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
     @acc_lp_tau.setter
-    def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def acc_noise(self) -> float:
-        ...
-    @acc_noise.setter
-    def acc_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_recovery_time(self) -> float:
-        ...
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
     @acc_recovery_time.setter
-    def acc_recovery_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_reject(self) -> float:
-        ...
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
     @acc_reject.setter
-    def acc_reject(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_reject(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_sigma(self) -> float:
+        """
+        std of each component of the normalized accelerometer [1 (normalized)]
+        """
+    @acc_sigma.setter
+    def acc_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
     def declination(self) -> float:
-        ...
+        """
+        magnetic declination, east of true north (0: x is magnetic north) [rad]
+        """
     @declination.setter
-    def declination(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def declination(self, arg1: typing.Any) -> None:
         ...
     @property
     def gravity(self) -> float:
-        ...
+        """
+        magnitude of gravity for the acceleration tests [m/s^2]
+        """
     @gravity.setter
-    def gravity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gravity(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
-        ...
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
     @gyro_bias_noise.setter
-    def gyro_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
-        ...
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
     @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_att_sigma(self) -> float:
-        ...
+        """
+        attitude one-sigma after initialize [rad]
+        """
     @init_att_sigma.setter
-    def init_att_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_att_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
-    def init_bias_sigma(self) -> float:
-        ...
-    @init_bias_sigma.setter
-    def init_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_gyro_bias_sigma(self) -> float:
+        """
+        gyro-bias one-sigma after initialize [rad/s]
+        """
+    @init_gyro_bias_sigma.setter
+    def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_dip_tol(self) -> float:
-        ...
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
     @mag_dip_tol.setter
-    def mag_dip_tol(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_gate(self) -> float:
-        ...
+        """
+        NIS gate of the magnetometer update (0: off) [1 (chi-square)]
+        """
     @mag_gate.setter
-    def mag_gate(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_gate(self, arg1: typing.Any) -> None:
         ...
     @property
-    def mag_noise(self) -> float:
-        ...
-    @mag_noise.setter
-    def mag_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_heading_only(self) -> bool:
+        """
+        the magnetometer corrects heading only (false: 3-row update) [-]
+        """
+    @mag_heading_only.setter
+    def mag_heading_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_norm_tol(self) -> float:
-        ...
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
     @mag_norm_tol.setter
-    def mag_norm_tol(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_recovery_time(self) -> float:
-        ...
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
     @mag_recovery_time.setter
-    def mag_recovery_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_samples(self) -> int:
-        ...
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
     @mag_ref_samples.setter
-    def mag_ref_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_tau(self) -> float:
-        ...
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
     @mag_ref_tau.setter
-    def mag_ref_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_settle_time(self) -> float:
-        ...
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
     @mag_settle_time.setter
-    def mag_settle_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_settle_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_sigma(self) -> float:
+        """
+        std of each component of the normalized magnetometer [1 (normalized)]
+        """
+    @mag_sigma.setter
+    def mag_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_acc_th(self) -> float:
-        ...
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
     @rest_acc_th.setter
-    def rest_acc_th(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_gyr_th(self) -> float:
-        ...
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
     @rest_gyr_th.setter
-    def rest_gyr_th(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_rate_noise(self) -> float:
-        ...
+        """
+        std of the residual rate at rest [rad/s]
+        """
     @rest_rate_noise.setter
-    def rest_rate_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_tau(self) -> float:
-        ...
+        """
+        rest: low-pass time constant [s]
+        """
     @rest_tau.setter
-    def rest_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_time(self) -> float:
-        ...
+        """
+        rest: shortest duration [s]
+        """
     @rest_time.setter
-    def rest_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_time(self, arg1: typing.Any) -> None:
         ...
 class QuaternionEKF_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: QuaternionEKFParams_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 7]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 7]"]) -> str:
         ...
     def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
         """
@@ -259,7 +357,9 @@ class QuaternionEKF_f64:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f64:
@@ -337,8 +437,19 @@ class UpdateResult6_f32:
     def status(self) -> str:
         ...
 class QuaternionEKFParams_f32:
-    mag_heading_only: bool
-    rest_detection: bool
+    """
+    Parameters of QuaternionEKF and QuaternionESKF (quaternion_ekf.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> QuaternionEKFParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     @staticmethod
     def paper() -> QuaternionEKFParams_f32:
         """
@@ -346,196 +457,283 @@ class QuaternionEKFParams_f32:
         """
     def __init__(self) -> None:
         ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
     @property
     def acc_adapt(self) -> float:
-        ...
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
     @acc_adapt.setter
-    def acc_adapt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_adapt(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_gate(self) -> float:
-        ...
+        """
+        NIS gate of the accelerometer update (0: off) [1 (chi-square, 3 dof)]
+        """
     @acc_gate.setter
-    def acc_gate(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_gate(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_bias_sigma(self) -> float:
-        ...
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
     @acc_lp_bias_sigma.setter
-    def acc_lp_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_tau(self) -> float:
-        ...
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
     @acc_lp_tau.setter
-    def acc_lp_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def acc_noise(self) -> float:
-        ...
-    @acc_noise.setter
-    def acc_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_recovery_time(self) -> float:
-        ...
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
     @acc_recovery_time.setter
-    def acc_recovery_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_reject(self) -> float:
-        ...
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
     @acc_reject.setter
-    def acc_reject(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_reject(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_sigma(self) -> float:
+        """
+        std of each component of the normalized accelerometer [1 (normalized)]
+        """
+    @acc_sigma.setter
+    def acc_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
     def declination(self) -> float:
-        ...
+        """
+        magnetic declination, east of true north (0: x is magnetic north) [rad]
+        """
     @declination.setter
-    def declination(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def declination(self, arg1: typing.Any) -> None:
         ...
     @property
     def gravity(self) -> float:
-        ...
+        """
+        magnitude of gravity for the acceleration tests [m/s^2]
+        """
     @gravity.setter
-    def gravity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gravity(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
-        ...
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
     @gyro_bias_noise.setter
-    def gyro_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
-        ...
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
     @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_att_sigma(self) -> float:
-        ...
+        """
+        attitude one-sigma after initialize [rad]
+        """
     @init_att_sigma.setter
-    def init_att_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_att_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
-    def init_bias_sigma(self) -> float:
-        ...
-    @init_bias_sigma.setter
-    def init_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_gyro_bias_sigma(self) -> float:
+        """
+        gyro-bias one-sigma after initialize [rad/s]
+        """
+    @init_gyro_bias_sigma.setter
+    def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_dip_tol(self) -> float:
-        ...
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
     @mag_dip_tol.setter
-    def mag_dip_tol(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_gate(self) -> float:
-        ...
+        """
+        NIS gate of the magnetometer update (0: off) [1 (chi-square)]
+        """
     @mag_gate.setter
-    def mag_gate(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_gate(self, arg1: typing.Any) -> None:
         ...
     @property
-    def mag_noise(self) -> float:
-        ...
-    @mag_noise.setter
-    def mag_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_heading_only(self) -> bool:
+        """
+        the magnetometer corrects heading only (false: 3-row update) [-]
+        """
+    @mag_heading_only.setter
+    def mag_heading_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_norm_tol(self) -> float:
-        ...
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
     @mag_norm_tol.setter
-    def mag_norm_tol(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_recovery_time(self) -> float:
-        ...
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
     @mag_recovery_time.setter
-    def mag_recovery_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_samples(self) -> int:
-        ...
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
     @mag_ref_samples.setter
-    def mag_ref_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_tau(self) -> float:
-        ...
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
     @mag_ref_tau.setter
-    def mag_ref_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_settle_time(self) -> float:
-        ...
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
     @mag_settle_time.setter
-    def mag_settle_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mag_settle_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_sigma(self) -> float:
+        """
+        std of each component of the normalized magnetometer [1 (normalized)]
+        """
+    @mag_sigma.setter
+    def mag_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_acc_th(self) -> float:
-        ...
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
     @rest_acc_th.setter
-    def rest_acc_th(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_gyr_th(self) -> float:
-        ...
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
     @rest_gyr_th.setter
-    def rest_gyr_th(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_rate_noise(self) -> float:
-        ...
+        """
+        std of the residual rate at rest [rad/s]
+        """
     @rest_rate_noise.setter
-    def rest_rate_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_tau(self) -> float:
-        ...
+        """
+        rest: low-pass time constant [s]
+        """
     @rest_tau.setter
-    def rest_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def rest_time(self) -> float:
-        ...
+        """
+        rest: shortest duration [s]
+        """
     @rest_time.setter
-    def rest_time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rest_time(self, arg1: typing.Any) -> None:
         ...
 class QuaternionEKF_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: QuaternionEKFParams_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[7, 7]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[7, 7]"]) -> str:
         ...
     def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
         """
@@ -544,7 +742,9 @@ class QuaternionEKF_f32:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f32:
@@ -580,15 +780,22 @@ class QuaternionEKF_f32:
         q_nb [w, x, y, z]
         """
 class QuaternionESKF_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: QuaternionEKFParams_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
         ...
     def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
         """
@@ -597,7 +804,9 @@ class QuaternionESKF_f64:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f64:
@@ -633,15 +842,22 @@ class QuaternionESKF_f64:
         q_nb [w, x, y, z]
         """
 class QuaternionESKF_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: QuaternionEKFParams_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
         ...
     def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
         """
@@ -650,7 +866,9 @@ class QuaternionESKF_f32:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult6_f32:
@@ -686,90 +904,138 @@ class QuaternionESKF_f32:
         q_nb [w, x, y, z]
         """
 class EulerEKFParams_f64:
+    """
+    Parameters of EulerEKF (euler_ekf.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> EulerEKFParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
         ...
-    @property
-    def acc_noise(self) -> float:
+    def __repr__(self) -> str:
         ...
-    @acc_noise.setter
-    def acc_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def to_dict(self) -> dict:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_sigma(self) -> float:
+        """
+        std of each component of the normalized accelerometer [1 (normalized)]
+        """
+    @acc_sigma.setter
+    def acc_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
-        ...
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
     @gyro_bias_noise.setter
-    def gyro_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
-        ...
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
     @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_att_sigma(self) -> float:
-        ...
+        """
+        one-sigma of each Euler angle after initialize [rad]
+        """
     @init_att_sigma.setter
-    def init_att_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_att_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
-    def init_bias_sigma(self) -> float:
-        ...
-    @init_bias_sigma.setter
-    def init_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def mag_noise(self) -> float:
-        ...
-    @mag_noise.setter
-    def mag_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_gyro_bias_sigma(self) -> float:
+        """
+        gyro-bias one-sigma after initialize [rad/s]
+        """
+    @init_gyro_bias_sigma.setter
+    def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_samples(self) -> int:
-        ...
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
     @mag_ref_samples.setter
-    def mag_ref_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_sigma(self) -> float:
+        """
+        std of each component of the normalized magnetometer [1 (normalized)]
+        """
+    @mag_sigma.setter
+    def mag_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def singular_cos(self) -> float:
-        ...
+        """
+        the Euler parametrization is flagged singular where abs(cos(pitch)) is below it [1]
+        """
     @singular_cos.setter
-    def singular_cos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def singular_cos(self, arg1: typing.Any) -> None:
         ...
 class EulerEKF_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: EulerEKFParams_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, euler: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
+    def reset(self, euler: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
         ...
     def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
         """
@@ -778,7 +1044,9 @@ class EulerEKF_f64:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
@@ -798,6 +1066,9 @@ class EulerEKF_f64:
     def euler(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...
     @property
+    def extra_flags(self) -> int:
+        ...
+    @property
     def initialized(self) -> bool:
         ...
     @property
@@ -812,90 +1083,138 @@ class EulerEKF_f64:
         q_nb [w, x, y, z]
         """
 class EulerEKFParams_f32:
+    """
+    Parameters of EulerEKF (euler_ekf.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> EulerEKFParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
         ...
-    @property
-    def acc_noise(self) -> float:
+    def __repr__(self) -> str:
         ...
-    @acc_noise.setter
-    def acc_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def to_dict(self) -> dict:
         ...
     @property
     def acc_range(self) -> float:
-        ...
+        """
+        accelerometer range per axis, as gyro_range (0: unlimited) [m/s^2]
+        """
     @acc_range.setter
-    def acc_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def acc_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_sigma(self) -> float:
+        """
+        std of each component of the normalized accelerometer [1 (normalized)]
+        """
+    @acc_sigma.setter
+    def acc_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
-        ...
+        """
+        eigenvalue floor of the error covariance (0: off) [state units^2]
+        """
     @cov_floor.setter
-    def cov_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
-        ...
+        """
+        gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
+        """
     @gyro_bias_noise.setter
-    def gyro_bias_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_bias_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
-        ...
+        """
+        gyro white-noise density (angle random walk) [rad/s/sqrt(Hz)]
+        """
     @gyro_noise.setter
-    def gyro_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_range(self) -> float:
-        ...
+        """
+        gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited) [rad/s]
+        """
     @gyro_range.setter
-    def gyro_range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_att_sigma(self) -> float:
-        ...
+        """
+        one-sigma of each Euler angle after initialize [rad]
+        """
     @init_att_sigma.setter
-    def init_att_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_att_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
-    def init_bias_sigma(self) -> float:
-        ...
-    @init_bias_sigma.setter
-    def init_bias_sigma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def mag_noise(self) -> float:
-        ...
-    @mag_noise.setter
-    def mag_noise(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def init_gyro_bias_sigma(self) -> float:
+        """
+        gyro-bias one-sigma after initialize [rad/s]
+        """
+    @init_gyro_bias_sigma.setter
+    def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_samples(self) -> int:
-        ...
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
     @mag_ref_samples.setter
-    def mag_ref_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_sigma(self) -> float:
+        """
+        std of each component of the normalized magnetometer [1 (normalized)]
+        """
+    @mag_sigma.setter
+    def mag_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def singular_cos(self) -> float:
-        ...
+        """
+        the Euler parametrization is flagged singular where abs(cos(pitch)) is below it [1]
+        """
     @singular_cos.setter
-    def singular_cos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def singular_cos(self, arg1: typing.Any) -> None:
         ...
 class EulerEKF_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: EulerEKFParams_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, euler: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
+    def reset(self, euler: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
         ...
     def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
         """
@@ -904,7 +1223,9 @@ class EulerEKF_f32:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
@@ -922,6 +1243,9 @@ class EulerEKF_f32:
         ...
     @property
     def euler(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def extra_flags(self) -> int:
         ...
     @property
     def initialized(self) -> bool:
@@ -968,94 +1292,149 @@ class MargUpdateResult_f64:
     def status(self) -> str:
         ...
 class MargFilterParams_f64:
-    gps_correction: bool
+    """
+    Parameters of MargFilter (marg_filter.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> MargFilterParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
         ...
     @property
     def bias_gain(self) -> float:
-        ...
+        """
+        gyro-bias integral gain (0: no bias estimate) [1/s^2]
+        """
     @bias_gain.setter
-    def bias_gain(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def bias_gain(self, arg1: typing.Any) -> None:
         ...
     @property
     def declination(self) -> float:
-        ...
+        """
+        magnetic declination, east of true north (GPS velocities are rotated into the magnetic frame) [rad]
+        """
     @declination.setter
-    def declination(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def declination(self, arg1: typing.Any) -> None:
         ...
     @property
     def gain(self) -> float:
-        ...
+        """
+        k of eq. (6): pull towards the Gauss-Newton attitude (0: gyro only) [1/s]
+        """
     @gain.setter
-    def gain(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gain(self, arg1: typing.Any) -> None:
         ...
     @property
     def gn_max_iter(self) -> int:
-        ...
+        """
+        Gauss-Newton iterations per update, at most [1]
+        """
     @gn_max_iter.setter
-    def gn_max_iter(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def gn_max_iter(self, arg1: typing.Any) -> None:
         ...
     @property
     def gn_tol(self) -> float:
-        ...
+        """
+        the iteration stops when |dq| is below it [1]
+        """
     @gn_tol.setter
-    def gn_tol(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gn_tol(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_acc_tau(self) -> float:
-        ...
+        """
+        low-pass time constant of the GPS acceleration [s]
+        """
     @gps_acc_tau.setter
-    def gps_acc_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_acc_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_correction(self) -> bool:
+        """
+        apply eq. (7) when a GPS acceleration is available [-]
+        """
+    @gps_correction.setter
+    def gps_correction(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_timeout(self) -> float:
-        ...
+        """
+        a GPS acceleration older than this is not used [s]
+        """
     @gps_timeout.setter
-    def gps_timeout(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_timeout(self, arg1: typing.Any) -> None:
         ...
     @property
     def gravity(self) -> float:
-        ...
+        """
+        magnitude of gravity in eq. (7) [m/s^2]
+        """
     @gravity.setter
-    def gravity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gravity(self, arg1: typing.Any) -> None:
         ...
     @property
     def lever_arm_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
-        ...
+        """
+        GPS antenna relative to the IMU, body FRD [m]
+        """
     @lever_arm_b.setter
-    def lever_arm_b(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+    def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_samples(self) -> int:
-        ...
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
     @mag_ref_samples.setter
-    def mag_ref_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def omega_dot_tau(self) -> float:
-        ...
+        """
+        low-pass time constant of the angular acceleration [s]
+        """
     @omega_dot_tau.setter
-    def omega_dot_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def omega_dot_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def valid(self) -> bool:
         ...
 class MargFilter_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: MargFilterParams_f64) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> str:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
         """
@@ -1064,7 +1443,9 @@ class MargFilter_f64:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> MargUpdateResult_f64:
         ...
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> MargUpdateResult_f64:
@@ -1124,94 +1505,149 @@ class MargUpdateResult_f32:
     def status(self) -> str:
         ...
 class MargFilterParams_f32:
-    gps_correction: bool
+    """
+    Parameters of MargFilter (marg_filter.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> MargFilterParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
     def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
         ...
     @property
     def bias_gain(self) -> float:
-        ...
+        """
+        gyro-bias integral gain (0: no bias estimate) [1/s^2]
+        """
     @bias_gain.setter
-    def bias_gain(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def bias_gain(self, arg1: typing.Any) -> None:
         ...
     @property
     def declination(self) -> float:
-        ...
+        """
+        magnetic declination, east of true north (GPS velocities are rotated into the magnetic frame) [rad]
+        """
     @declination.setter
-    def declination(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def declination(self, arg1: typing.Any) -> None:
         ...
     @property
     def gain(self) -> float:
-        ...
+        """
+        k of eq. (6): pull towards the Gauss-Newton attitude (0: gyro only) [1/s]
+        """
     @gain.setter
-    def gain(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gain(self, arg1: typing.Any) -> None:
         ...
     @property
     def gn_max_iter(self) -> int:
-        ...
+        """
+        Gauss-Newton iterations per update, at most [1]
+        """
     @gn_max_iter.setter
-    def gn_max_iter(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def gn_max_iter(self, arg1: typing.Any) -> None:
         ...
     @property
     def gn_tol(self) -> float:
-        ...
+        """
+        the iteration stops when |dq| is below it [1]
+        """
     @gn_tol.setter
-    def gn_tol(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gn_tol(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_acc_tau(self) -> float:
-        ...
+        """
+        low-pass time constant of the GPS acceleration [s]
+        """
     @gps_acc_tau.setter
-    def gps_acc_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_acc_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_correction(self) -> bool:
+        """
+        apply eq. (7) when a GPS acceleration is available [-]
+        """
+    @gps_correction.setter
+    def gps_correction(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_timeout(self) -> float:
-        ...
+        """
+        a GPS acceleration older than this is not used [s]
+        """
     @gps_timeout.setter
-    def gps_timeout(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gps_timeout(self, arg1: typing.Any) -> None:
         ...
     @property
     def gravity(self) -> float:
-        ...
+        """
+        magnitude of gravity in eq. (7) [m/s^2]
+        """
     @gravity.setter
-    def gravity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gravity(self, arg1: typing.Any) -> None:
         ...
     @property
     def lever_arm_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
-        ...
+        """
+        GPS antenna relative to the IMU, body FRD [m]
+        """
     @lever_arm_b.setter
-    def lever_arm_b(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> None:
+    def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_ref_samples(self) -> int:
-        ...
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
     @mag_ref_samples.setter
-    def mag_ref_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
-        ...
+        """
+        longest accepted IMU step [s]
+        """
     @max_dt.setter
-    def max_dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_dt(self, arg1: typing.Any) -> None:
         ...
     @property
     def omega_dot_tau(self) -> float:
-        ...
+        """
+        low-pass time constant of the angular acceleration [s]
+        """
     @omega_dot_tau.setter
-    def omega_dot_tau(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def omega_dot_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def valid(self) -> bool:
         ...
 class MargFilter_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
     def __init__(self, params: MargFilterParams_f32) -> None:
         ...
     def get_state(self) -> dict:
-        ...
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
     def initialize(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"] | None = None) -> str:
         ...
     def predict(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, quat: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> str:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
         """
@@ -1220,7 +1656,9 @@ class MargFilter_f32:
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_state(self, state: dict) -> str:
-        ...
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> MargUpdateResult_f32:
         ...
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> MargUpdateResult_f32:

@@ -398,9 +398,9 @@ def _ahrs(name: str):
 
 def _qekf_model(d: MargData):
     """Quaternion model of paper 000 from quatnav.reference, for the filterpy set-ups."""
-    from ..reference import QuaternionEKF as RefQEKF
+    from ..reference import QuaternionEKF7 as RefQEKF
     from ..reference.attitude import attitude_from_acc_mag
-    ref = RefQEKF()
+    ref = RefQEKF()  # the 7-state [q, b] filter with the default noise values
     p = ref.p
     fn = d.field_n / np.linalg.norm(d.field_n)
     rx, rz = np.hypot(fn[0], fn[1]), fn[2]
@@ -427,8 +427,8 @@ def _qekf_model(d: MargData):
         out[4:, 4:] = np.eye(3) * d.dt * p.gyro_bias_noise**2
         return out
 
-    R = np.diag([p.acc_noise**2] * 3 + [p.mag_noise**2] * 3)
-    P0 = np.diag([(p.init_att_sigma / 2) ** 2] * 4 + [p.init_bias_sigma**2] * 3)
+    R = np.diag([p.acc_sigma**2] * 3 + [p.mag_sigma**2] * 3)
+    P0 = np.diag([(p.init_att_sigma / 2) ** 2] * 4 + [p.init_gyro_bias_sigma**2] * 3)
     x0 = np.concatenate([q0, np.zeros(3)])
     return ref, x0, P0, R, Qn, hx, Hjac, z
 

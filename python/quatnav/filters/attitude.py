@@ -330,9 +330,9 @@ class QuaternionEKF(_AttitudeFilter):
                 X = Q.xi(q / np.linalg.norm(q))
                 P = np.zeros((7, 7))
                 P[:4, :4] = (p.init_att_sigma / 2) ** 2 * X @ X.T
-                P[4:, 4:] = np.eye(3) * p.init_bias_sigma**2
+                P[4:, 4:] = np.eye(3) * p.init_gyro_bias_sigma**2
             else:
-                P = np.diag([p.init_att_sigma**2] * 3 + [p.init_bias_sigma**2] * 3)
+                P = np.diag([p.init_att_sigma**2] * 3 + [p.init_gyro_bias_sigma**2] * 3)
         P = np.asarray(P, dtype=self.dtype)
         if P.shape != (n, n) or not np.all(np.isfinite(P)):
             raise ValueError(f"P: expected a finite {n}x{n} matrix, got shape {P.shape}")
@@ -377,7 +377,7 @@ class EulerEKF(_AttitudeFilter):
         b = np.zeros(3, self.dtype) if bias is None else V.vector(bias, "bias", dtype=self.dtype)
         if P is None:
             p = self._f.params
-            P = np.diag([p.init_att_sigma**2] * 3 + [p.init_bias_sigma**2] * 3)
+            P = np.diag([p.init_att_sigma**2] * 3 + [p.init_gyro_bias_sigma**2] * 3)
         P = np.asarray(P, dtype=self.dtype)
         if P.shape != (6, 6) or not np.all(np.isfinite(P)):
             raise ValueError(f"P: expected a finite 6x6 matrix, got shape {P.shape}")

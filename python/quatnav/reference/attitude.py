@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..core import quaternion as Q
-from ..filters.tables import FLAGS
+from ..filters.tables import EULER_PARAMS, FLAGS, QEKF_PARAMS
 from .kalman import kalman_correct
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED
@@ -43,16 +43,31 @@ def attitude_from_acc_mag(acc, mag=None):
     return Q.from_euler([roll, pitch, yaw]), mag_ref
 
 
+def table_defaults(table) -> dict:
+    """The C++ parameters of a filter with their defaults, from its one table (quatnav.filters.tables).
+    The input guards of the C++ step (gyro_range, acc_range, cov_floor) are accepted and not modelled."""
+    return {p.name: p.default for p in table if p.core_name is not None}
+
+
+def make_params(name: str, defaults: dict, given: dict) -> SimpleNamespace:
+    """The parameters as attributes: the defaults, overridden by ``given`` (an unknown name is a
+    TypeError listing the known ones); each value keeps the type of its default."""
+    unknown = sorted(set(given) - set(defaults))
+    if unknown:
+        raise TypeError(f"{name}: unknown parameter {unknown[0]!r}; known: {', '.join(defaults)}")
+    p = dict(defaults)
+    for k, v in given.items():
+        d = defaults[k]
+        p[k] = bool(v) if isinstance(d, bool) else int(v) if isinstance(d, int) else \
+            np.asarray(v, float) if isinstance(d, tuple) else float(v)
+    return SimpleNamespace(**p)
+
+
 class _Base:
     defaults: dict = {}
 
     def __init__(self, **params):
-        p = dict(self.defaults)
-        for k, v in params.items():
-            if k not in p:
-                raise TypeError(f"unknown parameter {k!r}")
-            p[k] = float(v)
-        self.p = SimpleNamespace(**p)
+        self.p = make_params(type(self).__name__, self.defaults, params)
         self.mag_ref = np.array([1.0, 0.0, 0.0])
         self.mag_sin_dip_sum = 0.0
         self.mag_ref_count = 0
@@ -79,7 +94,7 @@ class _Base:
         if status != "ok":
             return SimpleNamespace(status=status)
         self._learn_mag_ref(Q.rotate(self.quat, m))
-        return self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_noise, gate)
+        return self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_sigma, gate)
 
     def _init_mag_ref(self, mref):
         if mref is not None:
@@ -90,7 +105,7 @@ class _Base:
     def update_acc(self, acc, gate=0.0):
         if not self.initialized:
             return SimpleNamespace(status="not_initialized")
-        return self._update3(acc, *GRAVITY_REF, self.p.acc_noise, gate)
+        return self._update3(acc, *GRAVITY_REF, self.p.acc_sigma, gate)
 
     def run(self, gyr, acc, mag=None, dt=None, observer=None):
         """Same loop as quatnav.batch.hpp: initialize, then predict + update_acc + update_mag;
@@ -137,20 +152,13 @@ class QuaternionEKF(_Base):
     State x = [q0 q1 q2 q3 bx by bz]. ``QuaternionEKF(paper=True)`` is the plain paper filter.
     """
 
-    defaults = dict(gyro_noise=0.01, gyro_bias_noise=1e-4, acc_noise=0.4, mag_noise=1.0,
-                    init_att_sigma=0.5, init_bias_sigma=0.1, mag_ref_samples=100, max_dt=1.0,
-                    mag_heading_only=True, gravity=9.81, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
-                    acc_recovery_time=0.0, acc_lp_tau=3.0, acc_lp_bias_sigma=0.006, mag_norm_tol=0.05,
-                    mag_dip_tol=0.05,
-                    mag_gate=9.0, mag_settle_time=0.0, mag_ref_tau=30.0, mag_recovery_time=0.0,
-                    rest_detection=True, rest_gyr_th=0.03, rest_acc_th=0.5, rest_time=1.5,
-                    rest_tau=0.5, rest_rate_noise=0.02, declination=0.0)
-    paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
-                           init_att_sigma=0.05, init_bias_sigma=0.01, mag_heading_only=False, acc_adapt=0.0, acc_reject=0.0, acc_gate=0.0,
-                           acc_recovery_time=0.0, acc_lp_tau=0.0, acc_lp_bias_sigma=0.0, mag_norm_tol=0.0,
-                           mag_dip_tol=0.0,
-                           mag_gate=0.0, mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0,
-                           rest_detection=False)
+    defaults = table_defaults(QEKF_PARAMS)
+    #: QuaternionEKFParams::paper(): the plain filter of paper 000 (a test compares it with the C++).
+    paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_sigma=0.05, mag_sigma=0.1,
+                           init_att_sigma=0.05, init_gyro_bias_sigma=0.01, mag_heading_only=False, acc_adapt=0.0,
+                           acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
+                           acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
+                           mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     n_states = 7
 
     def __new__(cls, paper=False, **params):
@@ -165,8 +173,6 @@ class QuaternionEKF(_Base):
         if paper:
             params = {**self.paper_overrides, **params}
         super().__init__(**params)
-        self.p.mag_heading_only = bool(self.p.mag_heading_only)
-        self.p.rest_detection = bool(self.p.rest_detection)
         self.q = Q.identity()
         self.bias = np.zeros(3)
         self.P = np.eye(7)
@@ -260,7 +266,7 @@ class QuaternionEKF(_Base):
         X = Q.xi(self.q)
         self.P = np.zeros((7, 7))
         self.P[:4, :4] = (self.p.init_att_sigma / 2) ** 2 * X @ X.T
-        self.P[4:, 4:] = np.eye(3) * self.p.init_bias_sigma**2
+        self.P[4:, 4:] = np.eye(3) * self.p.init_gyro_bias_sigma**2
         self.initialized = True
         return "ok"
 
@@ -321,7 +327,7 @@ class QuaternionEKF(_Base):
                 self.acc_reject_t += dt
             self.flags |= FLAG_ACC_REJECTED
             return SimpleNamespace(status="rejected")
-        sigma = p.acc_noise + (p.acc_adapt * dev / g if g > 0 else 0.0)
+        sigma = p.acc_sigma + (p.acc_adapt * dev / g if g > 0 else 0.0)
         gt = gate if gate > 0 else (0.0 if recovering else p.acc_gate)
         res = self._update3(acc_used, *GRAVITY_REF, sigma, gt)
         if res.status == "ok":
@@ -394,7 +400,7 @@ class QuaternionEKF(_Base):
             res = self.update_heading(m, gt)
         else:
             rx, rz, ry = self.mag_reference()
-            res = self._update3(mag, rx, rz, p.mag_noise, gt, ry=ry)
+            res = self._update3(mag, rx, rz, p.mag_sigma, gt, ry=ry)
         if res.status == "ok":
             self.mag_reject_t = 0.0
             if p.mag_ref_tau > 0 and dt > 0:
@@ -434,7 +440,7 @@ class QuaternionEKF(_Base):
         h, horiz2, Hq, u, Jt = out
         R3 = Q.right(self.q)[:, 1:]
         Sphi = 4.0 * R3.T @ self.P[:4, :4] @ R3
-        R = self.p.mag_noise**2 / horiz2 + Jt @ Sphi[:2, :2] @ Jt
+        R = self.p.mag_sigma**2 / horiz2 + Jt @ Sphi[:2, :2] @ Jt
         H = np.zeros(7)
         H[:4] = Hq
         y = float(Q.wrap_pi(self.p.declination - h))  # the field's heading is the declination
@@ -480,7 +486,7 @@ class QuaternionEKF(_Base):
         H[:3, :4] = self.H(self.q, *GRAVITY_REF)
         H[3:, :4] = self.H(self.q, *r)
         y = np.concatenate([a - self.h(self.q, *GRAVITY_REF), m - self.h(self.q, *r)])
-        R = np.diag([self.p.acc_noise**2] * 3 + [self.p.mag_noise**2] * 3)
+        R = np.diag([self.p.acc_sigma**2] * 3 + [self.p.mag_sigma**2] * 3)
         return self._correct(H, R, y, gate)
 
     def _correct(self, H, R, y, gate):
@@ -518,7 +524,7 @@ class QuaternionESKF(QuaternionEKF):
     def initialize(self, acc, mag=None):
         status = super().initialize(acc, mag)
         if status == "ok":
-            self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_bias_sigma**2] * 3)
+            self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_gyro_bias_sigma**2] * 3)
         return status
 
     def _acc_lp_tau(self):
@@ -585,7 +591,7 @@ class QuaternionESKF(QuaternionEKF):
         self._learn_mag_ref(Q.rotate(self.q, m))
         ha, Ha = self.direction_model(self.q, np.array([0.0, 0.0, -1.0]))
         hm, Hm = self.direction_model(self.q, self._mag_reference_vector())
-        R = np.diag([self.p.acc_noise**2] * 3 + [self.p.mag_noise**2] * 3)
+        R = np.diag([self.p.acc_sigma**2] * 3 + [self.p.mag_sigma**2] * 3)
         return self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate)
 
     def update_heading(self, m_unit, gate=0.0):
@@ -600,7 +606,7 @@ class QuaternionESKF(QuaternionEKF):
         J = -np.array([-mn[1] / horiz2, mn[0] / horiz2, 0.0]) @ Q.skew(mn)
         u = C[2]
         vt = C[0] * J[0] + C[1] * J[1]
-        R = self.p.mag_noise**2 / horiz2 + vt @ self.P[:3, :3] @ vt
+        R = self.p.mag_sigma**2 / horiz2 + vt @ self.P[:3, :3] @ vt
         H = np.zeros(6)
         H[:3] = u
         y = float(Q.wrap_pi(self.p.declination - h))
@@ -637,8 +643,7 @@ class QuaternionESKF(QuaternionEKF):
 class EulerEKF(_Base):
     """Euler-angle EKF (paper 000's baseline) in numpy. State [roll, pitch, yaw, bx, by, bz]."""
 
-    defaults = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_noise=0.05, mag_noise=0.1,
-                    init_att_sigma=0.05, init_bias_sigma=0.01, mag_ref_samples=100, max_dt=1.0, singular_cos=0.02)
+    defaults = table_defaults(EULER_PARAMS)
     n_states = 6
 
     def __init__(self, **params):
@@ -693,7 +698,7 @@ class EulerEKF(_Base):
         self.euler = Q.to_euler(q)
         self.bias = np.zeros(3)
         self._init_mag_ref(mref)
-        self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_bias_sigma**2] * 3)
+        self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_gyro_bias_sigma**2] * 3)
         self.initialized = True
         return "ok"
 

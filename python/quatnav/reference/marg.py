@@ -11,7 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..core import quaternion as Q
-from .attitude import _unit, attitude_from_acc_mag
+from ..filters.tables import MARG_PARAMS
+from .attitude import _unit, attitude_from_acc_mag, make_params, table_defaults
 
 
 def h(q, r):
@@ -84,18 +85,10 @@ def _lowpass_weight(T, tau):
 class MargFilter:
     """MargFilter (paper 001) in numpy, method for method like the C++ class."""
 
-    defaults = dict(gain=1.0, bias_gain=0.0, gn_max_iter=3, gn_tol=1e-6, gravity=9.80665,
-                    gps_correction=True, gps_acc_tau=0.05, omega_dot_tau=0.1, gps_timeout=0.5,
-                    max_dt=1.0, declination=0.0, mag_ref_samples=100)
+    defaults = table_defaults(MARG_PARAMS)
 
-    def __init__(self, lever_arm_b=(0.0, 0.0, 0.0), **params):
-        p = dict(self.defaults)
-        for k, v in params.items():
-            if k not in p:
-                raise TypeError(f"unknown parameter {k!r}")
-            p[k] = v
-        self.p = SimpleNamespace(**p)
-        self.lever_arm_b = np.asarray(lever_arm_b, float)
+    def __init__(self, **params):
+        self.p = make_params("MargFilter", self.defaults, params)
         self.q = Q.identity()
         self.bias = np.zeros(3)
         self.mag_ref = np.array([1.0, 0.0, 0.0])
@@ -211,7 +204,7 @@ class MargFilter:
         f, ref_n = acc, np.array([0.0, 0.0, -1.0])
         res.gps_corrected = self.gps_acc_available()
         if res.gps_corrected:  # eq. (7')
-            f = lever_corrected(acc, self.omega_b, self.omega_dot_b, self.lever_arm_b)
+            f = lever_corrected(acc, self.omega_b, self.omega_dot_b, np.asarray(self.p.lever_arm_b, float))
             ref_n = self.gps_acc_n - np.array([0.0, 0.0, self.p.gravity])
         st, n0 = _unit(f)
         if st != "ok":

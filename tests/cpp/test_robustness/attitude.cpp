@@ -111,8 +111,8 @@ template <class S> Mat<S, 6, 6> error_cov(const EulerEKF<S>& f) { return f.covar
 template <class F> double near_singular_run(typename F::Scalar floor, int steps) {
   using S = typename F::Scalar;
   typename F::Params p;
-  p.acc_noise = S(1e-5);
-  p.mag_noise = S(1e-5);
+  p.acc_sigma = S(1e-5);
+  p.mag_sigma = S(1e-5);
   p.gyro_noise = S(1e-6);
   p.gyro_bias_noise = S(1e-9);
   p.cov_floor = floor;
@@ -156,9 +156,9 @@ TEST(RefusedState, MalformedCovarianceAndQuaternion) {
   s = before;
   s.P(5, 5) = -1e-6;  // negative variance
   EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
-  EXPECT_EQ(f.reset(before.q, before.bias, s.P), Status::InvalidArgument);
+  EXPECT_EQ(f.reset(before.q_nb, before.gyro_bias, s.P), Status::InvalidArgument);
   const double big = std::numeric_limits<double>::max();
-  EXPECT_EQ(f.reset(Quat<double>(big, big, 0, 0), before.bias, before.P), Status::InvalidArgument);
+  EXPECT_EQ(f.reset(Quat<double>(big, big, 0, 0), before.gyro_bias, before.P), Status::InvalidArgument);
   EXPECT_TRUE(FuzzAdapter<QuaternionEKF<double>>::same(before, f.state()));
 
   EulerEKF<double> e;
@@ -169,7 +169,7 @@ TEST(RefusedState, MalformedCovarianceAndQuaternion) {
   EXPECT_EQ(e.set_state(es), Status::InvalidArgument);
   es = eb;
   es.P(1, 1) = -1;
-  EXPECT_EQ(e.reset(eb.euler, eb.bias, es.P), Status::InvalidArgument);
+  EXPECT_EQ(e.reset(eb.euler, eb.gyro_bias, es.P), Status::InvalidArgument);
   EXPECT_TRUE(FuzzAdapter<EulerEKF<double>>::same(eb, e.state()));
 }
 

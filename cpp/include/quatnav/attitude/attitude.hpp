@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "../core/checks.hpp"
+#include "../core/fields.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
 
@@ -16,27 +17,35 @@ namespace quatnav {
 /// filter. Unless fixed by the user (dip angle), it is learned from the first magnetometer
 /// samples: the mean of sin(dip) = z component of the normalized field rotated into the
 /// navigation frame by the current attitude, over the first `max_samples` samples.
-template <class S> struct MagRef {
-  Vec3<S> ref = Vec3<S>(S(1), S(0), S(0));  ///< normalized [m_x, 0, m_z]
-  S sin_dip_sum = S(0);                     ///< sum of the sin(dip) samples learned so far
-  std::uint32_t count = 0;                  ///< samples learned so far
-  bool fixed = false;                       ///< set by the user; never learned
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_MAG_REF(X)                                                                             \
+  X(Vec3<S>, mag_ref, Vec3<S>(S(1), S(0), S(0)), "1", "reference field [m_x, 0, m_z], normalized")     \
+  X(S, mag_sin_dip_sum, S(0), "1", "sum of the sin(dip) samples learned so far")                       \
+  X(std::uint32_t, mag_ref_count, 0, "-", "field samples learned so far")                              \
+  X(bool, mag_ref_fixed, false, "-", "the dip was set by the user (set_mag_dip) and is not learned")
 
-  bool valid() const { return fixed || count > 0; }
+template <class S> struct MagRef {
+  QUATNAV_FIELDS(MagRef, QUATNAV_MAG_REF)
+
+  bool valid() const { return mag_ref_fixed || mag_ref_count > 0; }
   void fix(S dip) {
-    ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
-    fixed = true;
+    mag_ref = Vec3<S>(std::cos(dip), S(0), std::sin(dip));
+    mag_ref_fixed = true;
   }
   /// Learn from a unit field vector expressed in the navigation frame.
   void learn(const Vec3<S>& m_n_unit, std::uint32_t max_samples) {
-    if (fixed || count >= max_samples) return;
-    sin_dip_sum += m_n_unit[2];
-    ++count;
-    S sd = sin_dip_sum / S(count);
+    if (mag_ref_fixed || mag_ref_count >= max_samples) return;
+    mag_sin_dip_sum += m_n_unit[2];
+    ++mag_ref_count;
+    S sd = mag_sin_dip_sum / S(mag_ref_count);
     sd = sd > S(1) ? S(1) : (sd < S(-1) ? S(-1) : sd);
-    ref = Vec3<S>(std::sqrt(S(1) - sd * sd), S(0), sd);
+    mag_ref = Vec3<S>(std::sqrt(S(1) - sd * sd), S(0), sd);
   }
-  bool finite() const { return ref.allFinite() && std::isfinite(sin_dip_sum); }
+  /// Start learning afresh from one unit field vector (navigation frame), unless fixed.
+  void restart(const Vec3<S>& m_n_unit, std::uint32_t max_samples) {
+    if (!mag_ref_fixed) *this = MagRef();
+    learn(m_n_unit, max_samples);
+  }
 };
 
 namespace detail {

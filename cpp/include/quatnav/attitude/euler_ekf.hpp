@@ -19,6 +19,7 @@
 #include <cstdint>
 
 #include "attitude.hpp"
+#include "../core/fields.hpp"
 #include "../core/covariance.hpp"
 #include "../core/kalman.hpp"
 #include "../core/quaternion.hpp"
@@ -26,27 +27,40 @@
 
 namespace quatnav {
 
+/// Parameters of EulerEKF: paper 000's values. Every field has its unit and default.
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_EULER_PARAMS(X)                                                                         \
+  X(S, gyro_noise, S(0.005), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")           \
+  X(S, gyro_bias_noise, S(1e-5), "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density")                    \
+  X(S, acc_sigma, S(0.05), "1 (normalized)", "std of each component of the normalized accelerometer")    \
+  X(S, mag_sigma, S(0.1), "1 (normalized)", "std of each component of the normalized magnetometer")      \
+  X(S, init_att_sigma, S(0.05), "rad", "one-sigma of each Euler angle after initialize")                 \
+  X(S, init_gyro_bias_sigma, S(0.01), "rad/s", "gyro-bias one-sigma after initialize")                   \
+  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
+  X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
+  X(S, singular_cos, S(0.02), "1",                                                                       \
+    "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it")                   \
+  X(S, gyro_range, S(0), "rad/s",                                                                        \
+    "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")    \
+  X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
+  /* here a floor on the eigenvalues of P itself (covariance.hpp) */                                  \
+  X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")
+
 template <class S> struct EulerEKFParams {
-  S gyro_noise = S(0.005);      ///< gyro white-noise density [rad/s/sqrt(Hz)]
-  S gyro_bias_noise = S(1e-5);  ///< gyro bias random-walk density [rad/s^2/sqrt(Hz)]
-  S acc_noise = S(0.05);        ///< std of each component of the normalized accelerometer [-]
-  S mag_noise = S(0.1);         ///< std of each component of the normalized magnetometer [-]
-  S init_att_sigma = S(0.05);   ///< initial one-sigma of each Euler angle [rad]
-  S init_bias_sigma = S(0.01);  ///< initial gyro-bias one-sigma [rad/s]
-  std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
-  S max_dt = S(1);              ///< a predict with dt above this is refused [s]
-  S singular_cos = S(0.02);     ///< |cos(pitch)| below this is reported as singular [-]
-  S gyro_range = S(0);          ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
-  S acc_range = S(0);           ///< accelerometer range per axis, unit of acc [m/s^2]; 0: unlimited
-  S cov_floor = S(1e-12);       ///< eigenvalue floor of P (covariance.hpp) [rad^2, (rad/s)^2]; 0: off
+  QUATNAV_FIELDS(EulerEKFParams, QUATNAV_EULER_PARAMS)
 };
 
+#define QUATNAV_EULER_STATE(X)                                                                          \
+  X(Vec3<S>, euler, Vec3<S>::Zero(), "rad", "ZYX Euler angles [roll, pitch, yaw] of C_nb")               \
+  X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
+  X(Mat6, P, Mat6::Identity(), "state units^2", "covariance of [euler, gyro_bias]")                      \
+  X(MagRef<S>, mag, MagRef<S>(), "-", "reference field, learned or given")                               \
+  X(bool, initialized, false, "-", "the filter has a state")
+
+/// The complete state of EulerEKF; state()/set_state() round-trip exactly.
 template <class S> struct EulerEKFState {
-  Vec3<S> euler = Vec3<S>::Zero();              ///< [roll, pitch, yaw] [rad]
-  Vec3<S> bias = Vec3<S>::Zero();               ///< gyro bias [rad/s]
-  Mat<S, 6, 6> P = Mat<S, 6, 6>::Identity();    ///< covariance of [euler, bias]
-  MagRef<S> mag;                                ///< reference field, learned or given
-  bool initialized = false;
+  using Mat6 = Mat<S, 6, 6>;
+  QUATNAV_FIELDS(EulerEKFState, QUATNAV_EULER_STATE)
 };
 
 namespace detail {
@@ -136,7 +150,7 @@ template <class S> class EulerEKF {
   const State& state() const { return st_; }
   const Vec3<S>& euler() const { return st_.euler; }
   Quat<S> quat() const { return quat::from_euler(st_.euler); }
-  const Vec3<S>& bias() const { return st_.bias; }
+  const Vec3<S>& bias() const { return st_.gyro_bias; }
   const Mat6& covariance() const { return st_.P; }
   bool initialized() const { return st_.initialized; }
   /// True when the last predict ran with |cos(pitch)| below singular_cos.
@@ -144,8 +158,7 @@ template <class S> class EulerEKF {
   std::uint32_t extra_flags() const { return singular_ ? flags::kSingular : 0u; }
 
   Status set_state(const State& s) {
-    if (!s.euler.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite())
-      return Status::NonFinite;
+    if (!detail::fields_finite(s)) return Status::NonFinite;
     if (!detail::acceptable_covariance<S, 6>(s.P)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
@@ -178,7 +191,7 @@ template <class S> class EulerEKF {
     symmetrize(P_sym);  // may overflow for huge finite entries: refuse those
     if (!P_sym.allFinite()) return Status::InvalidArgument;
     st_.euler = euler;
-    st_.bias = bias;
+    st_.gyro_bias = bias;
     st_.P = P_sym;
     st_.initialized = true;
     return Status::Ok;
@@ -193,7 +206,7 @@ template <class S> class EulerEKF {
     Mat6 F;
     Mat3<S> E;
     bool singular = false;
-    detail::euler_propagate(st_.euler, st_.bias, gyr, dt, params_.singular_cos, e, F, E, singular);
+    detail::euler_propagate(st_.euler, st_.gyro_bias, gyr, dt, params_.singular_cos, e, F, E, singular);
     // P = F P F^T + Q by blocks, F = [G B; 0 I] (predict_covariance_fb).
     const Mat3<S> G = F.template topLeftCorner<3, 3>();
     const Mat3<S> B = F.template topRightCorner<3, 3>();
@@ -217,7 +230,7 @@ template <class S> class EulerEKF {
       r.status = Status::Saturated;
       return r;
     }
-    return update3(acc, S(0), S(-1), params_.acc_noise, gate);
+    return update3(acc, S(0), S(-1), params_.acc_sigma, gate);
   }
 
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
@@ -228,7 +241,7 @@ template <class S> class EulerEKF {
     if (res.status != Status::Ok) return res;
     const MagRef<S> mag_before = st_.mag;
     st_.mag.learn(quat::rotate(quat(), m), params_.mag_ref_samples);
-    res = update3(mag, st_.mag.ref[0], st_.mag.ref[2], params_.mag_noise, gate);
+    res = update3(mag, st_.mag.mag_ref[0], st_.mag.mag_ref[2], params_.mag_sigma, gate);
     if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
     return res;
   }
@@ -240,16 +253,16 @@ template <class S> class EulerEKF {
     Vec3<S> mref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     st_.euler = quat::to_euler(q);
-    st_.bias.setZero();
+    st_.gyro_bias.setZero();
     if (mag) {
       // Start learning the reference afresh from this sample (unless the user fixed it).
-      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
       st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
     }
     st_.P.setZero();
     st_.P.template topLeftCorner<3, 3>().diagonal().setConstant(params_.init_att_sigma * params_.init_att_sigma);
-    st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_bias_sigma *
-                                                                    params_.init_bias_sigma);
+    st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_gyro_bias_sigma *
+                                                                    params_.init_gyro_bias_sigma);
     st_.initialized = true;
     return Status::Ok;
   }
@@ -271,7 +284,7 @@ template <class S> class EulerEKF {
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);
     st_.euler[2] = quat::wrap_pi(st_.euler[2]);
-    st_.bias += dx.template tail<3>();
+    st_.gyro_bias += dx.template tail<3>();
     st_.P = P;
     return res;
   }

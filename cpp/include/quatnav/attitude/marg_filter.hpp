@@ -46,47 +46,56 @@
 #include <limits>
 
 #include "attitude.hpp"
+#include "../core/fields.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
 
 namespace quatnav {
 
 /// Parameters of MargFilter. Every field has its unit and default.
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_MARG_PARAMS(X)                                                                          \
+  X(S, gain, S(1), "1/s", "k of eq. (6): pull towards the Gauss-Newton attitude (0: gyro only)")         \
+  X(S, bias_gain, S(0), "1/s^2", "gyro-bias integral gain (0: no bias estimate)")                        \
+  X(int, gn_max_iter, 3, "1", "Gauss-Newton iterations per update, at most")                             \
+  X(S, gn_tol, S(1e-6), "1", "the iteration stops when |dq| is below it")                                \
+  X(S, gravity, S(9.80665), "m/s^2", "magnitude of gravity in eq. (7)")                                  \
+  X(Vec3<S>, lever_arm_b, Vec3<S>::Zero(), "m", "GPS antenna relative to the IMU, body FRD")             \
+  X(bool, gps_correction, true, "-", "apply eq. (7) when a GPS acceleration is available")               \
+  X(S, gps_acc_tau, S(0.05), "s", "low-pass time constant of the GPS acceleration")                      \
+  X(S, omega_dot_tau, S(0.1), "s", "low-pass time constant of the angular acceleration")                 \
+  X(S, gps_timeout, S(0.5), "s", "a GPS acceleration older than this is not used")                       \
+  X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
+  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
+  /* the filter's navigation frame is NED with x along magnetic north (the reference field is         \
+     [m_x, 0, m_z]); GPS velocities are in true NED and are rotated by -declination about down before  \
+     use. Left at 0 while the field points 8 deg off true north, a 2 m/s^2 turn acceleration is         \
+     misplaced by 0.3 m/s^2. */                                                                        \
+  X(S, declination, S(0), "rad",                                                                         \
+    "magnetic declination, east of true north (GPS velocities are rotated into the magnetic frame)")
+
 template <class S> struct MargFilterParams {
-  S gain = S(1);                   ///< k of eq. (6): blend rate towards the Gauss-Newton attitude [1/s]
-  S bias_gain = S(0);              ///< gyro-bias integral gain [1/s^2]; 0 disables the bias estimate
-  int gn_max_iter = 3;             ///< Gauss-Newton iterations per update, at most [-]
-  S gn_tol = S(1e-6);              ///< stop iterating when |dq| is below this [-]
-  S gravity = S(9.80665);          ///< magnitude of gravity used in eq. (7) [m/s^2]
-  Vec3<S> lever_arm_b = Vec3<S>::Zero();  ///< IMU to GPS antenna, body frame [m]
-  bool gps_correction = true;      ///< apply eq. (7) when a GPS acceleration is available
-  S gps_acc_tau = S(0.05);         ///< low-pass time constant of the GPS acceleration [s]; 0: none
-  S omega_dot_tau = S(0.1);        ///< low-pass time constant of the angular acceleration [s]; 0: none
-  S gps_timeout = S(0.5);          ///< GPS acceleration older than this is not used [s]
-  /// Magnetic declination, east of true north [rad]. The filter's navigation frame is NED with x
-  /// along magnetic north (the reference field is [m_x, 0, m_z]); GPS velocities are in true
-  /// NED and are rotated by -declination about down before use. Left at 0 while the field
-  /// points 8 deg off true north, a 2 m/s^2 turn acceleration is misplaced by 0.3 m/s^2.
-  S declination = S(0);
-  S max_dt = S(1);                 ///< a predict with dt above this is refused [s]
-  std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
+  QUATNAV_FIELDS(MargFilterParams, QUATNAV_MARG_PARAMS)
 };
+
+#define QUATNAV_MARG_STATE(X)                                                                           \
+  X(Quat<S>, q_nb, quat::identity<S>(), "1", "attitude q_nb [w, x, y, z]")                               \
+  X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
+  X(MagRef<S>, mag, MagRef<S>(), "-", "reference field, learned or given")                               \
+  X(Vec3<S>, omega_b, Vec3<S>::Zero(), "rad/s", "last bias-corrected body rate")                         \
+  X(Vec3<S>, omega_dot_b, Vec3<S>::Zero(), "rad/s^2", "low-passed angular acceleration")                 \
+  X(Vec3<S>, gps_vel_n, Vec3<S>::Zero(), "m/s", "last GPS velocity, magnetic NED")                       \
+  X(Vec3<S>, gps_acc_n, Vec3<S>::Zero(), "m/s^2", "low-passed GPS antenna acceleration, magnetic NED")   \
+  X(S, gps_t, S(0), "s", "time of the last GPS fix")                                                    \
+  X(S, time_since_gps, S(0), "s", "time since the last GPS fix")                                        \
+  X(S, time_since_update, S(0), "s", "time integrated since the last update")                           \
+  X(int, gps_fixes, 0, "-", "0: none, 1: velocity only, 2: acceleration")                               \
+  X(bool, omega_set, false, "-", "omega_b holds a rate (w_dot can be formed)")                          \
+  X(bool, initialized, false, "-", "the filter has a state")
 
 /// The complete filter state; state()/set_state() round-trip exactly.
 template <class S> struct MargFilterState {
-  Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
-  Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
-  MagRef<S> mag;                                  ///< reference field, learned or given
-  Vec3<S> omega_b = Vec3<S>::Zero();              ///< last bias-corrected body rate [rad/s]
-  Vec3<S> omega_dot_b = Vec3<S>::Zero();          ///< low-passed angular acceleration [rad/s^2]
-  Vec3<S> gps_vel_n = Vec3<S>::Zero();            ///< last GPS velocity, magnetic NED [m/s]
-  Vec3<S> gps_acc_n = Vec3<S>::Zero();            ///< low-passed GPS antenna acceleration, magnetic NED [m/s^2]
-  S gps_t = S(0);                                 ///< time of the last GPS fix [s]
-  S time_since_gps = S(0);                        ///< time since the last GPS fix [s]
-  S time_since_update = S(0);                     ///< time integrated since the last update [s]
-  int gps_fixes = 0;                              ///< 0: none, 1: velocity only, 2: acceleration
-  bool omega_set = false;                         ///< omega_b holds a rate (w_dot can be formed)
-  bool initialized = false;
+  QUATNAV_FIELDS(MargFilterState, QUATNAV_MARG_STATE)
 };
 
 /// The outcome of one Gauss-Newton update.
@@ -220,8 +229,8 @@ template <class S> class MargFilter {
 
   const Params& params() const { return params_; }
   const State& state() const { return st_; }
-  const Quat<S>& quat() const { return st_.q; }
-  const Vec3<S>& bias() const { return st_.bias; }
+  const Quat<S>& quat() const { return st_.q_nb; }
+  const Vec3<S>& bias() const { return st_.gyro_bias; }
   bool initialized() const { return st_.initialized; }
   /// The GPS antenna acceleration eq. (7) would use now, if any [m/s^2].
   bool gps_acc_available() const {
@@ -232,11 +241,8 @@ template <class S> class MargFilter {
   /// Restore a state previously read with state(). Refused when the quaternion is not unit
   /// length (InvalidArgument) or anything is non-finite (NonFinite).
   Status set_state(const State& s) {
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.mag.finite() || !s.omega_b.allFinite() ||
-        !s.omega_dot_b.allFinite() || !s.gps_vel_n.allFinite() || !s.gps_acc_n.allFinite() ||
-        !std::isfinite(s.gps_t) || !std::isfinite(s.time_since_gps) || !std::isfinite(s.time_since_update))
-      return Status::NonFinite;
-    if (std::abs(s.q.norm() - S(1)) > S(1e-3) || s.gps_fixes < 0 || s.gps_fixes > 2)
+    if (!detail::fields_finite(s)) return Status::NonFinite;
+    if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3) || s.gps_fixes < 0 || s.gps_fixes > 2)
       return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
@@ -254,8 +260,8 @@ template <class S> class MargFilter {
     if (!q.allFinite() || !bias.allFinite()) return Status::NonFinite;
     const S n = q.norm();  // overflows to inf for huge finite components: refused
     if (!(n > S(0.5)) || !std::isfinite(n)) return Status::InvalidArgument;
-    st_.q = q / n;
-    st_.bias = bias;
+    st_.q_nb = q / n;
+    st_.gyro_bias = bias;
     st_.time_since_update = S(0);
     st_.initialized = true;
     return Status::Ok;
@@ -267,15 +273,15 @@ template <class S> class MargFilter {
     if (!st_.initialized) return Status::NotInitialized;
     if (!gyr.allFinite()) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
-    const Vec3<S> w = gyr - st_.bias;
-    const Quat<S> q_new = quat::mul(st_.q, quat::from_rotvec(Vec3<S>(w * dt)));
+    const Vec3<S> w = gyr - st_.gyro_bias;
+    const Quat<S> q_new = quat::mul(st_.q_nb, quat::from_rotvec(Vec3<S>(w * dt)));
     Vec3<S> wdot = st_.omega_dot_b;
     if (st_.omega_set) {
       const Vec3<S> raw = (w - st_.omega_b) / dt;
       wdot += detail::lowpass_weight(dt, params_.omega_dot_tau) * (raw - wdot);
     }
     if (!q_new.allFinite() || !wdot.allFinite()) return Status::NumericalFailure;
-    st_.q = q_new / q_new.norm();
+    st_.q_nb = q_new / q_new.norm();
     st_.omega_b = w;
     st_.omega_dot_b = wdot;
     st_.omega_set = true;
@@ -334,13 +340,13 @@ template <class S> class MargFilter {
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
     if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
     Quat<S> q;
-    Vec3<S> mref = st_.mag.ref;
+    Vec3<S> mref = st_.mag.mag_ref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
-    st_.q = q;
-    st_.bias.setZero();
+    st_.q_nb = q;
+    st_.gyro_bias.setZero();
     if (mag) {
       // Start learning the reference afresh from this sample (unless the user fixed it).
-      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
       st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
     }
     st_.time_since_update = S(0);
@@ -375,11 +381,11 @@ template <class S> class MargFilter {
       res.status = detail::unit_vector(*mag, u);
       if (res.status != Status::Ok) return res;
       meas.col(0) = u;
-      mag_ref.learn(quat::rotate(st_.q, u), params_.mag_ref_samples);
-      refs.col(0) = mag_ref.ref;
+      mag_ref.learn(quat::rotate(st_.q_nb, u), params_.mag_ref_samples);
+      refs.col(0) = mag_ref.mag_ref;
     }
     // Gauss-Newton from the predicted attitude, eq. (3)-(5).
-    const Quat<S> q_pred = st_.q;
+    const Quat<S> q_pred = st_.q_nb;
     Quat<S> q_gn;
     res.status = detail::marg_gauss_newton<S, K>(q_pred, meas, refs, params_.gn_max_iter, params_.gn_tol,
                                                  q_gn, res.iterations, res.converged);
@@ -402,7 +408,7 @@ template <class S> class MargFilter {
       return res;
     }
     q_new /= n_new;
-    Vec3<S> bias = st_.bias;
+    Vec3<S> bias = st_.gyro_bias;
     if (params_.bias_gain > S(0)) {
       const Quat<S> e = quat::canonical(quat::mul(quat::conj(q_pred), q_gn));
       bias -= (params_.bias_gain * T * S(2)) * Vec3<S>(e[1], e[2], e[3]);
@@ -412,8 +418,8 @@ template <class S> class MargFilter {
       return res;
     }
     res.correction = quat::to_rotvec(quat::mul(quat::conj(q_pred), q_new));
-    st_.q = q_new;
-    st_.bias = bias;
+    st_.q_nb = q_new;
+    st_.gyro_bias = bias;
     st_.time_since_update = S(0);
     st_.mag = mag_ref;
     return res;

@@ -29,6 +29,7 @@
 #include "attitude.hpp"
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
+#include "../core/fields.hpp"
 #include "../core/kalman.hpp"
 #include "../core/quat_block.hpp"
 #include "../core/quaternion.hpp"
@@ -36,7 +37,8 @@
 
 namespace quatnav {
 
-/// Parameters of QuaternionEKF. Every field has its unit and default.
+/// Parameters of QuaternionEKF (and of QuaternionESKF, quaternion_eskf.hpp). Every field has its
+/// unit and default.
 ///
 /// The first block is paper 000's filter. The second block adds what real data needs (linear
 /// accelerations, magnetic disturbances, gyro bias at rest); paper() switches all of it off and
@@ -50,75 +52,69 @@ namespace quatnav {
 /// deviations, scale-factor errors), so that the attitude error stays within the filter's own
 /// 3 sigma on real data. All noise values scaled by one factor give the same estimates and a
 /// covariance scaled by its square.
+// X(type, name, default, unit, doc): each field once (core/fields.hpp). The paper's values are
+// those of paper() below.
+#define QUATNAV_QEKF_PARAMS(X)                                                                          \
+  X(S, gyro_noise, S(0.01), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")            \
+  X(S, gyro_bias_noise, S(1e-4), "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density")                    \
+  X(S, acc_sigma, S(0.4), "1 (normalized)", "std of each component of the normalized accelerometer")     \
+  X(S, mag_sigma, S(1.0), "1 (normalized)", "std of each component of the normalized magnetometer")      \
+  X(S, init_att_sigma, S(0.5), "rad", "attitude one-sigma after initialize")                             \
+  X(S, init_gyro_bias_sigma, S(0.1), "rad/s", "gyro-bias one-sigma after initialize")                    \
+  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
+  X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
+  X(S, gyro_range, S(0), "rad/s",                                                                        \
+    "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")    \
+  X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
+  /* the floor acts in the error state [dtheta (rad, body frame), db (rad/s)] (covariance.hpp) */       \
+  X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")         \
+  /* a scalar update of the heading of the field's horizontal projection whose gain is projected on  \
+     the yaw direction, so that the magnetometer never tilts roll and pitch; false: eq. 12 rows 4-6 */ \
+  X(bool, mag_heading_only, true, "-", "the magnetometer corrects heading only (false: 3-row update)")   \
+  X(S, gravity, S(9.81), "m/s^2", "magnitude of gravity for the acceleration tests")                     \
+  X(S, acc_adapt, S(0), "1", "adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g")       \
+  X(S, acc_reject, S(0), "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)")            \
+  X(S, acc_gate, S(0), "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)")          \
+  X(S, acc_recovery_time, S(0), "s",                                                                     \
+    "after this long with every accelerometer update rejected, accept again (0: never)")                 \
+  /* each sample is rotated into a frame carried by the bias-corrected gyro alone, low-passed there  \
+     and rotated back into the current body frame: linear accelerations average out (their mean over \
+     an interval is a velocity change over its length) while gravity stays */                         \
+  X(S, acc_lp_tau, S(3), "s", "low-pass time constant of the accelerometer in a quasi-inertial frame (0: off)") \
+  /* that frame turns by about sigma_b * tau for a bias error sigma_b (QuaternionESKF only) */         \
+  X(S, acc_lp_bias_sigma, S(0.006), "rad/s",                                                             \
+    "above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by "                \
+    "(acc_lp_bias_sigma / sigma_b)^2 (0: off)")                                                          \
+  X(S, mag_norm_tol, S(0.05), "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)")    \
+  X(S, mag_dip_tol, S(0.05), "rad",                                                                      \
+    "reject the magnetometer when its dip differs from the reference by more (0: off)")                  \
+  X(S, mag_gate, S(9), "1 (chi-square)", "NIS gate of the magnetometer update (0: off)")                 \
+  X(S, mag_settle_time, S(0), "s", "after a disturbance, the field must pass the tests this long")       \
+  X(S, mag_ref_tau, S(30), "s", "time constant with which the reference norm and dip follow the field")   \
+  X(S, mag_recovery_time, S(0), "s",                                                                     \
+    "after this long with every sample disturbed, the field becomes the reference (0: never)")           \
+  X(bool, rest_detection, true, "-", "detect rest and use it as a zero-rate measurement of the gyro bias") \
+  X(S, rest_gyr_th, S(0.03), "rad/s", "rest: largest deviation of the low-passed gyro")                  \
+  X(S, rest_acc_th, S(0.5), "m/s^2", "rest: largest deviation of the low-passed accelerometer")          \
+  X(S, rest_time, S(1.5), "s", "rest: shortest duration")                                                \
+  X(S, rest_tau, S(0.5), "s", "rest: low-pass time constant")                                            \
+  X(S, rest_rate_noise, S(0.02), "rad/s", "std of the residual rate at rest")                            \
+  /* in [-pi, pi]; otherwise x is true north: the reference field points to heading `declination` \
+     and initialize() adds it to the magnetic heading */                                             \
+  X(S, declination, S(0), "rad", "magnetic declination, east of true north (0: x is magnetic north)")
+
 template <class S> struct QuaternionEKFParams {
-  S gyro_noise = S(0.01);         ///< gyro white-noise density [rad/s/sqrt(Hz)] (paper default 0.005)
-  S gyro_bias_noise = S(1e-4);    ///< gyro bias random-walk density [rad/s^2/sqrt(Hz)] (paper 1e-5)
-  S acc_noise = S(0.4);           ///< std of each component of the normalized accelerometer [-] (paper 0.05)
-  S mag_noise = S(1.0);           ///< std of each component of the normalized magnetometer [-] (paper 0.1)
-  S init_att_sigma = S(0.5);      ///< initial attitude one-sigma after initialize() [rad] (paper 0.05)
-  S init_bias_sigma = S(0.1);     ///< initial gyro-bias one-sigma [rad/s] (paper 0.01)
-  std::uint32_t mag_ref_samples = 100;  ///< magnetometer samples averaged to learn the dip [-]
-  S max_dt = S(1);                ///< a predict with dt above this is refused [s]
-  S gyro_range = S(0);            ///< gyro range per axis; |w_i| >= it is Saturated [rad/s]; 0: unlimited
-  S acc_range = S(0);             ///< accelerometer range per axis, unit of acc [m/s^2]; 0: unlimited
-  S cov_floor = S(1e-12);         ///< eigenvalue floor of the error-state covariance (covariance.hpp) [rad^2, (rad/s)^2]; 0: off
-  /// Magnetic declination, east of true north [rad], in [-pi, pi]. 0 (the paper's frame): the
-  /// navigation frame's x axis is magnetic north. Otherwise x is true north: the reference
-  /// field points to heading `declination`, and initialize() adds it to the magnetic heading.
-  S declination = S(0);
+  QUATNAV_FIELDS(QuaternionEKFParams, QUATNAV_QEKF_PARAMS)
 
-  // --- robustness (each switched off by 0 / false) -------------------------------------------
-  /// Magnetometer corrects heading only: a scalar update of the heading of the field's
-  /// horizontal projection, whose gain is projected on the yaw direction so that the
-  /// magnetometer never tilts roll and pitch. false: the paper's 3-row update (eq. 12 rows 4-6).
-  bool mag_heading_only = true;
-  S gravity = S(9.81);            ///< magnitude of gravity used by the acc norm test [m/s^2]
-  /// Adaptive accelerometer noise: the std of each normalized component becomes
-  /// acc_noise + acc_adapt * ||a| - g| / g [-]. 0: constant acc_noise.
-  S acc_adapt = S(0);
-  S acc_reject = S(0);            ///< reject the acc update when ||a| - g| exceeds this [m/s^2]; 0: never
-  S acc_gate = S(0);              ///< default NIS gate of update_acc (3 dof) when none is passed; 0: none
-  /// After this long with every acc update rejected, updates are accepted again (with the
-  /// adaptive noise) so that the filter recovers from a wrong tilt [s]; 0: reject for ever.
-  S acc_recovery_time = S(0);
-  /// Low-pass the accelerometer in a quasi-inertial frame: each sample is rotated into a frame
-  /// carried by the bias-corrected gyro alone, low-passed there with this time constant, and
-  /// rotated back into the current body frame; the result replaces the raw sample in the
-  /// update. Linear accelerations average out in that frame (their mean over an interval is a
-  /// velocity change over its length) while gravity stays. [s]; 0: raw samples.
-  S acc_lp_tau = S(3);
-  /// Bias-aware low-pass (QuaternionESKF only; QuaternionEKF ignores it): the frame of the
-  /// low-pass is carried by the bias-corrected gyro, so a bias error sigma_b turns it by about
-  /// sigma_b * tau. While the largest gyro-bias one-sigma sigma_b exceeds this value the time
-  /// constant is acc_lp_tau * (acc_lp_bias_sigma / sigma_b)^2, so that the low-pass follows the
-  /// bias uncertainty; below it, acc_lp_tau [rad/s]; 0: always acc_lp_tau.
-  S acc_lp_bias_sigma = S(0.006);
-  S mag_norm_tol = S(0.05);        ///< reject mag when ||m| / m_ref - 1| exceeds this [-]; 0: no norm test
-  S mag_dip_tol = S(0.05);        ///< reject mag when |dip - dip_ref| exceeds this [rad]; 0: no dip test
-  S mag_gate = S(9);               ///< default NIS gate of update_mag when none is passed; 0: none
-  /// After a disturbance, the field must pass the norm/dip tests this long before updates
-  /// resume (a field passing them by chance inside a disturbance is not trusted) [s]; 0: at once.
-  S mag_settle_time = S(0);
-  S mag_ref_tau = S(30);           ///< time constant learning the field norm and dip while accepted [s]; 0: fixed
-  /// After this long with every mag update rejected by the norm/dip test, the current field is
-  /// taken as the new reference [s]; 0: never.
-  S mag_recovery_time = S(0);
-  bool rest_detection = true;     ///< detect rest and use it as a zero-rate measurement of the bias
-  S rest_gyr_th = S(0.03);        ///< rest: |w - lp(w)| and |lp(w) - b| below this [rad/s]
-  S rest_acc_th = S(0.5);         ///< rest: |a - lp(a)| below this [m/s^2]
-  S rest_time = S(1.5);           ///< rest is declared after the conditions held this long [s]
-  S rest_tau = S(0.5);            ///< time constant of the low-pass filters of the rest test [s]
-  S rest_rate_noise = S(0.02);   ///< std of the residual angular rate at rest, per sample [rad/s]
-
-  /// The plain filter of paper 000: every robustness feature off.
+  /// The plain filter of paper 000: its noise values, every robustness feature off.
   static QuaternionEKFParams paper() {
     QuaternionEKFParams p;
     p.gyro_noise = S(0.005);
     p.gyro_bias_noise = S(1e-5);
-    p.acc_noise = S(0.05);
-    p.mag_noise = S(0.1);
+    p.acc_sigma = S(0.05);
+    p.mag_sigma = S(0.1);
     p.init_att_sigma = S(0.05);
-    p.init_bias_sigma = S(0.01);
+    p.init_gyro_bias_sigma = S(0.01);
     p.mag_heading_only = false;
     p.acc_adapt = p.acc_reject = p.acc_gate = p.acc_recovery_time = p.acc_lp_tau = S(0);
     p.acc_lp_bias_sigma = S(0);
@@ -129,27 +125,33 @@ template <class S> struct QuaternionEKFParams {
   }
 };
 
-/// The complete filter state; get_state()/set_state() round-trip exactly.
+/// The complete state of QuaternionEKF (7x7 covariance of [q_nb, gyro_bias]) and of
+/// QuaternionESKF (6x6 covariance of the error state); state()/set_state() round-trip exactly.
+#define QUATNAV_QEKF_STATE(X)                                                                           \
+  X(Quat<S>, q_nb, quat::identity<S>(), "1", "attitude q_nb [w, x, y, z]")                               \
+  X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
+  X(MatP, P, MatP::Identity(), "state units^2", kCovarianceDoc)                                         \
+  X(MagRef<S>, mag, MagRef<S>(), "-", "reference field, learned or given")                               \
+  X(bool, initialized, false, "-", "the filter has a state")                                            \
+  /* the bookkeeping of the robustness features */                                                    \
+  X(S, mag_norm_ref, S(0), "input unit", "learned field norm (0: not yet)")                              \
+  X(Vec3<S>, gyr_last, Vec3<S>::Zero(), "rad/s", "gyro sample of the last predict")                     \
+  X(S, dt_last, S(0), "s", "step of the last predict")                                                  \
+  X(Vec3<S>, gyr_lp, Vec3<S>::Zero(), "rad/s", "low-passed gyro of the rest test")                      \
+  X(Vec3<S>, acc_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer of the rest test")             \
+  X(bool, lp_init, false, "-", "the low-pass filters of the rest test hold a sample")                   \
+  X(S, rest_t, S(0), "s", "time the rest conditions have held")                                         \
+  X(S, acc_reject_t, S(0), "s", "time every accelerometer update was rejected")                         \
+  X(S, mag_reject_t, S(0), "s", "time every magnetometer update was rejected")                          \
+  X(S, mag_ok_t, S(1e9), "s", "time the field has passed the norm and dip tests")                       \
+  X(Quat<S>, q_i, quat::identity<S>(), "1", "gyro-only frame of the accelerometer low-pass, q_ib")      \
+  X(Vec3<S>, acc_i_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer in that frame")              \
+  X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")
+
 template <class S> struct QuaternionEKFState {
-  Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
-  Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
-  Mat<S, 7, 7> P = Mat<S, 7, 7>::Identity();      ///< covariance of [q, bias]
-  MagRef<S> mag;                                  ///< reference field, learned or given
-  bool initialized = false;
-  // Bookkeeping of the robustness features.
-  S mag_norm_ref = S(0);                          ///< learned field norm (input unit); 0: not yet
-  Vec3<S> gyr_last = Vec3<S>::Zero();             ///< gyro sample of the last predict [rad/s]
-  S dt_last = S(0);                               ///< dt of the last predict [s]
-  Vec3<S> gyr_lp = Vec3<S>::Zero();               ///< low-passed gyro (rest test) [rad/s]
-  Vec3<S> acc_lp = Vec3<S>::Zero();               ///< low-passed acc (rest test) [m/s^2]
-  bool lp_init = false;                           ///< the low-pass filters hold a sample
-  S rest_t = S(0);                                ///< time the rest conditions have held [s]
-  S acc_reject_t = S(0);                          ///< time every acc update was rejected [s]
-  S mag_reject_t = S(0);                          ///< time every mag update was rejected [s]
-  S mag_ok_t = S(1e9);                            ///< time the field has passed the norm/dip tests [s]
-  Quat<S> q_i = quat::identity<S>();              ///< gyro-only frame of the acc low-pass, q_ib
-  Vec3<S> acc_i_lp = Vec3<S>::Zero();             ///< low-passed acc in that frame [m/s^2]
-  bool acc_lp_init = false;                       ///< acc_i_lp holds a sample
+  using MatP = Mat<S, 7, 7>;
+  static constexpr const char* kCovarianceDoc = "covariance of [q_nb, gyro_bias]";
+  QUATNAV_FIELDS(QuaternionEKFState, QUATNAV_QEKF_STATE)
 };
 
 namespace detail {
@@ -258,8 +260,8 @@ template <class S> class QuaternionEKF {
 
   const Params& params() const { return params_; }
   const State& state() const { return st_; }
-  const Quat<S>& quat() const { return st_.q; }
-  const Vec3<S>& bias() const { return st_.bias; }
+  const Quat<S>& quat() const { return st_.q_nb; }
+  const Vec3<S>& bias() const { return st_.gyro_bias; }
   const Mat7& covariance() const { return st_.P; }
   bool initialized() const { return st_.initialized; }
   /// Flags of the last sample (predict + updates) beyond the update statuses: kAtRest while rest
@@ -271,24 +273,19 @@ template <class S> class QuaternionEKF {
   /// Restore a state previously read with state(). Refused (InvalidArgument) when the
   /// quaternion is not unit length or anything is non-finite.
   Status set_state(const State& s) {
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite() ||
-        !s.gyr_last.allFinite() || !s.gyr_lp.allFinite() || !s.acc_lp.allFinite() ||
-        !std::isfinite(s.mag_norm_ref) || !std::isfinite(s.dt_last) || !std::isfinite(s.rest_t) ||
-        !std::isfinite(s.acc_reject_t) || !std::isfinite(s.mag_reject_t) || !std::isfinite(s.mag_ok_t) || !s.q_i.allFinite() ||
-        !s.acc_i_lp.allFinite())
-      return Status::NonFinite;
-    if (std::abs(s.q.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
+    if (!detail::fields_finite(s)) return Status::NonFinite;
+    if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
     if (!detail::acceptable_covariance<S, 7>(s.P)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
   }
 
   /// The diagonal of attitude_covariance() (rad^2), without the off-diagonal terms.
-  Vec3<S> attitude_variance() const { return detail::QekfBlock<S>::attitude_variance(st_.q, st_.P); }
+  Vec3<S> attitude_variance() const { return detail::QekfBlock<S>::attitude_variance(st_.q_nb, st_.P); }
 
   /// Attitude (4x4 quaternion block) as a 3x3 covariance of a body-frame rotation vector.
   Mat3<S> attitude_covariance() const {
-    return detail::QekfBlock<S>::attitude_covariance(st_.q, st_.P);
+    return detail::QekfBlock<S>::attitude_covariance(st_.q_nb, st_.P);
   }
 
   /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
@@ -311,8 +308,8 @@ template <class S> class QuaternionEKF {
     Mat7 P_sym = P;
     symmetrize(P_sym);  // may overflow for huge finite entries: refuse those
     if (!P_sym.allFinite()) return Status::InvalidArgument;
-    st_.q = q / n;
-    st_.bias = bias;
+    st_.q_nb = q / n;
+    st_.gyro_bias = bias;
     st_.P = P_sym;
     st_.initialized = true;
     return Status::Ok;
@@ -326,7 +323,7 @@ template <class S> class QuaternionEKF {
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
     Mat7 Phi;
-    detail::qekf_propagate(st_.q, st_.bias, gyr, dt, q_new, Phi);
+    detail::qekf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, Phi);
     // P = Phi P Phi^T + Q (eq. 13-14) by blocks, Phi = [F B; 0 I] (predict_covariance_fb).
     const Mat4<S> F = Phi.template topLeftCorner<4, 4>();
     const Mat43<S> B = Phi.template topRightCorner<4, 3>();
@@ -337,13 +334,13 @@ template <class S> class QuaternionEKF {
     auto P_qq = P_new.template topLeftCorner<4, 4>();
     symmetrize(P_qq);  // the other blocks are symmetric by construction
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
-    st_.q = q_new / q_new.norm();
-    detail::qekf_floor_symmetric_covariance(st_.q, P_new, params_.cov_floor);
+    st_.q_nb = q_new / q_new.norm();
+    detail::qekf_floor_symmetric_covariance(st_.q_nb, P_new, params_.cov_floor);
     st_.P = P_new;
     // Bookkeeping for the robustness features: the last rate and step, the rest low-pass.
     flags_ = 0;
     if (params_.acc_lp_tau > S(0)) {
-      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.bias) * dt)));
+      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.gyro_bias) * dt)));
       st_.q_i = qi / qi.norm();
     }
     st_.gyr_last = gyr;
@@ -388,9 +385,9 @@ template <class S> class QuaternionEKF {
       flags_ |= flags::kAccRejected;
       return res;
     }
-    const S sigma = params_.acc_noise + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
+    const S sigma = params_.acc_sigma + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
     const S gt = gate > S(0) ? gate : (recovering ? S(0) : params_.acc_gate);
-    res = update3(acc_used, detail::qekf_h(st_.q, S(0), S(-1)), detail::qekf_H(st_.q, S(0), S(-1)), sigma, gt);
+    res = update3(acc_used, detail::qekf_h(st_.q_nb, S(0), S(-1)), detail::qekf_H(st_.q_nb, S(0), S(-1)), sigma, gt);
     if (res.status == Status::Ok) {
       st_.acc_reject_t = S(0);
     } else if (res.status == Status::Rejected) {
@@ -416,12 +413,12 @@ template <class S> class QuaternionEKF {
     if (res.status != Status::Ok) return res;
     const S mnorm = mag.norm();
     const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
+    st_.mag.learn(quat::rotate(st_.q_nb, m), params_.mag_ref_samples);
     if (!(st_.mag_norm_ref > S(0))) st_.mag_norm_ref = mnorm;
     const S dt = st_.dt_last;
-    const Vec3<S> mn = quat::rotate(st_.q, m);
+    const Vec3<S> mn = quat::rotate(st_.q_nb, m);
     const S dip = std::asin(std::max(S(-1), std::min(S(1), mn[2])));
-    const S dip_ref = std::atan2(st_.mag.ref[2], st_.mag.ref[0]);
+    const S dip_ref = std::atan2(st_.mag.mag_ref[2], st_.mag.mag_ref[0]);
     const bool disturbed = (params_.mag_norm_tol > S(0) &&
                             std::abs(mnorm / st_.mag_norm_ref - S(1)) > params_.mag_norm_tol) ||
                            (params_.mag_dip_tol > S(0) && std::abs(dip - dip_ref) > params_.mag_dip_tol);
@@ -442,7 +439,7 @@ template <class S> class QuaternionEKF {
         return res;
       }
       // A steady new field: take it as the reference and go on.
-      if (!st_.mag.fixed) {
+      if (!st_.mag.mag_ref_fixed) {
         st_.mag = MagRef<S>();
         st_.mag.learn(mn, params_.mag_ref_samples);
       }
@@ -455,18 +452,18 @@ template <class S> class QuaternionEKF {
       Vec3<S> h;
       Mat34<S> Hm;
       mag_model(h, Hm);
-      res = update3(mag, h, Hm, params_.mag_noise, gt);
+      res = update3(mag, h, Hm, params_.mag_sigma, gt);
     }
     if (res.status == Status::Ok) {
       st_.mag_reject_t = S(0);
       if (params_.mag_ref_tau > S(0) && dt > S(0)) {
         // Follow slow changes of the field once the initial average is complete.
-        if (!st_.mag.fixed && st_.mag.count >= params_.mag_ref_samples) {
-          const Vec3<S> mn2 = quat::rotate(st_.q, m);
+        if (!st_.mag.mag_ref_fixed && st_.mag.mag_ref_count >= params_.mag_ref_samples) {
+          const Vec3<S> mn2 = quat::rotate(st_.q_nb, m);
           const S dip2 = std::asin(std::max(S(-1), std::min(S(1), mn2[2])));
           S d = dip_ref;
           detail::lowpass(d, dip2, dt, params_.mag_ref_tau);
-          st_.mag.ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
+          st_.mag.mag_ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
         }
         detail::lowpass(st_.mag_norm_ref, mnorm, dt, params_.mag_ref_tau);
       }
@@ -489,19 +486,19 @@ template <class S> class QuaternionEKF {
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
     const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
+    st_.mag.learn(quat::rotate(st_.q_nb, m), params_.mag_ref_samples);
     Vec<S, 6> z, h;
     z << a, m;
     Mat<S, 6, 7> H = Mat<S, 6, 7>::Zero();
     Vec3<S> hm;
     Mat34<S> Hm;
     mag_model(hm, Hm);
-    h << detail::qekf_h(st_.q, S(0), S(-1)), hm;
-    H.template block<3, 4>(0, 0) = detail::qekf_H(st_.q, S(0), S(-1));
+    h << detail::qekf_h(st_.q_nb, S(0), S(-1)), hm;
+    H.template block<3, 4>(0, 0) = detail::qekf_H(st_.q_nb, S(0), S(-1));
     H.template block<3, 4>(3, 0) = Hm;
     Vec<S, 6> r;
-    r << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
-        Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
+    r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
+        Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
     apply_correction<6, 0, 4>(H, r, Vec<S, 6>(z - h), res, gate);
     if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
     return res;
@@ -520,7 +517,7 @@ template <class S> class QuaternionEKF {
     }
     detail::lowpass(st_.acc_lp, acc, dt, params_.rest_tau);
     const bool still = (st_.gyr_last - st_.gyr_lp).norm() < params_.rest_gyr_th &&
-                       (st_.gyr_lp - st_.bias).norm() < params_.rest_gyr_th &&
+                       (st_.gyr_lp - st_.gyro_bias).norm() < params_.rest_gyr_th &&
                        (acc - st_.acc_lp).norm() < params_.rest_acc_th;
     st_.rest_t = still ? st_.rest_t + dt : S(0);
     if (st_.rest_t < params_.rest_time) return;
@@ -530,7 +527,7 @@ template <class S> class QuaternionEKF {
     H.template rightCols<3>().setIdentity();
     const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
     UpdateResult<S, 3> res;
-    apply_correction<3, 4, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
+    apply_correction<3, 4, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.gyro_bias), res, S(0));
   }
 
   /// Heading-only magnetometer update (see heading_model): Kalman gain projected on the yaw
@@ -542,15 +539,15 @@ template <class S> class QuaternionEKF {
     Eigen::Matrix<S, 1, 4> Hq;
     Vec4<S> u;
     Vec2<S> Jt;
-    if (!detail::heading_model(st_.q, m_unit, h, horiz2, Hq, u, Jt)) {
+    if (!detail::heading_model(st_.q_nb, m_unit, h, horiz2, Hq, u, Jt)) {
       res.status = Status::ZeroNorm;
       return res;
     }
     // Tilt block of the navigation-frame attitude covariance (phi with q_true = exp(phi) * q,
     // phi = 2 R3^T dq, R3 = right(q).rightCols(3)): 4 R2^T P_qq R2 with R2 the x and y columns of R3; J_t Sigma J_t^T = 4 |P^1/2 R2 J_t|^2
     // evaluated as 4 v^T P_qq v with v = R2 J_t.
-    const Vec4<S> v = quat::right(st_.q).template middleCols<2>(1) * Jt;
-    const S R = params_.mag_noise * params_.mag_noise / horiz2 +
+    const Vec4<S> v = quat::right(st_.q_nb).template middleCols<2>(1) * Jt;
+    const S R = params_.mag_sigma * params_.mag_sigma / horiz2 +
                 S(4) * v.dot(st_.P.template topLeftCorner<4, 4>() * v);
     // The field's heading is the declination (0: the frame's x is magnetic north).
     const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
@@ -579,7 +576,7 @@ template <class S> class QuaternionEKF {
     const Vec<S, 7> dx = K * y;
     res.status = Status::Ok;
     inject_and_commit(
-        res, P, [&] { return Quat<S>(st_.q + dx.template head<4>()); },
+        res, P, [&] { return Quat<S>(st_.q_nb + dx.template head<4>()); },
         [&](const Quat<S>& q, const Mat7& Pc) { return all_finite(Pc) && all_finite(dx) && q.norm() > S(0.5); },
         [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
         [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
@@ -595,8 +592,8 @@ template <class S> class QuaternionEKF {
       // Magnetic heading + declination = true heading (a rotation about the navigation down axis).
       q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
     }
-    st_.q = q;
-    st_.bias.setZero();
+    st_.q_nb = q;
+    st_.gyro_bias.setZero();
     st_.lp_init = false;
     st_.acc_lp_init = false;
     st_.q_i = quat::identity<S>();
@@ -606,18 +603,18 @@ template <class S> class QuaternionEKF {
     flags_ = 0;
     if (mag) {
       // Start learning the reference afresh from this sample (unless the user fixed it).
-      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
       st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
       st_.mag_norm_ref = mag->norm();
     }
     // Attitude sigma s (rad) on each body axis -> quaternion block (s/2)^2 Xi Xi^T.
     st_.P.setZero();
-    const Mat43<S> X = quat::xi(st_.q);
+    const Mat43<S> X = quat::xi(st_.q_nb);
     const S sa = params_.init_att_sigma / S(2);
     st_.P.template topLeftCorner<4, 4>() = sa * sa * X * X.transpose();
     symmetrize(st_.P);  // X X^T is symmetric only up to rounding
-    st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_bias_sigma *
-                                                                    params_.init_bias_sigma);
+    st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_gyro_bias_sigma *
+                                                                    params_.init_gyro_bias_sigma);
     st_.initialized = true;
     return Status::Ok;
   }
@@ -628,14 +625,14 @@ template <class S> class QuaternionEKF {
   /// h and H are those of the paper at q_m, and H picks up the constant factor
   /// d q_m / d q = left(Rz(-d)) (chain rule).
   void mag_model(Vec3<S>& h, Mat34<S>& H) const {
-    const S rx = st_.mag.ref[0], rz = st_.mag.ref[2];
+    const S rx = st_.mag.mag_ref[0], rz = st_.mag.mag_ref[2];
     if (params_.declination == S(0)) {
-      h = detail::qekf_h(st_.q, rx, rz);
-      H = detail::qekf_H(st_.q, rx, rz);
+      h = detail::qekf_h(st_.q_nb, rx, rz);
+      H = detail::qekf_H(st_.q_nb, rx, rz);
       return;
     }
     const Quat<S> qd = quat::from_rotvec(Vec3<S>(S(0), S(0), -params_.declination));
-    const Quat<S> qm = quat::mul(qd, st_.q);
+    const Quat<S> qm = quat::mul(qd, st_.q_nb);
     h = detail::qekf_h(qm, rx, rz);
     H = detail::qekf_H(qm, rx, rz) * quat::left(qd);
   }
@@ -670,7 +667,7 @@ template <class S> class QuaternionEKF {
     Vec<S, 7> dx;
     kalman_correct_diagonal<S, 7, M, C0, NC>(P, H, r, y, dx, res, gate);
     inject_and_commit(
-        res, P, [&] { return Quat<S>(st_.q + dx.template head<4>()); },
+        res, P, [&] { return Quat<S>(st_.q_nb + dx.template head<4>()); },
         [](const Quat<S>& q, const Mat7&) { return q.norm() > S(0.5); },
         [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
         [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
@@ -685,8 +682,8 @@ template <class S> class QuaternionEKF {
   }
 
   void commit_candidate(const Quat<S>& q, const Vec3<S>& dbias, const Mat7& P) {
-    st_.q = q;
-    st_.bias += dbias;
+    st_.q_nb = q;
+    st_.gyro_bias += dbias;
     st_.P = P;
   }
 

@@ -40,27 +40,12 @@
 
 namespace quatnav {
 
-/// The complete state of QuaternionESKF; get_state()/set_state() round-trip exactly. As
-/// QuaternionEKFState but with the 6x6 error-state covariance.
+/// The complete state of QuaternionESKF; state()/set_state() round-trip exactly. The fields of
+/// QuaternionEKFState (one table, QUATNAV_QEKF_STATE) with the 6x6 error-state covariance.
 template <class S> struct QuaternionESKFState {
-  Quat<S> q = quat::identity<S>();                ///< q_nb [w, x, y, z]
-  Vec3<S> bias = Vec3<S>::Zero();                 ///< gyro bias [rad/s]
-  Mat<S, 6, 6> P = Mat<S, 6, 6>::Identity();      ///< covariance of [dtheta (body, rad), db (rad/s)]
-  MagRef<S> mag;                                  ///< reference field, learned or given
-  bool initialized = false;
-  S mag_norm_ref = S(0);
-  Vec3<S> gyr_last = Vec3<S>::Zero();
-  S dt_last = S(0);
-  Vec3<S> gyr_lp = Vec3<S>::Zero();
-  Vec3<S> acc_lp = Vec3<S>::Zero();
-  bool lp_init = false;
-  S rest_t = S(0);
-  S acc_reject_t = S(0);
-  S mag_reject_t = S(0);
-  S mag_ok_t = S(1e9);
-  Quat<S> q_i = quat::identity<S>();
-  Vec3<S> acc_i_lp = Vec3<S>::Zero();
-  bool acc_lp_init = false;
+  using MatP = Mat<S, 6, 6>;
+  static constexpr const char* kCovarianceDoc = "covariance of the error state [dtheta (body, rad), d gyro_bias]";
+  QUATNAV_FIELDS(QuaternionESKFState, QUATNAV_QEKF_STATE)
 };
 
 namespace detail {
@@ -154,21 +139,16 @@ template <class S> class QuaternionESKF {
 
   const Params& params() const { return params_; }
   const State& state() const { return st_; }
-  const Quat<S>& quat() const { return st_.q; }
-  const Vec3<S>& bias() const { return st_.bias; }
+  const Quat<S>& quat() const { return st_.q_nb; }
+  const Vec3<S>& bias() const { return st_.gyro_bias; }
   const Mat6& covariance() const { return st_.P; }
   bool initialized() const { return st_.initialized; }
   std::uint32_t extra_flags() const { return flags_; }
   bool at_rest() const { return params_.rest_detection && st_.rest_t >= params_.rest_time; }
 
   Status set_state(const State& s) {
-    if (!s.q.allFinite() || !s.bias.allFinite() || !s.P.allFinite() || !s.mag.finite() ||
-        !s.gyr_last.allFinite() || !s.gyr_lp.allFinite() || !s.acc_lp.allFinite() ||
-        !std::isfinite(s.mag_norm_ref) || !std::isfinite(s.dt_last) || !std::isfinite(s.rest_t) ||
-        !std::isfinite(s.acc_reject_t) || !std::isfinite(s.mag_reject_t) || !std::isfinite(s.mag_ok_t) ||
-        !s.q_i.allFinite() || !s.acc_i_lp.allFinite())
-      return Status::NonFinite;
-    if (std::abs(s.q.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
+    if (!detail::fields_finite(s)) return Status::NonFinite;
+    if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
     if (!detail::acceptable_covariance<S, 6>(s.P)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
@@ -192,8 +172,8 @@ template <class S> class QuaternionESKF {
     Mat6 P_sym = P;
     symmetrize(P_sym);
     if (!P_sym.allFinite()) return Status::InvalidArgument;
-    st_.q = q / n;
-    st_.bias = bias;
+    st_.q_nb = q / n;
+    st_.gyro_bias = bias;
     st_.P = P_sym;
     st_.initialized = true;
     return Status::Ok;
@@ -208,17 +188,17 @@ template <class S> class QuaternionESKF {
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
     Mat3<S> F;
-    detail::eskf_propagate(st_.q, st_.bias, gyr, dt, q_new, F);
+    detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
     Mat6 P_new = st_.P;
     detail::eskf_predict_covariance<S>(P_new, F, dt, dt * params_.gyro_noise * params_.gyro_noise,
                                        dt * params_.gyro_bias_noise * params_.gyro_bias_noise);
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
-    st_.q = q_new / q_new.norm();
+    st_.q_nb = q_new / q_new.norm();
     if (params_.cov_floor > S(0)) floor_covariance<S, 6>(P_new, params_.cov_floor);
     st_.P = P_new;
     flags_ = 0;
     if (params_.acc_lp_tau > S(0)) {
-      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.bias) * dt)));
+      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.gyro_bias) * dt)));
       st_.q_i = qi / qi.norm();
     }
     st_.gyr_last = gyr;
@@ -257,7 +237,7 @@ template <class S> class QuaternionESKF {
       flags_ |= flags::kAccRejected;
       return res;
     }
-    const S sigma = params_.acc_noise + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
+    const S sigma = params_.acc_sigma + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
     const S gt = gate > S(0) ? gate : (recovering ? S(0) : params_.acc_gate);
     res = update3(acc_used, Vec3<S>(S(0), S(0), S(-1)), sigma, gt);
     if (res.status == Status::Ok) {
@@ -279,12 +259,12 @@ template <class S> class QuaternionESKF {
     if (res.status != Status::Ok) return res;
     const S mnorm = mag.norm();
     const MagRef<S> mag_before = st_.mag;
-    const Vec3<S> mn = quat::rotate(st_.q, m);
+    const Vec3<S> mn = quat::rotate(st_.q_nb, m);
     st_.mag.learn(mn, params_.mag_ref_samples);
     if (!(st_.mag_norm_ref > S(0))) st_.mag_norm_ref = mnorm;
     const S dt = st_.dt_last;
     const S dip = std::asin(std::max(S(-1), std::min(S(1), mn[2])));
-    const S dip_ref = std::atan2(st_.mag.ref[2], st_.mag.ref[0]);
+    const S dip_ref = std::atan2(st_.mag.mag_ref[2], st_.mag.mag_ref[0]);
     const bool disturbed = (params_.mag_norm_tol > S(0) &&
                             std::abs(mnorm / st_.mag_norm_ref - S(1)) > params_.mag_norm_tol) ||
                            (params_.mag_dip_tol > S(0) && std::abs(dip - dip_ref) > params_.mag_dip_tol);
@@ -304,7 +284,7 @@ template <class S> class QuaternionESKF {
         st_.mag = mag_before;
         return res;
       }
-      if (!st_.mag.fixed) {
+      if (!st_.mag.mag_ref_fixed) {
         st_.mag = MagRef<S>();
         st_.mag.learn(mn, params_.mag_ref_samples);
       }
@@ -314,17 +294,17 @@ template <class S> class QuaternionESKF {
     if (params_.mag_heading_only) {
       res = update_heading(m, gt);
     } else {
-      res = update3(mag, mag_reference(), params_.mag_noise, gt);
+      res = update3(mag, mag_reference(), params_.mag_sigma, gt);
     }
     if (res.status == Status::Ok) {
       st_.mag_reject_t = S(0);
       if (params_.mag_ref_tau > S(0) && dt > S(0)) {
-        if (!st_.mag.fixed && st_.mag.count >= params_.mag_ref_samples) {
-          const Vec3<S> mn2 = quat::rotate(st_.q, m);
+        if (!st_.mag.mag_ref_fixed && st_.mag.mag_ref_count >= params_.mag_ref_samples) {
+          const Vec3<S> mn2 = quat::rotate(st_.q_nb, m);
           const S dip2 = std::asin(std::max(S(-1), std::min(S(1), mn2[2])));
           S d = dip_ref;
           detail::lowpass(d, dip2, dt, params_.mag_ref_tau);
-          st_.mag.ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
+          st_.mag.mag_ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
         }
         detail::lowpass(st_.mag_norm_ref, mnorm, dt, params_.mag_ref_tau);
       }
@@ -347,17 +327,17 @@ template <class S> class QuaternionESKF {
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
     const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(st_.q, m), params_.mag_ref_samples);
+    st_.mag.learn(quat::rotate(st_.q_nb, m), params_.mag_ref_samples);
     Vec3<S> ha, hm;
     Mat<S, 3, 6> Ha, Hm;
-    detail::eskf_direction_model(st_.q, Vec3<S>(S(0), S(0), S(-1)), ha, Ha);
-    detail::eskf_direction_model(st_.q, mag_reference(), hm, Hm);
+    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), ha, Ha);
+    detail::eskf_direction_model(st_.q_nb, mag_reference(), hm, Hm);
     Mat<S, 6, 6> H;
     H << Ha, Hm;
     Vec<S, 6> y, r;
     y << a - ha, m - hm;
-    r << Vec3<S>::Constant(params_.acc_noise * params_.acc_noise),
-        Vec3<S>::Constant(params_.mag_noise * params_.mag_noise);
+    r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
+        Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
     apply_correction<6, 0, 3>(H, r, y, res, gate);
     if (res.status != Status::Ok) st_.mag = mag_before;
     return res;
@@ -375,7 +355,7 @@ template <class S> class QuaternionESKF {
     }
     detail::lowpass(st_.acc_lp, acc, dt, params_.rest_tau);
     const bool still = (st_.gyr_last - st_.gyr_lp).norm() < params_.rest_gyr_th &&
-                       (st_.gyr_lp - st_.bias).norm() < params_.rest_gyr_th &&
+                       (st_.gyr_lp - st_.gyro_bias).norm() < params_.rest_gyr_th &&
                        (acc - st_.acc_lp).norm() < params_.rest_acc_th;
     st_.rest_t = still ? st_.rest_t + dt : S(0);
     if (st_.rest_t < params_.rest_time) return;
@@ -384,7 +364,7 @@ template <class S> class QuaternionESKF {
     H.template rightCols<3>().setIdentity();
     const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
     UpdateResult<S, 3> res;
-    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.bias), res, S(0));
+    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.gyro_bias), res, S(0));
   }
 
   /// The time constant of the accelerometer low-pass: acc_lp_tau, shrunk by
@@ -399,7 +379,7 @@ template <class S> class QuaternionESKF {
 
   /// The reference field in the filter's frame: [m_x, 0, m_z] turned by the declination.
   Vec3<S> mag_reference() const {
-    const Vec3<S> r(st_.mag.ref[0], S(0), st_.mag.ref[2]);
+    const Vec3<S> r(st_.mag.mag_ref[0], S(0), st_.mag.mag_ref[2]);
     if (params_.declination == S(0)) return r;
     return quat::rotate(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), r);
   }
@@ -410,12 +390,12 @@ template <class S> class QuaternionESKF {
     UpdateResult<S, 3> res;
     S h, horiz2;
     Vec3<S> u, vt;
-    if (!detail::eskf_heading_model(st_.q, m_unit, h, horiz2, u, vt)) {
+    if (!detail::eskf_heading_model(st_.q_nb, m_unit, h, horiz2, u, vt)) {
       res.status = Status::ZeroNorm;
       return res;
     }
     const Mat3<S> A = st_.P.template topLeftCorner<3, 3>();
-    const S R = params_.mag_noise * params_.mag_noise / horiz2 + vt.dot(A * vt);
+    const S R = params_.mag_sigma * params_.mag_sigma / horiz2 + vt.dot(A * vt);
     const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
     Vec<S, 6> PHt;
     PHt.noalias() = st_.P.template leftCols<3>() * u;
@@ -452,7 +432,7 @@ template <class S> class QuaternionESKF {
     if (res.status != Status::Ok) return res;
     Vec3<S> h;
     Mat<S, 3, 6> H;
-    detail::eskf_direction_model(st_.q, r_n, h, H);
+    detail::eskf_direction_model(st_.q_nb, r_n, h, H);
     apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
     return res;
   }
@@ -463,8 +443,8 @@ template <class S> class QuaternionESKF {
     Vec3<S> mref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     if (mag && params_.declination != S(0)) q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
-    st_.q = q;
-    st_.bias.setZero();
+    st_.q_nb = q;
+    st_.gyro_bias.setZero();
     st_.lp_init = false;
     st_.acc_lp_init = false;
     st_.q_i = quat::identity<S>();
@@ -473,13 +453,13 @@ template <class S> class QuaternionESKF {
     st_.dt_last = S(0);
     flags_ = 0;
     if (mag) {
-      if (!st_.mag.fixed) st_.mag = MagRef<S>();
+      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
       st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
       st_.mag_norm_ref = mag->norm();
     }
     st_.P.setZero();
     st_.P.diagonal().template head<3>().setConstant(params_.init_att_sigma * params_.init_att_sigma);
-    st_.P.diagonal().template tail<3>().setConstant(params_.init_bias_sigma * params_.init_bias_sigma);
+    st_.P.diagonal().template tail<3>().setConstant(params_.init_gyro_bias_sigma * params_.init_gyro_bias_sigma);
     st_.initialized = true;
     return Status::Ok;
   }
@@ -507,14 +487,14 @@ template <class S> class QuaternionESKF {
     inject_and_commit(
         res, Pc,
         [&] {
-          const Quat<S> q = quat::mul(st_.q, quat::from_rotvec(Vec3<S>(dx.template head<3>())));
+          const Quat<S> q = quat::mul(st_.q_nb, quat::from_rotvec(Vec3<S>(dx.template head<3>())));
           return Quat<S>(q / q.norm());
         },
         [&](const Quat<S>& q, const Mat6& Pk) { return all_finite(Pk) && all_finite(dx) && all_finite(q); },
         Always{},
         [&](const Quat<S>& q, const Mat6& Pk) {
-          st_.q = q;
-          st_.bias += dx.template tail<3>();
+          st_.q_nb = q;
+          st_.gyro_bias += dx.template tail<3>();
           st_.P = Pk;
         });
   }

@@ -69,7 +69,7 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
   /// (as it did in the forward pass), Restart when the state is refused.
   RtsLink predict(std::size_t k, const Record& post, Record& prior) {
     Derived::set_attitude(st_, post.a);
-    st_.bias = post.b;
+    st_.gyro_bias = post.b;
     st_.P = post.P.unpack();
     if (g_.set_state(st_) != Status::Ok) return RtsLink::Restart;
     if (g_.predict(gyro(k), dt_[k]) != Status::Ok) return RtsLink::Same;
@@ -122,7 +122,7 @@ class QuaternionESKFRtsModel : public detail::AttitudeRtsModel<QuaternionESKFRts
   using Base::Base;
 
   static Vec4<S> attitude(const Filter& f) { return f.quat(); }
-  static void set_attitude(typename Filter::State& st, const Vec4<S>& q) { st.q = q; }
+  static void set_attitude(typename Filter::State& st, const Vec4<S>& q) { st.q_nb = q; }
   Mat6 step_transition(const Record& post, std::size_t k) const {
     Quat<S> q_next;
     Mat3<S> F;

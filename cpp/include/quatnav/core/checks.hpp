@@ -7,7 +7,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
+#include "fields.hpp"
 #include "types.hpp"
 
 namespace quatnav {
@@ -35,6 +37,23 @@ template <class S> Status unit_vector(const Vec3<S>& v, Vec3<S>& u) {
 template <class S> void level_from_acc(const Vec3<S>& f_b, S& roll, S& pitch) {
   roll = std::atan2(-f_b[1], -f_b[2]);
   pitch = std::atan2(f_b[0], std::sqrt(f_b[1] * f_b[1] + f_b[2] * f_b[2]));
+}
+
+/// True when every floating-point field of a struct declared with QUATNAV_FIELDS (fields.hpp),
+/// nested field structs included, is finite: the check of a state before set_state takes it.
+template <class T> bool fields_finite(const T& s) {
+  bool ok = true;
+  for_each_field(s, [&ok](const FieldInfo&, const auto& v) {
+    using M = std::decay_t<decltype(v)>;
+    if constexpr (has_fields_v<M>) {
+      ok = ok && fields_finite(v);
+    } else if constexpr (std::is_floating_point_v<M>) {
+      ok = ok && std::isfinite(v);
+    } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<M>, M>) {
+      ok = ok && v.allFinite();
+    }
+  });
+  return ok;
 }
 
 }  // namespace detail
