@@ -8,12 +8,16 @@
 #include <quatnav/attitude/attitude.hpp>
 #include <quatnav/attitude/batch.hpp>
 #include <quatnav/attitude/marg_filter.hpp>
+#include <quatnav/attitude/smoother.hpp>
 
+#include <cstring>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 #include "common.hpp"
 #include "fields_binding.hpp"
+#include "smoother_binding.hpp"
 
 namespace quatnav_py {
 
@@ -32,10 +36,12 @@ template <class S> const S* optional_rows(const py::object& obj, const char* nam
   return a.data();
 }
 
-/// The batch run of a Kalman attitude filter (run_attitude_batch): (quat, bias, sigma, att_sigma, flags).
+/// The batch run of a Kalman attitude filter (run_attitude_batch): (quat, bias, sigma, att_sigma, flags);
+/// with smooth, a sixth item: the Rauch-Tung-Striebel estimates and the smoother's report.
 template <class F>
 py::tuple attitude_run(F& f, const carray<typename F::Scalar>& gyr, const carray<typename F::Scalar>& acc,
-                       const py::object& mag_obj, const carray<typename F::Scalar>& dt) {
+                       const py::object& mag_obj, const carray<typename F::Scalar>& dt, bool smooth,
+                       std::size_t segment) {
   using S = typename F::Scalar;
   constexpr int N = F::kStates;
   const py::ssize_t n = gyr.ndim() == 2 ? gyr.shape(0) : -1;
@@ -47,14 +53,42 @@ py::tuple attitude_run(F& f, const carray<typename F::Scalar>& gyr, const carray
   const S* pm = optional_rows<S>(mag_obj, "mag", n, mag);
   auto quat = empty<S>(n, 4), bias = empty<S>(n, 3), sigma = empty<S>(n, N), att_sigma = empty<S>(n, 3);
   py::array_t<std::uint32_t> fl({n});
-  {
-    const S *pg = gyr.data(), *pa = acc.data(), *pd = dt.data();
-    S *pq = quat.mutable_data(), *pb = bias.mutable_data(), *ps = sigma.mutable_data(), *pas = att_sigma.mutable_data();
-    std::uint32_t* pf = fl.mutable_data();
-    py::gil_scoped_release release;
-    quatnav::run_attitude_batch(f, pg, pa, pm, pd, std::size_t(n), pq, pb, ps, pas, pf);
+  const S *pg = gyr.data(), *pa = acc.data(), *pd = dt.data();
+  S *pq = quat.mutable_data(), *pb = bias.mutable_data(), *ps = sigma.mutable_data(), *pas = att_sigma.mutable_data();
+  std::uint32_t* pf = fl.mutable_data();
+  auto forward = [&](auto&& obs) { quatnav::run_attitude_batch(f, pg, pa, pm, pd, std::size_t(n), pq, pb, ps, pas, pf, obs); };
+  if (!smooth) {
+    {
+      py::gil_scoped_release release;
+      forward(quatnav::NoBatchObserver{});
+    }
+    return py::make_tuple(quat, bias, sigma, att_sigma, fl);
   }
-  return py::make_tuple(quat, bias, sigma, att_sigma, fl);
+  using Model = typename quatnav::AttitudeRtsModelOf<F>::type;
+  if constexpr (std::is_void_v<Model>) {
+    throw py::value_error("smooth: this filter has no smoother (QuaternionEKF's error-state default and EulerEKF have)");
+  } else {
+    auto qs = empty<S>(n, 4), bs = empty<S>(n, 3), ss = empty<S>(n, N), as = empty<S>(n, 3);
+    quatnav::AttitudeSmoothedOutput<Model> out{qs.mutable_data(), bs.mutable_data(), ss.mutable_data(),
+                                               as.mutable_data()};
+    Model model(f, pg, pd);
+    // Every sample updates with the accelerometer: every sample may be a record. The smoothed
+    // arrays start as the forward ones (samples before the initialization keep them).
+    const py::dict info = run_smoothed(model, std::size_t(n), std::size_t(n), segment, [&](auto&& obs) {
+      forward(obs);
+      std::memcpy(out.quat, pq, sizeof(S) * 4 * std::size_t(n));
+      std::memcpy(out.bias, pb, sizeof(S) * 3 * std::size_t(n));
+      std::memcpy(out.sigma, ps, sizeof(S) * N * std::size_t(n));
+      std::memcpy(out.att_sigma, pas, sizeof(S) * 3 * std::size_t(n));
+    }, out);
+    py::dict sd;
+    sd["quat"] = qs;
+    sd["bias"] = bs;
+    sd["sigma"] = ss;
+    sd["att_sigma"] = as;
+    sd["info"] = info;
+    return py::make_tuple(quat, bias, sigma, att_sigma, fl, sd);
+  }
 }
 
 /// The batch run of MargFilter with GPS velocity fixes (run_marg_batch): (quat, bias, gps_acc_n, residual, flags).
@@ -121,7 +155,9 @@ template <class F> py::class_<F> bind_attitude_kf(py::module_& m, const char* ba
       .def("update_mag", [](F& f, const V3& mag, S gate) { return f.update_mag(mag, gate); }, py::arg("mag"),
            py::arg("gate") = S(0))
       .def("run", &attitude_run<F>, py::arg("gyr"), py::arg("acc"), py::arg("mag"), py::arg("dt"),
-           "Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).");
+           py::arg("smooth") = false, py::arg("segment") = std::size_t(256),
+           "Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth "
+           "item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.");
   def_status<F>(cls, "reset", &F::reset, py::arg(attitude_name), py::arg("gyro_bias"), py::arg("P"));
   return cls;
 }

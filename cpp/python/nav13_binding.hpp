@@ -4,10 +4,12 @@
 // bind_nav13_f32.cpp (one translation unit each, so that they compile in parallel).
 #pragma once
 
+#include <quatnav/nav/nav13_smoother.hpp>
 #include <quatnav/nav/nav_filter13.hpp>
 
 #include "common.hpp"
 #include "fields_binding.hpp"
+#include "smoother_binding.hpp"
 
 namespace quatnav_py {
 
@@ -20,7 +22,8 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
                                       const carray<typename F::Scalar>& t, const carray<typename F::Scalar>& dt,
                                       const carray<typename F::Scalar>& vel_t, const carray<typename F::Scalar>& vel,
                                       const carray<typename F::Scalar>& yaw_t, const carray<typename F::Scalar>& yaw,
-                                      typename F::Scalar gate_vel, typename F::Scalar gate_yaw, bool return_cov) {
+                                      typename F::Scalar gate_vel, typename F::Scalar gate_yaw, bool return_cov,
+                                      bool smooth, std::size_t segment) {
   using S = typename F::Scalar;
   const py::ssize_t n = fb.ndim() == 2 ? fb.shape(0) : -1;
   if (n < 0) throw py::value_error("f_ib_b: expected shape (N, 3)");
@@ -40,6 +43,8 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
   py::array_t<std::uint32_t> fl({n});
   auto vi = empty<S>(nv, 3), vn = empty<S>(nv, -1), yi = empty<S>(ny, -1), yn = empty<S>(ny, -1);
   py::array_t<std::uint8_t> vs({nv}), ys({ny});
+  py::array_t<S> xs, ss, as, Ps;
+  py::dict info;
   {
     const S *pf = fb.data(), *pw = wb.data(), *pt = t.data(), *pd = dt.data(), *pvt = vel_t.data(),
             *pv = vel.data(), *pyt = yaw_t.data(), *py_ = yaw.data();
@@ -48,11 +53,33 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
     std::uint32_t* pfl = fl.mutable_data();
     S *pvi = vi.mutable_data(), *pvn = vn.mutable_data(), *pyi = yi.mutable_data(), *pyn = yn.mutable_data();
     std::uint8_t *pvs = vs.mutable_data(), *pys = ys.mutable_data();
-    py::gil_scoped_release release;
-    quatnav::run_nav13_batch(f, pw, pf, pt, pd, std::size_t(n), pvt, pv, std::size_t(nv), pyt, py_, std::size_t(ny),
-                             gate_vel, gate_yaw, px, ps, pP, pas, pfl, pvi, pvn, pvs, pyi, pyn, pys);
+    auto forward = [&](auto&& obs) {
+      quatnav::run_nav13_batch(f, pw, pf, pt, pd, std::size_t(n), pvt, pv, std::size_t(nv), pyt, py_, std::size_t(ny),
+                               gate_vel, gate_yaw, px, ps, pP, pas, pfl, pvi, pvn, pvs, pyi, pyn, pys, obs);
+    };
+    if (smooth) {
+      // The backward pass visits every sample (the filter is initialized before the run).
+      xs = empty<S>(n, 13), ss = empty<S>(n, 13), as = empty<S>(n, 3);
+      if (return_cov) Ps = py::array_t<S>({n, py::ssize_t(13), py::ssize_t(13)});
+      quatnav::Nav13RtsModel<F> model(f, pw, pf, pd);
+      quatnav::Nav13SmoothedOutput<S> out{xs.mutable_data(), ss.mutable_data(), return_cov ? Ps.mutable_data() : nullptr,
+                                          as.mutable_data()};
+      info = run_smoothed(model, std::size_t(n), std::size_t(nv + ny + 1), segment, forward, out);
+    } else {
+      py::gil_scoped_release release;
+      forward(quatnav::NoBatchObserver{});
+    }
   }
   py::dict d;
+  if (smooth) {
+    py::dict sd;
+    sd["x"] = xs;
+    sd["sigma"] = ss;
+    sd["att_sigma"] = as;
+    sd["P"] = return_cov ? py::object(Ps) : py::object(py::none());
+    sd["info"] = info;
+    d["smoothed"] = sd;
+  }
   d["x"] = x;
   d["sigma"] = sigma;
   d["att_sigma"] = att_sigma;
@@ -97,8 +124,10 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
            py::arg("v_n"), py::arg("yaw"), py::arg("gate") = S(0))
       .def("run", &nav13_run<F>, py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("t"), py::arg("dt"),
            py::arg("vel_t"), py::arg("vel"), py::arg("yaw_t"), py::arg("yaw"), py::arg("gate_vel") = S(0),
-           py::arg("gate_yaw") = S(0), py::arg("return_covariance") = false,
-           "Batch run (GIL released). Returns a dict of arrays.");
+           py::arg("gate_yaw") = S(0), py::arg("return_covariance") = false, py::arg("smooth") = false,
+           py::arg("segment") = std::size_t(256),
+           "Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the "
+           "Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.");
   def_state_dict<F>(cls);
 }
 

@@ -4,7 +4,7 @@
 
     quatnav ahrs run --log FILE [--format FMT] [--topic KIND=TOPIC] | --imu IMU.csv [--mag MAG.csv]
                      [--filter qekf|euler-ekf|marg] [--declination DEG] [--rate HZ] [--no-mag]
-                     --out OUT.csv|OUT.parquet [--plot FILE.png]
+                     [--smooth] --out OUT.csv|OUT.parquet [--plot FILE.png]
 
 The log is read by :func:`quatnav.io.read` (RTKLIB, ULog, ROS bag, NMEA or CSV). Magnetometer
 samples go on the first IMU row at or after their time (other rows: no magnetometer update).
@@ -30,6 +30,8 @@ inputs: --log FILE is any format quatnav.io.read knows (RTKLIB .pos, PX4 .ulg, R
   a ROS bag (e.g. --topic imu=/imu/data_raw); mag (vehicle_magnetometer, sensor_mag, ...) in a ULog.
 --rate HZ: average the IMU over blocks to about HZ before filtering (default: every sample).
 --declination DEG: east of true north; yaw is then relative to true north.
+--smooth: offline, the Rauch-Tung-Striebel smoothed attitude (every estimate uses the whole log;
+  docs/SMOOTHING.md); qekf and euler-ekf.
 output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w, q_x, q_y, q_z
   (q_nb, body FRD to NED), roll, pitch, yaw (deg, ZYX), gyro_bias_x..z_deg_s, sigma_<state>
   (the filter's one-sigma values, rad or rad/s), flags (bits), flag_names ('|'-separated).
@@ -57,6 +59,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--declination", type=float, default=0.0, metavar="DEG", help="magnetic declination, deg east")
     r.add_argument("--rate", type=float, metavar="HZ", help="average the IMU to this rate first")
     r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer (6D: heading is free)")
+    r.add_argument("--smooth", action="store_true", help="offline: the smoothed attitude (qekf, euler-ekf)")
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output file (.csv or .parquet)")
     r.add_argument("--plot", metavar="FILE.png", help="also plot the result")
     from .calibration import add_calibration_argument
@@ -121,9 +124,9 @@ def decimate(t, gyr, acc, rate):
     return tb, gyr[:n].reshape(-1, k, 3).mean(1), acc[:n].reshape(-1, k, 3).mean(1), k
 
 
-def run_filter(log, name="qekf", declination_deg=0.0, rate=None):
-    """Run the attitude filter ``name`` on ``log`` (IMU averaged to ``rate`` Hz when given);
-    returns its result."""
+def run_filter(log, name="qekf", declination_deg=0.0, rate=None, smooth=False):
+    """Run the attitude filter ``name`` on ``log`` (IMU averaged to ``rate`` Hz when given;
+    ``smooth``: the smoothed result); returns its result."""
     import quatnav
     from .io import mag_on_imu_times
     t, gyr, acc = log.imu.t, log.imu.gyr, log.imu.acc
@@ -144,7 +147,7 @@ def run_filter(log, name="qekf", declination_deg=0.0, rate=None):
             mag = None
         else:
             mag[0] = mag[first[0]]  # the initial heading from the first magnetometer sample
-    res = f.run(gyr, acc, mag, t=t, on_invalid="skip")
+    res = f.run(gyr, acc, mag, t=t, on_invalid="skip", **({"smooth": True} if smooth else {}))
     if not takes_decl and declination_deg and mag is not None:
         # a filter without the parameter (EulerEKF) refers yaw to magnetic north: turn the
         # navigation frame about down by the declination (q_true_nb = q_z(decl) * q_mag_nb)
@@ -236,9 +239,11 @@ def _run(args) -> int:
         raise UsageError(f"--rate {args.rate:g}: must be > 0 Hz")
     if len(log.imu.t) < 2:
         raise UsageError(f"{log.source}: fewer than 2 IMU samples")
-    res = run_filter(log, args.filter, args.declination, args.rate)
+    if args.smooth and args.filter == "marg":
+        raise UsageError("--smooth: marg has no smoother; use --filter qekf or euler-ekf")
+    res = run_filter(log, args.filter, args.declination, args.rate, args.smooth)
     write_table(result_table(res), args.out)
-    print(f"wrote {args.out}: {len(res.t)} rows, {FILTERS[args.filter]}"
+    print(f"wrote {args.out}: {len(res.t)} rows, {FILTERS[args.filter]}{' smoothed' if args.smooth else ''}"
           f"{'' if log.mag is not None else ' (no magnetometer: heading free)'}")
     for note in log.notes:
         print(f"note: {note}")

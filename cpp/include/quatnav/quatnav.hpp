@@ -1,8 +1,8 @@
 // quatnav: every public header.
 //
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
-//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization and batch loop
-//   nav/       strapdown, NavFilter13, GpsInsFilter and their batch loops
+//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization, batch loop and smoothers
+//   nav/       strapdown, NavFilter13, GpsInsFilter, their batch loops and smoothers
 // attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
 
@@ -16,6 +16,7 @@
 #include "core/covariance.hpp"
 #include "core/unscented.hpp"
 #include "core/earth.hpp"
+#include "core/smoother.hpp"
 
 #include "attitude/attitude.hpp"
 #include "attitude/quaternion_ekf.hpp"
@@ -23,7 +24,9 @@
 #include "attitude/euler_ekf.hpp"
 #include "attitude/marg_filter.hpp"
 #include "attitude/batch.hpp"
+#include "attitude/smoother.hpp"
 
 #include "nav/strapdown.hpp"
 #include "nav/nav_filter13.hpp"
 #include "nav/gps_ins.hpp"
+#include "nav/nav13_smoother.hpp"

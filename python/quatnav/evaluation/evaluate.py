@@ -6,12 +6,15 @@ and prints, per trial, per group and on average, BROAD's total / heading / incli
 the movement phases (:mod:`quatnav.evaluation.metrics`), and for quatnav's filters the fraction of samples
 whose attitude error lies within the filter's own 3 sigma.
 
-Every algorithm runs with its default parameters, online (causal), one parameter set for all
-trials. How each peer is fed (checked on the data: each mapping gives the peer's errors within
+Every algorithm runs with its default parameters, one parameter set for all trials, online
+(causal) except the offline ones: ``qekf-smoothed`` and ``euler-ekf-smoothed`` (quatnav's filter
+with the Rauch-Tung-Striebel backward pass, ``run(..., smooth=True)``, docs/SMOOTHING.md) and
+``vqf-offline`` (``vqf.offlineVQF``, VQF's acausal mode). How each peer is fed (checked on the data: each mapping gives the peer's errors within
 a fraction of a degree of the reference, any other mapping gives tens of degrees):
 
 * ``vqf``: ``vqf.VQF(Ts)`` 9D, gyro rad/s, acc m/s^2, mag as is; ``quat9D`` is ENU (earth
   frame y = magnetic north), converted with :func:`quatnav.core.quaternion.enu_to_ned`.
+  ``vqf-offline``: ``vqf.offlineVQF(gyr, acc, mag, Ts)``, fed and converted the same way.
 * ``imufusion``: ``imufusion.Ahrs`` with ``convention = CONVENTION_NED``, sample period set,
   gyro in deg/s, acc in g; its quaternion is then NED directly.
 * ``madgwick``: ``ahrs.filters.Madgwick`` (default gain), gyro rad/s, acc m/s^2, mag; its earth
@@ -38,10 +41,12 @@ from ..core import quaternion as Q
 __all__ = ["FILTERS", "PEERS", "run_algorithm", "evaluate_trial", "evaluate", "format_table",
            "available", "add_parser", "plot_results"]
 
-#: quatnav's own filters (name -> class name in :mod:`quatnav`).
-FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
+#: quatnav's own filters (name -> class name in :mod:`quatnav`); a name ending in ``-smoothed``
+#: runs the filter with ``smooth=True`` (offline).
+FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter",
+           "qekf-smoothed": "QuaternionEKF", "euler-ekf-smoothed": "EulerEKF"}
 #: Peer libraries (name -> Python module that must be importable).
-PEERS = {"vqf": "vqf", "imufusion": "imufusion", "madgwick": "ahrs"}
+PEERS = {"vqf": "vqf", "imufusion": "imufusion", "madgwick": "ahrs", "vqf-offline": "vqf"}
 
 _Q_NED_NWU = np.array([0.0, 1.0, 0.0, 0.0])  # rotates NWU vectors into NED (180 deg about x)
 
@@ -85,12 +90,13 @@ def run_algorithm(name: str, trial, params: dict | None = None):
         import quatnav
         cls = getattr(quatnav, FILTERS[name])
         f = cls(**(params or {}))
-        res = f.run(gyr, acc, mag, dt=trial.dt, on_invalid="skip")
+        res = f.run(gyr, acc, mag, dt=trial.dt, on_invalid="skip", **({"smooth": True} if name.endswith("-smoothed")
+                                                                        else {}))
         return np.asarray(res.quat, float), getattr(res, "att_sigma", None)
-    if name == "vqf":
+    if name in ("vqf", "vqf-offline"):
         import vqf
-        v = vqf.VQF(trial.dt)
-        out = v.updateBatch(np.ascontiguousarray(gyr), np.ascontiguousarray(acc), np.ascontiguousarray(mag))
+        g, a, m = np.ascontiguousarray(gyr), np.ascontiguousarray(acc), np.ascontiguousarray(mag)
+        out = vqf.offlineVQF(g, a, m, trial.dt) if name == "vqf-offline" else vqf.VQF(trial.dt).updateBatch(g, a, m)
         return Q.enu_to_ned(out["quat9D"]), None
     if name == "imufusion":
         import imufusion
@@ -419,7 +425,8 @@ def add_parser(sub) -> None:
     b.add_argument("--filters", default="qekf",
                    help="comma list of %s, or none (default: qekf)" % ",".join(FILTERS))
     b.add_argument("--peers", default="vqf,imufusion,madgwick",
-                   help="comma list of %s, or none (default: all; missing packages are skipped)" % ",".join(PEERS))
+                   help="comma list of %s, or none (default: vqf,imufusion,madgwick; missing packages are "
+                        "skipped)" % ",".join(PEERS))
     b.add_argument("--json", default=None, metavar="FILE", help="write the results to this JSON file ('-': stdout)")
     b.add_argument("--plot", default=None, metavar="DIR", help="write plots into this folder")
     b.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")

@@ -81,8 +81,10 @@ def initial_state(scn, mode: str, rng: np.random.Generator):
     return tr.v_n[0] + d_v, q0, ba, bg, P0
 
 
-def run_filter(scn, time_update: str, start, dtype=np.float64, return_covariance=False, accel_noise_scale=1.0):
-    """Run one filter over a scenario from ``start`` (see :func:`initial_state`).
+def run_filter(scn, time_update: str, start, dtype=np.float64, return_covariance=False, accel_noise_scale=1.0,
+               smooth=False):
+    """Run one filter over a scenario from ``start`` (see :func:`initial_state`); ``smooth``: the
+    smoothed result (its ``forward`` the causal one).
 
     ``accel_noise_scale`` multiplies the filter's accelerometer noise density (1: the paper's
     value, with which the NEES exceeds its bounds in the vertical channel; see docs/NAV13.md)."""
@@ -94,7 +96,7 @@ def run_filter(scn, time_update: str, start, dtype=np.float64, return_covariance
     # IMU row 0 is the instantaneous reading at t[0], where the filter starts; row k >= 1 is the
     # mean over (t[k-1], t[k]].
     return flt.run(imu.gyro[1:], imu.accel[1:], t=imu.t[1:], gps_vel=Aid(scn.gps.t_valid, scn.gps.v_n),
-                   yaw=Aid(scn.compass.t, scn.compass.yaw), return_covariance=return_covariance)
+                   yaw=Aid(scn.compass.t, scn.compass.yaw), return_covariance=return_covariance, smooth=smooth)
 
 
 def _density(scn, which):

@@ -180,6 +180,13 @@ class FilterResult:
         key, e.g. ``"baro_vd"``).
     skipped_rows : dict of str to ndarray
         Rows skipped for invalid input or saturation, by kind.
+    forward : FilterResult or None
+        With ``run(..., smooth=True)``: the causal (forward) result, of the same type; the
+        estimates and sigmas of this result are then the Rauch-Tung-Striebel smoothed ones (the
+        flags and the aids' diagnostics are the forward pass's in both). None otherwise.
+    smoother : dict or None
+        With ``smooth=True``: what the backward pass held, ``bytes`` (the one allocation),
+        ``records``, ``capacity``, ``segment``, ``record_bytes``, and its ``status``.
     """
 
     #: Flag table of the filter: name -> bit.
@@ -194,6 +201,13 @@ class FilterResult:
     aids: dict = field(default_factory=dict)
     skipped_rows: dict = field(default_factory=dict)
     sigma_names: tuple = ()
+    forward: FilterResult | None = None
+    smoother: dict | None = None
+
+    @property
+    def smoothed(self) -> bool:
+        """True when the estimates are the smoothed ones (``run(..., smooth=True)``)."""
+        return self.forward is not None
 
     def __len__(self) -> int:
         return len(self.t)
@@ -248,7 +262,9 @@ class FilterResult:
         span = f"t {self.t[0]:.6g}..{self.t[-1]:.6g} s" if n else "empty"
         aids = ", ".join(f"{k}: {len(v.t)}" for k, v in self.aids.items()) or "none"
         flags = ", ".join(self.flags_seen()) or "none"
-        return f"<{type(self).__name__} of {self.filter}: {n} samples, {span}; aids {aids}; flags seen: {flags}>"
+        kind = "smoothed, " if self.smoothed else ""
+        return (f"<{type(self).__name__} of {self.filter}: {kind}{n} samples, {span}; aids {aids}; "
+                f"flags seen: {flags}>")
 
 
 @dataclass(repr=False, eq=False)
@@ -483,3 +499,13 @@ def skipped_imu_rows(flags, table, names=("predict_skipped", "saturated"), drop_
         if rows.size:
             out[name] = rows
     return out
+
+
+def smoother_info(info) -> dict:
+    """The compiled smoother's report as a plain dict. A run in which the filter never had an
+    estimate ("nothing_to_smooth") keeps the forward result; a backward pass that could not run
+    (the record's capacity exceeded: a bug) is a RuntimeError naming the reason."""
+    d = dict(info)
+    if d["status"] not in ("ok", "nothing_to_smooth"):
+        raise RuntimeError(f"smooth: the backward pass did not run ({d['status']})")
+    return d

@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import _validate as V
 from ..core import quaternion as Q
-from ._base import Filter, FilterResult, marg_inputs, times_of
+from ._base import Filter, FilterResult, marg_inputs, smoother_info, times_of
 from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult"]
@@ -122,7 +122,8 @@ class _AttitudeFilter(Filter):
             raise ValueError(f"{what}: the filter is not initialized (call initialize or reset first)")
 
     # -- batch ---------------------------------------------------------------------------
-    def run(self, gyr, acc, mag=None, *, t=None, dt=None, on_invalid: str = "raise") -> AttitudeResult:
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, on_invalid: str = "raise",
+            smooth: bool = False) -> AttitudeResult:
         """Run the filter over N samples (in C++, GIL released), continuing from the current state.
 
         A new filter starts uninitialized and initializes itself on the first sample (tilt from
@@ -150,6 +151,13 @@ class _AttitudeFilter(Filter):
             ``flags`` and ``skipped_rows`` report them. In both modes a reading at or above
             ``gyro_range`` / ``acc_range`` (when set) skips its step and is reported under
             ``"saturated"`` (with ``"predict_skipped"`` or ``"acc_skipped"``).
+        smooth : bool
+            Also run the Rauch-Tung-Striebel backward pass (in C++, after the forward pass; see
+            ``docs/SMOOTHING.md``): ``quat``, ``bias``, ``sigma`` and ``att_sigma`` are then the
+            smoothed estimates, each using every sample of the run (offline processing), and
+            ``forward`` holds the causal result. The forward pass's decisions (rejected and
+            skipped updates, rest detection) are kept. The error-state QuaternionEKF (the
+            default) and EulerEKF have it; ``QuaternionEKF(paper=True)`` does not (ValueError).
 
         Returns
         -------
@@ -161,14 +169,25 @@ class _AttitudeFilter(Filter):
         n = g.shape[0]
         steps = V.time_steps(n, dt=dt, t=t, dtype=self.dtype,
                              max_dt=float(self._f.params.max_dt) if strict else None)
-        quat, bias, sigma, att_sigma, flags = self._f.run(g, a, m, steps)
+        if smooth and self.n_states != 6:
+            raise ValueError("smooth: QuaternionEKF(paper=True), the paper's 7-state filter, has no smoother; "
+                             "the default error-state filter has")
+        out = self._f.run(g, a, m, steps, bool(smooth))
+        quat, bias, sigma, att_sigma, flags = out[:5]
         skipped = {}
         for name in ("predict_skipped", "acc_skipped", "mag_skipped", "saturated"):
             rows = np.flatnonzero(flags & ATTITUDE_FLAGS[name])
             if rows.size:
                 skipped[name] = rows
-        return AttitudeResult(type(self).__name__, times_of(n, t, steps), quat, bias, sigma, flags,
-                              skipped_rows=skipped, sigma_names=self._sigma_names, att_sigma=att_sigma)
+        times = times_of(n, t, steps)
+        fwd = AttitudeResult(type(self).__name__, times, quat, bias, sigma, flags, skipped_rows=skipped,
+                             sigma_names=self._sigma_names, att_sigma=att_sigma)
+        if not smooth:
+            return fwd
+        sm = out[5]
+        return AttitudeResult(type(self).__name__, times, sm["quat"], sm["bias"], sm["sigma"], flags,
+                              skipped_rows=skipped, sigma_names=self._sigma_names, att_sigma=sm["att_sigma"],
+                              forward=fwd, smoother=smoother_info(sm["info"]))
 
 
 class QuaternionEKF(_AttitudeFilter):

@@ -17,7 +17,7 @@ import numpy as np
 from .. import _validate as V
 from ..core import quaternion as Q
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    no_mag, skipped_imu_rows)
+                    no_mag, skipped_imu_rows, smoother_info)
 from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES
 
 __all__ = ["NavFilter13", "NavFilter13Result", "NAV13_FLAGS", "TIME_UPDATES", "initial_covariance"]
@@ -229,7 +229,7 @@ class NavFilter13(Filter):
 
     # -- batch -----------------------------------------------------------------------------------
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_vel=None, yaw=None, return_covariance: bool = False,
-            on_invalid: str = "raise") -> NavFilter13Result:
+            on_invalid: str = "raise", smooth: bool = False) -> NavFilter13Result:
         """Run the filter over N IMU samples and the measurements that fall among them (in C++),
         continuing from the current state (given by :meth:`reset`).
 
@@ -263,6 +263,13 @@ class NavFilter13(Filter):
             ``"gps_vel"``, ``"yaw"`` (measurement rows)). Timestamps must be finite and ordered in
             both modes. A saturated IMU row (``gyro_range`` / ``acc_range``) is skipped and
             reported in both modes.
+        smooth : bool
+            Also run the Rauch-Tung-Striebel backward pass (in C++, after the forward pass; see
+            ``docs/SMOOTHING.md``): the result's estimates, ``sigma``, ``att_sigma`` (and ``P``)
+            are then the smoothed ones, each using every sample of the run, and ``forward``
+            holds the causal result. The forward pass's decisions (rejected measurements,
+            skipped samples) are kept. The filter's state afterwards is the forward one at the
+            last sample (where the two agree).
 
         Returns
         -------
@@ -281,7 +288,8 @@ class NavFilter13(Filter):
         vt, vv = self._measurements(check_aid(gps_vel, "gps_vel"), "gps_vel", 3, strict)
         yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)
         out = self._f.run(wb, fb, times.astype(self.dtype), steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
-                          float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance))
+                          float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance),
+                          bool(smooth))
         flags = out["flags"]
         skipped = skipped_imu_rows(flags, NAV13_FLAGS)
         for name, status in (("gps_vel", out["vel_status"]), ("yaw", out["yaw_status"])):
@@ -296,10 +304,17 @@ class NavFilter13(Filter):
         if yaw is not None:
             aids["yaw"] = AidResult(yt.astype(np.float64), np.asarray(out["yaw_innovation"]).reshape(-1, 1),
                                     out["yaw_nis"], out["yaw_status"])
-        x = out["x"]
-        return NavFilter13Result("NavFilter13", times, x[:, 3:7], x[:, 10:13], out["sigma"], flags, aids=aids,
-                                 skipped_rows=skipped, sigma_names=_SIGMA_NAMES, velocity=x[:, 0:3],
-                                 acc_bias=x[:, 7:10], att_sigma=out["att_sigma"], x=x, P=out["P"])
+        def result(o, **kw):
+            x = o["x"]
+            return NavFilter13Result("NavFilter13", times, x[:, 3:7], x[:, 10:13], o["sigma"], flags, aids=aids,
+                                     skipped_rows=skipped, sigma_names=_SIGMA_NAMES, velocity=x[:, 0:3],
+                                     acc_bias=x[:, 7:10], att_sigma=o["att_sigma"], x=x, P=o["P"], **kw)
+
+        fwd = result(out)
+        if not smooth:
+            return fwd
+        sm = out["smoothed"]
+        return result(sm, forward=fwd, smoother=smoother_info(sm["info"]))
 
     def _measurements(self, aid, name, cols, strict=True):
         if aid is None:

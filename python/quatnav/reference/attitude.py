@@ -107,8 +107,9 @@ class _Base:
             return SimpleNamespace(status="not_initialized")
         return self._update3(acc, *GRAVITY_REF, self.p.acc_sigma, gate)
 
-    def run(self, gyr, acc, mag=None, dt=None):
-        """Same loop as quatnav.batch.hpp: initialize, then predict + update_acc + update_mag."""
+    def run(self, gyr, acc, mag=None, dt=None, observer=None):
+        """Same loop as quatnav.batch.hpp: initialize, then predict + update_acc + update_mag;
+        ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as there."""
         gyr = np.asarray(gyr, float)
         n = len(gyr)
         dt = np.broadcast_to(np.asarray(dt, float), (n,))
@@ -122,9 +123,13 @@ class _Base:
                 self.initialize(acc[k], m)
             else:
                 self.predict(gyr[k], dt[k])
+                if observer is not None:
+                    observer.after_predict(k, self)
                 self.update_acc(acc[k])
                 if m is not None:
                     self.update_mag(m)
+            if observer is not None:
+                observer.after_sample(k, self)
             quat[k] = self.quat
             bias[k] = self.bias
             sigma[k] = np.sqrt(np.maximum(np.diag(self.P), 0))

@@ -13,6 +13,7 @@ from ..core import earth
 from ..core import quaternion as Q
 from ..filters.tables import NAV13_PARAMS
 from .kalman import kalman_correct
+from .smoother import rts
 
 TIME_UPDATES = ("ekf", "second_order", "ukf")
 V, QI, BA, BG = slice(0, 3), slice(3, 7), slice(7, 10), slice(10, 13)
@@ -233,6 +234,7 @@ class NavFilter13:
         u = self._input(f_ib_b, omega_ib_b, dt)
         u.f_ib_b = rotation_correction(u.f_ib_b, u.omega_ib_b, self.x[BA], self.x[BG], u.dt)
         x, P = self.x, self.P
+        self._last_step = (x, u)
         if self.time_update == "ukf":
             xn, Pn = self._ukf(x, P, u)
         else:
@@ -285,6 +287,7 @@ class NavFilter13:
         qm = Q.mul(qm, Q.from_rotvec(dmean))
         qm /= np.linalg.norm(qm)
         D[3:6] -= dmean[:, None]
+        self._last_cross = (off * w.wc) @ D.T, P12       # the smoother's gain (last_transition)
         P12n = (D * w.wc) @ D.T + T @ process_noise(q0, u.dt, self.params) @ T.T
         P12n = 0.5 * (P12n + P12n.T)
         xn = ysum.copy()
@@ -292,6 +295,28 @@ class NavFilter13:
         Tb = from_error(qm)
         Pn = Tb @ P12n @ Tb.T
         return xn, 0.5 * (Pn + Pn.T)
+
+    def last_transition(self):
+        """The error-state transition (12x12) of the last predict (the smoother's gain, see
+        :func:`smooth`): for the EKF and second-order time updates the EKF's ``T(q+) J F T'(q)``,
+        F = :func:`jacobian` at the state before the step, J the renormalization's Jacobian, q+ the
+        quaternion after it; for the unscented one its statistical linearization ``D^T P^-1``
+        (D the sigma points' cross-covariance, P the error covariance before the step), which
+        gives the gain ``D P_prior^-1`` of the C++ smoother."""
+        if self.time_update == "ukf":
+            D, P12 = self._last_cross
+            return np.linalg.solve(P12, D).T
+        x, u = self._last_step
+        xn = f_d(x, u)
+        n = np.linalg.norm(xn[QI])
+        qh = xn[QI] / n
+        J = np.eye(13)
+        J[QI, QI] = (np.eye(4) - np.outer(qh, qh)) / n
+        return to_error(self.x[QI]) @ J @ jacobian(x, u) @ from_error(x[QI])
+
+    def snapshot(self):
+        """The posterior as the smoother keeps it: ``(x, P)``."""
+        return self.x.copy(), self.P.copy()
 
     # -- measurement updates -----------------------------------------------------------------
     def _correct(self, H, R, y, gate):
@@ -321,3 +346,38 @@ class NavFilter13:
         R = np.diag([self.params.gps_vel_sigma**2] * 3 + [self.params.yaw_sigma**2])
         y = np.concatenate([np.asarray(v_meas, float) - self.x[V], [Q.wrap_pi(float(yaw) - yaw_of(self.x[QI]))]])
         return self._correct(H, R, y, gate)
+
+
+# -- the Rauch-Tung-Striebel smoother (cpp/include/quatnav/nav/nav13_smoother.hpp) -------------------
+def error_covariance(state):
+    """The 12x12 covariance of ``[dv, dtheta, db_a, db_g]`` of a snapshot ``(x, P)``."""
+    x, P = state
+    T = to_error(x[QI])
+    Pe = T @ P @ T.T
+    return 0.5 * (Pe + Pe.T)
+
+
+def local(base, state):
+    """``state [-] base``: velocity and bias differences, the body-frame rotation ``log(q_b^-1 q)``."""
+    xb, x = base[0], state[0]
+    return np.concatenate([x[V] - xb[V], Q.to_rotvec(Q.mul(Q.conj(xb[QI]), x[QI])), x[7:] - xb[7:]])
+
+
+def retract(base, d, Pe):
+    """``base [+] d`` with the error covariance ``Pe`` mapped to the 13-state form."""
+    x = base[0].copy()
+    x[V] += d[0:3]
+    q = Q.mul(x[QI], Q.from_rotvec(d[3:6]))
+    x[QI] = q / np.linalg.norm(q)
+    x[7:] += d[6:]
+    Tb = from_error(x[QI])
+    P = Tb @ Pe @ Tb.T
+    return x, 0.5 * (P + P.T)
+
+
+def smooth(posts, links):
+    """The smoothed snapshots ``(x, P)`` and 12x12 error covariances of a forward run of
+    :class:`NavFilter13`: ``posts[k]`` its :meth:`NavFilter13.snapshot` after sample k, ``links[k]``
+    ``(snapshot after the predict of sample k + 1, last_transition())``, ``"same"`` when that
+    predict was refused, or None (see :func:`quatnav.reference.smoother.rts`)."""
+    return rts(posts, links, error_covariance, local, retract)

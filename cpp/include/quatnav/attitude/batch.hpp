@@ -9,6 +9,7 @@
 // (n x kStates, sqrt of the covariance diagonal), att_sigma (n x 3, rad, body-frame
 // rotation-vector one-sigma: the filter's attitude_variance(), the diagonal of its
 // attitude_covariance() without the off-diagonal terms), flags (n, quatnav::flags bits).
+// Every sample is reported to `obs` (core/checks.hpp's NoBatchObserver; the smoother's record).
 // Allocates nothing.
 #pragma once
 
@@ -21,9 +22,10 @@
 
 namespace quatnav {
 
-template <class Filter, class S = typename Filter::Scalar>
+template <class Filter, class S = typename Filter::Scalar, class Observer = NoBatchObserver>
 void run_attitude_batch(Filter& f, const S* gyr, const S* acc, const S* mag, const S* dt, std::size_t n,
-                        S* quat_out, S* bias_out, S* sigma_out, S* att_sigma_out, std::uint32_t* flags_out) {
+                        S* quat_out, S* bias_out, S* sigma_out, S* att_sigma_out, std::uint32_t* flags_out,
+                        Observer&& obs = Observer{}) {
   constexpr int N = Filter::kStates;
   for (std::size_t k = 0; k < n; ++k) {
     const Eigen::Map<const Vec3<S>> g(gyr + 3 * k), a(acc + 3 * k);
@@ -40,11 +42,13 @@ void run_attitude_batch(Filter& f, const S* gyr, const S* acc, const S* mag, con
     } else {
       const Status sp = f.predict(Vec3<S>(g), dt[k]);
       if (sp != Status::Ok) fl |= flags::kPredictSkipped | (sp == Status::Saturated ? flags::kSaturated : 0u);
+      obs.after_predict(k, f);
       fl |= update_flags(f.update_acc(Vec3<S>(a)), flags::kAccSkipped, flags::kAccRejected);
       if (have_mag)
         fl |= update_flags(f.update_mag(Vec3<S>(Eigen::Map<const Vec3<S>>(mag + 3 * k))), flags::kMagSkipped,
                            flags::kMagRejected);
     }
+    obs.after_sample(k, f);
     fl |= f.extra_flags();
     if (quat_out) Eigen::Map<Vec4<S>>(quat_out + 4 * k) = f.quat();
     if (bias_out) Eigen::Map<Vec3<S>>(bias_out + 3 * k) = f.bias();

@@ -1,8 +1,10 @@
 // quatnav: input checks shared by every filter (saturation, checked normalization), the
-// levelling of an accelerometer sample, and the mapping of an update's status to batch flags.
+// levelling of an accelerometer sample, the mapping of an update's status to batch flags, and
+// the observer a batch loop reports its samples to.
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -69,5 +71,13 @@ std::uint32_t update_flags(const UpdateResult<S, M>& r, std::uint32_t skipped, s
     default: return skipped;
   }
 }
+
+/// What a batch loop reports to an observer: after_predict(k, f) after the time update of sample
+/// k (applied or not), after_sample(k, f) after every step of sample k. The default does nothing;
+/// the smoother's forward record is one (core/smoother.hpp).
+struct NoBatchObserver {
+  template <class F> void after_predict(std::size_t, const F&) {}
+  template <class F> void after_sample(std::size_t, const F&) {}
+};
 
 }  // namespace quatnav

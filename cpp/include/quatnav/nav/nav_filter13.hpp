@@ -375,10 +375,12 @@ bool nav13_predict_taylor(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, cons
 }
 
 /// Unscented time update in the 12-dimensional error state (see the file comment). Returns
-/// Ok, SolveFailed (P not positive definite) or NumericalFailure; x, P change only on Ok.
+/// Ok, SolveFailed (P not positive definite) or NumericalFailure; x, P change only on Ok. With
+/// `cross`, also the cross-covariance of the error states before and after the step,
+/// sum_i Wc_i (sigma offset i)(propagated deviation i)^T (the smoother's gain).
 template <class S>
 Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const NavFilter13Params<S>& p,
-                         const UnscentedWeights<S, 12>& w) {
+                         const UnscentedWeights<S, 12>& w, Mat12<S>* cross = nullptr) {
   constexpr int N = 12, L = 2 * N + 1;
   const Quat<S> q0 = x.template segment<4>(kQ);
   const Mat<S, 12, 13> T = nav13_to_error(q0);
@@ -425,6 +427,8 @@ Status nav13_predict_ukf(Vec13<S>& x, Mat13<S>& P, const Nav13Input<S>& u, const
   Mat13<S> Pn = Nav13Block<S>::from_error_covariance(qm, Pn12);
   symmetrize(Pn);
   if (!nav13_state_ok(xn, Pn)) return Status::NumericalFailure;
+  // The offsets' column 0 is zero: the cross-covariance is wi * sum_{i>=1} off_i D_i^T.
+  if (cross) *cross = w.wi * fixed_mul(off.template rightCols<2 * N>(), D.template rightCols<2 * N>().transpose());
   x = xn;
   P = Pn;
   return Status::Ok;
@@ -529,11 +533,7 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
     if (detail::saturated(omega_ib_b, params_.gyro_range) || detail::saturated(f_ib_b, params_.acc_range))
       return Status::Saturated;
-    Nav13Input<S> u;
-    u.f_ib_b = detail::nav13_rotation_correction(f_ib_b, omega_ib_b, st_.acc_bias, st_.gyro_bias, dt);
-    u.omega_ib_b = omega_ib_b;
-    u.dt = dt;
-    detail::nav13_earth_terms(S(st_.lat), S(st_.h), st_.v_n, params_.earth_rotation, u);
+    const Nav13Input<S> u = step_input(omega_ib_b, f_ib_b, dt);
     Vec13 xv = x();
     Mat13 P = st_.P;
     if constexpr (TU == TimeUpdate::Ukf) {
@@ -557,6 +557,19 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     st_.lon = lon;
     st_.h = h;
     return Status::Ok;
+  }
+
+  /// The input of the Euler step (eq. 12) that predict(omega_ib_b, f_ib_b, dt) makes from the
+  /// current state: the specific force with the rotation correction at the bias estimates, and
+  /// the Earth terms at the carried position and the current velocity. (The smoother evaluates
+  /// the step's transition nav13_jacobian(x(), step_input(...)) with it.)
+  Nav13Input<S> step_input(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) const {
+    Nav13Input<S> u;
+    u.f_ib_b = detail::nav13_rotation_correction(f_ib_b, omega_ib_b, st_.acc_bias, st_.gyro_bias, dt);
+    u.omega_ib_b = omega_ib_b;
+    u.dt = dt;
+    detail::nav13_earth_terms(S(st_.lat), S(st_.h), st_.v_n, params_.earth_rotation, u);
+    return u;
   }
 
   /// NED velocity measurement [m/s] (eq. 13, 21 rows 1-3).
@@ -676,13 +689,14 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 /// velocity and a yaw fall on the same sample the velocity is applied first (sequential updates of
 /// independent measurements).
 /// Outputs (any may be null): x (n x 13), sigma (n x 13), P (n x 169), att_sigma (n x 3, body
-/// rotation-vector one-sigma, rad), flags (n); per measurement: innovation, NIS, status.
-template <class Filter, class S = typename Filter::Scalar>
+/// rotation-vector one-sigma, rad), flags (n); per measurement: innovation, NIS, status. Every
+/// sample is reported to `obs` (core/checks.hpp's NoBatchObserver; the smoother's record).
+template <class Filter, class S = typename Filter::Scalar, class Observer = NoBatchObserver>
 void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const S* t, const S* dt, std::size_t n,
                      const S* vel_t, const S* vel, std::size_t nv, const S* yaw_t, const S* yaw, std::size_t ny,
                      S gate_vel, S gate_yaw, S* x_out, S* sigma_out, S* P_out, S* att_sigma_out,
                      std::uint32_t* flags_out, S* vel_innov, S* vel_nis, std::uint8_t* vel_status, S* yaw_innov,
-                     S* yaw_nis, std::uint8_t* yaw_status) {
+                     S* yaw_nis, std::uint8_t* yaw_status, Observer&& obs = Observer{}) {
   std::size_t iv = 0, iy = 0;
   auto apply = [&](S t_now, std::uint32_t& fl) {
     while (iv < nv && vel_t[iv] <= t_now) {
@@ -711,7 +725,9 @@ void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const S* t
     const Eigen::Map<const Vec3<S>> fk(f_ib_b + 3 * k), wk(omega_ib_b + 3 * k);
     const Status sp = f.predict(Vec3<S>(wk), Vec3<S>(fk), dt[k]);
     if (sp != Status::Ok) fl |= flags::kPredictSkipped | (sp == Status::Saturated ? flags::kSaturated : 0u);
+    obs.after_predict(k, f);
     apply(t[k] + S(1e-4) * dt[k], fl);
+    obs.after_sample(k, f);
     if (x_out) Eigen::Map<Vec<S, 13>>(x_out + 13 * k) = f.x();
     if (sigma_out) Eigen::Map<Vec<S, 13>>(sigma_out + 13 * k) = f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt();
     if (P_out) Eigen::Map<Mat<S, 13, 13>>(P_out + 169 * k) = f.covariance();
