@@ -257,7 +257,7 @@ template <class S, TimeUpdate TU> struct NavAdapter<NavFilter13<S, TU>> {
 
 template <class S> struct NavAdapter<GpsInsFilter<S>> {
   using F = GpsInsFilter<S>;
-  static constexpr int kErr = 15;
+  static constexpr int kErr = F::kStates;
   static F make(double sg, double sa) {
     GpsInsParams<S> p;
     p.gyro_noise = S(sg);
@@ -315,7 +315,7 @@ template <class S> struct NavAdapter<GpsInsFilter<S>> {
     return f.q_nb().allFinite() && f.v_n().allFinite() && f.llh().allFinite() && f.covariance().allFinite();
   }
   static double asym(const F& f) { return double((f.covariance() - f.covariance().transpose()).cwiseAbs().maxCoeff()); }
-  static Mat<S, 15, 15> err_cov(const F& f) { return f.covariance(); }
+  static Mat<S, kErr, kErr> err_cov(const F& f) { return f.covariance(); }
   /// Attitude error psi (nav frame: C_est = (I + [psi x]) C_true), estimate minus truth.
   static Vec3<double> att_err(const F& f, const Quat<double>& qt) { return quat::to_rotvec(quat::mul(q(f), quat::conj(qt))); }
   static Mat3<double> att_cov(const F& f) { return f.covariance().template block<3, 3>(6, 6).template cast<double>(); }

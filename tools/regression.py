@@ -270,11 +270,10 @@ def run_gpsins(d, dtype=np.float64, baro=True, compass=True, outage=False):
     _cols(out, "ba", r.acc_bias, XYZ)
     _cols(out, "bg", r.bias, XYZ)
     _cols(out, "sigma", r.sigma, ("pn", "pe", "pd", "vn", "ve", "vd", "psin", "psie", "psid",
-                                  "bax", "bay", "baz", "bgx", "bgy", "bgz"))
+                                  "bax", "bay", "baz", "bgx", "bgy", "bgz", "bo"))
+    out["q_scale"] = r.q_scale
     out["flags"] = r.flags
-    # the files' counters: resets only where a reset exists (GPS position and velocity)
-    summary = {"counters": {k: {c: n for c, n in v.items() if c != "resets" or k in ("gps_pos", "gps_vel")}
-                            for k, v in r.counters.items()}}
+    summary = {"counters": r.counters, "alignment": r.alignment}
     for key, aids in (("gps", ("gps_pos", "gps_vel")), ("baro", ("baro", "baro_vd")), ("compass", ("compass",))):
         # the files' sums run over the C++ (K, 2) tables row by row: position, velocity of each fix
         nis = np.column_stack([r.aids[a].nis for a in aids if a in r.aids]).ravel() if any(

@@ -4,6 +4,16 @@
 
 namespace quatnav_py {
 
-void bind_gpsins_f64(py::module_& m) { bind_gpsins_scalar<double>(m); }
+void bind_gpsins_f64(py::module_& m) {
+  bind_gpsins_scalar<double>(m);
+  m.def(
+      "gpsins_decision_names",
+      [] {
+        py::list names;
+        for (int k = 0; k < quatnav::kGpsInsDecisions; ++k) names.append(quatnav::to_string(quatnav::GpsInsDecision(k)));
+        return names;
+      },
+      "Names of quatnav::GpsInsDecision by code (what GpsInsFilter did with an aiding sample).");
+}
 
 }  // namespace quatnav_py

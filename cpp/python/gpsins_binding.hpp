@@ -1,6 +1,7 @@
 // The binding of GpsInsFilter (paper 004) for one scalar type S, with its batch run (GIL
-// released). Instantiated once per S, in bind_gpsins_f64.cpp
-// and bind_gpsins_f32.cpp (one translation unit each, so that they compile in parallel).
+// released). Instantiated once per S, in bind_gpsins_f64.cpp and bind_gpsins_f32.cpp (one
+// translation unit each, so that they compile in parallel). Parameters and state come from their
+// declarations (fields_binding.hpp).
 #pragma once
 
 #include <quatnav/nav/gps_ins.hpp>
@@ -10,7 +11,7 @@
 
 namespace quatnav_py {
 
-/// The counters as {aid kind: {"accepted", "rejected", "skipped", "resets"}}.
+/// The counters as {aid kind: {"accepted", "rejected", "skipped", "inflated", "resets"}}.
 inline py::dict counters_dict(const quatnav::GpsInsCounters& c) {
   py::dict d;
   for (int k = 0; k < quatnav::kGpsInsAidKinds; ++k) {
@@ -18,19 +19,70 @@ inline py::dict counters_dict(const quatnav::GpsInsCounters& c) {
     e["accepted"] = c.accepted[k];
     e["rejected"] = c.rejected[k];
     e["skipped"] = c.skipped[k];
+    e["inflated"] = c.inflated[k];
     e["resets"] = c.resets[k];
     d[quatnav::kGpsInsAidNames[k]] = e;
   }
   return d;
 }
 
+/// GpsInsUpdate<S, M>: an UpdateResult with the filter's decision and inflation.
+template <class S, int M> void bind_gpsins_update(py::module_& m) {
+  using R = quatnav::GpsInsUpdate<S, M>;
+  const std::string name = "GpsInsUpdate" + std::to_string(M) + dtype_suffix<S>();
+  py::class_<R>(m, name.c_str(), "Outcome of one GpsInsFilter update: status, innovation (INS minus aid), "
+                                 "its covariance, NIS, decision (code, see decision_names()), inflation.")
+      .def_property_readonly("status", [](const R& r) { return std::string(quatnav::to_string(r.status)); })
+      .def_property_readonly("accepted", &R::accepted)
+      .def_readonly("innovation", &R::innovation)
+      .def_readonly("innovation_cov", &R::innovation_cov)
+      .def_readonly("nis", &R::nis)
+      .def_property_readonly("decision", [](const R& r) { return int(r.decision); })
+      .def_readonly("inflation", &R::inflation)
+      .def("__repr__", [](const R& r) {
+        return "<GpsInsUpdate status=" + std::string(quatnav::to_string(r.status)) +
+               " decision=" + std::to_string(int(r.decision)) + " nis=" + std::to_string(double(r.nis)) + ">";
+      });
+}
+
+namespace {  // (internal linkage: the members are pybind11 objects, hidden)
+/// An aid's report arrays (rows, cols updates of m rows each) and the pointers the batch writes.
+template <class S> struct AidOutArrays {
+  py::array_t<S> innovation, nis, inflation;
+  py::array_t<std::uint8_t> status, decision;
+  AidOutArrays(py::ssize_t rows, py::ssize_t cols, py::ssize_t m)
+      : innovation({rows, cols * m}), nis({rows, cols}), inflation({rows, cols}), status({rows, cols}),
+        decision({rows, cols}) {}
+  quatnav::GpsInsAidOut<S> out() {
+    quatnav::GpsInsAidOut<S> o;
+    o.innovation = innovation.mutable_data();
+    o.nis = nis.mutable_data();
+    o.inflation = inflation.mutable_data();
+    o.status = status.mutable_data();
+    o.decision = decision.mutable_data();
+    return o;
+  }
+  py::dict dict() const {
+    py::dict d;
+    d["innovation"] = innovation;
+    d["nis"] = nis;
+    d["status"] = status;
+    d["decision"] = decision;
+    d["inflation"] = inflation;
+    return d;
+  }
+};
+}  // namespace
+
 template <class S> void bind_gpsins_scalar(py::module_& m) {
   using namespace quatnav;
   using F = GpsInsFilter<S>;
   using P = GpsInsParams<S>;
   using V3 = Vec3<S>;
-  bind_update_result<S, 1>(m);
-  bind_update_result<S, 3>(m);
+  constexpr int N = F::kStates;
+  bind_gpsins_update<S, 1>(m);
+  bind_gpsins_update<S, 2>(m);
+  bind_gpsins_update<S, 3>(m);
   bind_fields_struct<P>(m, cls_name<S>("GpsInsParams"), "Parameters of GpsInsFilter (nav/gps_ins/params.hpp).");
 
   py::class_<F> cls(m, cls_name<S>("GpsInsFilter").c_str());
@@ -44,28 +96,48 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
       .def_property_readonly("llh", &F::llh)
       .def_property_readonly("acc_bias", [](const F& f) { return V3(f.acc_bias()); })
       .def_property_readonly("gyro_bias", [](const F& f) { return V3(f.gyro_bias()); })
-      .def_property_readonly("covariance", [](const F& f) { return typename F::Mat15(f.covariance()); })
+      .def_property_readonly("baro_offset", &F::baro_offset)
+      .def_property_readonly("at_rest", &F::at_rest)
+      .def_property_readonly("align_method", [](const F& f) { return std::string(to_string(f.align_method())); })
+      .def_property_readonly("heading_source", [](const F& f) { return std::string(to_string(f.heading_source())); })
+      .def_property_readonly("q_scale", &F::q_scale)
+      .def_property_readonly("covariance", [](const F& f) { return typename F::Mat16(f.covariance()); })
       .def_property_readonly("time", &F::time)
       .def_property_readonly("counters", [](const F& f) { return counters_dict(f.state().counters); })
       .def("clear", &F::clear, "Back to the start of alignment (parameters kept).")
       .def("reset",
            [](F& f, const Quat<S>& q, const V3& v, double lat, double lon, double h, const V3& ba, const V3& bg,
-              const typename F::Mat15& Pm) { return status_str(f.reset(q, v, lat, lon, h, ba, bg, Pm)); },
+              const typename F::Mat16& Pm) { return status_str(f.reset(q, v, lat, lon, h, ba, bg, Pm)); },
            py::arg("q_nb"), py::arg("v_n"), py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("acc_bias"),
            py::arg("gyro_bias"), py::arg("P"))
+      .def("set_initial",
+           [](F& f, const Quat<S>& q, const V3& v, bool v_valid, const V3& ba, const V3& bg) {
+             return status_str(f.set_initial(q, v, v_valid, ba, bg));
+           },
+           py::arg("q_nb"), py::arg("v_n"), py::arg("v_valid"), py::arg("acc_bias"), py::arg("gyro_bias"))
       .def("predict", [](F& f, const V3& w, const V3& a, S dt) { return status_str(f.predict(w, a, dt)); },
            py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("dt"))
+      .def("update_constraints",
+           [](F& f) {
+             const ConstraintResult<S> r = f.update_constraints();
+             return py::make_tuple(r.zupt, r.zaru, r.nhc);
+           })
+      .def("update_mag", [](F& f, const V3& m_imu) { return f.update_mag(m_imu); }, py::arg("m"))
+      .def("update_odometer", [](F& f, S speed) { return f.update_odometer(speed); }, py::arg("speed"))
       .def("update_gps_position",
-           [](F& f, double lat, double lon, double h, const V3& sig) { return f.update_gps_position(lat, lon, h, sig); },
-           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("sigma"))
-      .def("update_gps_velocity", [](F& f, const V3& v, const V3& sig) { return f.update_gps_velocity(v, sig); },
-           py::arg("v_n"), py::arg("sigma"))
+           [](F& f, double lat, double lon, double h, const V3& sig, S age) {
+             return f.update_gps_position(lat, lon, h, sig, age);
+           },
+           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("sigma"), py::arg("age") = S(0))
+      .def("update_gps_velocity", [](F& f, const V3& v, const V3& sig, S age) { return f.update_gps_velocity(v, sig, age); },
+           py::arg("v_n"), py::arg("sigma"), py::arg("age") = S(0))
       .def("update_gps",
-           [](F& f, double lat, double lon, double h, const V3& v, const V3& ps, const V3& vs) {
-             const GpsResult<S> r = f.update_gps(lat, lon, h, v, ps, vs);
+           [](F& f, double lat, double lon, double h, const V3& v, const V3& ps, const V3& vs, S age) {
+             const GpsResult<S> r = f.update_gps(lat, lon, h, v, ps, vs, age);
              return py::make_tuple(r.pos, r.vel);
            },
-           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("v_n"), py::arg("pos_sigma"), py::arg("vel_sigma"))
+           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("v_n"), py::arg("pos_sigma"), py::arg("vel_sigma"),
+           py::arg("age") = S(0))
       .def("update_baro",
            [](F& f, double h) {
              const BaroResult<S> r = f.update_baro(h);
@@ -75,10 +147,11 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
       .def("update_compass", [](F& f, S yaw) { return f.update_compass(yaw); }, py::arg("heading"))
       .def(
           "run",
-          [](F& f, const carray<double>& t, const carray<S>& gyro, const carray<S>& accel, const carray<double>& gps_t,
-             const carray<double>& gps_llh, const carray<S>& gps_vel, const carray<S>& gps_pos_sigma,
-             const carray<S>& gps_vel_sigma, const carray<double>& baro_t, const carray<double>& baro_h,
-             const carray<double>& compass_t, const carray<S>& compass_yaw) {
+          [](F& f, const carray<double>& t, const carray<S>& gyro, const carray<S>& accel, const py::object& mag_obj,
+             bool increments, const carray<double>& gps_t, const carray<double>& gps_llh, const carray<S>& gps_vel,
+             const carray<S>& gps_pos_sigma, const carray<S>& gps_vel_sigma, const carray<double>& baro_t,
+             const carray<double>& baro_h, const carray<double>& compass_t, const carray<S>& compass_yaw,
+             const carray<double>& odo_t, const carray<S>& odo_speed) {
             const py::ssize_t n = t.ndim() == 1 ? t.shape(0) : -1;
             if (n < 0) throw py::value_error("t: expected shape (N,)");
             require_shape<S>(gyro, "gyro", n, 3);
@@ -91,18 +164,26 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             require_shape<S>(gps_vel_sigma, "gps_vel_sigma", ng, 3);
             if (baro_h.ndim() != 1 || baro_h.shape(0) != nb) throw py::value_error("baro_h: expected shape (len(baro_t),)");
             require_shape<S>(compass_yaw, "compass_yaw", nc, -1);
-            py::array_t<double> llh({n, py::ssize_t(3)});
+            const py::ssize_t no = odo_t.shape(0);
+            require_shape<S>(odo_speed, "odo_speed", no, -1);
+            carray<S> mag;
+            if (!mag_obj.is_none()) {
+              mag = mag_obj.cast<carray<S>>();
+              require_shape<S>(mag, "mag", n, 3);
+            }
+            py::array_t<double> llh({n, py::ssize_t(3)}), bo({n});
             auto v = empty<S>(n, 3), q = empty<S>(n, 4), ba = empty<S>(n, 3), bg = empty<S>(n, 3),
-                 sig = empty<S>(n, 15);
+                 sig = empty<S>(n, N), qs = empty<S>(n, -1);
             py::array_t<std::uint32_t> fl({n});
-            auto gi = empty<S>(ng, 6), gn = empty<S>(ng, 2), bi = empty<S>(nb, 2), bn = empty<S>(nb, 2),
-                 ci = empty<S>(nc, -1), cn = empty<S>(nc, -1);
-            py::array_t<std::uint8_t> gs({ng, py::ssize_t(2)}), bs({nb, py::ssize_t(2)}), cs({nc});
+            AidOutArrays<S> go(ng, 2, 3), bo_(nb, 2, 1), co(nc, 1, 1), oo(no, 1, 1), mo(mag_obj.is_none() ? 0 : n, 1, 1),
+                zu(n, 1, 3), za(n, 1, 3), nh(n, 1, 2);
             GpsInsBatchIo<S> io;
             io.t = t.data();
             io.gyro = gyro.data();
             io.accel = accel.data();
+            io.mag = mag_obj.is_none() ? nullptr : mag.data();
             io.n = std::size_t(n);
+            io.increments = increments;
             io.gps_t = gps_t.data();
             io.gps_llh = gps_llh.data();
             io.gps_vel = gps_vel.data();
@@ -115,22 +196,26 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             io.compass_t = compass_t.data();
             io.compass_yaw = compass_yaw.data();
             io.nc = std::size_t(nc);
+            io.odo_t = odo_t.data();
+            io.odo_speed = odo_speed.data();
+            io.no = std::size_t(no);
             io.llh = llh.mutable_data();
             io.v_n = v.mutable_data();
             io.q_nb = q.mutable_data();
             io.acc_bias = ba.mutable_data();
             io.gyro_bias = bg.mutable_data();
             io.sigma = sig.mutable_data();
+            io.baro_offset = bo.mutable_data();
+            io.q_scale = qs.mutable_data();
             io.flags = fl.mutable_data();
-            io.gps_innov = gi.mutable_data();
-            io.gps_nis = gn.mutable_data();
-            io.gps_status = gs.mutable_data();
-            io.baro_innov = bi.mutable_data();
-            io.baro_nis = bn.mutable_data();
-            io.baro_status = bs.mutable_data();
-            io.compass_innov = ci.mutable_data();
-            io.compass_nis = cn.mutable_data();
-            io.compass_status = cs.mutable_data();
+            io.report.gps = go.out();
+            io.report.baro = bo_.out();
+            io.report.compass = co.out();
+            io.report.odometer = oo.out();
+            if (!mag_obj.is_none()) io.report.mag = mo.out();
+            io.report.zupt = zu.out();
+            io.report.zaru = za.out();
+            io.report.nhc = nh.out();
             {
               py::gil_scoped_release release;
               gpsins_batch(f, io);
@@ -142,22 +227,26 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             d["acc_bias"] = ba;
             d["gyro_bias"] = bg;
             d["sigma"] = sig;
+            d["baro_offset"] = bo;
+            d["q_scale"] = qs;
             d["flags"] = fl;
-            d["gps_innov"] = gi;
-            d["gps_nis"] = gn;
-            d["gps_status"] = gs;
-            d["baro_innov"] = bi;
-            d["baro_nis"] = bn;
-            d["baro_status"] = bs;
-            d["compass_innov"] = ci;
-            d["compass_nis"] = cn;
-            d["compass_status"] = cs;
+            d["gps"] = go.dict();
+            d["baro"] = bo_.dict();
+            d["compass"] = co.dict();
+            d["odometer"] = oo.dict();
+            d["mag"] = mo.dict();
+            d["zupt"] = zu.dict();
+            d["zaru"] = za.dict();
+            d["nhc"] = nh.dict();
+            d["align_method"] = std::string(to_string(f.align_method()));
+            d["heading_source"] = std::string(to_string(f.heading_source()));
             return d;
           },
-          py::arg("t"), py::arg("gyro"), py::arg("accel"), py::arg("gps_t"), py::arg("gps_llh"), py::arg("gps_vel"),
-          py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"), py::arg("baro_h"),
-          py::arg("compass_t"), py::arg("compass_yaw"),
-          "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays.");
+          py::arg("t"), py::arg("gyro"), py::arg("accel"), py::arg("mag"), py::arg("increments"), py::arg("gps_t"),
+          py::arg("gps_llh"), py::arg("gps_vel"), py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"),
+          py::arg("baro_h"), py::arg("compass_t"), py::arg("compass_yaw"), py::arg("odo_t"), py::arg("odo_speed"),
+          "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; "
+          "each aid's report is a dict (innovation, nis, status, decision, inflation).");
   def_state_dict<F>(cls);
 }
 

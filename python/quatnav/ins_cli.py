@@ -3,7 +3,8 @@
 ::
 
     quatnav ins run --imu IMU.csv --gnss GNSS.csv [--baro BARO.csv] [--compass COMPASS.csv]
-                    [--config CONFIG.toml] --out OUT.csv
+                    [--mag MAG.csv] [--odometer ODO.csv] [--config CONFIG.toml]
+                    [--diagnostics DIAG.csv] --out OUT.csv
 
 Every input file is CSV with a header row of named columns (any order, matched without regard to
 case or surrounding spaces; extra columns are ignored; blank lines and lines starting with ``#``
@@ -15,18 +16,26 @@ one clock shared by all files and strictly increasing within each file.
 file           columns
 =============  ===========================================================================
 IMU            ``time`` (s), ``gyro_x gyro_y gyro_z`` (rad/s), ``accel_x accel_y accel_z``
-               (m/s^2): body frame forward-right-down; row k holds the mean rate and specific
-               force over (time[k-1], time[k]]; the first row only fixes the start time.
+               (m/s^2); or increments ``dtheta_x dtheta_y dtheta_z`` (rad), ``dvel_x dvel_y
+               dvel_z`` (m/s): IMU axes (``imu_rotation`` turns them into the body's,
+               forward-right-down); row k holds the mean rate and specific force (or the
+               increments) over (time[k-1], time[k]]; the first row only fixes the start time.
 GNSS           ``time`` (s), ``lat lon`` (deg), ``h`` (m, ellipsoidal) of the antenna; optional
                ``v_n v_e v_d`` (NED velocity, m/s), ``sigma_n sigma_e sigma_d`` (position
                one-sigma, m), ``sigma_vn sigma_ve sigma_vd`` (velocity one-sigma, m/s). An
                empty optional cell means "not given" (no velocity / the configured sigma).
 BARO           ``time`` (s), ``h`` (altimeter height, m; its offset is tied to the GNSS height)
 COMPASS        ``time`` (s), ``heading`` (magnetic heading, deg; ``declination`` is added)
+MAG            ``time`` (s), ``mag_x mag_y mag_z`` (raw magnetometer, IMU axes, any unit; each
+               sample is used at the first IMU row at or after its time)
+ODOMETER       ``time`` (s), ``speed`` (m/s along the body x axis)
 =============  ===========================================================================
 
-The TOML configuration has one table, ``[filter]``, whose keys are the parameters of
-:class:`quatnav.GpsInsFilter` (``quatnav::GpsInsParams``) in their units (SI, radians), e.g.::
+The TOML configuration has a table ``[filter]``, whose keys are the parameters of
+:class:`quatnav.GpsInsFilter` (``quatnav::GpsInsParams``) in their units (SI, radians; every key
+with its unit and default in ``quatnav ins run -h``), and optionally ``[initial]``, a given initial
+state instead of the alignment (:meth:`quatnav.GpsInsFilter.set_initial`): ``euler`` (roll,
+pitch, yaw, rad) or ``q_nb``, ``v_n`` (m/s), ``acc_bias`` (m/s^2), ``gyro_bias`` (rad/s), e.g.::
 
     [filter]
     gyro_noise = 8.7e-4          # rad/s/sqrt(Hz)
@@ -35,6 +44,12 @@ The TOML configuration has one table, ``[filter]``, whose keys are the parameter
     gps_pos_sigma_h = 2.5        # m, when a fix gives none
     gate_gps_pos = 21.108        # chi-square gate (3 dof); 0 switches it off
     align_time = 2.0             # s at rest for levelling
+    imu_rotation = [3.141592653589793, 0.0, 0.0]   # the IMU upside down (roll pi); or a 3x3 matrix
+    gps_time_offset = -0.11      # s: the receiver's latency
+
+    [initial]
+    euler = [0.0, 0.0, 1.2]      # rad
+    v_n = [10.0, 3.0, 0.0]       # m/s
 
 The output has one row per IMU sample from the start of navigation: ``time`` (s), ``lat lon``
 (deg), ``h`` (m), ``v_n v_e v_d`` (m/s), ``roll pitch yaw`` (deg, ZYX), ``accel_bias_x_m_s2 ..z``,
@@ -64,6 +79,11 @@ from .cliutil import UsageError, write_json
 from .csvio import CsvError, read_table
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
+IMU_INCREMENT_COLUMNS = ("time", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")
+MAG_COLUMNS = ("time", "mag_x", "mag_y", "mag_z")
+ODOMETER_COLUMNS = ("time", "speed")
+DIAGNOSTICS_COLUMNS = ("aid", "time", "innovation_0", "innovation_1", "innovation_2", "nis", "status", "decision",
+                       "inflation", "q_scale")
 GNSS_COLUMNS = ("time", "lat", "lon", "h")
 GNSS_OPTIONAL = ("v_n", "v_e", "v_d", "sigma_n", "sigma_e", "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd")
 BARO_COLUMNS = ("time", "h")
@@ -88,8 +108,13 @@ with pandas: pip install 'quatnav[io]'.
            sigma_n, sigma_e, sigma_d (m), sigma_vn, sigma_ve, sigma_vd (m/s); empty cell = not given
   BARO     time, h (m)
   COMPASS  time, heading (deg, magnetic; the declination parameter is added)
+  MAG      time, mag_x, mag_y, mag_z (raw magnetometer, IMU axes, any unit; optional)
+  ODOMETER time, speed (m/s along the body x axis; optional)
+  IMU increments instead of rates: time, dtheta_x, dtheta_y, dtheta_z (rad), dvel_x, dvel_y,
+           dvel_z (m/s) over (time[k-1], time[k]]
 config (TOML): a [filter] table of quatnav.GpsInsFilter parameters in SI units and radians,
-  e.g. lever_arm_b = [0.1, 0.0, -0.1], gps_pos_sigma_h = 2.5, gate_gps_pos = 21.108
+  e.g. lever_arm_b = [0.1, 0.0, -0.1], gps_pos_sigma_h = 2.5, imu_rotation = [3.141593, 0, 0]
+  (every key below), and optionally [initial], a given initial state
 output (CSV), one row per IMU sample once navigating:
   time, lat, lon (deg), h (m), v_n, v_e, v_d (m/s), roll, pitch, yaw (deg),
   accel_bias_{x,y,z}_m_s2, gyro_bias_{x,y,z}_deg_h, sigma_n, sigma_e, sigma_d (m),
@@ -110,7 +135,17 @@ other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by 
   terminal
 --kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude,
   biases and the difference to the log's own attitude estimate (e.g. PX4's) when it has one
---json FILE writes a summary (rows, navigation start, gaps, warnings); --json - prints it
+--json FILE writes a summary (rows, navigation start, alignment, gaps, decisions, warnings);
+  --json - prints it
+--diagnostics FILE.csv writes one row per aiding sample: aid, time (s), innovation_0..2 (INS
+  minus aid), nis, status, decision (accepted, rejected, inflated, reset, skipped, aligned, none),
+  inflation, q_scale (the process-noise scale at that sample)
+alignment: at rest (the IMU still for align_time) roll and pitch from the accelerometer, heading
+  from the compass, the magnetometer or, once moving, the GNSS course; started while moving, the
+  roll, pitch and heading from the GNSS velocity change against the specific force over
+  align_motion_time with the body x axis along the velocity (no side slip), or with positions
+  only from the course between fixes align_course_distance apart and the mean specific force
+  (roll/pitch one-sigma align_level_sigma); or given in the config's [initial] table
 exit status: 0 on success, 1 when navigation never started (no output rows), 2 on an input
 error (one line on stderr naming the file, line and column)."""
 
@@ -131,9 +166,10 @@ def read_csv(path, required, optional=(), what="file"):
     return tab.columns, tab.lines
 
 
-def load_config(path) -> dict:
+def load_config(path, initial: dict | None = None) -> dict:
     """Parameters of :class:`quatnav.GpsInsFilter` from the ``[filter]`` table of a TOML file
-    (the ``[parameters]`` and ``[allan]`` tables of a ``quatnav allan`` noise file are ignored)."""
+    (the ``[parameters]`` and ``[allan]`` tables of a ``quatnav allan`` noise file are ignored).
+    With a dict ``initial``, the ``[initial]`` table (a given initial state) is put in it."""
     try:
         import tomllib as toml  # Python 3.11+
     except ModuleNotFoundError:  # pragma: no cover - depends on the Python version
@@ -149,24 +185,51 @@ def load_config(path) -> dict:
     except toml.TOMLDecodeError as e:
         raise InputError(f"config {path}: not valid TOML ({e})") from None
     from .filters.gpsins import PARAM_NAMES
+    from .filters.tables import GPSINS_PARAMS
+    kinds = {q.name: q.kind for q in GPSINS_PARAMS}
     # a noise file of 'quatnav allan' also holds [parameters.NAME] (other filters) and [allan] (read-outs)
-    unknown = [k for k in doc if k not in ("filter", "parameters", "allan")]
+    unknown = [k for k in doc if k not in ("filter", "initial", "parameters", "allan")]
     if unknown:
         raise InputError(f"config {path}: unknown table or key {unknown[0]!r} (expected a [filter] table)")
     params = doc.get("filter", {})
     if not isinstance(params, dict):
         raise InputError(f"config {path}: 'filter' must be a table")
+
+    def numbers(v, n):
+        return isinstance(v, list) and len(v) == n and all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                                                           for x in v)
     for k, v in params.items():
         if k not in PARAM_NAMES:
             raise InputError(f"config {path}: [filter] unknown parameter {k!r} (known: {', '.join(PARAM_NAMES)})")
-        if k == "lever_arm_b":
-            if not (isinstance(v, list) and len(v) == 3 and all(isinstance(x, (int, float)) for x in v)):
-                raise InputError(f"config {path}: [filter] lever_arm_b must be a list of 3 numbers (m)")
-        elif k in ("heading_from_gps", "earth_rotation"):
+        kind = kinds[k]
+        if kind == "vec3":
+            if not numbers(v, 3):
+                raise InputError(f"config {path}: [filter] {k} must be a list of 3 numbers (m)")
+        elif kind == "mat3":
+            if not (numbers(v, 3) or (isinstance(v, list) and len(v) == 3 and all(numbers(r, 3) for r in v))):
+                raise InputError(f"config {path}: [filter] {k} must be [roll, pitch, yaw] (rad) or a 3x3 matrix "
+                                 "(a list of 3 rows)")
+        elif kind == "bool":
             if not isinstance(v, bool):
                 raise InputError(f"config {path}: [filter] {k} must be true or false")
+        elif kind in ("int1", "iter"):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise InputError(f"config {path}: [filter] {k} must be an integer")
         elif isinstance(v, bool) or not isinstance(v, (int, float)):
             raise InputError(f"config {path}: [filter] {k} must be a number")
+    init = doc.get("initial", {})
+    if not isinstance(init, dict):
+        raise InputError(f"config {path}: 'initial' must be a table")
+    sizes = {"euler": 3, "q_nb": 4, "v_n": 3, "acc_bias": 3, "gyro_bias": 3}
+    for k, v in init.items():
+        if k not in sizes:
+            raise InputError(f"config {path}: [initial] unknown key {k!r} (known: {', '.join(sizes)})")
+        if not numbers(v, sizes[k]):
+            raise InputError(f"config {path}: [initial] {k} must be a list of {sizes[k]} numbers")
+    if init and ("euler" in init) == ("q_nb" in init):
+        raise InputError(f"config {path}: [initial] needs exactly one of euler (rad) and q_nb")
+    if initial is not None:
+        initial.update(init)
     return dict(params)
 
 
@@ -315,10 +378,11 @@ def check_gravity(accel, t, align_time, where="IMU"):
     at = f"mean specific force over the first {align_time:g} s ({f[0]:.2f}, {f[1]:.2f}, {f[2]:.2f}) m/s^2"
     if ax == 2:
         return (f"{where}: gravity appears on +z ({at}; forward-right-down at rest sees (0, 0, -9.8)): is the IMU "
-                "upside down, its z axis up (forward-left-up: negate y and z), or the accelerometer giving gravity "
-                "instead of specific force (negate all three)?")
+                "upside down, its z axis up (forward-left-up)? set imu_rotation in [filter] (e.g. [3.141593, 0, 0], "
+                "a roll of 180 deg); or the accelerometer gives gravity instead of specific force (negate all three)")
     return (f"{where}: gravity appears on {sign}{'xyz'[ax]} ({at}; forward-right-down at rest sees (0, 0, -9.8)): "
-            "the IMU axes are not forward-right-down (reorder or negate the columns), or it is not level at rest")
+            "the IMU axes are not forward-right-down: set imu_rotation in [filter] (the rotation from the IMU axes to "
+            "forward-right-down), or it is not level at rest")
 
 
 def check_magnetometer(mag, where="magnetometer"):
@@ -353,11 +417,75 @@ def check_overlap(t_imu, t_gnss, where="GNSS"):
     return None
 
 
+#: Clock offsets that say which clocks two time columns are on: (seconds, what).
+_CLOCKS = ((18.0, "GPS time against UTC (18 leap seconds)"),
+           (315964800.0, "Unix time against GPS time (the GPS epoch, 1980-01-06)"),
+           (315964782.0, "Unix time against GPS time less the leap seconds"))
+
+
+def check_clock(t_imu, gnss_t, where="GNSS"):
+    """A warning naming the likely clocks when the GNSS times do not overlap the IMU's (or None):
+    a difference of 18 s (GPS time against UTC), of the GPS epoch in Unix time, a time of week
+    against a time since boot."""
+    gnss_t = np.asarray(gnss_t, float)
+    if not len(gnss_t) or not (gnss_t[-1] < t_imu[0] or gnss_t[0] > t_imu[-1]):
+        return None
+    d = float(np.median(gnss_t) - np.median(t_imu))
+    for off, what in _CLOCKS:
+        if abs(abs(d) - off) < 0.5 * (t_imu[-1] - t_imu[0]) + 1.0:
+            return (f"{where} times are {d:+.6g} s from the IMU's: {what}? give gps_time_offset = {-round(d):g} in "
+                    "[filter], or convert the times")
+    if 0.0 <= gnss_t[0] <= 604800.0 and t_imu[0] > 1e8:
+        return (f"{where} times look like a GPS time of week ({gnss_t[0]:.6g} s) and the IMU's like an absolute time "
+                f"({t_imu[0]:.6g} s): put both on one clock (gps_time_offset shifts the GNSS times)")
+    return None
+
+
+def motion_start(t, speed_or_rate, threshold):
+    """The first time the signal exceeds ``threshold`` after having been below it (or None)."""
+    x = np.asarray(speed_or_rate, float)
+    below = np.flatnonzero(x < threshold)
+    if not below.size:
+        return None
+    above = np.flatnonzero((x > threshold) & (np.arange(len(x)) > below[0]))
+    return float(t[above[0]]) if above.size else None
+
+
+def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU"):
+    """A warning when the IMU and the GNSS see the start of the motion more than 1 s apart (their
+    clocks differ: gps_time_offset), or None. Motion: |gyro| above 0.3 rad/s (smoothed over 0.2 s)
+    after a still start, the GNSS speed above 0.5 m/s after being below it."""
+    if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
+        return None
+    dt = float(np.median(np.diff(t)))
+    w = max(1, int(round(0.2 / dt)))
+    rate = np.convolve(np.linalg.norm(gyro, axis=1), np.ones(w) / w, mode="same")
+    ti, tg = motion_start(t, rate, 0.3), motion_start(np.asarray(gnss_t), gnss_speed, 0.5)
+    if ti is None or tg is None or abs(tg - ti) <= 1.0:
+        return None
+    return (f"{where}: the motion starts at {tg:.3f} s in the GNSS and at {ti:.3f} s in the {imu} (|gyro| > 0.3 "
+            f"rad/s): the clocks may differ by {tg - ti:+.2f} s; if so give gps_time_offset = {ti - tg:.2f} in [filter]")
+
+
+def _gnss_speed(d_g):
+    """Horizontal GNSS speed per fix (m/s): the given velocity, else the position differences."""
+    if "v_n" in d_g and np.isfinite(d_g["v_n"]).all():
+        return np.hypot(d_g["v_n"], d_g["v_e"])
+    lat, lon, t = np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["time"]
+    if len(t) < 2:
+        return None
+    dn = np.diff(lat) * 6.36e6
+    de = np.diff(lon) * 6.38e6 * np.cos(lat[1:])
+    return np.r_[0.0, np.hypot(dn, de) / np.diff(t)]
+
+
 def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), align_time=2.0,
-                          imu="IMU", gnss="GNSS") -> list:
+                          imu="IMU", gnss="GNSS", gnss_speed=None) -> list:
     """The warnings of the checks above for one run (each at most once)."""
+    gnss_t = np.asarray(gnss_t)
     out = [check_gyro(gyro, t, align_time, imu), check_accel(accel, imu), check_gravity(accel, t, align_time, imu),
-           check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, np.asarray(gnss_t), gnss)]
+           check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, gnss_t, gnss),
+           check_clock(t, gnss_t, gnss), check_motion_start(t, gyro, gnss_t, gnss_speed, gnss, imu)]
     return [w for w in out if w]
 
 
@@ -411,8 +539,61 @@ def _reader(log, fmt):
     return read
 
 
+def _header_has(path, column) -> bool:
+    """Whether a CSV file's header row (the first line that is not blank or a # comment) names
+    ``column`` (case and surrounding spaces ignored)."""
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as fh:
+            for line in fh:
+                if line.strip() and not line.lstrip().startswith("#"):
+                    import re
+                    return column in [c.strip().lower() for c in re.split(r"[,;\t]", line)]
+    except OSError:
+        return False
+    return False
+
+
+def mag_at_imu_rows(t_imu, t_mag, mag):
+    """The magnetometer samples as (N, 3) rows of the IMU record: each sample at the first IMU time
+    at or after its own (the last one when several fall on a row); NaN rows where none."""
+    out = np.full((len(t_imu), 3), np.nan)
+    k = np.searchsorted(t_imu, t_mag, side="left")
+    ok = (k > 0) & (k < len(t_imu))
+    out[k[ok]] = mag[ok]
+    return out
+
+
+def diagnostics_table(r) -> list:
+    """One row per aiding sample of a run (see ``--diagnostics``)."""
+    from .filters.tables import GPSINS_DECISIONS, STATUS_NAMES
+    rows = []
+    qs = r.q_scale
+    for name, a in r.aids.items():
+        k = np.clip(np.searchsorted(r.t, a.t, side="left"), 0, len(r.t) - 1)
+        inn = np.full((len(a.t), 3), np.nan)
+        inn[:, :a.innovation.shape[1]] = a.innovation
+        for i in range(len(a.t)):
+            rows.append((name, float(a.t[i]), *inn[i], float(a.nis[i]), STATUS_NAMES[int(a.status[i])],
+                         GPSINS_DECISIONS[int(a.decision[i])], float(a.inflation[i]), float(qs[k[i]])))
+    rows.sort(key=lambda x: x[1])
+    return rows
+
+
+def write_diagnostics(path, r) -> int:
+    """Write :func:`diagnostics_table` as CSV; returns the number of rows."""
+    rows = diagnostics_table(r)
+    try:
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(",".join(DIAGNOSTICS_COLUMNS) + "\n")
+            for row in rows:
+                fh.write(",".join(x if isinstance(x, str) else repr(x) for x in row) + "\n")
+    except OSError as e:
+        raise InputError(f"diagnostics {path}: cannot write ({e.strerror})") from None
+    return len(rows)
+
+
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
-              calibration=None):
+              calibration=None, mag=None, odometer=None, diagnostics=None):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -426,7 +607,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
 
     ``warn(text)`` is called once per warning (default: collected in ``summary["warnings"]`` only).
     ``calibration``: a calibration TOML file (``quatnav calibrate``) applied to the gyro and
-    accelerometer samples before the filter sees them.
+    accelerometer samples before the filter sees them. ``mag``, ``odometer``: CSV files of a raw
+    magnetometer and an odometer; ``diagnostics``: a CSV file for the per-sample report of the aids.
     """
     import quatnav
 
@@ -441,9 +623,14 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     parent = Path(out).resolve().parent
     if not parent.is_dir():
         raise InputError(f"output {out}: cannot write (no such directory: {parent})")
-    params = load_config(config) if config else {}
+    initial = {}
+    params = load_config(config, initial) if config else {}
     try:
         f = quatnav.GpsInsFilter(**params)
+        if initial:
+            f.set_initial(initial.get("q_nb"), euler=initial.get("euler"), v_n=initial.get("v_n"),
+                          acc_bias=initial.get("acc_bias", (0.0, 0.0, 0.0)),
+                          gyro_bias=initial.get("gyro_bias", (0.0, 0.0, 0.0)))
     except (TypeError, ValueError) as e:
         raise InputError(f"config {config}: {e}") from None
     max_dt, align_time = float(f.params["max_dt"]), float(f.params["align_time"])
@@ -451,7 +638,11 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     baro_from_log = log is not None and baro is None and log.baro is not None and log.baro.altitude is not None
     if log is None and (imu is None or gnss is None):
         raise InputError("give --imu and --gnss, or --log")
-    d_imu, lines_i = read_csv(imu, IMU_COLUMNS, what="IMU")
+    increments = imu is not None and _header_has(imu, "dtheta_x")
+    d_imu, lines_i = read_csv(imu, IMU_INCREMENT_COLUMNS if increments else IMU_COLUMNS, what="IMU")
+    if increments:
+        d_imu.update({f"gyro_{c}": d_imu[f"dtheta_{c}"] for c in "xyz"})
+        d_imu.update({f"accel_{c}": d_imu[f"dvel_{c}"] for c in "xyz"})
     imu = imu or log.source
     if len(d_imu["time"]) < 2:
         raise InputError(f"IMU {imu}: needs at least two rows")
@@ -487,6 +678,12 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         if d_c.get("north") == "true":  # a GNSS heading: the filter adds the declination to a magnetic one
             heading = heading - float(f.params["declination"])
         kw.update(compass=quatnav.Aid(d_c["time"], heading))
+    if odometer:
+        d_o, _ = read_csv(odometer, ODOMETER_COLUMNS, what="ODOMETER")
+        kw.update(odometer=quatnav.Aid(d_o["time"], d_o["speed"]))
+    d_m = None
+    if mag:
+        d_m, _ = read_csv(mag, MAG_COLUMNS, what="MAG")
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
@@ -496,14 +693,24 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     gaps, wt = check_imu_times(t, lines_i, max_dt, where=f"IMU {imu}")
     for w in wt:
         note(w)
-    for w in plausibility_warnings(t, gyro, accel, d_g["time"], d_g["lat"], d_g["lon"], align_time,
-                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}"):
+    step = np.diff(t)[:, None] if increments else 1.0
+    rot = np.asarray(f.params["imu_rotation"], float)
+    rates = np.vstack([gyro[:1] * 0, gyro[1:] / step]) if increments else gyro
+    forces = np.vstack([accel[:1] * 0, accel[1:] / step]) if increments else accel
+    for w in plausibility_warnings(t, rates @ rot.T, forces @ rot.T, d_g["time"], d_g["lat"], d_g["lon"], align_time,
+                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}", gnss_speed=_gnss_speed(d_g)):
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
+    if increments and not original.all():  # a coasted gap shares its increments between its steps
+        row = np.cumsum(original) - original  # the input row each step belongs to (it ends the group)
+        share = 1.0 / np.bincount(row)[row]
+        gg, aa = gg * share[:, None], aa * share[:, None]
+    if d_m is not None:
+        kw["mag"] = mag_at_imu_rows(tt, d_m["time"], np.column_stack([d_m[f"mag_{c}"] for c in "xyz"]))
     from .csvio import progress_bar, write_table
     bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
-    r = f.run(gg, aa, t=tt, **kw)
+    r = f.run(gg, aa, t=tt, imu_input="increment" if increments else "rate", **kw)
     bar.update(len(tt))
     bar.set_description("ins run: write")
     nav = r.navigating & original
@@ -522,6 +729,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         tracks.update(result=r, nav=nav, gnss=d_g)
     rej = {k: v for k, v in r.rejections.items() if v}
     n_nav = int(nav.sum())
+    n_diag = write_diagnostics(diagnostics, r) if diagnostics else None
     if nav.any():
         msg = f"wrote {out}: {n_nav} rows ({len(t)} IMU samples, navigation from t = {r.t[nav][0]:.3f} s)"
     elif not overlap:
@@ -532,10 +740,14 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         msg += f"; {len(gaps)} IMU gap{'s' if len(gaps) > 1 else ''} coasted"
     if rej:
         msg += "; gated out: " + ", ".join(f"{k} {v}" for k, v in rej.items())
+    if nav.any():
+        msg += f"; alignment {r.alignment['method']}, heading from {r.alignment['heading']}"
     summary = {"output": str(out), "rows": n_nav, "imu_samples": int(len(t)),
                "navigation_start_s": float(r.t[nav][0]) if nav.any() else None,
                "coasted_gaps": [{"lines": [int(lines_i[k - 1]), int(lines_i[k])], "seconds": step} for k, step in gaps],
-               "gated_out": rej, "counters": r.counters, "warnings": warnings}
+               "gated_out": rej, "counters": r.counters, "alignment": r.alignment,
+               "decisions": {k: a.decisions() for k, a in r.aids.items()}, "diagnostics_rows": n_diag,
+               "warnings": warnings}
     return msg, bool(nav.any()), summary
 
 
@@ -551,7 +763,8 @@ def _run(args) -> int:
     msg, ok, summary = run_files(args.imu, args.gnss, args.out, baro=args.baro, compass=args.compass,
                                  config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr),
                                  log=log, fmt=args.format, tracks=tracks,
-                                 calibration=getattr(args, "calibration", None))
+                                 calibration=getattr(args, "calibration", None), mag=args.mag,
+                                 odometer=args.odometer, diagnostics=args.diagnostics)
     print(msg)
     if ok:
         from . import nav_outputs
@@ -570,6 +783,31 @@ def _run(args) -> int:
     return 0 if ok else 1
 
 
+def config_keys_text(width: int = 100) -> str:
+    """Every ``[filter]`` key of the config with its unit, default and meaning (for ``-h``), from
+    the parameter table of :class:`quatnav.GpsInsFilter`."""
+    import textwrap
+
+    from .filters.tables import GPSINS_PARAMS
+    lines = ["[filter] keys (quatnav.GpsInsFilter parameters; unit, default):"]
+    for q in GPSINS_PARAMS:
+        d = q.default
+        if q.kind == "mat3":
+            default = "identity ([roll, pitch, yaw] rad or a 3x3 matrix)"
+        elif isinstance(d, tuple):
+            default = "[" + ", ".join(f"{x:g}" for x in d) + "]"
+        elif isinstance(d, bool):
+            default = "true" if d else "false"
+        else:
+            default = f"{d:g}" if isinstance(d, float) else str(d)
+        unit = "" if q.unit in ("-",) else f" [{q.unit}]"
+        head = f"  {q.name} = {default}{unit}: "
+        lines += textwrap.wrap(q.doc, width=width, initial_indent=head, subsequent_indent="      ")
+    lines.append("[initial] keys (a given initial state instead of the alignment): euler = [roll, pitch, yaw] (rad) "
+                 "or q_nb = [w, x, y, z]; v_n = [n, e, d] (m/s); acc_bias (m/s^2); gyro_bias (rad/s)")
+    return "\n".join(lines)
+
+
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``quatnav ins run`` on an argparse subparsers object."""
     p = subparsers.add_parser("ins", help="GPS/INS navigation on CSV logs (see 'quatnav ins run -h')",
@@ -578,7 +816,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="run the GPS/INS filter on IMU and GNSS (and altimeter, compass) CSV files",
                        description="Run quatnav.GpsInsFilter (15-state loosely coupled GPS/INS with altimeter "
                                    "and compass, paper 004) on CSV logs and write the navigation solution.",
-                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=EPILOG + "\n" + config_keys_text(), formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("--log", metavar="FILE", help="one log with IMU and GNSS (ULog, ROS bag, CSV, ...); "
                    "--imu/--gnss/--baro then replace its streams")
     r.add_argument("--format", default="auto", help="format of --log and the other files: auto (default), "
@@ -587,11 +825,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--gnss", metavar="GNSS.csv", help="GNSS fixes of the antenna (CSV, RTKLIB .pos, NMEA, ULog, bag)")
     r.add_argument("--baro", metavar="BARO.csv", help="altimeter heights (optional; CSV or a log with a barometer)")
     r.add_argument("--compass", metavar="COMPASS.csv", help="compass headings (optional)")
+    r.add_argument("--mag", metavar="MAG.csv", help="raw magnetometer: time, mag_x, mag_y, mag_z (optional; IMU axes)")
+    r.add_argument("--odometer", metavar="ODO.csv", help="odometer: time, speed (m/s, optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
     from .calibration import add_calibration_argument
     add_calibration_argument(r)
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output CSV")
     r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
+    r.add_argument("--diagnostics", metavar="DIAG.csv",
+                   help="also write one row per aiding sample: innovation, NIS, status, decision, inflation")
     r.add_argument("--kml", metavar="FILE.kml", help="also write the track as KML (Google Earth)")
     r.add_argument("--gpx", metavar="FILE.gpx", help="also write the track as GPX")
     r.add_argument("--plot", metavar="FILE.png", help="also plot track with GNSS fixes, attitude, biases")

@@ -19,7 +19,8 @@ template <class S> bool same_bits(const GpsInsState<S>& a, const GpsInsState<S>&
          std::memcmp(&a.nav.h, &b.nav.h, sizeof(double)) == 0 &&
          std::memcmp(a.acc_bias.data(), b.acc_bias.data(), 3 * sizeof(S)) == 0 &&
          std::memcmp(a.gyro_bias.data(), b.gyro_bias.data(), 3 * sizeof(S)) == 0 &&
-         std::memcmp(a.P.data(), b.P.data(), 225 * sizeof(S)) == 0 &&
+         std::memcmp(a.P.data(), b.P.data(), a.P.size() * sizeof(S)) == 0 &&
+         std::memcmp(&a.baro_offset, &b.baro_offset, sizeof(double)) == 0 &&
          std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.phase == b.phase;
 }
 
@@ -34,9 +35,12 @@ template <class S> GpsInsFilter<S> run_static(int steps) {
   Eigen::internal::set_is_malloc_allowed(false);
   for (int k = 0; k < steps; ++k) {
     f.predict(w_b, f_b, S(0.02));
+    f.update_constraints();
     if (k % 5 == 0) f.update_compass(S(0.3));
     if (k % 5 == 1) f.update_baro(h + 0.1);
+    if (k % 5 == 3) f.update_mag(Vec3<S>(S(20 * std::cos(0.3)), S(-20 * std::sin(0.3)), S(40)));
     if (k % 10 == 2) f.update_gps(lat, lon, h, Vec3<S>::Zero(), sig, vsig);
+    if (k % 10 == 4) f.update_odometer(S(0));
   }
   Eigen::internal::set_is_malloc_allowed(true);
   return f;
@@ -76,8 +80,23 @@ TYPED_TEST(GpsInsTest, BadInputLeavesStateUntouched) {
   EXPECT_NE(f.update_gps_velocity(Vec3<S>(nan, S(0), S(0)), ok).status, Status::Ok);
   EXPECT_NE(f.update_baro(std::nan("")).height.status, Status::Ok);
   EXPECT_NE(f.update_compass(nan).status, Status::Ok);
+  EXPECT_NE(f.update_mag(Vec3<S>(nan, S(1), S(1))).status, Status::Ok);
+  EXPECT_NE(f.update_mag(Vec3<S>::Zero()).status, Status::Ok);
+  EXPECT_NE(f.update_odometer(nan).status, Status::Ok);
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_TRUE(same_bits(before, f.state()));
+}
+
+TYPED_TEST(GpsInsTest, AtRestTheConstraintsAreApplied) {
+  using S = TypeParam;
+  GpsInsFilter<S> f = run_static<S>(1000);
+  EXPECT_TRUE(f.at_rest());
+  const auto& c = f.state().counters;
+  EXPECT_GT(c.accepted[std::size_t(GpsInsAid::Zupt)], 50u);
+  EXPECT_GT(c.accepted[std::size_t(GpsInsAid::Zaru)], 50u);
+  EXPECT_GT(c.accepted[std::size_t(GpsInsAid::Mag)], 50u);
+  EXPECT_EQ(f.align_method(), GpsInsAlignment::Static);
+  EXPECT_EQ(f.heading_source(), GpsInsHeading::Compass);
 }
 
 TYPED_TEST(GpsInsTest, StateRoundTrip) {

@@ -79,7 +79,8 @@ TYPED_TEST(Umbrella, GpsInsFilter) {
   using S = TypeParam;
   const Still<S> in;
   quatnav::GpsInsFilter<S> f;
-  const quatnav::Mat<S, 15, 15> P = quatnav::Mat<S, 15, 15>::Identity() * S(1e-4);
+  constexpr int N = quatnav::GpsInsFilter<S>::kStates;
+  const quatnav::Mat<S, N, N> P = quatnav::Mat<S, N, N>::Identity() * S(1e-4);
   const double lat = 0.8, lon = 0.2, h = 100.0;
   ASSERT_EQ(f.reset(quatnav::quat::identity<S>(), quatnav::Vec3<S>::Zero(), lat, lon, h, quatnav::Vec3<S>::Zero(),
                          quatnav::Vec3<S>::Zero(), P),

@@ -84,6 +84,21 @@ template <class T> bool bits_equal(const T& a, const T& b) {
 
 template <class S, int N> bool symmetric(const Mat<S, N, N>& P) { return P == P.transpose(); }
 
+/// Every field of a struct declared with QUATNAV_FIELDS bit for bit (nested ones field by field,
+/// so that padding does not count), but the one named `skip`.
+template <class T> bool fields_bits_equal(const T& a, const T& b, const char* skip = nullptr) {
+  bool eq = true;
+  T::for_each_member([&](const FieldInfo& info, auto member) {
+    if (skip && std::strcmp(info.name, skip) == 0) return;
+    using M = std::remove_cv_t<std::remove_reference_t<decltype(a.*member)>>;
+    if constexpr (has_fields_v<M>)
+      eq = eq && fields_bits_equal(a.*member, b.*member);
+    else
+      eq = eq && bits_equal(a.*member, b.*member);
+  });
+  return eq;
+}
+
 template <class S> bool same_mag(const MagRef<S>& a, const MagRef<S>& b) {
   return bits_equal(a.mag_ref, b.mag_ref) && bits_equal(a.mag_sin_dip_sum, b.mag_sin_dip_sum) &&
          a.mag_ref_count == b.mag_ref_count && a.mag_ref_fixed == b.mag_ref_fixed;
@@ -439,7 +454,12 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
     p.lever_arm_b = Vec3<S>(S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>())) / S(64);
     p.baro_sigma = r.positive<S>(p.baro_sigma);
     p.baro_rate_baseline = (r.byte() & 1) ? S(0.1) * S(r.byte() % 20) : S(0);
-    p.baro_offset_fixes = S(r.byte() % 8);
+    p.baro_offset_noise = (r.byte() & 1) ? r.positive<S>(p.baro_offset_noise) : S(0);
+    p.inflate_after = S(r.byte() % 3);
+    p.adapt_q_max = (r.byte() & 1) ? S(100) : S(1);
+    p.zupt = r.byte() & 1;
+    p.nhc = r.byte() & 1;
+    if (r.byte() & 1) p.imu_rotation = quat::to_rotmat(quat::from_euler(S(3.14159265), S(0), S(r.byte()) / S(40)));
     p.compass_sigma = r.positive<S>(p.compass_sigma);
     if (r.byte() & 1) p.gate_gps_pos = p.gate_gps_vel = p.gate_baro = p.gate_compass = S(0);
     p.align_time = S(0.01) * S(r.byte() % 50);
@@ -451,21 +471,9 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
     p.cov_floor = (r.byte() & 1) ? r.positive<S>(S(1e-12)) : S(0);
     return p;
   }
-  /// Everything but the counters (diagnostics that count refused samples too).
-  static bool same(const State& a, const State& b) {
-    const auto& m = a.nav;
-    const auto& n = b.nav;
-    return bits_equal(m.q_nb, n.q_nb) && bits_equal(m.v_n, n.v_n) && bits_equal(m.lat, n.lat) &&
-           bits_equal(m.lon, n.lon) && bits_equal(m.h, n.h) && bits_equal(m.dtheta_prev, n.dtheta_prev) &&
-           bits_equal(m.dv_prev, n.dv_prev) && m.has_prev == n.has_prev && bits_equal(a.acc_bias, b.acc_bias) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
-           bits_equal(a.t, b.t) && bits_equal(a.omega_b, b.omega_b) && bits_equal(a.f_b, b.f_b) &&
-           a.phase == b.phase && bits_equal(a.align_sum, b.align_sum) && bits_equal(a.align_time, b.align_time) &&
-           a.heading_known == b.heading_known && a.baro_offset_valid == b.baro_offset_valid &&
-           bits_equal(a.baro_offset, b.baro_offset) && bits_equal(a.baro_last, b.baro_last) &&
-           a.baro_last_valid == b.baro_last_valid && a.baro_ref_valid == b.baro_ref_valid &&
-           bits_equal(a.baro_ref_h, b.baro_ref_h) && bits_equal(a.baro_ref_t, b.baro_ref_t) &&
-           bits_equal(a.baro_offset_n, b.baro_offset_n);
-  }
+  /// Everything but the counters (diagnostics that count refused samples too), every field of
+  /// the declaration (params.hpp).
+  static bool same(const State& a, const State& b) { return fields_bits_equal(a, b, "counters"); }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
     if (!s.nav.q_nb.allFinite() || !s.nav.v_n.allFinite() || !std::isfinite(s.nav.lat) ||
@@ -475,7 +483,7 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
         !std::isfinite(s.baro_ref_h))
       return why = "non-finite state", false;
     if (std::abs(s.nav.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
-    if (!symmetric<S, 15>(s.P)) return why = "P not symmetric", false;
+    if (!symmetric<S, F::kStates>(s.P)) return why = "P not symmetric", false;
     if (s.phase == GpsInsPhase::Navigating && !(std::abs(s.nav.lat) < 1.5707)) return why = "latitude at a pole", false;
     return true;
   }
@@ -544,9 +552,9 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
           Quat<S> q = quat::from_rotvec(Vec3<S>(S(0.1), S(0.05), S(r.raw<std::int8_t>()) / S(40)));
           if ((r.byte() & 3) == 0)
             for (int i = 0; i < 4; ++i) q[i] = r.scalar<S>();
-          Mat<S, 15, 15> P = f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5));
+          Mat<S, F::kStates, F::kStates> P = f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5));
           if ((r.byte() & 3) == 0)
-            for (int i = 0; i < 15; ++i)
+            for (int i = 0; i < F::kStates; ++i)
               for (int j = 0; j <= i; ++j)
                 if (i == j || (r.byte() & 7) == 0) P(i, j) = P(j, i) = r.scalar<S>();
           const bool arb = (r.byte() & 3) == 0;
@@ -560,7 +568,7 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
           case 0: for (int i = 0; i < 4; ++i) s.nav.q_nb[i] = r.scalar<S>(); break;
           case 1: s.nav.v_n = r.vec3<S>(); s.acc_bias = r.vec3<S>(); s.gyro_bias = r.vec3<S>(); break;
           case 2:
-            for (int i = 0; i < 15; ++i)
+            for (int i = 0; i < F::kStates; ++i)
               for (int j = 0; j <= i; ++j)
                 if (i == j || (r.byte() & 7) == 0) s.P(i, j) = s.P(j, i) = r.scalar<S>();
             break;

@@ -45,7 +45,8 @@ def _log(name, s):
     if name == "GpsInsFilter":
         aids = dict(gps_pos=Aid(g.t_valid, llh), gps_vel=Aid(g.t_valid, g.v_n), baro=Aid(s.baro.t, s.baro.h),
                     compass=Aid(s.compass.t, s.compass.yaw))
-        return cls, imu.gyro, imu.accel, imu.t, aids, {"gps_pos", "gps_vel", "baro", "baro_vd", "compass"}
+        # at rest: the zero-velocity and zero-rate updates too
+        return cls, imu.gyro, imu.accel, imu.t, aids, {"gps_pos", "gps_vel", "baro", "baro_vd", "compass", "zupt", "zaru"}
     if name == "MargFilter":
         return cls, imu.gyro, imu.accel, imu.t, dict(gps_vel=Aid(g.t_valid, g.v_n)), set()
     return cls, imu.gyro, imu.accel, imu.t, {}, set()
@@ -198,7 +199,7 @@ def test_table_defaults_equal_the_cpp_defaults(name):
     f = _cls(name)()
     for p in PARAM_TABLES[name]:
         v = f.params[p.name]
-        if p.kind == "vec3":
+        if p.kind in ("vec3", "mat3"):
             np.testing.assert_array_equal(v, p.default)
         elif isinstance(p.default, float):
             assert v == pytest.approx(p.default, rel=1e-7), p.name
@@ -230,7 +231,7 @@ def test_parameters_are_declared_once_and_the_python_table_equals_it(name, suffi
         p = py[n]
         assert (u, doc) == (p.unit, p.doc), n
         if isinstance(p.default, tuple):
-            np.testing.assert_array_equal(np.ravel(d), p.default)
+            np.testing.assert_array_equal(np.asarray(d), np.asarray(p.default))
         elif isinstance(p.default, float):
             assert d == pytest.approx(p.default, rel=tol, abs=0), n
         else:

@@ -51,7 +51,50 @@ def test_cpp_matches_reference_step_by_step(walk):
     np.testing.assert_allclose(r.bias, ref["gyro_bias"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(r.acc_bias, ref["acc_bias"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(r.sigma[nav], ref["sigma"][nav], rtol=1e-7, atol=1e-12)
+    np.testing.assert_allclose(r.baro_offset, ref["baro_offset"], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(r.q_scale, ref["q_scale"], rtol=1e-12)
     np.testing.assert_array_equal(r.flags & 0xF, ref["flags"] & 0xF)  # phase bits; the reference keeps no aid bits
+    for key, names, m in (("gps", ("gps_pos", "gps_vel"), 3), ("baro", ("baro", "baro_vd"), 1),
+                          ("compass", ("compass",), 1)):
+        for c, name in enumerate(names):
+            a = r.aids[name]
+            np.testing.assert_array_equal(a.status_names, ref[key]["status"][:, c], err_msg=name)
+            np.testing.assert_array_equal(a.decision_names, ref[key]["decision"][:, c], err_msg=name)
+            np.testing.assert_allclose(a.nis, ref[key]["nis"][:, c], rtol=1e-6, atol=1e-12, err_msg=name)
+            np.testing.assert_allclose(a.innovation, ref[key]["innovation"][:, c * m:(c + 1) * m], rtol=1e-6,
+                                       atol=1e-9, err_msg=name)
+    assert r.counters == R_filter_counters(kw, n, s)
+
+
+def R_filter_counters(kw, n, s):
+    f = R.GpsInsFilter(lever_arm_b=LEVER)
+    f.run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    return f.counters
+
+
+def test_decision_names_are_the_compiled_ones():
+    from quatnav.filters._base import core
+    from quatnav.filters.tables import GPSINS_DECISIONS
+    from quatnav.reference.gpsins import DECISIONS
+    assert tuple(core().gpsins_decision_names()) == GPSINS_DECISIONS == DECISIONS
+
+
+def test_gnss_time_offset_and_age():
+    """A GNSS latency: fixes stamped 0.2 s after their time of validity. Given gps_time_offset =
+    -0.2 the result equals the run with the true times; a fix between IMU samples is applied with
+    its age (the INS taken back to the fix's time)."""
+    s = make_scenario("paper004_walk", seed=1)
+    n = 2500
+    kw = _aids(s)
+    late = dict(kw, gps_t=kw["gps_t"] + 0.2)
+    r0 = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
+    r1 = quatnav.GpsInsFilter(lever_arm_b=LEVER, gps_time_offset=-0.2).run(s.imu.gyro[:n], s.imu.accel[:n],
+                                                                            t=s.imu.t[:n], **as_aids(late))
+    np.testing.assert_allclose(r1.position, r0.position, rtol=0, atol=1e-9)
+    r2 = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(late))
+    nav, i, e0 = _horizontal_error(s, r0)
+    _, _, e2 = _horizontal_error(s, r2)
+    assert np.sqrt(np.mean(e2 ** 2)) > np.sqrt(np.mean(e0 ** 2))  # the latency, not given, costs accuracy
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
@@ -165,7 +208,7 @@ def test_messages_print_numbers_plainly():
     t = np.array([0.0, 4000.0, 8000.0])
     with pytest.raises(ValueError) as e:
         quatnav.GpsInsFilter().run(np.zeros((3, 3)), np.tile([0.0, 0.0, -9.8], (3, 1)), t=t)
-    assert str(e.value) == "t: step 4000.0 s in row 1 exceeds max_dt=1.0 s"
+    assert str(e.value) == "t: step 4000.0 s in row 1 exceeds max_coast=10.0 s (gaps up to it are coasted)"
     with pytest.raises(ValueError) as e:
         quatnav.GpsInsFilter().run(np.zeros((3, 3)), np.zeros((3, 3)), t=np.array([0.0, 0.2, 0.1]))
     assert "row 2 (0.1) does not follow row 1 (0.2)" in str(e.value) and "np." not in str(e.value)

@@ -150,6 +150,8 @@ def test_F_matches_finite_differences_with_frozen_radii(earth_rotation, tau):
             a, b = F[rs, cs], Ffd[rs, cs]
             tol = 1e-5 * np.abs(b).max() + ATOL[cs]
             assert np.all(np.abs(a - b) <= tol), (rn, cn, a, b)
+    # The altimeter offset (16th state) is a random walk: no dynamics, no coupling.
+    assert F.shape == (16, 16) and not F[15, :].any() and not F[:, 15].any()
     # The tiny terms are really exercised (non-zero) when the Earth turns.
     if earth_rotation:
         assert np.abs(Ffd[6:9, 0:3]).max() > 1e-12 and np.abs(Ffd[3:6, 0:3][:2]).max() > 1e-10

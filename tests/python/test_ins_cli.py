@@ -68,11 +68,19 @@ def test_run_in_process_against_truth_and_api(walk, files, capsys):
     from quatnav.ins_cli import OUTPUT_COLUMNS
     assert tuple(header) == OUTPUT_COLUMNS
     c = {n: a[:, i] for i, n in enumerate(header)}
-    # same numbers as the Python API on the same data (up to the CSV's printed digits)
+    # same numbers as the Python API on the same data (the files' printed digits: the rest
+    # detector's thresholds make the result depend on them discontinuously)
+    def back(path, cols):
+        tab = np.genfromtxt(path, delimiter=",", names=True)
+        return np.column_stack([tab[c] for c in cols])
+    imu = back(files["imu"], ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"))
+    gn = back(files["gnss"], ("time", "lat", "lon", "h", "v_n", "v_e", "v_d"))
+    ba, co = back(files["baro"], ("time", "h")), back(files["compass"], ("time", "heading"))
     r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(
-        s.imu.gyro, s.imu.accel, t=s.imu.t, gps_pos=quatnav.Aid(s.gps.t_valid, np.column_stack([s.gps.lat, s.gps.lon, s.gps.h])),
-        gps_vel=quatnav.Aid(s.gps.t_valid, s.gps.v_n), baro=quatnav.Aid(s.baro.t, s.baro.h),
-        compass=quatnav.Aid(s.compass.t, s.compass.yaw))
+        imu[:, 1:4], imu[:, 4:7], t=imu[:, 0],
+        gps_pos=quatnav.Aid(gn[:, 0], np.column_stack([np.radians(gn[:, 1:3]), gn[:, 3]])),
+        gps_vel=quatnav.Aid(gn[:, 0], gn[:, 4:7]), baro=quatnav.Aid(ba[:, 0], ba[:, 1]),
+        compass=quatnav.Aid(co[:, 0], np.radians(co[:, 1])))
     nav = r.navigating
     assert len(a) == nav.sum() > 0.9 * len(s.imu.t)
     np.testing.assert_allclose(c["time"], r.t[nav], atol=1e-6)
@@ -380,3 +388,105 @@ def test_plausibility_on_real_logs(data_dir):
     assert len(raw) == 1 and "gravity appears on +z" in raw[0]
     in_g = plausibility_warnings(w.imu_t, w.gyro_s, w.accel_s / W.G0, w.gnss_t, *ll)
     assert any("look like g, not m/s^2" in x for x in in_g)
+
+
+# --- what real logs need: mounting, time offset, initial state, magnetometer, odometer,
+# --- increments, diagnostics ---------------------------------------------------------------------
+def test_upside_down_imu_warns_and_imu_rotation_fixes_it(walk, files, tmp_path, capsys):
+    """The IMU upside down (roll 180 deg): a warning that names imu_rotation; with
+    imu_rotation = [pi, 0, 0] in [filter] no warning and the same result as the right axes."""
+    header, a = _imu_table(files)
+    g = [header.index(f"gyro_{x}") for x in "yz"]
+    f = [header.index(f"accel_{x}") for x in "yz"]
+    a[:, g + f] *= -1
+    fl = _write_imu(tmp_path, files, header, a)
+    cli.main(_args(fl, tmp_path / "o1.csv"))
+    w = _warnings(capsys)
+    assert any("gravity appears on +z" in x and "imu_rotation" in x for x in w), w
+    cfg = tmp_path / "rot.toml"
+    cfg.write_text(Path(files["config"]).read_text() + "imu_rotation = [3.141592653589793, 0.0, 0.0]\n")
+    assert cli.main(_args(dict(fl, config=str(cfg)), tmp_path / "o2.csv")) == 0
+    assert _warnings(capsys) == []
+    assert cli.main(_args(files, tmp_path / "o3.csv")) == 0
+    capsys.readouterr()
+    _, a2 = _read(tmp_path / "o2.csv")
+    _, a3 = _read(tmp_path / "o3.csv")
+    np.testing.assert_allclose(a2[:, 1:3], a3[:, 1:3], rtol=0, atol=1e-8)  # lat, lon (deg)
+
+
+def test_gnss_on_another_clock_names_the_offset(files, tmp_path, capsys):
+    from quatnav.ins_cli import check_clock, check_motion_start
+    # a 10 s log whose GNSS times are 18 s ahead (GPS time against UTC): no overlap, the offset named
+    t10 = np.arange(0.0, 10.0, 0.01)
+    assert "GPS time against UTC" in check_clock(t10 + 1e9, np.arange(0.0, 10.0, 0.2) + 1e9 + 18.0)
+    assert check_clock(t10, np.arange(0.0, 10.0, 0.2)) is None
+    t = np.arange(0.0, 100.0, 0.01)
+    # the motion seen 0.8 s later by the GNSS than by the gyro: within 1 s, no warning; 3 s: a warning
+    gyro = np.zeros((len(t), 3))
+    gyro[t > 20.0, 2] = 0.5
+    tg = np.arange(0.0, 100.0, 0.2)
+    assert check_motion_start(t, gyro, tg, np.where(tg > 20.8, 1.5, 0.0)) is None
+    msg = check_motion_start(t, gyro, tg, np.where(tg > 23.0, 1.5, 0.0))
+    import re
+    offset = float(re.search(r"gps_time_offset = (\S+)", msg).group(1))
+    assert abs(offset + 3.0) < 0.3, msg  # the GNSS sampling (0.2 s) and the smoothing (0.2 s) limit it
+
+
+def test_initial_state_mag_odometer_increments_and_diagnostics(walk, files, tmp_path, capsys):
+    import csv
+    s = walk
+    d = files["dir"]
+    # increments instead of rates
+    dt = np.diff(s.imu.t, prepend=s.imu.t[0] - 0.02)[:, None]
+    inc = _write(d / "imu_inc.csv", ["time", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z"],
+                 [s.imu.t, *(s.imu.gyro * dt).T, *(s.imu.accel * dt).T], fmt="%.12g")
+    # a magnetometer from the truth (field 20 uT north, 40 uT down) and an odometer
+    from quatnav.core import quaternion as Q
+    k = s.imu.index
+    m_b = np.array([Q.rotate_inv(q, [20.0, 0.0, 40.0]) for q in s.truth.q_nb[k]])
+    mag = _write(d / "mag.csv", ["time", "mag_x", "mag_y", "mag_z"], [s.imu.t, *m_b.T], fmt="%.9g")
+    v_b = np.array([Q.rotate_inv(q, v) for q, v in zip(s.truth.q_nb[k], s.truth.v_n[k])])
+    odo = _write(d / "odo.csv", ["time", "speed"], [s.imu.t[::10], v_b[::10, 0]], fmt="%.9g")
+    cfg = d / "init.toml"
+    k0 = 0
+    cfg.write_text(Path(files["config"]).read_text() + "\n[initial]\n"
+                   f"euler = [{float(s.truth.rpy[k0, 0])!r}, {float(s.truth.rpy[k0, 1])!r}, {float(s.truth.rpy[k0, 2])!r}]\n")
+    out, diag = d / "o_all.csv", d / "diag.csv"
+    args = ["ins", "run", "--imu", inc, "--gnss", files["gnss"], "--mag", mag, "--odometer", odo,
+            "--config", str(cfg), "--out", str(out), "--diagnostics", str(diag), "--json", str(d / "s.json")]
+    assert cli.main(args) == 0
+    cap = capsys.readouterr()
+    assert "alignment given, heading from given" in cap.out
+    import json
+    summary = json.loads((d / "s.json").read_text())
+    assert summary["alignment"]["method"] == "given"
+    assert summary["decisions"]["mag"].get("accepted", 0) > 100
+    assert summary["decisions"]["odometer"].get("accepted", 0) > 100
+    rows = list(csv.DictReader(open(diag)))
+    from quatnav.ins_cli import DIAGNOSTICS_COLUMNS
+    assert tuple(rows[0]) == DIAGNOSTICS_COLUMNS
+    aids = {r["aid"] for r in rows}
+    assert {"gps_pos", "gps_vel", "mag", "odometer"} <= aids
+    assert all(r["decision"] in ("accepted", "rejected", "inflated", "reset", "skipped", "aligned", "none") for r in rows)
+    times = [float(r["time"]) for r in rows]
+    assert times == sorted(times)
+    # against the truth: the same accuracy as the rates run
+    header, a = _read(out)
+    c = {n: a[:, i] for i, n in enumerate(header)}
+    i = np.searchsorted(s.truth.t, c["time"])
+    dn = (np.radians(c["lat"]) - s.truth.lat[i]) * 6.36e6
+    assert np.sqrt(np.mean(dn ** 2)) < 2.0
+
+
+def test_config_initial_and_rotation_errors(files, tmp_path, capsys):
+    for text, expect in (("[initial]\neuler = [0, 0]\n", "[initial] euler must be a list of 3 numbers"),
+                         ("[initial]\nv_n = [0, 0, 0]\n", "exactly one of euler (rad) and q_nb"),
+                         ("[initial]\nbogus = 1\n", "[initial] unknown key 'bogus'"),
+                         ("[filter]\nimu_rotation = [1, 2]\n", "imu_rotation must be [roll, pitch, yaw]"),
+                         ("[filter]\nimu_rotation = [[1, 0, 0], [0, 1, 0], [0, 0, -1]]\n", "not a rotation matrix"),
+                         ("[filter]\nzupt = 1\n", "zupt must be true or false")):
+        cfg = tmp_path / "c.toml"
+        cfg.write_text(text)
+        assert cli.main(_args(dict(files, config=str(cfg)), tmp_path / "o.csv")) == 2
+        err = capsys.readouterr().err
+        assert expect in err and err.count("\n") == 1, err

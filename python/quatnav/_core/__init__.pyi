@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -350,9 +350,9 @@ class QuaternionEKF_f64:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 7]"]) -> str:
         ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> tuple:
         """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.
         """
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -735,9 +735,9 @@ class QuaternionEKF_f32:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[7, 7]"]) -> str:
         ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> tuple:
         """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.
         """
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -797,9 +797,9 @@ class QuaternionESKF_f64:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
         ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> tuple:
         """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.
         """
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -859,9 +859,9 @@ class QuaternionESKF_f32:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
         ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> tuple:
         """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.
         """
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -1037,9 +1037,9 @@ class EulerEKF_f64:
         ...
     def reset(self, euler: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 6]"]) -> str:
         ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple:
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> tuple:
         """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.
         """
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -1216,9 +1216,9 @@ class EulerEKF_f32:
         ...
     def reset(self, euler: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[6, 6]"]) -> str:
         ...
-    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> tuple:
+    def run(self, gyr: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> tuple:
         """
-        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags).
+        Batch run (GIL released). Returns (quat, bias, sigma, att_sigma, flags); with smooth, a sixth item: the Rauch-Tung-Striebel estimates (quat, bias, sigma, att_sigma) and the smoother's 'info'.
         """
     def set_mag_dip(self, dip: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -1877,9 +1877,9 @@ class NavFilter13Ekf_f64:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False, smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run (GIL released). Returns a dict of arrays.
+        Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.
         """
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
@@ -1930,9 +1930,9 @@ class NavFilter13SecondOrder_f64:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False, smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run (GIL released). Returns a dict of arrays.
+        Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.
         """
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
@@ -1983,9 +1983,9 @@ class NavFilter13Ukf_f64:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False, smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run (GIL released). Returns a dict of arrays.
+        Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.
         """
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
@@ -2210,9 +2210,9 @@ class NavFilter13Ekf_f32:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False, smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run (GIL released). Returns a dict of arrays.
+        Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.
         """
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
@@ -2263,9 +2263,9 @@ class NavFilter13SecondOrder_f32:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False, smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run (GIL released). Returns a dict of arrays.
+        Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.
         """
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
@@ -2316,9 +2316,9 @@ class NavFilter13Ukf_f32:
         ...
     def reset(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[13, 13]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False) -> dict:
+    def run(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], dt: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gate_vel: typing.SupportsFloat | typing.SupportsIndex = 0.0, gate_yaw: typing.SupportsFloat | typing.SupportsIndex = 0.0, return_covariance: bool = False, smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run (GIL released). Returns a dict of arrays.
+        Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.
         """
     def set_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
@@ -2352,6 +2352,87 @@ class NavFilter13Ukf_f32:
         ...
     @property
     def x(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[13, 1]"]:
+        ...
+class GpsInsUpdate1_f64:
+    """
+    Outcome of one GpsInsFilter update: status, innovation (INS minus aid), its covariance, NIS, decision (code, see decision_names()), inflation.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def decision(self) -> int:
+        ...
+    @property
+    def inflation(self) -> float:
+        ...
+    @property
+    def innovation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[1, 1]"]:
+        ...
+    @property
+    def innovation_cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[1, 1]"]:
+        ...
+    @property
+    def nis(self) -> float:
+        ...
+    @property
+    def status(self) -> str:
+        ...
+class GpsInsUpdate2_f64:
+    """
+    Outcome of one GpsInsFilter update: status, innovation (INS minus aid), its covariance, NIS, decision (code, see decision_names()), inflation.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def decision(self) -> int:
+        ...
+    @property
+    def inflation(self) -> float:
+        ...
+    @property
+    def innovation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[2, 1]"]:
+        ...
+    @property
+    def innovation_cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[2, 2]"]:
+        ...
+    @property
+    def nis(self) -> float:
+        ...
+    @property
+    def status(self) -> str:
+        ...
+class GpsInsUpdate3_f64:
+    """
+    Outcome of one GpsInsFilter update: status, innovation (INS minus aid), its covariance, NIS, decision (code, see decision_names()), inflation.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def decision(self) -> int:
+        ...
+    @property
+    def inflation(self) -> float:
+        ...
+    @property
+    def innovation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def innovation_cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        ...
+    @property
+    def nis(self) -> float:
+        ...
+    @property
+    def status(self) -> str:
         ...
 class GpsInsParams_f64:
     """
@@ -2406,20 +2487,68 @@ class GpsInsParams_f64:
     def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def adapt_gain(self) -> float:
+        """
+        step of the adaptation per GNSS update (natural log of the scale) [1]
+        """
+    @adapt_gain.setter
+    def adapt_gain(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def adapt_q_max(self) -> float:
+        """
+        largest process-noise scale of the innovation-based adaptation (1: off) [1]
+        """
+    @adapt_q_max.setter
+    def adapt_q_max(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_course_distance(self) -> float:
+        """
+        distance between the position fixes whose course gives the heading (position-only GNSS) [m]
+        """
+    @align_course_distance.setter
+    def align_course_distance(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_level_sigma(self) -> float:
+        """
+        roll/pitch one-sigma after an alignment in motion without GNSS velocity [rad]
+        """
+    @align_level_sigma.setter
+    def align_level_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_motion_max(self) -> float:
+        """
+        longest window of an alignment in motion (then it restarts) [s]
+        """
+    @align_motion_max.setter
+    def align_motion_max(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_motion_time(self) -> float:
+        """
+        shortest window of an alignment in motion [s]
+        """
+    @align_motion_time.setter
+    def align_motion_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def align_time(self) -> float:
         """
-        duration of the static alignment [s]
+        duration of the static alignment (still samples; motion restarts it) [s]
         """
     @align_time.setter
     def align_time(self, arg1: typing.Any) -> None:
         ...
     @property
-    def baro_offset_fixes(self) -> float:
+    def baro_offset_noise(self) -> float:
         """
-        GPS fixes over which the altimeter offset is averaged [1]
+        random-walk density of the altimeter offset [m/sqrt(s)]
         """
-    @baro_offset_fixes.setter
-    def baro_offset_fixes(self, arg1: typing.Any) -> None:
+    @baro_offset_noise.setter
+    def baro_offset_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_rate_baseline(self) -> float:
@@ -2510,12 +2639,52 @@ class GpsInsParams_f64:
     def gate_gps_vel(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gate_mag(self) -> float:
+        """
+        NIS gate of the magnetometer heading (0: off) [1 (chi-square, 1 dof)]
+        """
+    @gate_mag.setter
+    def gate_mag(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gate_nhc(self) -> float:
+        """
+        NIS gate of the non-holonomic constraint (0: off) [1 (chi-square, 2 dof)]
+        """
+    @gate_nhc.setter
+    def gate_nhc(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gate_odometer(self) -> float:
+        """
+        NIS gate of the odometer (0: off) [1 (chi-square, 1 dof)]
+        """
+    @gate_odometer.setter
+    def gate_odometer(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gate_zupt(self) -> float:
+        """
+        NIS gate of the zero-velocity and zero-rate updates (0: off) [1 (chi-square, 3 dof)]
+        """
+    @gate_zupt.setter
+    def gate_zupt(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gps_pos_sigma_h(self) -> float:
         """
         horizontal one-sigma of a GPS position (per-fix sigma overrides) [m]
         """
     @gps_pos_sigma_h.setter
     def gps_pos_sigma_h(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_pos_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma (given or per fix) [m]
+        """
+    @gps_pos_sigma_min.setter
+    def gps_pos_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_pos_sigma_v(self) -> float:
@@ -2526,12 +2695,20 @@ class GpsInsParams_f64:
     def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
         ...
     @property
-    def gps_reset_after(self) -> float:
+    def gps_time_offset(self) -> float:
         """
-        consecutive gate rejections before a GPS reset (0: never) [1]
+        added to the GNSS times to put them on the IMU clock (a receiver latency L: -L) [s]
         """
-    @gps_reset_after.setter
-    def gps_reset_after(self, arg1: typing.Any) -> None:
+    @gps_time_offset.setter
+    def gps_time_offset(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_time_sigma(self) -> float:
+        """
+        one-sigma of the GNSS time on the IMU clock [s]
+        """
+    @gps_time_sigma.setter
+    def gps_time_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_vel_sigma(self) -> float:
@@ -2540,6 +2717,14 @@ class GpsInsParams_f64:
         """
     @gps_vel_sigma.setter
     def gps_vel_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_vel_sigma_min(self) -> float:
+        """
+        floor of a GPS velocity one-sigma (given or per fix) [m/s]
+        """
+    @gps_vel_sigma_min.setter
+    def gps_vel_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
@@ -2580,6 +2765,30 @@ class GpsInsParams_f64:
         """
     @heading_from_gps.setter
     def heading_from_gps(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def imu_rotation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        """
+        rotation from the IMU axes to the body axes: body = imu_rotation imu [1]
+        """
+    @imu_rotation.setter
+    def imu_rotation(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def inflate_after(self) -> float:
+        """
+        consecutive gate rejections of a GNSS aid after which the next failing fix inflates the covariance (0: never) [1]
+        """
+    @inflate_after.setter
+    def inflate_after(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def inflate_max(self) -> float:
+        """
+        largest covariance inflation; a fix that needs more resets the state to it [1]
+        """
+    @inflate_max.setter
+    def inflate_max(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_acc_bias_sigma(self) -> float:
@@ -2630,6 +2839,54 @@ class GpsInsParams_f64:
     def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
+    def lever_arm_sigma(self) -> float:
+        """
+        one-sigma of each lever-arm component [m]
+        """
+    @lever_arm_sigma.setter
+    def lever_arm_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_heading_sigma(self) -> float:
+        """
+        one-sigma of a magnetometer heading [rad]
+        """
+    @mag_heading_sigma.setter
+    def mag_heading_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_samples(self) -> int:
+        """
+        magnetometer samples over which the reference norm and dip are averaged [1]
+        """
+    @mag_ref_samples.setter
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def max_coast(self) -> float:
+        """
+        longest IMU gap the batch run coasts across (in steps of at most max_dt) [s]
+        """
+    @max_coast.setter
+    def max_coast(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def max_dt(self) -> float:
         """
         longest accepted IMU step [s]
@@ -2644,6 +2901,102 @@ class GpsInsParams_f64:
         """
     @min_speed_for_heading.setter
     def min_speed_for_heading(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc(self) -> bool:
+        """
+        non-holonomic constraint: no lateral or vertical velocity (wheeled vehicles) [-]
+        """
+    @nhc.setter
+    def nhc(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_sigma(self) -> float:
+        """
+        one-sigma of the lateral and vertical body velocity [m/s]
+        """
+    @nhc_sigma.setter
+    def nhc_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def odometer_sigma(self) -> float:
+        """
+        one-sigma of an odometer speed [m/s]
+        """
+    @odometer_sigma.setter
+    def odometer_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def pseudo_interval(self) -> float:
+        """
+        shortest interval between two zero-velocity or non-holonomic updates [s]
+        """
+    @pseudo_interval.setter
+    def pseudo_interval(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the accelerometer from its low-pass and of its norm from gravity [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the gyro from its low-pass [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_speed(self) -> float:
+        """
+        rest: largest speed (the GNSS's before navigation; during it the INS's, plus three sigma up to this value again) [m/s]
+        """
+    @rest_speed.setter
+    def rest_speed(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def zaru_sigma(self) -> float:
+        """
+        one-sigma of the angular rate at rest beyond the gyro's white noise [rad/s]
+        """
+    @zaru_sigma.setter
+    def zaru_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def zupt(self) -> bool:
+        """
+        zero-velocity and zero-angular-rate updates at rest [-]
+        """
+    @zupt.setter
+    def zupt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def zupt_sigma(self) -> float:
+        """
+        one-sigma of the velocity at rest [m/s]
+        """
+    @zupt_sigma.setter
+    def zupt_sigma(self, arg1: typing.Any) -> None:
         ...
 class GpsInsFilter_f64:
     @staticmethod
@@ -2663,39 +3016,59 @@ class GpsInsFilter_f64:
         """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[15, 15]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[16, 16]"]) -> str:
         ...
-    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> dict:
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> dict:
         """
-        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays.
+        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation).
         """
+    def set_initial(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], v_valid: bool, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> str:
+        ...
     def set_params(self, params: GpsInsParams_f64) -> None:
         ...
     def set_state(self, state: dict) -> str:
         """
         Restore a state from get_state(); unknown and missing keys are refused.
         """
-    def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[UpdateResult1_f64, UpdateResult1_f64]:
+    def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[GpsInsUpdate1_f64, GpsInsUpdate1_f64]:
         ...
-    def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> UpdateResult1_f64:
+    def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f64:
         ...
-    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple[UpdateResult3_f64, UpdateResult3_f64]:
+    def update_constraints(self) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64, GpsInsUpdate2_f64]:
         ...
-    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> UpdateResult3_f64:
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64]:
         ...
-    def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> UpdateResult3_f64:
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
+        ...
+    def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
+        ...
+    def update_mag(self, m: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> GpsInsUpdate1_f64:
+        ...
+    def update_odometer(self, speed: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f64:
         ...
     @property
     def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...
     @property
+    def align_method(self) -> str:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def baro_offset(self) -> float:
+        ...
+    @property
     def counters(self) -> dict:
         ...
     @property
-    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[15, 15]"]:
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[16, 16]"]:
         ...
     @property
     def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def heading_source(self) -> str:
         ...
     @property
     def llh(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
@@ -2713,10 +3086,94 @@ class GpsInsFilter_f64:
     def q_nb(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"]:
         ...
     @property
+    def q_scale(self) -> float:
+        ...
+    @property
     def time(self) -> float:
         ...
     @property
     def v_n(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+class GpsInsUpdate1_f32:
+    """
+    Outcome of one GpsInsFilter update: status, innovation (INS minus aid), its covariance, NIS, decision (code, see decision_names()), inflation.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def decision(self) -> int:
+        ...
+    @property
+    def inflation(self) -> float:
+        ...
+    @property
+    def innovation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[1, 1]"]:
+        ...
+    @property
+    def innovation_cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[1, 1]"]:
+        ...
+    @property
+    def nis(self) -> float:
+        ...
+    @property
+    def status(self) -> str:
+        ...
+class GpsInsUpdate2_f32:
+    """
+    Outcome of one GpsInsFilter update: status, innovation (INS minus aid), its covariance, NIS, decision (code, see decision_names()), inflation.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def decision(self) -> int:
+        ...
+    @property
+    def inflation(self) -> float:
+        ...
+    @property
+    def innovation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[2, 1]"]:
+        ...
+    @property
+    def innovation_cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[2, 2]"]:
+        ...
+    @property
+    def nis(self) -> float:
+        ...
+    @property
+    def status(self) -> str:
+        ...
+class GpsInsUpdate3_f32:
+    """
+    Outcome of one GpsInsFilter update: status, innovation (INS minus aid), its covariance, NIS, decision (code, see decision_names()), inflation.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def decision(self) -> int:
+        ...
+    @property
+    def inflation(self) -> float:
+        ...
+    @property
+    def innovation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def innovation_cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 3]"]:
+        ...
+    @property
+    def nis(self) -> float:
+        ...
+    @property
+    def status(self) -> str:
         ...
 class GpsInsParams_f32:
     """
@@ -2771,20 +3228,68 @@ class GpsInsParams_f32:
     def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def adapt_gain(self) -> float:
+        """
+        step of the adaptation per GNSS update (natural log of the scale) [1]
+        """
+    @adapt_gain.setter
+    def adapt_gain(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def adapt_q_max(self) -> float:
+        """
+        largest process-noise scale of the innovation-based adaptation (1: off) [1]
+        """
+    @adapt_q_max.setter
+    def adapt_q_max(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_course_distance(self) -> float:
+        """
+        distance between the position fixes whose course gives the heading (position-only GNSS) [m]
+        """
+    @align_course_distance.setter
+    def align_course_distance(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_level_sigma(self) -> float:
+        """
+        roll/pitch one-sigma after an alignment in motion without GNSS velocity [rad]
+        """
+    @align_level_sigma.setter
+    def align_level_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_motion_max(self) -> float:
+        """
+        longest window of an alignment in motion (then it restarts) [s]
+        """
+    @align_motion_max.setter
+    def align_motion_max(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def align_motion_time(self) -> float:
+        """
+        shortest window of an alignment in motion [s]
+        """
+    @align_motion_time.setter
+    def align_motion_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def align_time(self) -> float:
         """
-        duration of the static alignment [s]
+        duration of the static alignment (still samples; motion restarts it) [s]
         """
     @align_time.setter
     def align_time(self, arg1: typing.Any) -> None:
         ...
     @property
-    def baro_offset_fixes(self) -> float:
+    def baro_offset_noise(self) -> float:
         """
-        GPS fixes over which the altimeter offset is averaged [1]
+        random-walk density of the altimeter offset [m/sqrt(s)]
         """
-    @baro_offset_fixes.setter
-    def baro_offset_fixes(self, arg1: typing.Any) -> None:
+    @baro_offset_noise.setter
+    def baro_offset_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def baro_rate_baseline(self) -> float:
@@ -2875,12 +3380,52 @@ class GpsInsParams_f32:
     def gate_gps_vel(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gate_mag(self) -> float:
+        """
+        NIS gate of the magnetometer heading (0: off) [1 (chi-square, 1 dof)]
+        """
+    @gate_mag.setter
+    def gate_mag(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gate_nhc(self) -> float:
+        """
+        NIS gate of the non-holonomic constraint (0: off) [1 (chi-square, 2 dof)]
+        """
+    @gate_nhc.setter
+    def gate_nhc(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gate_odometer(self) -> float:
+        """
+        NIS gate of the odometer (0: off) [1 (chi-square, 1 dof)]
+        """
+    @gate_odometer.setter
+    def gate_odometer(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gate_zupt(self) -> float:
+        """
+        NIS gate of the zero-velocity and zero-rate updates (0: off) [1 (chi-square, 3 dof)]
+        """
+    @gate_zupt.setter
+    def gate_zupt(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gps_pos_sigma_h(self) -> float:
         """
         horizontal one-sigma of a GPS position (per-fix sigma overrides) [m]
         """
     @gps_pos_sigma_h.setter
     def gps_pos_sigma_h(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_pos_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma (given or per fix) [m]
+        """
+    @gps_pos_sigma_min.setter
+    def gps_pos_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_pos_sigma_v(self) -> float:
@@ -2891,12 +3436,20 @@ class GpsInsParams_f32:
     def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
         ...
     @property
-    def gps_reset_after(self) -> float:
+    def gps_time_offset(self) -> float:
         """
-        consecutive gate rejections before a GPS reset (0: never) [1]
+        added to the GNSS times to put them on the IMU clock (a receiver latency L: -L) [s]
         """
-    @gps_reset_after.setter
-    def gps_reset_after(self, arg1: typing.Any) -> None:
+    @gps_time_offset.setter
+    def gps_time_offset(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_time_sigma(self) -> float:
+        """
+        one-sigma of the GNSS time on the IMU clock [s]
+        """
+    @gps_time_sigma.setter
+    def gps_time_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_vel_sigma(self) -> float:
@@ -2905,6 +3458,14 @@ class GpsInsParams_f32:
         """
     @gps_vel_sigma.setter
     def gps_vel_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_vel_sigma_min(self) -> float:
+        """
+        floor of a GPS velocity one-sigma (given or per fix) [m/s]
+        """
+    @gps_vel_sigma_min.setter
+    def gps_vel_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
@@ -2945,6 +3506,30 @@ class GpsInsParams_f32:
         """
     @heading_from_gps.setter
     def heading_from_gps(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def imu_rotation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 3]"]:
+        """
+        rotation from the IMU axes to the body axes: body = imu_rotation imu [1]
+        """
+    @imu_rotation.setter
+    def imu_rotation(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def inflate_after(self) -> float:
+        """
+        consecutive gate rejections of a GNSS aid after which the next failing fix inflates the covariance (0: never) [1]
+        """
+    @inflate_after.setter
+    def inflate_after(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def inflate_max(self) -> float:
+        """
+        largest covariance inflation; a fix that needs more resets the state to it [1]
+        """
+    @inflate_max.setter
+    def inflate_max(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_acc_bias_sigma(self) -> float:
@@ -2995,6 +3580,54 @@ class GpsInsParams_f32:
     def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
+    def lever_arm_sigma(self) -> float:
+        """
+        one-sigma of each lever-arm component [m]
+        """
+    @lever_arm_sigma.setter
+    def lever_arm_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_heading_sigma(self) -> float:
+        """
+        one-sigma of a magnetometer heading [rad]
+        """
+    @mag_heading_sigma.setter
+    def mag_heading_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_samples(self) -> int:
+        """
+        magnetometer samples over which the reference norm and dip are averaged [1]
+        """
+    @mag_ref_samples.setter
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def max_coast(self) -> float:
+        """
+        longest IMU gap the batch run coasts across (in steps of at most max_dt) [s]
+        """
+    @max_coast.setter
+    def max_coast(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def max_dt(self) -> float:
         """
         longest accepted IMU step [s]
@@ -3009,6 +3642,102 @@ class GpsInsParams_f32:
         """
     @min_speed_for_heading.setter
     def min_speed_for_heading(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc(self) -> bool:
+        """
+        non-holonomic constraint: no lateral or vertical velocity (wheeled vehicles) [-]
+        """
+    @nhc.setter
+    def nhc(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_sigma(self) -> float:
+        """
+        one-sigma of the lateral and vertical body velocity [m/s]
+        """
+    @nhc_sigma.setter
+    def nhc_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def odometer_sigma(self) -> float:
+        """
+        one-sigma of an odometer speed [m/s]
+        """
+    @odometer_sigma.setter
+    def odometer_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def pseudo_interval(self) -> float:
+        """
+        shortest interval between two zero-velocity or non-holonomic updates [s]
+        """
+    @pseudo_interval.setter
+    def pseudo_interval(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the accelerometer from its low-pass and of its norm from gravity [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the gyro from its low-pass [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_speed(self) -> float:
+        """
+        rest: largest speed (the GNSS's before navigation; during it the INS's, plus three sigma up to this value again) [m/s]
+        """
+    @rest_speed.setter
+    def rest_speed(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def zaru_sigma(self) -> float:
+        """
+        one-sigma of the angular rate at rest beyond the gyro's white noise [rad/s]
+        """
+    @zaru_sigma.setter
+    def zaru_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def zupt(self) -> bool:
+        """
+        zero-velocity and zero-angular-rate updates at rest [-]
+        """
+    @zupt.setter
+    def zupt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def zupt_sigma(self) -> float:
+        """
+        one-sigma of the velocity at rest [m/s]
+        """
+    @zupt_sigma.setter
+    def zupt_sigma(self, arg1: typing.Any) -> None:
         ...
 class GpsInsFilter_f32:
     @staticmethod
@@ -3028,39 +3757,59 @@ class GpsInsFilter_f32:
         """
     def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
         ...
-    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[15, 15]"]) -> str:
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[16, 16]"]) -> str:
         ...
-    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> dict:
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32]) -> dict:
         """
-        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays.
+        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation).
         """
+    def set_initial(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], v_valid: bool, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> str:
+        ...
     def set_params(self, params: GpsInsParams_f32) -> None:
         ...
     def set_state(self, state: dict) -> str:
         """
         Restore a state from get_state(); unknown and missing keys are refused.
         """
-    def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[UpdateResult1_f32, UpdateResult1_f32]:
+    def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[GpsInsUpdate1_f32, GpsInsUpdate1_f32]:
         ...
-    def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> UpdateResult1_f32:
+    def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f32:
         ...
-    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> tuple[UpdateResult3_f32, UpdateResult3_f32]:
+    def update_constraints(self) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32, GpsInsUpdate2_f32]:
         ...
-    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> UpdateResult3_f32:
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32]:
         ...
-    def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> UpdateResult3_f32:
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
+        ...
+    def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
+        ...
+    def update_mag(self, m: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> GpsInsUpdate1_f32:
+        ...
+    def update_odometer(self, speed: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f32:
         ...
     @property
     def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property
+    def align_method(self) -> str:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def baro_offset(self) -> float:
+        ...
+    @property
     def counters(self) -> dict:
         ...
     @property
-    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[15, 15]"]:
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[16, 16]"]:
         ...
     @property
     def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def heading_source(self) -> str:
         ...
     @property
     def llh(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
@@ -3078,6 +3827,9 @@ class GpsInsFilter_f32:
     def q_nb(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[4, 1]"]:
         ...
     @property
+    def q_scale(self) -> float:
+        ...
+    @property
     def time(self) -> float:
         ...
     @property
@@ -3086,6 +3838,10 @@ class GpsInsFilter_f32:
 def flag_table() -> list:
     """
     The per-sample flags of every filter: a list of (name, bit mask, meaning).
+    """
+def gpsins_decision_names() -> list:
+    """
+    Names of quatnav::GpsInsDecision by code (what GpsInsFilter did with an aiding sample).
     """
 def nav13_time_update_cost_ns(repeats: typing.SupportsInt | typing.SupportsIndex = 21, iterations: typing.SupportsInt | typing.SupportsIndex = 2000) -> dict:
     """

@@ -17,6 +17,13 @@ Third-party evidence: :class:`quatnav.GpsInsFilter` on NaveGo's ADIS16405 IMU (2
 
 Reported: RMSE of N/E/D position (m), N/E/D velocity (m/s), roll/pitch/yaw (deg) over the whole
 run, the same for the GNSS fixes alone (position and velocity), and the gate rejections.
+
+Two more runs go through ``quatnav ins run`` (CSV files and a TOML config written to a temporary
+folder, :func:`quatnav.ins_cli.run_files`) with the filter's own alignment, **without**
+``ini_align``: ``cli_in_motion`` (GNSS position and velocity: the alignment in motion from the
+GNSS velocity change against the specific force) and ``cli_position_only`` (the velocity columns
+left out: the course between fixes). Their errors are scored from the CLI's output rows (from the
+start of navigation) against ``ref.mat`` the same way.
 """
 from __future__ import annotations
 
@@ -83,7 +90,7 @@ def run_navego(directory=None, seconds=None, params=None):
     f = quatnav.GpsInsFilter(**params)
     sig = np.array([d.gnss_pos_sigma[0], d.gnss_pos_sigma[1], d.gnss_pos_sigma[2]] + [params["gps_vel_sigma"]] * 3
                    + [params["init_level_sigma"]] * 2 + [params["init_yaw_sigma"]]
-                   + [params["init_acc_bias_sigma"]] * 3 + [params["init_gyro_bias_sigma"]] * 3)
+                   + [params["init_acc_bias_sigma"]] * 3 + [params["init_gyro_bias_sigma"]] * 3 + [0.0])
     # Start at the first fix (t = 0), as NaveGo does: attitude from ini_align, the IMU position
     # from the antenna fix less the lever arm (zero here).
     q0 = Q.from_euler(d.ini_align)
@@ -138,6 +145,78 @@ def run_navego(directory=None, seconds=None, params=None):
     }
     arrays = dict(t=t, dp=dp, dv=dv, deul=de, sigma=r.sigma, gnss_t=d.gnss_t[gm], gnss_dp=gdp)
     return out, arrays
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (tuple, list, np.ndarray)):
+        return "[" + ", ".join(_toml_value(x) for x in np.asarray(v, float).tolist()) + "]"
+    return repr(float(v))
+
+
+def write_cli_inputs(d, folder, params, velocity=True, seconds=None):
+    """The NaveGo run as ``quatnav ins run`` inputs in ``folder``: imu.csv, gnss.csv (velocity
+    columns only with ``velocity``) and config.toml ([filter] ``params``). Returns the paths."""
+    from pathlib import Path
+    folder = Path(folder)
+    n = len(d.imu_t) if seconds is None else int(np.searchsorted(d.imu_t, d.imu_t[0] + seconds, "right"))
+    imu = np.column_stack([d.imu_t[:n], d.gyro[:n], d.accel[:n]])
+    np.savetxt(folder / "imu.csv", imu, delimiter=",", comments="", fmt="%.17g",
+               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
+    gm = d.gnss_t <= d.imu_t[n - 1]
+    cols = [d.gnss_t[gm], np.degrees(d.gnss_llh[gm, 0]), np.degrees(d.gnss_llh[gm, 1]), d.gnss_llh[gm, 2]]
+    head = "time,lat,lon,h"
+    if velocity:
+        cols += list(d.gnss_vel[gm].T)
+        head += ",v_n,v_e,v_d"
+    np.savetxt(folder / "gnss.csv", np.column_stack(cols), delimiter=",", comments="", fmt="%.17g", header=head)
+    with open(folder / "config.toml", "w") as fh:
+        fh.write("[filter]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items()))
+    return folder / "imu.csv", folder / "gnss.csv", folder / "config.toml"
+
+
+def cli_params(d) -> dict:
+    """The run's parameters for ``ins run``: the sensor profile (:func:`filter_params`), the
+    alignment's own initial sigmas (the defaults), not ``ini_align_err``."""
+    p = filter_params(d)
+    for k in ("init_level_sigma", "init_yaw_sigma"):
+        p.pop(k)
+    return p
+
+
+def run_cli(d, velocity=True, seconds=None, folder=None):
+    """NaveGo through ``quatnav ins run`` with the filter's own alignment (no ``ini_align``).
+    Returns (summary dict, arrays)."""
+    import tempfile
+
+    from .. import ins_cli
+    with tempfile.TemporaryDirectory() as tmp:
+        work = folder or tmp
+        imu, gnss, cfg = write_cli_inputs(d, work, cli_params(d), velocity, seconds)
+        out_csv = f"{work}/out.csv"
+        msg, ok, summary = ins_cli.run_files(str(imu), str(gnss), out_csv, config=str(cfg))
+        tab = np.genfromtxt(out_csv, delimiter=",", names=True)
+    t = np.atleast_1d(tab["time"])
+    i = np.searchsorted(d.ref_t, t - 1e-9)
+    llh = np.column_stack([np.radians(tab["lat"]), np.radians(tab["lon"]), tab["h"]])
+    dp = ned_error(llh, d.ref_llh[i])
+    dv = np.column_stack([tab["v_n"], tab["v_e"], tab["v_d"]]) - d.ref_vel[i]
+    rpy = np.radians(np.column_stack([tab["roll"], tab["pitch"], tab["yaw"]]))
+    de = np.degrees(np.angle(np.exp(1j * (rpy - d.ref_rpy[i]))))
+    names = ("n", "e", "d")
+    late = t >= t[0] + 60.0
+    out = {"message": msg, "alignment": summary["alignment"], "navigation_start_s": float(t[0] - d.imu_t[0]),
+           "rows": int(len(t)),
+           "position_rmse_m": dict(zip(names, map(float, _rms(dp)))),
+           "horizontal_rmse_m": float(_rms(np.hypot(dp[:, 0], dp[:, 1]))),
+           "velocity_rmse_mps": dict(zip(names, map(float, _rms(dv)))),
+           "attitude_rmse_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de)))),
+           "attitude_max_deg": dict(zip(("roll", "pitch", "yaw"), map(float, np.max(np.abs(de), axis=0)))),
+           "attitude_rmse_after_60s_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de[late])))),
+           "attitude_at_start_deg": dict(zip(("roll", "pitch", "yaw"), map(float, de[0]))),
+           "decisions": summary["decisions"]}
+    return out, dict(t=t, dp=dp, dv=dv, deul=de)
 
 
 def ned_to_dllh(d_n, llh) -> np.ndarray:
@@ -220,7 +299,11 @@ def run(args) -> int:
     if args.seconds is not None and not args.seconds > 0:
         raise UsageError(f"--seconds: expected a positive number, got {args.seconds:g}")
     try:
+        from ..datasets import navego
         out, arrays = run_navego(args.data, args.seconds)
+        d = navego.load(args.data)
+        out["cli_in_motion"], _ = run_cli(d, True, args.seconds)
+        out["cli_position_only"], _ = run_cli(d, False, args.seconds)
     except FileNotFoundError as exc:
         raise UsageError(f"{exc} (use --data DIR or set QUATNAV_DATA to the folder that holds navego_synthetic/)") \
             from None
@@ -235,4 +318,9 @@ def run(args) -> int:
     print(f"GNSS-only RMSE: position (m) {fmt(g['position_rmse_m'], 2)}; velocity (m/s) "
           f"{fmt(g['velocity_rmse_mps'], 3)}")
     print(f"gate rejections: {out['rejections']}")
+    for name in ("cli_in_motion", "cli_position_only"):
+        c = out[name]
+        print(f"{name} (ins run, no ini_align; alignment {c['alignment']['method']}, navigating from "
+              f"{c['navigation_start_s']:.1f} s): horizontal RMSE {c['horizontal_rmse_m']:.2f} m; attitude (deg) "
+              f"{fmt(c['attitude_rmse_deg'], 2)}; after 60 s {fmt(c['attitude_rmse_after_60s_deg'], 2)}")
     return 0

@@ -17,7 +17,13 @@ Four runs, each scored against the RTK-fixed epochs (Q = 1), horizontal and vert
   outage (RMS, max, drift at its end, the filter's own one-sigma there);
 * ``degraded``: positions with white noise of ``--noise-m`` (2.5) m added on each axis and that
   sigma given to the filter (velocity as RTKLIB gives it);
-* ``degraded_outages``: both.
+* ``degraded_outages``: both;
+* ``rtk_noise_div10``: ``rtk`` with the noise densities of :data:`WALK_PARAMS` ten times too small
+  (an over-confident configuration: the gating's inflation and the process-noise adaptation must
+  keep the fixes in use).
+
+Each run reports the decisions on the GNSS fixes (accepted, rejected, inflated, reset), the
+largest process-noise scale of the adaptation and how the filter was aligned.
 """
 from __future__ import annotations
 
@@ -25,7 +31,9 @@ import numpy as np
 
 from .navego import ned_error
 
-RUNS = ("rtk", "rtk_outages", "degraded", "degraded_outages")
+RUNS = ("rtk", "rtk_outages", "degraded", "degraded_outages", "rtk_noise_div10")
+#: The noise densities scaled in ``rtk_noise_div10``.
+NOISE_KEYS = ("gyro_noise", "acc_noise", "gyro_bias_noise", "acc_bias_noise")
 
 
 #: One line for ``quatnav experiment -h``.
@@ -146,7 +154,8 @@ def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, perio
             rng_gnss[noisy] = gnss_inputs(w, noise_m if noisy else None, seed)
         llh, vel, ps, vs = rng_gnss[noisy]
         outs = windows if name.endswith("outages") else ()
-        f = quatnav.GpsInsFilter(**fp)
+        run_p = dict(fp, **{k: fp[k] / 10 for k in NOISE_KEYS}) if name == "rtk_noise_div10" else fp
+        f = quatnav.GpsInsFilter(**run_p)
         r = f.run(gyro, accel, t=t, gps_pos=quatnav.Aid(w.gnss_t[g], llh[g], ps[g]),
                   gps_vel=quatnav.Aid(w.gnss_t[g], vel[g], vs[g]), outages=outs)
         s, a = score(w, r, outs)
@@ -154,6 +163,9 @@ def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, perio
         s["navigating_from_s"] = float(r.t[nav][0] - t[0]) if nav.any() else None
         s["rejections"] = {k: int(v) for k, v in r.rejections.items()}
         s["gate_lockout_resets"] = {k: int(r.counters[k].get("resets", 0)) for k in ("gps_pos", "gps_vel")}
+        s["decisions"] = {k: r.aids[k].decisions() for k in ("gps_pos", "gps_vel")}
+        s["q_scale_max"] = float(np.max(r.q_scale))
+        s["alignment"] = r.alignment
         nis = r.aids["gps_pos"].nis
         s["gps_pos_nis_mean"] = float(np.nanmean(nis)) if np.isfinite(nis).any() else None
         if noisy:
@@ -270,7 +282,8 @@ def run(args) -> int:
     for name in RUNS:
         s = summary[name]
         a = s["all_fixed"]["horizontal_m"]
-        line = f"{name}: horizontal vs RTK-fixed RMS {a['rms']:.3f} m, max {a['max']:.3f} m"
+        line = (f"{name}: horizontal vs RTK-fixed RMS {a['rms']:.3f} m, max {a['max']:.3f} m; GNSS position "
+                f"{s['decisions']['gps_pos']}")
         if s.get("during_outages"):
             d = s["during_outages"]["horizontal_m"]
             line += f"; during outages RMS {d['rms']:.3f} m, max {d['max']:.3f} m; drift at end " + ", ".join(

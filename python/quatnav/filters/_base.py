@@ -383,7 +383,7 @@ class Filter:
                 out[q.name] = self._opts[q.name]
             else:
                 v = getattr(p, q.core_name)
-                out[q.name] = np.array(v, dtype=float) if q.kind == "vec3" else v
+                out[q.name] = np.array(v, dtype=float) if q.kind in ("vec3", "mat3") else v
         return out
 
     def __repr__(self) -> str:
@@ -421,6 +421,7 @@ def _params_doc(params) -> str:
         d = p.default
         default = repr(list(d)) if isinstance(d, tuple) else repr(d)
         kind = {"bool": "bool", "int1": "int", "iter": "int", "vec3": "(3,) array_like",
+                "mat3": "(3, 3) or (3,) array_like",
                 "choice": "str"}.get(p.kind, "float")
         unit = "" if p.unit in ("-", "1") else f" [{p.unit}]"
         lines += [f"    {p.name} : {kind}, default {default}", f"        {p.doc[0].upper() + p.doc[1:]}{unit}."]

@@ -2,9 +2,11 @@
 
 :class:`GpsInsFilter` wraps ``quatnav._core.GpsInsFilter_f64`` / ``_f32`` (chosen by ``dtype``);
 :meth:`GpsInsFilter.run` executes the whole record in C++ with the GIL released. The numpy twin
-is :class:`quatnav.reference.GpsInsFilter`. The model (15 error states: NED position, velocity,
-phi-angle attitude error, accelerometer and gyro biases; feedback of the estimate into the
-strapdown mechanization after every correction) is described in ``quatnav/gps_ins.hpp``.
+is :class:`quatnav.reference.GpsInsFilter`. The model (16 error states: NED position, velocity,
+phi-angle attitude error, accelerometer and gyro biases, altimeter offset; feedback of the
+estimate into the strapdown mechanization after every correction; one gated correction path
+for every aid with outlier isolation, covariance inflation and process-noise adaptation) is
+described in ``cpp/include/quatnav/nav/gps_ins.hpp``.
 """
 from __future__ import annotations
 
@@ -16,40 +18,99 @@ import numpy as np
 
 from .. import _validate as V
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    no_mag, skipped_imu_rows, times_of)
-from .tables import GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
+                    skipped_imu_rows, times_of)
+from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
-__all__ = ["GpsInsFilter", "GpsInsResult", "GPSINS_FLAGS", "STATE_NAMES", "PARAM_NAMES"]
+__all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "GPSINS_FLAGS", "GPSINS_DECISIONS", "STATE_NAMES",
+           "PARAM_NAMES"]
 
-#: Names of the 15 error states, in order (units: m, m/s, rad, m/s^2, rad/s).
+#: Names of the 16 error states, in order (units: m, m/s, rad, m/s^2, rad/s, m).
 STATE_NAMES = ("dp_n", "dp_e", "dp_d", "dv_n", "dv_e", "dv_d", "psi_n", "psi_e", "psi_d",
-               "ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z")
+               "ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z", "baro_offset")
 
 #: Parameter names (the table ``quatnav.filters.tables.GPSINS_PARAMS``: units and defaults).
 PARAM_NAMES = tuple(p.name for p in GPSINS_PARAMS)
 
 
 @dataclass(repr=False, eq=False)
+class GpsInsAidResult(AidResult):
+    """The diagnostics of one GpsInsFilter aid (:class:`~quatnav.AidResult`: ``t``, ``innovation``
+    INS minus aid, ``nis`` the NIS its gate saw, ``status``) and what the filter did with each sample.
+
+    Attributes
+    ----------
+    decision : (K,) uint8 ndarray
+        Code of :data:`GPSINS_DECISIONS` (``decision_names``): ``accepted``, ``rejected`` (an
+        isolated outlier), ``inflated`` (applied after the covariance was inflated: the INS had
+        drifted), ``reset`` (the state put on the fix), ``skipped`` (invalid), ``aligned`` (used
+        by the alignment), ``none`` (no update).
+    inflation : (K,) ndarray
+        Factor applied to the position, velocity and attitude covariance (1 unless inflated).
+    """
+
+    decision: np.ndarray | None = None
+    inflation: np.ndarray | None = None
+
+    @property
+    def decision_names(self) -> np.ndarray:
+        """(K,) the decisions as strings."""
+        return np.array([GPSINS_DECISIONS[int(d)] for d in self.decision], dtype=object)
+
+    def decisions(self) -> dict:
+        """Number of samples per decision name (only those that occur)."""
+        codes, n = np.unique(self.decision, return_counts=True)
+        return {GPSINS_DECISIONS[int(c)]: int(k) for c, k in zip(codes, n)}
+
+    def to_dataframe(self):
+        """As :meth:`AidResult.to_dataframe`, with ``decision`` (names) and ``inflation``."""
+        df = super().to_dataframe()
+        df["decision"] = self.decision_names
+        df["inflation"] = self.inflation
+        return df
+
+    def __repr__(self) -> str:
+        return f"GpsInsAidResult({len(self.t)} samples, {self.decisions()})"
+
+
+@dataclass(repr=False, eq=False)
 class GpsInsResult(NavResult):
     """Output of :meth:`GpsInsFilter.run`: the fields of :class:`~quatnav.NavResult` (``position``
-    ``[lat, lon, h]`` of the IMU, ``velocity``, ``quat``, the biases and ``sigma`` of the 15 error
+    ``[lat, lon, h]`` of the IMU, ``velocity``, ``quat``, the biases and ``sigma`` of the 16 error
     states :data:`STATE_NAMES`; NaN before navigation starts, ``quat`` NaN while aligning) and
 
     Attributes
     ----------
     counters : dict
         Per measurement kind (gps_pos, gps_vel, baro, baro_vd, compass): accepted, rejected by
-        the chi-square gate, skipped as invalid; gps_pos and gps_vel also count ``resets``
-        (gate lockout: after ``gps_reset_after`` consecutive rejections the next rejected fix
-        resets the position or velocity to it).
+        the gate, skipped as invalid, ``inflated`` (applied after a covariance inflation) and
+        ``resets`` (the state put on the fix).
+    baro_offset : (N,) ndarray
+        The altimeter offset estimate (its reading minus the ellipsoidal height), m; NaN until
+        the first altimeter sample in navigation.
+    q_scale : (N,) ndarray
+        The process-noise scale of the innovation-based adaptation (1: the configured noise).
+    alignment : dict
+        How the filter was aligned: ``method`` (``"static"``: levelled at rest from the
+        accelerometer; ``"gnss_velocity"``: in motion, the GNSS velocity change against the
+        specific force; ``"gnss_course"``: in motion with positions only, level from the mean
+        specific force; ``"given"``: :meth:`GpsInsFilter.set_initial` or ``reset``; ``"none"``),
+        ``heading`` (``"compass"``, ``"magnetometer"``, ``"gnss_velocity"``, ``"gnss_course"``,
+        ``"given"``, ``"none"``), ``level_t`` and ``navigation_t`` (the times of the first
+        levelled and the first navigating sample of this run, s; None when not reached).
 
-    ``aids`` holds ``gps_pos`` and ``gps_vel`` (innovations (K, 3): INS minus aid, m and m/s),
-    ``baro`` (height, (B, 1), m), ``baro_vd`` (the altimeter's vertical velocity, (B, 1), m/s)
-    and ``compass`` ((C, 1), rad), for the aids given.
+    ``aids`` holds :class:`GpsInsAidResult` (with each sample's ``decision`` and ``inflation``):
+    ``gps_pos`` and ``gps_vel`` (innovations (K, 3): INS minus aid, m and m/s), ``baro`` (height,
+    (B, 1), m), ``baro_vd`` (the altimeter's vertical velocity, (B, 1), m/s) and ``compass`` ((C,
+    1), rad), ``mag`` (the magnetometer heading, (M, 1), rad), ``odometer`` ((O, 1), m/s) for
+    the aids given, and the pseudo-measurements ``zupt`` ((Z, 3), m/s), ``zaru`` ((Z, 3), rad/s)
+    and ``nhc`` ((H, 2), m/s) at the IMU samples where they were made.
     """
 
     FLAGS: ClassVar[dict] = GPSINS_FLAGS
     counters: dict | None = None
+    baro_offset: np.ndarray | None = None
+    q_scale: np.ndarray | None = None
+    alignment: dict | None = None
 
     @property
     def navigating(self) -> np.ndarray:
@@ -93,6 +154,21 @@ def _sigmas(x, name, k, dtype):
     if bad.size:
         raise ValueError(f"{name}: expected positive finite values or NaN; row {int(bad[0])} is {a[bad[0]]}")
     return a
+
+
+def _aid_results(rep: dict, t, names, m: int) -> dict:
+    """The :class:`GpsInsAidResult` of each update column of one aid's report (a GPS fix holds
+    position and velocity, an altimeter sample height and vertical velocity)."""
+    out = {}
+    for c, name in enumerate(names):
+        out[name] = GpsInsAidResult(t, rep["innovation"][:, c * m:(c + 1) * m], rep["nis"][:, c], rep["status"][:, c],
+                                    decision=rep["decision"][:, c], inflation=rep["inflation"][:, c])
+    return out
+
+
+def _take(rep: dict, rows) -> dict:
+    """The rows of an aid's report."""
+    return {k: v[rows] for k, v in rep.items()}
 
 
 def _finite(x, name) -> float:
@@ -159,8 +235,18 @@ class GpsInsFilter(Filter):
         return np.array(self._f.gyro_bias)
 
     @property
+    def baro_offset(self) -> float:
+        """Altimeter offset estimate (its reading minus the ellipsoidal height), m."""
+        return float(self._f.baro_offset)
+
+    @property
+    def q_scale(self) -> float:
+        """Process-noise scale of the innovation-based adaptation (1: the configured noise)."""
+        return float(self._f.q_scale)
+
+    @property
     def covariance(self) -> np.ndarray:
-        """(15, 15) error-state covariance."""
+        """(16, 16) error-state covariance (:data:`STATE_NAMES`)."""
         return np.array(self._f.covariance)
 
     @property
@@ -188,9 +274,10 @@ class GpsInsFilter(Filter):
             IMU [lat (rad), lon (rad), h (m)].
         acc_bias, gyro_bias : (3,) array_like
             Initial bias estimates, m/s^2 and rad/s.
-        P : (15, 15) array_like, optional
+        P : (16, 16) array_like, optional
             Error-state covariance (:data:`STATE_NAMES`); default: the parameters' initial sigmas
-            with GPS position sigmas ``gps_pos_sigma_h``/``_v`` and ``init_vel_sigma``.
+            with GPS position sigmas ``gps_pos_sigma_h``/``_v`` and ``init_vel_sigma`` (the
+            altimeter offset is initialized by the first altimeter sample).
         """
         q = V.vector(q_nb, "q_nb", 4, self.dtype)
         v = V.vector(v_n, "v_n", 3, self.dtype)
@@ -201,11 +288,11 @@ class GpsInsFilter(Filter):
             p = self._f.params
             d = np.array([p.gps_pos_sigma_h, p.gps_pos_sigma_h, p.gps_pos_sigma_v] + [p.init_vel_sigma] * 3
                          + [p.init_level_sigma] * 2 + [p.init_yaw_sigma] + [p.init_acc_bias_sigma] * 3
-                         + [p.init_gyro_bias_sigma] * 3)
+                         + [p.init_gyro_bias_sigma] * 3 + [0.0])
             P = np.diag(d ** 2)
         P = np.asarray(V._numeric(P, "P"), dtype=self.dtype)
-        if P.shape != (15, 15):
-            raise ValueError(f"P: expected shape (15, 15), got {P.shape}")
+        if P.shape != (16, 16):
+            raise ValueError(f"P: expected shape (16, 16), got {P.shape}")
         s = self._f.reset(q, v, float(llh[0]), float(llh[1]), float(llh[2]), ba, bg, P)
         if s != "ok":
             raise ValueError(f"q_nb, v_n, llh, P: rejected by the filter ({s})")
@@ -218,8 +305,10 @@ class GpsInsFilter(Filter):
             raise ValueError(f"dt: {d} s exceeds max_dt={self._f.params.max_dt} s")
         return self._f.predict(V.vector(gyr, "gyr", 3, self.dtype), V.vector(acc, "acc", 3, self.dtype), d)
 
-    def update_gps(self, lat, lon, h, v_n=None, pos_sigma=None, vel_sigma=None):
-        """One GPS fix (rad, rad, m; NED m/s or None). Returns (position result, velocity result)."""
+    def update_gps(self, lat, lon, h, v_n=None, pos_sigma=None, vel_sigma=None, age=0.0):
+        """One GPS fix (rad, rad, m; NED m/s or None), valid ``age`` seconds before the filter's
+        time. Returns (position result, velocity result), each with its ``decision`` code
+        (:data:`GPSINS_DECISIONS`) and ``inflation``."""
         nan3 = np.full(3, np.nan, self.dtype)
         la, lo, hh = _finite(lat, "lat"), _finite(lon, "lon"), _finite(h, "h")
         if not abs(la) <= np.pi / 2:
@@ -231,7 +320,63 @@ class GpsInsFilter(Filter):
         vs = nan3 if vel_sigma is None else _sigmas(np.reshape(V._numeric(vel_sigma, "vel_sigma"), (1, -1))
                                                     if np.ndim(vel_sigma) == 1 else vel_sigma, "vel_sigma", 1,
                                                     self.dtype)[0]
-        return self._f.update_gps(la, lo, hh, v, ps, vs)
+        return self._f.update_gps(la, lo, hh, v, ps, vs, _finite(age, "age"))
+
+    @property
+    def at_rest(self) -> bool:
+        """The rest detector's state (the IMU still for ``rest_time``)."""
+        return bool(self._f.at_rest)
+
+    @property
+    def alignment(self) -> dict:
+        """How the filter was aligned: ``method`` and ``heading`` (see :class:`GpsInsResult`)."""
+        return {"method": self._f.align_method, "heading": self._f.heading_source}
+
+    def set_initial(self, q_nb=None, *, euler=None, v_n=None, acc_bias=(0.0, 0.0, 0.0),
+                    gyro_bias=(0.0, 0.0, 0.0)) -> None:
+        """Start from a given attitude instead of the alignment (a vehicle already moving, an
+        attitude known from elsewhere): the filter waits levelled, with its heading, for the
+        first GNSS fix, which gives the position and (unless ``v_n`` is given) the velocity. The
+        initial one-sigma values are the parameters ``init_level_sigma``, ``init_yaw_sigma``,
+        ``init_vel_sigma``, ``init_acc_bias_sigma``, ``init_gyro_bias_sigma``.
+
+        Parameters
+        ----------
+        q_nb : (4,) array_like, optional
+            Attitude [w, x, y, z], body to NED; or
+        euler : (3,) array_like, optional
+            ZYX Euler angles [roll, pitch, yaw], rad.
+        v_n : (3,) array_like, optional
+            NED velocity, m/s (default: the first fix's, or zero).
+        acc_bias, gyro_bias : (3,) array_like
+            Initial bias estimates, m/s^2 and rad/s.
+        """
+        from ..core import quaternion as Q
+        if (q_nb is None) == (euler is None):
+            raise TypeError("set_initial: give exactly one of q_nb and euler")
+        if euler is not None:
+            e = V.vector(euler, "euler", 3, np.float64)
+            q = Q.from_euler(e).astype(self.dtype)
+        else:
+            q = V.vector(q_nb, "q_nb", 4, self.dtype, nonzero=True)
+        v = np.zeros(3, self.dtype) if v_n is None else V.vector(v_n, "v_n", 3, self.dtype)
+        st = self._f.set_initial(q, v, v_n is not None, V.vector(acc_bias, "acc_bias", 3, self.dtype),
+                                 V.vector(gyro_bias, "gyro_bias", 3, self.dtype))
+        if st != "ok":
+            raise ValueError(f"set_initial: refused by the filter ({st}; only before navigation starts)")
+
+    def update_mag(self, m):
+        """One raw magnetometer sample (IMU axes, any unit). Returns the update result."""
+        return self._f.update_mag(V.vector(m, "m", 3, self.dtype))
+
+    def update_odometer(self, speed: float):
+        """One odometer speed along the body x axis, m/s. Returns the update result."""
+        return self._f.update_odometer(_finite(speed, "speed"))
+
+    def update_constraints(self):
+        """The pseudo-measurements after a :meth:`predict`: ZUPT and ZARU at rest (``zupt``),
+        the non-holonomic constraint while moving (``nhc``). Returns (zupt, zaru, nhc) results."""
+        return self._f.update_constraints()
 
     def update_baro(self, h: float):
         """Altimeter height (m). Returns (height result, vertical-velocity result)."""
@@ -243,24 +388,28 @@ class GpsInsFilter(Filter):
 
     # --- batch --------------------------------------------------------------------------------
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
-            outages=(), on_invalid: str = "raise") -> GpsInsResult:
+            odometer=None, outages=(), imu_input: str = "rate", on_invalid: str = "raise") -> GpsInsResult:
         """Run over an IMU record and aiding records at their own times (C++ loop, GIL released).
 
         Parameters
         ----------
         gyr : (N, 3) array_like
-            Body rate omega_ib_b, rad/s (sample k: the mean over ``(t[k-1], t[k]]``).
+            Angular rate, rad/s (sample k: the mean over ``(t[k-1], t[k]]``), in the IMU's axes
+            (``imu_rotation`` turns them into the body's); with ``imu_input="increment"`` the
+            angle increment over the interval, rad.
         acc : (N, 3) array_like
-            Specific force f_ib_b, m/s^2.
-        mag : None
-            The filter uses no magnetometer (heading from the compass aid or the GPS track); a
-            value is a TypeError.
+            Specific force, m/s^2 (or the velocity increment, m/s), IMU axes.
+        mag : (N, 3) array_like, optional
+            Raw magnetometer at the IMU samples, IMU axes, any unit; all-NaN rows: no sample. Its
+            heading is tilt-compensated with the filter's attitude (``declination`` added),
+            gated and tested for disturbances (``mag_norm_tol``, ``mag_dip_tol``).
         t : (N,) array_like, keyword
             IMU times, s, strictly increasing; or
         dt : float or (N,) array_like, keyword
             Step lengths, s (``t = 0`` and the cumulated steps after the first).
         gps_pos : Aid, optional
-            ``Aid(t, llh, sigma)``: times of validity (K,), s, strictly increasing; the antenna's
+            ``Aid(t, llh, sigma)``: times of validity (K,), s, strictly increasing, on the GNSS
+            clock (``gps_time_offset`` is added to put them on the IMU's); the antenna's
             ``[lat (rad), lon (rad), h (m)]`` (K, 3), an all-NaN row is no fix; optional one-sigma
             (K, 3), NED m, NaN entries take ``gps_pos_sigma_h`` / ``_v``.
         gps_vel : Aid, optional
@@ -272,12 +421,18 @@ class GpsInsFilter(Filter):
         compass : Aid, optional
             ``Aid(t, heading)``: compass times (C,), s, and magnetic headings (C,), rad (the
             ``declination`` parameter is added).
+        odometer : Aid, optional
+            ``Aid(t, speed)``: odometer times (O,), s, and speeds along the body x axis (O,), m/s.
         outages : sequence of (t_start, t_end), optional
             GPS fixes with t_start <= t < t_end are dropped (simulated outages).
+        imu_input : {"rate", "increment"}
+            Whether ``gyr``/``acc`` hold mean rates and specific forces or increments (rad, m/s).
         on_invalid : {"raise", "skip"}
             "raise": the first non-finite row (IMU, a partly-NaN or infinite GPS row, altimeter,
-            compass) or IMU step above ``max_dt`` raises ``ValueError`` naming the argument and
-            row. "skip": such rows skip their step and are reported in ``flags``
+            compass, odometer) or IMU step above ``max_coast`` raises ``ValueError`` naming the
+            argument and row (a step above ``max_dt`` up to ``max_coast`` is coasted in steps of
+            at most ``max_dt`` and flagged ``coasted``, in both modes). "skip": such rows skip
+            their step and are reported in ``flags``
             (``predict_skipped``, ``aid_skipped``), the aids' ``status`` and ``skipped_rows``
             (keys ``"predict_skipped"``, ``"saturated"`` (IMU rows), ``"gps_pos"``, ``"baro"``,
             ``"compass"`` (aiding rows)). Times must be finite and strictly increasing in both
@@ -289,8 +444,9 @@ class GpsInsFilter(Filter):
         GpsInsResult
         """
         strict = V.on_invalid(on_invalid) == "raise"
+        if imu_input not in ("rate", "increment"):
+            raise ValueError(f"imu_input: expected 'rate' or 'increment', got {imu_input!r}")
         gyr = check_imu_order(gyr, acc)
-        no_mag(mag, "GpsInsFilter")
         if t is not None and dt is None:
             t = aid_times(t, "t")
             n = len(t)
@@ -301,13 +457,16 @@ class GpsInsFilter(Filter):
             t = times_of(n, None, V.time_steps(n, dt=dt, t=t))
         gyro = V.vectors(gyr, "gyr", 3, n, self.dtype, finite=strict)
         accel = V.vectors(acc, "acc", 3, n, self.dtype, finite=strict)
-        check_swapped(gyro, accel)
+        if imu_input == "rate":
+            check_swapped(gyro, accel)
+        mag_a = None if mag is None else V.vectors(mag, "mag", 3, n, self.dtype, finite=strict, allow_nan_rows=True)
         if strict:
-            big = np.flatnonzero(np.diff(t) > float(self._f.params.max_dt))
+            limit = max(float(self._f.params.max_dt), float(self._f.params.max_coast))
+            big = np.flatnonzero(np.diff(t) > limit)
             if big.size:
                 k = int(big[0]) + 1
                 raise ValueError(f"t: step {float(t[k] - t[k - 1])!r} s in row {k} exceeds "
-                                 f"max_dt={float(self._f.params.max_dt)!r} s")
+                                 f"max_coast={float(self._f.params.max_coast)!r} s (gaps up to it are coasted)")
         pos, vel = check_aid(gps_pos, "gps_pos", sigma_ok=True), check_aid(gps_vel, "gps_vel", sigma_ok=True)
         if vel is not None and pos is None:
             raise ValueError("gps_vel: needs gps_pos (the filter takes a velocity with a position fix)")
@@ -341,32 +500,47 @@ class GpsInsFilter(Filter):
         compass_t = np.zeros(0) if c is None else aid_times(c.t, "compass.t")
         compass_yaw = _rows(np.zeros(0) if c is None else c.value, "compass.value", len(compass_t), 1, self.dtype,
                             False, strict)
-        d = self._f.run(t, gyro, accel, gps_t, gps_llh, gps_vel_v, gps_pos_sigma, gps_vel_sigma,
-                        baro_t, baro_h, compass_t, compass_yaw)
+        o = check_aid(odometer, "odometer")
+        odo_t = np.zeros(0) if o is None else aid_times(o.t, "odometer.t")
+        odo_v = _rows(np.zeros(0) if o is None else o.value, "odometer.value", len(odo_t), 1, self.dtype, False, strict)
+        d = self._f.run(t, gyro, accel, mag_a, imu_input == "increment", gps_t, gps_llh, gps_vel_v, gps_pos_sigma,
+                        gps_vel_sigma, baro_t, baro_h, compass_t, compass_yaw, odo_t, odo_v)
         flags = d["flags"]
         skipped = skipped_imu_rows(flags, GPSINS_FLAGS, drop_first=True)  # sample 0 only fixes the start time
         refused = [STATUS_NAMES.index(x) for x in ("non_finite", "numerical_failure", "solve_failed", "invalid_argument")]
-        for name, key in (("gps_pos", "gps_status"), ("baro", "baro_status"), ("compass", "compass_status")):
-            s_ = d[key].reshape(len(d[key]), -1) if len(d[key]) else np.zeros((0, 1), np.uint8)
-            rows = np.flatnonzero(np.isin(s_, refused).any(axis=1))
+        for name, key in (("gps_pos", "gps"), ("baro", "baro"), ("compass", "compass"), ("odometer", "odometer"),
+                          ("mag", "mag")):
+            st = d[key]["status"]
+            rows = np.flatnonzero(np.isin(st, refused).any(axis=1))
             if name == "gps_pos" and ng:  # an all-NaN position row is an absent fix, not a refused one
                 rows = rows[~np.isnan(gps_llh[rows]).all(axis=1)]
             if rows.size:
                 skipped[name] = rows
         aids = {}
         if pos is not None:
-            gi, gn, gs = d["gps_innov"].reshape(ng, 6), d["gps_nis"].reshape(ng, 2), d["gps_status"].reshape(ng, 2)
-            aids["gps_pos"] = AidResult(gps_t, gi[:, 0:3], gn[:, 0], gs[:, 0])
-            if vel is not None:
-                aids["gps_vel"] = AidResult(gps_t, gi[:, 3:6], gn[:, 1], gs[:, 1])
+            aids.update(_aid_results(d["gps"], gps_t, ("gps_pos", "gps_vel") if vel is not None else ("gps_pos",), 3))
         if b is not None:
-            nb = len(baro_t)
-            bi, bn, bs = d["baro_innov"].reshape(nb, 2), d["baro_nis"].reshape(nb, 2), d["baro_status"].reshape(nb, 2)
-            aids["baro"] = AidResult(baro_t, bi[:, 0:1], bn[:, 0], bs[:, 0])
-            aids["baro_vd"] = AidResult(baro_t, bi[:, 1:2], bn[:, 1], bs[:, 1])
+            aids.update(_aid_results(d["baro"], baro_t, ("baro", "baro_vd"), 1))
         if c is not None:
-            aids["compass"] = AidResult(compass_t, np.asarray(d["compass_innov"]).reshape(-1, 1), d["compass_nis"],
-                                        d["compass_status"])
+            aids.update(_aid_results(d["compass"], compass_t, ("compass",), 1))
+        if o is not None:
+            aids.update(_aid_results(d["odometer"], odo_t, ("odometer",), 1))
+        if mag_a is not None:
+            rows = ~np.isnan(mag_a).all(axis=1)
+            aids.update(_aid_results(_take(d["mag"], rows), t[rows], ("mag",), 1))
+        for name, m in (("zupt", 3), ("zaru", 3), ("nhc", 2)):
+            made = d[name]["status"][:, 0] != STATUS_NAMES.index("not_initialized")
+            if made.any():
+                aids.update(_aid_results(_take(d[name], made), t[made], (name,), m))
+        coasted = np.flatnonzero(flags & GPSINS_FLAGS["coasted"])
+        if coasted.size:
+            skipped["coasted"] = coasted
+        phase = flags & (GPSINS_FLAGS["levelled"] | GPSINS_FLAGS["navigating"])
+        nav_rows = np.flatnonzero(flags & GPSINS_FLAGS["navigating"])
+        alignment = {"method": d["align_method"], "heading": d["heading_source"],
+                     "level_t": float(t[np.argmax(phase != 0)]) if phase.any() else None,
+                     "navigation_t": float(t[nav_rows[0]]) if nav_rows.size else None}
         return GpsInsResult("GpsInsFilter", t, d["q_nb"], d["gyro_bias"], d["sigma"], flags, aids=aids,
                             skipped_rows=skipped, sigma_names=STATE_NAMES, velocity=d["v_n"],
-                            acc_bias=d["acc_bias"], position=d["llh"], counters=self.counters)
+                            acc_bias=d["acc_bias"], position=d["llh"], counters=self.counters,
+                            baro_offset=d["baro_offset"], q_scale=d["q_scale"], alignment=alignment)

@@ -17,7 +17,7 @@ import numpy as np
 
 from .. import _validate as V
 
-__all__ = ["STATUS_NAMES", "FLAGS", "Flag", "Status", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "QEKF_PARAMS",
+__all__ = ["STATUS_NAMES", "FLAGS", "Flag", "Status", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "GPSINS_DECISIONS", "QEKF_PARAMS",
            "EULER_PARAMS", "MARG_PARAMS", "NAV13_PARAMS", "GPSINS_PARAMS", "FLAG_TABLES", "PARAM_TABLES"]
 
 #: ``quatnav::Status`` names by code (the ``status`` arrays of :class:`~quatnav.AidResult`);
@@ -37,6 +37,7 @@ FLAGS = {
     "gps_pos_used": 1 << 16, "gps_pos_rejected": 1 << 17, "gps_vel_used": 1 << 18, "gps_vel_rejected": 1 << 19,
     "baro_used": 1 << 20, "baro_rejected": 1 << 21, "baro_vd_used": 1 << 22, "baro_vd_rejected": 1 << 23,
     "heading_used": 1 << 24, "heading_rejected": 1 << 25, "aid_skipped": 1 << 26, "gps_reset": 1 << 27,
+    "coasted": 1 << 28, "adapted": 1 << 29, "constraint_used": 1 << 30,
 }
 
 #: The flags as an :class:`enum.IntFlag`: ``quatnav.Flag.acc_rejected``, ``Flag(r.flags[k])`` lists
@@ -66,7 +67,12 @@ NAV13_FLAGS = _subset("predict_skipped", "solve_failed", "saturated", "gps_vel_u
 GPSINS_FLAGS = _subset("aligning", "levelled", "navigating", "initialized", "predict_skipped", "gps_pos_used",
                        "gps_pos_rejected", "gps_vel_used", "gps_vel_rejected", "baro_used", "baro_rejected",
                        "baro_vd_used", "baro_vd_rejected", "heading_used", "heading_rejected", "aid_skipped",
-                       "gps_reset", "saturated")
+                       "gps_reset", "saturated", "adapted", "coasted", "constraint_used", "at_rest",
+                       "mag_skipped", "mag_rejected")
+
+#: What GpsInsFilter did with each aiding sample (``quatnav::GpsInsDecision``), by code: the
+#: ``decision`` arrays of its aids' reports; a test checks them against the compiled module.
+GPSINS_DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned")
 
 
 @dataclass(frozen=True)
@@ -116,6 +122,8 @@ class Param:
             return _angle(value, name, self.limits)
         if k == "vec3":
             return V.vector(value, name, 3, dtype=dtype)
+        if k == "mat3":
+            return rotation_matrix(value, name, dtype)
         if k == "choice":
             if value not in self.limits:
                 raise ValueError(f"{name}: expected one of {self.limits}, got {value!r}")
@@ -123,7 +131,25 @@ class Param:
         raise AssertionError(k)  # pragma: no cover - a table entry of an unknown kind
 
     def same(self, a, b) -> bool:
-        return bool(np.all(np.asarray(a) == np.asarray(b))) if self.kind == "vec3" else a == b
+        return bool(np.all(np.asarray(a) == np.asarray(b))) if self.kind in ("vec3", "mat3") else a == b
+
+
+def rotation_matrix(value, name, dtype=np.float64) -> np.ndarray:
+    """A rotation matrix (3, 3) from a matrix or from ZYX Euler angles ``[roll, pitch, yaw]`` in
+    rad; anything that is not a rotation (orthonormal, determinant +1, to 1e-6) is a ValueError
+    naming ``name``."""
+    a = np.asarray(V._numeric(value, name), dtype=np.float64)
+    if a.shape == (3,):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name}: expected finite Euler angles [roll, pitch, yaw] in rad, got {a}")
+        from ..core import quaternion as Q
+        a = Q.to_rotmat(Q.from_euler(a))
+    elif a.shape != (3, 3):
+        raise ValueError(f"{name}: expected a (3, 3) rotation matrix or Euler angles [roll, pitch, yaw] (rad), "
+                         f"got shape {a.shape}")
+    if not np.all(np.isfinite(a)) or np.abs(a @ a.T - np.eye(3)).max() > 1e-6 or abs(np.linalg.det(a) - 1) > 1e-6:
+        raise ValueError(f"{name}: not a rotation matrix (orthonormal with determinant +1): {a.tolist()}")
+    return np.ascontiguousarray(a, dtype=dtype)
 
 
 _RANGE_TEXT = {-np.pi: "-pi", 0.0: "0", 1.0: "1", np.pi / 2: "pi/2", np.pi: "pi"}
@@ -298,7 +324,7 @@ GPSINS_PARAMS = (
     _p("baro_sigma", 0.5, "m", "one-sigma of an altimeter height", "pos0"),
     _p("baro_rate_baseline", 1.0, "s", "baseline of the altimeter's vertical-velocity difference", "pos0"),
     _p("baro_vd_sigma", 0.1, "m/s", "one-sigma of the altimeter's vertical velocity", "pos0"),
-    _p("baro_offset_fixes", 100.0, "1", "GPS fixes over which the altimeter offset is averaged", "pos0"),
+    _p("baro_offset_noise", 0.02, "m/sqrt(s)", "random-walk density of the altimeter offset", "pos0"),
     _p("compass_sigma", 0.035, "rad", "one-sigma of a compass heading", "angle", limits=(0.0, 1.0)),
     _p("declination", 0.0, "rad", "magnetic declination, east of true north (added to compass headings)",
        "angle", limits=(-_PI, _PI)),
@@ -306,11 +332,54 @@ GPSINS_PARAMS = (
     _p("gate_gps_vel", 21.108, "1 (chi-square, 3 dof)", "NIS gate of the GPS velocity (0: off)", "pos0"),
     _p("gate_baro", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the altimeter (0: off)", "pos0"),
     _p("gate_compass", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the compass (0: off)", "pos0"),
-    _p("gps_reset_after", 5.0, "1", "consecutive gate rejections before a GPS reset (0: never)", "pos0"),
-    _p("align_time", 2.0, "s", "duration of the static alignment", "pos0"),
+    _p("gps_pos_sigma_min", 0.01, "m", "floor of a GPS position one-sigma (given or per fix)", "pos0"),
+    _p("gps_vel_sigma_min", 0.01, "m/s", "floor of a GPS velocity one-sigma (given or per fix)", "pos0"),
+    _p("gps_time_offset", 0.0, "s", "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)",
+       "real"),
+    _p("gps_time_sigma", 0.005, "s", "one-sigma of the GNSS time on the IMU clock", "pos0"),
+    _p("lever_arm_sigma", 0.0, "m", "one-sigma of each lever-arm component", "pos0"),
+    _p("inflate_after", 1.0, "1", "consecutive gate rejections of a GNSS aid after which the next failing fix "
+       "inflates the covariance (0: never)", "pos0"),
+    _p("inflate_max", 1e4, "1", "largest covariance inflation; a fix that needs more resets the state to it"),
+    _p("adapt_q_max", 100.0, "1", "largest process-noise scale of the innovation-based adaptation (1: off)"),
+    _p("adapt_gain", 0.2, "1", "step of the adaptation per GNSS update (natural log of the scale)", "pos0"),
+    _p("align_time", 2.0, "s", "duration of the static alignment (still samples; motion restarts it)", "pos0"),
     _p("min_speed_for_heading", 1.0, "m/s", "GPS speed above which the heading comes from the GPS track",
        "pos0"),
     _p("heading_from_gps", True, "-", "initialize the heading from the GPS track (without compass)", "bool"),
+    _p("align_motion_time", 1.0, "s", "shortest window of an alignment in motion", "pos0"),
+    _p("align_motion_max", 10.0, "s", "longest window of an alignment in motion (then it restarts)", "pos0"),
+    _p("align_course_distance", 10.0, "m",
+       "distance between the position fixes whose course gives the heading (position-only GNSS)", "pos0"),
+    _p("align_level_sigma", 0.1, "rad", "roll/pitch one-sigma after an alignment in motion without GNSS velocity",
+       "angle", limits=(0.0, _PI / 2)),
+    _p("rest_gyr_th", 0.05, "rad/s", "rest: largest deviation of the gyro from its low-pass", "pos0"),
+    _p("rest_acc_th", 0.5, "m/s^2",
+       "rest: largest deviation of the accelerometer from its low-pass and of its norm from gravity", "pos0"),
+    _p("rest_time", 1.0, "s", "rest: shortest duration", "pos0"),
+    _p("rest_tau", 0.5, "s", "rest: low-pass time constant", "pos0"),
+    _p("rest_speed", 0.3, "m/s", "rest: largest speed (the GNSS's before navigation; during it the INS's, plus three "
+       "sigma up to this value again)", "pos0"),
+    _p("zupt", True, "-", "zero-velocity and zero-angular-rate updates at rest", "bool"),
+    _p("zupt_sigma", 0.02, "m/s", "one-sigma of the velocity at rest"),
+    _p("zaru_sigma", 0.005, "rad/s", "one-sigma of the angular rate at rest beyond the gyro's white noise", "pos0"),
+    _p("gate_zupt", 21.108, "1 (chi-square, 3 dof)", "NIS gate of the zero-velocity and zero-rate updates (0: off)",
+       "pos0"),
+    _p("nhc", False, "-", "non-holonomic constraint: no lateral or vertical velocity (wheeled vehicles)", "bool"),
+    _p("nhc_sigma", 0.1, "m/s", "one-sigma of the lateral and vertical body velocity"),
+    _p("gate_nhc", 18.421, "1 (chi-square, 2 dof)", "NIS gate of the non-holonomic constraint (0: off)", "pos0"),
+    _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
+    _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
+    _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),
+    _p("mag_heading_sigma", 0.05, "rad", "one-sigma of a magnetometer heading", "angle", limits=(0.0, 1.0)),
+    _p("mag_norm_tol", 0.1, "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)", "pos0"),
+    _p("mag_dip_tol", 0.1, "rad", "reject the magnetometer when its dip differs from the reference by more (0: off)",
+       "pos0"),
+    _p("mag_ref_samples", 50, "1", "magnetometer samples over which the reference norm and dip are averaged", "int1"),
+    _p("gate_mag", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the magnetometer heading (0: off)", "pos0"),
+    _p("imu_rotation", ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)), "1",
+       "rotation from the IMU axes to the body axes: body = imu_rotation imu", "mat3"),
+    _p("max_coast", 10.0, "s", "longest IMU gap the batch run coasts across (in steps of at most max_dt)", "pos0"),
     _p("earth_rotation", True, "-", "include the Earth rate, transport rate and Coriolis terms", "bool"),
     _max_dt(),
     *_ranges(),
@@ -344,7 +413,7 @@ def parameters_table_markdown() -> str:
             if p is None:
                 cells.append("")
                 continue
-            cells.append("[0, 0, 0]" if isinstance(p.default, tuple) else repr(p.default))
+            cells.append(("I" if p.kind == "mat3" else "[0, 0, 0]") if isinstance(p.default, tuple) else repr(p.default))
             if p.core_name is None:
                 notes.append(f"{label}: Python only")
             elif p.core_name != name:

@@ -1,12 +1,14 @@
-"""Plain numpy twin of ``cpp/include/quatnav/gps_ins.hpp``: the 15-state feedback GPS/INS filter
-of paper 004 with altimeter and compass.
+"""Plain numpy twin of ``cpp/include/quatnav/nav/gps_ins.hpp``: the 16-state feedback GPS/INS
+filter of paper 004 with altimeter (and its offset as a state) and compass.
 
 Same method names and the same algorithm step by step as the C++ class (see the header comment
 there for the equations, the error definitions and the paper's slips). Written to be read and
 compared with the C++, not to be fast: per-sample Python.
 
-Error state ``dx = [dp_n (m), dv_n (m/s), psi (rad), db_a (m/s^2), db_g (rad/s)]``, estimate minus
-truth, attitude error the phi-angle ``C_nb_est = (I + [psi x]) C_nb``.
+Error state ``dx = [dp_n (m), dv_n (m/s), psi (rad), db_a (m/s^2), db_g (rad/s), d_baro_offset (m)]``,
+estimate minus truth, attitude error the phi-angle ``C_nb_est = (I + [psi x]) C_nb``. Each aid is
+one function giving ``(y, H, R)`` (``_gps_position``, ...), sent through the one gated path
+:meth:`GpsInsFilter._apply`, as the C++ pieces of ``nav/gps_ins/aids.hpp``.
 """
 from __future__ import annotations
 
@@ -25,7 +27,11 @@ from .kalman import kalman_correct
 __all__ = ["DEFAULTS", "GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING"]
 
 ALIGNING, LEVELLED, NAVIGATING = 0, 1, 2
-KINDS = ("gps_pos", "gps_vel", "baro", "baro_vd", "compass")
+KINDS = ("gps_pos", "gps_vel", "baro", "baro_vd", "compass", "mag", "zupt", "zaru", "nhc", "odometer")
+#: ``quatnav::GpsInsDecision`` names by code.
+DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned")
+N = 16
+POS, VEL, ATT, BA, BG, BO = 0, 3, 6, 9, 12, 15
 
 
 #: The parameters of the C++ filter with its defaults (the one table, quatnav.filters.tables).
@@ -40,6 +46,7 @@ def GpsInsParams(**params) -> SimpleNamespace:
         raise TypeError(f"GpsInsFilter: unknown parameter {unknown[0]!r}; known: {', '.join(DEFAULTS)}")
     p = SimpleNamespace(**{**DEFAULTS, **params})
     p.lever_arm_b = np.asarray(p.lever_arm_b, float).reshape(3)
+    p.imu_rotation = np.asarray(p.imu_rotation, float).reshape(3, 3)
     return p
 
 
@@ -49,8 +56,9 @@ def _radii(lat):
 
 
 def gpsins_F(nav: StrapdownState, f_b, p) -> np.ndarray:
-    """Continuous error dynamics F (15 x 15) at ``nav`` for the bias-corrected specific force."""
-    F = np.zeros((15, 15))
+    """Continuous error dynamics F (16 x 16) at ``nav`` for the bias-corrected specific force
+    (the altimeter offset is a random walk: its row is zero)."""
+    F = np.zeros((N, N))
     L, h = float(nav.lat), float(nav.h)
     R_M, R_N = _radii(L)
     Rm, Rn = R_M + h, R_N + h
@@ -107,9 +115,11 @@ def gpsins_F(nav: StrapdownState, f_b, p) -> np.ndarray:
     return F
 
 
-def _qc_diag(p):
-    return np.concatenate([np.zeros(3), np.full(3, p.acc_noise ** 2), np.full(3, p.gyro_noise ** 2),
-                           np.full(3, p.acc_bias_noise ** 2), np.full(3, p.gyro_bias_noise ** 2)])
+def _qc_diag(p, q_scale):
+    """Qc: the IMU and bias densities scaled by the adaptation's q_scale, the offset's random walk."""
+    return np.concatenate([np.zeros(3), q_scale * np.full(3, p.acc_noise ** 2), q_scale * np.full(3, p.gyro_noise ** 2),
+                           q_scale * np.full(3, p.acc_bias_noise ** 2), q_scale * np.full(3, p.gyro_bias_noise ** 2),
+                           [p.baro_offset_noise ** 2]])
 
 
 def geodetic_diff(lat_a, lon_a, h_a, lat_b, lon_b, h_b):
@@ -149,23 +159,48 @@ class _State:
     baro_ref_valid: bool = False
     baro_ref_h: float = 0.0
     baro_ref_t: float = 0.0
-    baro_offset_n: float = 0.0
-    gps_pos_reject_run: int = 0
-    gps_vel_reject_run: int = 0
-    counters: dict = field(default_factory=lambda: {k: {"accepted": 0, "rejected": 0, "skipped": 0, "resets": 0}
-                                                    for k in KINDS})
+    q_scale: float = 1.0
+    dt_last: float = 0.0
+    align_method: str = "none"
+    heading_source: str = "none"
+    level_t: float = -1.0
+    nav_start_t: float = -1.0
+    rest_init: bool = False
+    rest_gyr_lp: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rest_acc_lp: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rest_t: float = 0.0
+    gnss_speed: float = -1.0
+    gnss_speed_t: float = 0.0
+    pseudo_t: float = -1e9
+    mot_valid: bool = False
+    mot_llh: tuple = (0.0, 0.0, 0.0)
+    mot_has_v: bool = False
+    mot_v0: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    mot_q: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
+    mot_dv: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    mot_T: float = 0.0
+    init_v: np.ndarray | None = None
+    mag_ref_norm: float = 0.0
+    mag_ref_dip: float = 0.0
+    mag_ref_n: int = 0
+    reject_run: dict = field(default_factory=lambda: {k: 0 for k in KINDS})
+    counters: dict = field(default_factory=lambda: {k: {"accepted": 0, "rejected": 0, "skipped": 0, "inflated": 0,
+                                                        "resets": 0} for k in KINDS})
 
     def copy(self):
         return replace(self, nav=self.nav.copy(), acc_bias=self.acc_bias.copy(), gyro_bias=self.gyro_bias.copy(),
                        P=self.P.copy(), omega_b=self.omega_b.copy(), f_b=self.f_b.copy(),
-                       align_sum=self.align_sum.copy(),
+                       align_sum=self.align_sum.copy(), reject_run=dict(self.reject_run),
+                       rest_gyr_lp=self.rest_gyr_lp.copy(), rest_acc_lp=self.rest_acc_lp.copy(),
+                       mot_v0=self.mot_v0.copy(), mot_q=self.mot_q.copy(), mot_dv=self.mot_dv.copy(),
+                       init_v=None if self.init_v is None else self.init_v.copy(),
                        counters={k: dict(v) for k, v in self.counters.items()})
 
 
 def _new_state():
     return _State(nav=StrapdownState(q_nb=np.array([1.0, 0, 0, 0]), v_n=np.zeros(3), lat=0.0,
                                      lon=0.0, h=0.0),
-                  acc_bias=np.zeros(3), gyro_bias=np.zeros(3), P=np.zeros((15, 15)))
+                  acc_bias=np.zeros(3), gyro_bias=np.zeros(3), P=np.zeros((N, N)))
 
 
 @dataclass
@@ -174,20 +209,165 @@ class Result:
     innovation: np.ndarray
     innovation_cov: np.ndarray
     nis: float
+    decision: str = "none"
+    inflation: float = 1.0
 
     @property
     def accepted(self):
         return self.status == "ok"
 
 
-def _result(status, m):
-    return Result(status, np.zeros(m), np.zeros((m, m)), 0.0)
+def _result(status, m, decision="none"):
+    return Result(status, np.zeros(m), np.zeros((m, m)), 0.0, decision)
+
+
+# --- the aids: each gives (y, H, R) at the state (``nav/gps_ins/aids.hpp``) ----------------------
+def _antenna_velocity(s, p, C):
+    return s.nav.v_n + C @ np.cross(s.omega_b, p.lever_arm_b)
+
+
+def _nav_acceleration(s, C):
+    return C @ s.f_b + np.array([0.0, 0.0, float(earth.gravity(s.nav.lat, s.nav.h))])
+
+
+def _gps_position(s, p, lat, lon, h, sigma, age):
+    """INS antenna position, taken back by ``age`` with the antenna velocity, minus the fix."""
+    C = Q.to_rotmat(s.nav.q_nb)
+    l_n = C @ p.lever_arm_b
+    v_ant = _antenna_velocity(s, p, C)
+    la, lo, hh = geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, l_n - v_ant * age)
+    y = geodetic_diff(la, lo, hh, lat, lon, h)
+    H = np.zeros((3, N))
+    H[:, POS:POS + 3] = np.eye(3)
+    H[:, VEL:VEL + 3] = -age * np.eye(3)
+    H[:, ATT:ATT + 3] = -Q.skew(l_n) + age * Q.skew(v_ant - s.nav.v_n)
+    H[:, BG:BG + 3] = -age * C @ Q.skew(p.lever_arm_b)
+    R = np.diag(np.maximum(sigma, p.gps_pos_sigma_min) ** 2)
+    R = R + p.gps_time_sigma ** 2 * np.outer(v_ant, v_ant) + p.lever_arm_sigma ** 2 * np.eye(3)
+    return y, H, R
+
+
+def _gps_velocity(s, p, v_n, sigma, age):
+    """INS antenna velocity, taken back by ``age`` with the acceleration, minus the fix."""
+    C = Q.to_rotmat(s.nav.q_nb)
+    CW = C @ Q.skew(s.omega_b)
+    wl = C @ np.cross(s.omega_b, p.lever_arm_b)
+    a_n = _nav_acceleration(s, C)
+    y = s.nav.v_n + wl - a_n * age - v_n
+    H = np.zeros((3, N))
+    H[:, VEL:VEL + 3] = np.eye(3)
+    H[:, ATT:ATT + 3] = -Q.skew(wl) + age * Q.skew(C @ s.f_b)
+    H[:, BA:BA + 3] = age * C
+    H[:, BG:BG + 3] = C @ Q.skew(p.lever_arm_b)
+    R = np.diag(np.maximum(sigma, p.gps_vel_sigma_min) ** 2)
+    R = R + p.gps_time_sigma ** 2 * np.outer(a_n, a_n) + p.lever_arm_sigma ** 2 * CW @ CW.T
+    return y, H, R
+
+
+def _baro_height(s, p, h_baro):
+    """The altimeter reads the ellipsoidal height plus its offset (the 16th state)."""
+    H = np.zeros((1, N))
+    H[0, POS + 2] = -1.0
+    H[0, BO] = 1.0
+    return np.array([s.nav.h + s.baro_offset - h_baro]), H, np.array([[p.baro_sigma ** 2]])
+
+
+def _baro_vd(s, p, h_baro, h_ref, T):
+    H = np.zeros((1, N))
+    H[0, VEL + 2] = 1.0
+    R = np.array([[2 * p.baro_sigma ** 2 / T ** 2 + p.baro_vd_sigma ** 2]])
+    return np.array([s.nav.v_n[2] + (h_baro - h_ref) / T]), H, R
+
+
+def _compass(s, p, yaw):
+    e = Q.to_euler(s.nav.q_nb)
+    H = np.zeros((1, N))
+    tp = math.tan(e[1])
+    H[0, ATT:ATT + 3] = [tp * math.cos(e[2]), tp * math.sin(e[2]), 1.0]
+    return np.array([float(Q.wrap_pi(e[2] - yaw))]), H, np.array([[p.compass_sigma ** 2]])
+
+
+def _mag_heading(s, p, m_b):
+    """Angle of the field in NED as the filter sees it minus the declination."""
+    m_n = Q.rotate(s.nav.q_nb, m_b)
+    mh2 = m_n[0] ** 2 + m_n[1] ** 2
+    H = np.zeros((1, N))
+    H[0, ATT:ATT + 3] = [-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, 1.0]
+    y = float(Q.wrap_pi(math.atan2(m_n[1], m_n[0]) - p.declination))
+    return np.array([y]), H, np.array([[p.mag_heading_sigma ** 2]])
+
+
+def _body_velocity_rows(s, rows):
+    Ct = Q.to_rotmat(s.nav.q_nb).T
+    H = np.zeros((len(rows), N))
+    H[:, VEL:VEL + 3] = Ct[rows]
+    H[:, ATT:ATT + 3] = (Ct @ Q.skew(s.nav.v_n))[rows]
+    return (Ct @ s.nav.v_n)[rows], H
+
+
+def _zupt(s, p):
+    H = np.zeros((3, N))
+    H[:, VEL:VEL + 3] = np.eye(3)
+    return s.nav.v_n.copy(), H, p.zupt_sigma ** 2 * np.eye(3)
+
+
+def _zaru(s, p):
+    w_ie = earth.earth_rate_n(s.nav.lat) if p.earth_rotation else np.zeros(3)
+    H = np.zeros((3, N))
+    H[:, BG:BG + 3] = -np.eye(3)
+    dt = s.dt_last if s.dt_last > 0 else 1.0
+    return s.omega_b - Q.rotate_inv(s.nav.q_nb, w_ie), H, (p.gyro_noise ** 2 / dt + p.zaru_sigma ** 2) * np.eye(3)
+
+
+def _nhc(s, p):
+    y, H = _body_velocity_rows(s, [1, 2])
+    return y, H, p.nhc_sigma ** 2 * np.eye(2)
+
+
+def _odometer(s, p, speed):
+    y, H = _body_velocity_rows(s, [0])
+    return y - speed, H, np.array([[p.odometer_sigma ** 2]])
+
+
+def _triad(a_b, b_b, a_n, b_n):
+    """C_nb with C_nb a_b along a_n and C_nb b_b in the plane of a_n, b_n (or None)."""
+    cb, cn = np.cross(a_b, b_b), np.cross(a_n, b_n)
+    tiny = 1e-6
+    if not (np.linalg.norm(a_b) > tiny and np.linalg.norm(a_n) > tiny
+            and np.linalg.norm(cb) > tiny * np.linalg.norm(a_b) * np.linalg.norm(b_b)
+            and np.linalg.norm(cn) > tiny * np.linalg.norm(a_n) * np.linalg.norm(b_n)):
+        return None
+
+    def frame(a, c):
+        t1, t2 = a / np.linalg.norm(a), c / np.linalg.norm(c)
+        return np.column_stack([t1, t2, np.cross(t1, t2)])
+    return frame(a_n, cn) @ frame(a_b, cb).T
+
+
+def _reset_block(P, i, R):
+    P = P.copy()
+    P[i:i + 3, :] = 0.0
+    P[:, i:i + 3] = 0.0
+    P[i:i + 3, i:i + 3] = R
+    return P
+
+
+def _reset_position(s, p, fix, R):
+    lat, lon, h = fix
+    l_n = Q.to_rotmat(s.nav.q_nb) @ p.lever_arm_b
+    s.nav.lat, s.nav.lon, s.nav.h = geodetic_add(lat, lon, h, -l_n)
+    s.P = _reset_block(s.P, POS, R)
+
+
+def _reset_velocity(s, p, v_n, R):
+    s.nav.v_n = v_n - Q.to_rotmat(s.nav.q_nb) @ np.cross(s.omega_b, p.lever_arm_b)
+    s.P = _reset_block(s.P, VEL, R)
 
 
 class GpsInsFilter:
     """Numpy twin of ``quatnav::GpsInsFilter`` (see the C++ header for the model)."""
 
-    n_states = 15
+    n_states = N
 
     def __init__(self, **params):
         self.p = GpsInsParams(**params)
@@ -223,6 +403,14 @@ class GpsInsFilter:
         return self.s.gyro_bias.copy()
 
     @property
+    def baro_offset(self):
+        return self.s.baro_offset
+
+    @property
+    def q_scale(self):
+        return self.s.q_scale
+
+    @property
     def covariance(self):
         return self.s.P.copy()
 
@@ -237,7 +425,7 @@ class GpsInsFilter:
         p = self.p
         d = np.concatenate([np.asarray(pos_sigma, float), np.full(3, vel_sigma),
                             [p.init_level_sigma, p.init_level_sigma, p.init_yaw_sigma],
-                            np.full(3, p.init_acc_bias_sigma), np.full(3, p.init_gyro_bias_sigma)])
+                            np.full(3, p.init_acc_bias_sigma), np.full(3, p.init_gyro_bias_sigma), [0.0]])
         return np.diag(d ** 2)
 
     def reset(self, q_nb, v_n, lat, lon, h, acc_bias, gyro_bias, P):
@@ -250,6 +438,9 @@ class GpsInsFilter:
         s.P = np.asarray(P, float).copy()
         s.phase = NAVIGATING
         s.heading_known = True
+        s.baro_offset_valid = False
+        s.align_method = s.heading_source = "given"
+        s.level_t = s.nav_start_t = s.t
         self.s = s
         return "ok"
 
@@ -264,9 +455,23 @@ class GpsInsFilter:
         if not (np.all(np.isfinite(w_m)) and np.all(np.isfinite(f_m))):
             return "non_finite"
         s = self.s.copy()
+        if not np.array_equal(p.imu_rotation, np.eye(3)):
+            w_m, f_m = p.imu_rotation @ w_m, p.imu_rotation @ f_m
         w = w_m - s.gyro_bias
         f = f_m - s.acc_bias
+        g = float(earth.gravity(s.nav.lat, s.nav.h)) if s.phase == NAVIGATING else 9.80665
+        if s.phase == NAVIGATING:
+            sv = math.sqrt(np.trace(s.P[VEL:VEL + 3, VEL:VEL + 3]))
+            slow = np.linalg.norm(s.nav.v_n) < p.rest_speed + min(3 * sv, p.rest_speed)
+        else:
+            slow = not (s.gnss_speed >= 0 and s.t - s.gnss_speed_t < 2.0 and s.gnss_speed > p.rest_speed)
+        still = self._rest_step(s, w, f, dt, g, slow)
+        if s.phase != NAVIGATING:
+            self._window_step(s, w, f, dt)
         if s.phase == ALIGNING:
+            if not still:
+                s.align_sum = np.zeros(3)
+                s.align_time = 0.0
             s.align_sum = s.align_sum + f_m * dt
             s.align_time += dt
             if s.align_time >= p.align_time:
@@ -281,6 +486,8 @@ class GpsInsFilter:
                 pitch = math.atan2(fm[0], math.sqrt(fm[1] ** 2 + fm[2] ** 2))
                 s.nav.q_nb = _from_euler(roll, pitch, 0.0)
                 s.phase = LEVELLED
+                s.align_method = "static"
+                s.level_t = s.t + dt
         elif s.phase == LEVELLED:
             q = Q.mul(s.nav.q_nb, Q.from_rotvec(w * dt))
             s.nav.q_nb = q / np.linalg.norm(q)
@@ -290,8 +497,8 @@ class GpsInsFilter:
             if st != "ok":
                 return st
             Fdt = F * dt
-            Phi = np.eye(15) + Fdt + 0.5 * Fdt @ Fdt
-            qc = _qc_diag(p)
+            Phi = np.eye(N) + Fdt + 0.5 * Fdt @ Fdt
+            qc = _qc_diag(p, s.q_scale)
             Qd = 0.5 * dt * (Phi * qc) @ Phi.T + np.diag(0.5 * dt * qc)
             P = Phi @ s.P @ Phi.T + Qd
             P = 0.5 * (P + P.T)
@@ -302,25 +509,210 @@ class GpsInsFilter:
             s.P = P
         s.omega_b = w
         s.f_b = f
+        s.dt_last = dt
         s.t += dt
         self.s = s
         return "ok"
 
-    # --- measurement updates --------------------------------------------------------------
+    def _rest_step(self, s, w, f, dt, g, slow):
+        p = self.p
+        if not s.rest_init:
+            s.rest_gyr_lp, s.rest_acc_lp, s.rest_init = w.copy(), f.copy(), True
+        else:
+            a = 1.0 - math.exp(-dt / p.rest_tau) if p.rest_tau > 0 else 1.0
+            s.rest_gyr_lp = s.rest_gyr_lp + a * (w - s.rest_gyr_lp)
+            s.rest_acc_lp = s.rest_acc_lp + a * (f - s.rest_acc_lp)
+        still = (slow and np.linalg.norm(w - s.rest_gyr_lp) < p.rest_gyr_th
+                 and np.linalg.norm(f - s.rest_acc_lp) < p.rest_acc_th and abs(np.linalg.norm(s.rest_acc_lp) - g) < p.rest_acc_th)
+        s.rest_t = s.rest_t + dt if still else 0.0
+        return still
+
+    @staticmethod
+    def _window_start(s, llh, v, has_v):
+        s.mot_valid, s.mot_llh, s.mot_has_v = True, tuple(llh), has_v
+        s.mot_v0 = np.asarray(v, float).copy() if has_v else np.zeros(3)
+        s.mot_q, s.mot_dv, s.mot_T = np.array([1.0, 0.0, 0.0, 0.0]), np.zeros(3), 0.0
+
+    @staticmethod
+    def _window_step(s, w, f, dt):
+        half = Q.mul(s.mot_q, Q.from_rotvec(w * (0.5 * dt)))
+        s.mot_dv = s.mot_dv + Q.rotate(half, f) * dt
+        q = Q.mul(s.mot_q, Q.from_rotvec(w * dt))
+        s.mot_q = q / np.linalg.norm(q)
+        s.mot_T += dt
+
+    @property
+    def at_rest(self):
+        return self.p.rest_time > 0 and self.s.rest_t >= self.p.rest_time
+
+    def set_initial(self, q_nb, v_n=None, acc_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0)):
+        if self.s.phase == NAVIGATING:
+            return "not_initialized"
+        s = self.s.copy()
+        q = np.asarray(q_nb, float)
+        s.nav.q_nb = q / np.linalg.norm(q)
+        s.acc_bias, s.gyro_bias = np.asarray(acc_bias, float).copy(), np.asarray(gyro_bias, float).copy()
+        s.init_v = None if v_n is None else np.asarray(v_n, float).copy()
+        s.phase, s.heading_known = LEVELLED, True
+        s.align_method = s.heading_source = "given"
+        s.level_t = s.t
+        self.s = s
+        return "ok"
+
+    def update_constraints(self):
+        """ZUPT and ZARU at rest, NHC while moving, at most every pseudo_interval."""
+        p, s = self.p, self.s
+        none = (_result("not_initialized", 3), _result("not_initialized", 3), _result("not_initialized", 2))
+        if s.phase != NAVIGATING or s.t - s.pseudo_t < p.pseudo_interval * (1 - 1e-9):
+            return none
+        zupt, zaru, nhc = none
+        if self.at_rest and p.zupt:
+            zupt = self._apply("zupt", *_zupt(self.s, p), p.gate_zupt)
+            zaru = self._apply("zaru", *_zaru(self.s, p), p.gate_zupt)
+            self.s.pseudo_t = self.s.t
+        elif not self.at_rest and p.nhc:
+            nhc = self._apply("nhc", *_nhc(self.s, p), p.gate_nhc)
+            self.s.pseudo_t = self.s.t
+        return zupt, zaru, nhc
+
+    def update_odometer(self, speed):
+        if not math.isfinite(speed):
+            return self._count("odometer", _result("non_finite", 1))
+        if self.s.phase != NAVIGATING:
+            return _result("not_initialized", 1)
+        return self._apply("odometer", *_odometer(self.s, self.p, float(speed)), self.p.gate_odometer)
+
+    def update_mag(self, m_imu):
+        p = self.p
+        m = np.asarray(m_imu, float)
+        if not np.all(np.isfinite(m)):
+            return self._count("mag", _result("non_finite", 1))
+        m_b = p.imu_rotation @ m if not np.array_equal(p.imu_rotation, np.eye(3)) else m
+        norm = float(np.linalg.norm(m_b))
+        if not norm > 0:
+            return self._count("mag", _result("zero_norm", 1))
+        if self.s.phase == ALIGNING:
+            return _result("not_initialized", 1)
+        s = self.s
+        m_n = Q.rotate(s.nav.q_nb, m_b)
+        dip = math.atan2(m_n[2], math.hypot(m_n[0], m_n[1]))
+        if s.mag_ref_n < max(p.mag_ref_samples, 0):
+            n1 = s.mag_ref_n + 1
+            s.mag_ref_norm += (norm - s.mag_ref_norm) / n1
+            s.mag_ref_dip += (dip - s.mag_ref_dip) / n1
+            s.mag_ref_n += 1
+        elif ((p.mag_norm_tol > 0 and abs(norm / s.mag_ref_norm - 1) > p.mag_norm_tol)
+              or (p.mag_dip_tol > 0 and abs(dip - s.mag_ref_dip) > p.mag_dip_tol)):
+            res = _result("rejected", 1)
+            res.innovation[0] = float(Q.wrap_pi(math.atan2(m_n[1], m_n[0]) - p.declination))
+            res.nis = math.nan
+            return self._count("mag", res)
+        if s.phase == LEVELLED:
+            res = _result("not_initialized", 1)
+            if not s.heading_known:
+                e = Q.to_euler(s.nav.q_nb)
+                self._set_yaw(float(Q.wrap_pi(e[2] - (math.atan2(m_n[1], m_n[0]) - p.declination))))
+                self.s.heading_source = "magnetometer"
+                res.decision = "aligned"
+            return res
+        return self._apply("mag", *_mag_heading(s, p, m_b), p.gate_mag)
+
+    # --- the one gated correction path ----------------------------------------------------
     def _count(self, kind, res):
-        key = {"ok": "accepted", "rejected": "rejected"}.get(res.status, "skipped")
-        self.s.counters[kind][key] += 1
+        c = self.s.counters[kind]
+        if res.status == "ok":
+            c["accepted"] += 1
+            res.decision = "accepted" if res.decision == "none" else res.decision
+        elif res.status == "rejected":
+            c["rejected"] += 1
+            res.decision = "rejected" if res.decision == "none" else res.decision
+        else:
+            c["skipped"] += 1
+            res.decision = "skipped"
+        if res.decision == "inflated":
+            c["inflated"] += 1
+        if res.decision == "reset":
+            c["resets"] += 1
         return res
 
-    def _correct(self, kind, H, R, y, gate):
-        status, dx, P, S, nis = kalman_correct(self.s.P, H, R, y, gate)
-        res = Result(status, np.array(y, float), S, nis)
+    def _correct_commit(self, P, H, R, y, gate):
+        status, dx, P_new, S, nis = kalman_correct(P, H, R, y, gate)
         if status == "ok":
             s = self.s.copy()
-            s.P = P
+            s.P = P_new
             self._inject(s, dx)
             self.s = s
+        return status, S, nis
+
+    def _apply(self, kind, y, H, R, gate, adaptive=False, reset=None):
+        """Gate; for a GNSS aid outlier isolation, inflation or reset, adaptation; correction."""
+        p, m = self.p, len(y)
+        y = np.asarray(y, float)
+        status, S, nis = self._correct_commit(self.s.P, H, R, y, gate)
+        res = Result(status, y, S, nis)
+        if status == "ok":
+            self.s.reject_run[kind] = 0
+            if adaptive:
+                self._adapt(nis / m)
+            return self._count(kind, res)
+        if status != "rejected":
+            return self._count(kind, res)
+        if adaptive and p.inflate_after > 0 and self.s.reject_run[kind] >= p.inflate_after:
+            a = self._inflation(H, S, y)
+            if a <= p.inflate_max:
+                P = self.s.P.copy()
+                P[:9, :9] *= a
+                if self._correct_commit(P, H, R, y, 0.0)[0] == "ok":
+                    res.status, res.decision, res.inflation = "ok", "inflated", a
+                    self.s.reject_run[kind] = 0
+                    self._adapt(nis / m)
+                    return self._count(kind, res)
+            else:
+                s = self.s.copy()
+                reset(s, R)
+                self.s = s
+                res.decision = "reset"
+                self.s.reject_run[kind] = 0
+                return self._count(kind, res)
+        self.s.reject_run[kind] += 1
         return self._count(kind, res)
+
+    def _inflation(self, H, S, y):
+        """Smallest a in [1, inflate_max] with y^T (S + (a - 1) H_n P_nn H_n^T)^-1 y <= rows."""
+        Hn = H[:, :9]
+        B = Hn @ self.s.P[:9, :9] @ Hn.T
+        m = len(y)
+
+        def nis(a):
+            try:
+                L = np.linalg.cholesky(S + (a - 1.0) * B)
+            except np.linalg.LinAlgError:
+                return np.inf
+            w = np.linalg.solve(L, y)
+            return float(w @ w)
+        amax = max(self.p.inflate_max, 1.0)
+        if not nis(amax) <= m:
+            return 2.0 * amax
+        lo, hi = 0.0, math.log(amax)
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            if nis(math.exp(mid)) <= m:
+                hi = mid
+            else:
+                lo = mid
+        return math.exp(hi)
+
+    def _adapt(self, r):
+        """ln q_scale moves by adapt_gain (ln r -+ ln 3) outside [1/3, 3], within [1, adapt_q_max]."""
+        p = self.p
+        if not p.adapt_q_max > 1 or not r > 0 or not math.isfinite(r):
+            return
+        l3, lr = math.log(3.0), math.log(min(r, 1e3))
+        step = p.adapt_gain * (lr - l3) if lr > l3 else (p.adapt_gain * (lr + l3) if lr < -l3 else 0.0)
+        if step == 0.0:
+            return
+        l = min(max(math.log(self.s.q_scale) + step, 0.0), math.log(p.adapt_q_max))
+        self.s.q_scale = math.exp(l)
 
     @staticmethod
     def _inject(s, dx):
@@ -331,7 +723,9 @@ class GpsInsFilter:
         s.nav.q_nb = q / np.linalg.norm(q)
         s.acc_bias = s.acc_bias - dx[9:12]
         s.gyro_bias = s.gyro_bias - dx[12:15]
+        s.baro_offset = s.baro_offset - dx[BO]
 
+    # --- measurement updates --------------------------------------------------------------
     def _pos_sigma(self, sigma):
         s = np.asarray(sigma, float)
         d = np.array([self.p.gps_pos_sigma_h, self.p.gps_pos_sigma_h, self.p.gps_pos_sigma_v])
@@ -341,131 +735,178 @@ class GpsInsFilter:
         s = np.asarray(sigma, float)
         return np.where(np.isnan(s), self.p.gps_vel_sigma, s)
 
-    def _track_baro_offset(self, h_imu_gps):
-        """Running mean of (GPS height of the IMU - latest altimeter) over baro_offset_fixes."""
-        s = self.s
-        if not (self.p.baro_offset_fixes > 0) or not s.baro_last_valid:
-            return
-        d = h_imu_gps - s.baro_last
-        if not s.baro_offset_valid:
-            s.baro_offset, s.baro_offset_valid, s.baro_offset_n = d, True, 1.0
-            return
-        if s.baro_offset_n < self.p.baro_offset_fixes:
-            s.baro_offset_n += 1.0
-        s.baro_offset += (d - s.baro_offset) / s.baro_offset_n
-
     def _set_yaw(self, yaw):
         e = Q.to_euler(self.s.nav.q_nb)
         self.s.nav.q_nb = _from_euler(e[0], e[1], yaw)
         self.s.heading_known = True
 
-    def _start(self, lat, lon, h, sig, v0_n):
+    def _init_baro_offset(self, s, h_baro):
+        """The offset state from one altimeter sample: its error is dp_D plus the sample's noise."""
+        s.baro_offset = h_baro - s.nav.h
+        P = s.P.copy()
+        P[BO, :] = P[POS + 2, :]
+        P[:, BO] = P[:, POS + 2]
+        P[BO, BO] = P[POS + 2, POS + 2] + self.p.baro_sigma ** 2
+        s.P = P
+        s.baro_offset_valid = True
+
+    def _start(self, lat, lon, h, sig, q, v0, vel_sigma, level_sigma, yaw_sigma, method, heading):
         s = self.s.copy()
-        l_n = Q.rotate(s.nav.q_nb, self.p.lever_arm_b)
-        lat, lon, h = geodetic_add(lat, lon, h, -l_n)
-        v0 = np.asarray(v0_n, float)
-        s.nav = StrapdownState(q_nb=s.nav.q_nb.copy(),
-                               v_n=v0.copy() if np.all(np.isfinite(v0)) else np.zeros(3),
-                               lat=lat, lon=lon, h=h)
-        s.P = self.initial_covariance(sig, self.p.init_vel_sigma)
-        s.phase = NAVIGATING
+        q = np.asarray(q, float) / np.linalg.norm(q)
+        lat, lon, h = geodetic_add(lat, lon, h, -Q.rotate(q, self.p.lever_arm_b))
+        s.nav = StrapdownState(q_nb=q, v_n=np.asarray(v0, float).copy(), lat=lat, lon=lon, h=h)
+        p = self.p
+        d = np.concatenate([np.asarray(sig, float), np.full(3, vel_sigma), [level_sigma, level_sigma, yaw_sigma],
+                            np.full(3, p.init_acc_bias_sigma), np.full(3, p.init_gyro_bias_sigma), [0.0]])
+        s.P = np.diag(d ** 2)
+        s.phase, s.heading_known = NAVIGATING, True
+        s.align_method, s.heading_source, s.nav_start_t = method, heading, s.t
+        s.mot_valid = False
+        s.baro_offset_valid = False
         if s.baro_last_valid:
-            s.baro_offset = h - s.baro_last
-            s.baro_offset_valid = True
-            s.baro_offset_n = 1.0
+            self._init_baro_offset(s, s.baro_last)
         self.s = s
         return "ok"
 
-    def update_gps_position(self, lat, lon, h, sigma, v0_n=(np.nan, np.nan, np.nan)):
-        if not (math.isfinite(lat) and math.isfinite(lon) and math.isfinite(h)) or abs(lat) > math.pi / 2:
+    def _align_in_motion(self, lat, lon, h, psig, v2, vsig):
+        """Alignment in motion at a fix: TRIAD with GNSS velocity, else the course between fixes."""
+        p, s = self.p, self.s
+        have_v = bool(np.all(np.isfinite(v2)))
+        if not s.mot_valid:
+            self._window_start(s, (lat, lon, h), v2, have_v)
+            return "not_initialized"
+        T = s.mot_T
+        if T >= p.align_motion_time:
+            g = float(earth.gravity(lat, h))
+            dv_b = Q.rotate_inv(s.mot_q, s.mot_dv)
+            if have_v and s.mot_has_v:
+                speed = math.hypot(v2[0], v2[1])
+                C = _triad(dv_b, np.array([1.0, 0, 0]), v2 - s.mot_v0 - np.array([0, 0, g * T]),
+                           np.array([v2[0], v2[1], 0.0])) if speed >= p.min_speed_for_heading else None
+                if C is not None:
+                    e = math.sqrt(2) * float(np.max(vsig)) / (g * T)
+                    b = p.init_gyro_bias_sigma * T
+                    st = self._start(lat, lon, h, psig, Q.from_rotmat(C), v2, p.init_vel_sigma,
+                                     math.sqrt(p.init_level_sigma ** 2 + e ** 2 + b ** 2), p.init_yaw_sigma,
+                                     "gnss_velocity", "gnss_velocity")
+                    self.s.level_t = self.s.t
+                    return st
+            elif not have_v:
+                c = self._window_course(lat, lon, h, psig, True)
+                if c is not None:
+                    q, v, vs, ys, ls = c
+                    st = self._start(lat, lon, h, psig, q, v, vs, ls, ys, "gnss_course", "gnss_course")
+                    self.s.level_t = self.s.t
+                    return st
+        if T > p.align_motion_max:
+            self._window_start(self.s, (lat, lon, h), v2, have_v)
+        return "not_initialized"
+
+    def _window_course(self, lat, lon, h, psig, level):
+        p, s = self.p, self.s
+        if not s.mot_valid:
+            self._window_start(s, (lat, lon, h), np.zeros(3), False)
+            return None
+        d = geodetic_diff(lat, lon, h, *s.mot_llh)
+        dist = math.hypot(d[0], d[1])
+        sh = math.hypot(psig[0], psig[1])
+        T = s.mot_T
+        if T > 0 and 2 * sh / T < 0.5 * p.rest_speed:  # the window tells rest from motion
+            s.gnss_speed, s.gnss_speed_t = dist / T, s.t
+        if not (dist >= max(p.align_course_distance, 4 * sh)) or not T > 0:
+            if T > p.align_motion_max:
+                self._window_start(s, (lat, lon, h), np.zeros(3), False)
+            return None
+        course = math.atan2(d[1], d[0])
+        a, ls = 0.0, p.init_level_sigma
+        if level:
+            dv_b = Q.rotate_inv(s.mot_q, s.mot_dv)
+            g = float(earth.gravity(lat, h))
+            dev = abs(np.linalg.norm(dv_b) / T - g)
+            if not dev < p.rest_acc_th:  # accelerating: wait
+                if T > p.align_motion_max:
+                    self._window_start(s, (lat, lon, h), np.zeros(3), False)
+                return None
+            C = _triad(dv_b, np.array([1.0, 0, 0]), np.array([0, 0, -1.0]),
+                       np.array([math.cos(course), math.sin(course), 0.0]))
+            if C is None:
+                return None
+            q = Q.from_rotmat(C)
+            a = math.sqrt(2 * g * dev)
+            l0 = max(p.align_level_sigma, p.init_level_sigma)
+            ls = math.sqrt(l0 ** 2 + (a / g) ** 2 + (p.init_gyro_bias_sigma * T) ** 2)
+        else:
+            e = Q.to_euler(s.nav.q_nb)
+            q = _from_euler(e[0], e[1], course)
+        v = np.array([d[0] / T, d[1] / T, 0.0])
+        return q, v, max(2 * sh / T + a * T / 2, p.init_vel_sigma), max(2 * sh / dist, p.init_yaw_sigma), ls
+
+    def update_gps_position(self, lat, lon, h, sigma, age=0.0, v0_n=(np.nan, np.nan, np.nan),
+                            vel_sigma=(np.nan, np.nan, np.nan)):
+        if not (math.isfinite(lat) and math.isfinite(lon) and math.isfinite(h) and math.isfinite(age)) \
+                or abs(lat) > math.pi / 2:
             return self._count("gps_pos", _result("non_finite", 3))
         sig = self._pos_sigma(sigma)
         if not (np.all(np.isfinite(sig)) and sig.min() > 0):
             return self._count("gps_pos", _result("invalid_argument", 3))
+        p = self.p
+        psig = np.maximum(sig, p.gps_pos_sigma_min)
+        v0_n = np.asarray(v0_n, float)
         if self.s.phase == ALIGNING:
-            return _result("not_initialized", 3)
+            st = self._align_in_motion(lat, lon, h, psig, v0_n, self._vel_sigma(vel_sigma))
+            return _result(st, 3, "aligned" if st == "ok" else "none")
         if self.s.phase == LEVELLED:
-            if not self.s.heading_known:
-                return _result("not_initialized", 3)
-            return _result(self._start(lat, lon, h, sig, v0_n), 3)
-        C = Q.to_rotmat(self.s.nav.q_nb)
-        l_n = C @ self.p.lever_arm_b
-        self._track_baro_offset(h + l_n[2])
-        la, lo, hh = geodetic_add(self.s.nav.lat, self.s.nav.lon, self.s.nav.h, l_n)
-        y = geodetic_diff(la, lo, hh, lat, lon, h)
-        H = np.zeros((3, 15))
-        H[:, 0:3] = np.eye(3)
-        H[:, 6:9] = -Q.skew(l_n)
-        R = np.diag(sig ** 2)
-        res = self._correct("gps_pos", H, R, y, self.p.gate_gps_pos)
-        if self._lockout(res.status, "gps_pos_reject_run"):
-            # Gate lockout: the IMU position from the fix, its covariance block from the fix's.
             s = self.s
-            s.nav.lat, s.nav.lon, s.nav.h = geodetic_add(lat, lon, h, -l_n)
-            self._reset_block(0, R)
-            s.counters["gps_pos"]["resets"] += 1
-        return res
+            if not s.heading_known:
+                c = self._window_course(lat, lon, h, psig, False)
+                if c is None:
+                    return _result("not_initialized", 3)
+                q, v, vs, ys, _ = c
+                st = self._start(lat, lon, h, psig, q, v, vs, p.init_level_sigma, ys, s.align_method, "gnss_course")
+            else:
+                v0 = s.init_v if s.init_v is not None else (v0_n if np.all(np.isfinite(v0_n)) else np.zeros(3))
+                st = self._start(lat, lon, h, psig, s.nav.q_nb, v0, p.init_vel_sigma, p.init_level_sigma,
+                                 p.init_yaw_sigma, s.align_method, s.heading_source)
+            return _result(st, 3, "aligned")
+        y, H, R = _gps_position(self.s, self.p, lat, lon, h, sig, age)
+        return self._apply("gps_pos", y, H, R, self.p.gate_gps_pos, True,
+                           lambda s, R: _reset_position(s, self.p, (lat, lon, h), R))
 
-    def _lockout(self, status, run):
-        """Count consecutive gate rejections (state field ``run``); True when a reset is due."""
-        if status == "ok":
-            setattr(self.s, run, 0)
-            return False
-        if status != "rejected" or not self.p.gps_reset_after > 0:
-            return False
-        setattr(self.s, run, getattr(self.s, run) + 1)
-        if getattr(self.s, run) < self.p.gps_reset_after + 1:
-            return False
-        setattr(self.s, run, 0)
-        return True
-
-    def _reset_block(self, i, R):
-        P = self.s.P.copy()
-        P[i:i + 3, :] = 0.0
-        P[:, i:i + 3] = 0.0
-        P[i:i + 3, i:i + 3] = R
-        self.s.P = P
-
-    def update_gps_velocity(self, v_n, sigma):
+    def update_gps_velocity(self, v_n, sigma, age=0.0):
         v_n = np.asarray(v_n, float)
-        if not np.all(np.isfinite(v_n)):
+        if not (np.all(np.isfinite(v_n)) and math.isfinite(age)):
             return self._count("gps_vel", _result("non_finite", 3))
         sig = self._vel_sigma(sigma)
         if not (np.all(np.isfinite(sig)) and sig.min() > 0):
             return self._count("gps_vel", _result("invalid_argument", 3))
         if self.s.phase != NAVIGATING:
+            res = _result("not_initialized", 3)
+            speed = math.hypot(v_n[0], v_n[1])
+            self.s.gnss_speed = max(speed - 3 * math.hypot(sig[0], sig[1]), 0.0)  # less three sigmas
+            self.s.gnss_speed_t = self.s.t
             if self.s.phase == LEVELLED and not self.s.heading_known and self.p.heading_from_gps:
                 if math.hypot(v_n[0], v_n[1]) >= self.p.min_speed_for_heading:
                     self._set_yaw(math.atan2(v_n[1], v_n[0]))
-            return _result("not_initialized", 3)
-        C = Q.to_rotmat(self.s.nav.q_nb)
-        wl = np.cross(self.s.omega_b, self.p.lever_arm_b)
-        y = self.s.nav.v_n + C @ wl - v_n
-        H = np.zeros((3, 15))
-        H[:, 3:6] = np.eye(3)
-        H[:, 6:9] = -Q.skew(C @ wl)
-        H[:, 12:15] = C @ Q.skew(self.p.lever_arm_b)
-        R = np.diag(sig ** 2)
-        res = self._correct("gps_vel", H, R, y, self.p.gate_gps_vel)
-        if self._lockout(res.status, "gps_vel_reject_run"):
-            self.s.nav.v_n = v_n - C @ wl  # gate lockout: the IMU velocity from the fix
-            self._reset_block(3, R)
-            self.s.counters["gps_vel"]["resets"] += 1
-        return res
+                    self.s.heading_source = "gnss_velocity"
+                    res.decision = "aligned"
+            return res
+        y, H, R = _gps_velocity(self.s, self.p, v_n, sig, age)
+        return self._apply("gps_vel", y, H, R, self.p.gate_gps_vel, True,
+                           lambda s, R: _reset_velocity(s, self.p, v_n, R))
 
-    def update_gps(self, lat, lon, h, v_n, pos_sigma, vel_sigma):
+    def update_gps(self, lat, lon, h, v_n, pos_sigma, vel_sigma, age=0.0):
         """Returns ``(pos_result, vel_result)`` (see the C++ ``update_gps``)."""
         v = np.asarray(v_n, float)
         have_vel = not np.all(np.isnan(v))
         vel = _result("not_initialized", 3)
         if self.s.phase != NAVIGATING:
             if have_vel:
-                vel = self.update_gps_velocity(v, vel_sigma)
-            pos = self.update_gps_position(lat, lon, h, pos_sigma, v)
+                vel = self.update_gps_velocity(v, vel_sigma, age)
+            pos = self.update_gps_position(lat, lon, h, pos_sigma, age, v, vel_sigma)
             return pos, vel
-        pos = self.update_gps_position(lat, lon, h, pos_sigma)
+        pos = self.update_gps_position(lat, lon, h, pos_sigma, age, v, vel_sigma)
         if have_vel:
-            vel = self.update_gps_velocity(v, vel_sigma)
+            vel = self.update_gps_velocity(v, vel_sigma, age)
         return pos, vel
 
     def update_baro(self, h_baro):
@@ -480,14 +921,10 @@ class GpsInsFilter:
         if s.phase != NAVIGATING:
             return _result("not_initialized", 1), vd
         if not s.baro_offset_valid:
-            s.baro_offset = s.nav.h - h_baro
-            s.baro_offset_valid = True
-            s.baro_offset_n = 1.0
-        H = np.zeros((1, 15))
-        H[0, 2] = -1.0
-        y = np.array([self.s.nav.h - (h_baro + self.s.baro_offset)])
-        R = p.baro_sigma ** 2 + p.gps_pos_sigma_v ** 2 / max(s.baro_offset_n, 1.0)
-        height = self._correct("baro", H, np.array([[R]]), y, p.gate_baro)
+            self._init_baro_offset(s, float(h_baro))
+            height = _result("ok", 1, "aligned")
+        else:
+            height = self._apply("baro", *_baro_height(s, p, float(h_baro)), p.gate_baro)
         s = self.s
         if p.baro_rate_baseline > 0:
             if not s.baro_ref_valid:
@@ -496,13 +933,10 @@ class GpsInsFilter:
                 s.baro_ref_t = s.t
             elif s.t - s.baro_ref_t >= p.baro_rate_baseline:
                 T = s.t - s.baro_ref_t
-                vd_baro = -(h_baro - s.baro_ref_h) / T
-                H = np.zeros((1, 15))
-                H[0, 5] = 1.0
-                R = np.array([[2 * p.baro_sigma ** 2 / T ** 2 + p.baro_vd_sigma ** 2]])
-                vd = self._correct("baro_vd", H, R, np.array([s.nav.v_n[2] - vd_baro]), p.gate_baro)
-                self.s.baro_ref_h = float(h_baro)
-                self.s.baro_ref_t = self.s.t
+                vd = self._apply("baro_vd", *_baro_vd(s, p, float(h_baro), s.baro_ref_h, T), p.gate_baro)
+                if vd.status in ("ok", "rejected"):
+                    self.s.baro_ref_h = float(h_baro)
+                    self.s.baro_ref_t = self.s.t
         return height, vd
 
     def update_compass(self, heading):
@@ -513,86 +947,108 @@ class GpsInsFilter:
             return _result("not_initialized", 1)
         yaw_meas = float(Q.wrap_pi(heading + p.declination))
         if self.s.phase == LEVELLED:
+            if self.s.heading_source == "given":
+                return _result("not_initialized", 1)
             self._set_yaw(yaw_meas)
-            return _result("not_initialized", 1)
-        e = Q.to_euler(self.s.nav.q_nb)
-        y = np.array([float(Q.wrap_pi(e[2] - yaw_meas))])
-        H = np.zeros((1, 15))
-        tp = math.tan(e[1])
-        H[0, 6:9] = [tp * math.cos(e[2]), tp * math.sin(e[2]), 1.0]
-        return self._correct("compass", H, np.array([[p.compass_sigma ** 2]]), y, p.gate_compass)
+            self.s.heading_source = "compass"
+            return _result("not_initialized", 1, "aligned")
+        return self._apply("compass", *_compass(self.s, p, yaw_meas), p.gate_compass)
 
     # --- batch ----------------------------------------------------------------------------
     def run(self, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_sigma=None,
-            gps_vel_sigma=None, baro_t=(), baro_h=None, compass_t=(), compass_yaw=None):
-        """The loop of ``quatnav::gpsins_batch`` in Python; returns a dict of the same arrays."""
+            gps_vel_sigma=None, baro_t=(), baro_h=None, compass_t=(), compass_yaw=None, mag=None,
+            odo_t=(), odo_speed=None, increments=False):
+        """The loop of ``quatnav::gpsins_batch`` in Python; returns a dict of the same arrays
+        (statuses and decisions as names)."""
+        p = self.p
         t = np.asarray(t, float)
         n = len(t)
-        gps_t = np.asarray(gps_t, float)
+        gps_t = np.asarray(gps_t, float) + p.gps_time_offset
         baro_t = np.asarray(baro_t, float)
         compass_t = np.asarray(compass_t, float)
-        ng, nb, nc = len(gps_t), len(baro_t), len(compass_t)
+        odo_t = np.asarray(odo_t, float)
+        ng, nb, nc, no = len(gps_t), len(baro_t), len(compass_t), len(odo_t)
         nan3 = np.full((ng, 3), np.nan)
         gps_vel = nan3 if gps_vel is None else np.asarray(gps_vel, float)
         gps_pos_sigma = nan3 if gps_pos_sigma is None else np.asarray(gps_pos_sigma, float)
         gps_vel_sigma = nan3 if gps_vel_sigma is None else np.asarray(gps_vel_sigma, float)
+
+        def report(rows, cols, m):
+            return {"innovation": np.full((rows, cols * m), np.nan), "nis": np.full((rows, cols), np.nan),
+                    "status": np.full((rows, cols), "not_initialized", dtype=object),
+                    "decision": np.full((rows, cols), "none", dtype=object), "inflation": np.ones((rows, cols))}
+
+        def write(rep, i, c, r):
+            m = len(r.innovation)
+            if r.status in ("ok", "rejected"):
+                rep["innovation"][i, c * m:(c + 1) * m] = r.innovation
+                rep["nis"][i, c] = r.nis
+            rep["status"][i, c], rep["decision"][i, c], rep["inflation"][i, c] = r.status, r.decision, r.inflation
+
         out = {"llh": np.full((n, 3), np.nan), "v_n": np.full((n, 3), np.nan),
                "q_nb": np.full((n, 4), np.nan), "acc_bias": np.zeros((n, 3)),
-               "gyro_bias": np.zeros((n, 3)), "sigma": np.full((n, 15), np.nan),
-               "flags": np.zeros(n, np.uint32),
-               "gps_innov": np.full((ng, 6), np.nan), "gps_nis": np.full((ng, 2), np.nan),
-               "gps_status": np.full((ng, 2), "not_initialized", dtype=object),
-               "baro_innov": np.full((nb, 2), np.nan), "baro_nis": np.full((nb, 2), np.nan),
-               "baro_status": np.full((nb, 2), "not_initialized", dtype=object),
-               "compass_innov": np.full(nc, np.nan), "compass_nis": np.full(nc, np.nan),
-               "compass_status": np.full(nc, "not_initialized", dtype=object)}
+               "gyro_bias": np.zeros((n, 3)), "sigma": np.full((n, N), np.nan),
+               "baro_offset": np.full(n, np.nan), "q_scale": np.ones(n), "flags": np.zeros(n, np.uint32),
+               "gps": report(ng, 2, 3), "baro": report(nb, 2, 1), "compass": report(nc, 1, 1),
+               "odometer": report(no, 1, 1), "mag": report(n if mag is not None else 0, 1, 1),
+               "zupt": report(n, 1, 3), "zaru": report(n, 1, 3), "nhc": report(n, 1, 2)}
         if n == 0:
             return out
         ig = int(np.sum(gps_t <= t[0]))
         ib = int(np.sum(baro_t <= t[0]))
         ic = int(np.sum(compass_t <= t[0]))
-        done = ("ok", "rejected")
+        io = int(np.sum(odo_t <= t[0]))
         for k in range(n):
             was_nav = self.navigating
             if k > 0:
-                self.predict(gyro[k], accel[k], t[k] - t[k - 1])
+                step = t[k] - t[k - 1]
+                w, a = np.asarray(gyro[k], float), np.asarray(accel[k], float)
+                if increments:
+                    w, a = w / step, a / step
+                m = 1
+                if p.max_dt < step <= p.max_coast and p.max_dt > 0:
+                    m = int(math.ceil(step / (p.max_dt * (1 - 1e-9))))
+                st = "ok"
+                for _ in range(m):
+                    if st == "ok":
+                        st = self.predict(w, a, step / m)
+                for name, r in zip(("zupt", "zaru", "nhc"), self.update_constraints()):
+                    write(out[name], k, 0, r)
+                if mag is not None and not np.all(np.isnan(mag[k])):
+                    write(out["mag"], k, 0, self.update_mag(mag[k]))
                 while ic < nc and compass_t[ic] <= t[k]:
-                    r = self.update_compass(float(compass_yaw[ic]))
-                    if r.status != "not_initialized":
-                        out["compass_innov"][ic] = r.innovation[0]
-                    if r.status in done:
-                        out["compass_nis"][ic] = r.nis
-                    out["compass_status"][ic] = r.status
+                    write(out["compass"], ic, 0, self.update_compass(float(compass_yaw[ic])))
                     ic += 1
+                while io < no and odo_t[io] <= t[k]:
+                    write(out["odometer"], io, 0, self.update_odometer(float(odo_speed[io])))
+                    io += 1
                 while ib < nb and baro_t[ib] <= t[k]:
-                    rs = self.update_baro(float(baro_h[ib]))
-                    for c, r in enumerate(rs):
-                        if r.status in done:
-                            out["baro_innov"][ib, c] = r.innovation[0]
-                            out["baro_nis"][ib, c] = r.nis
-                        out["baro_status"][ib, c] = r.status
+                    for c, r in enumerate(self.update_baro(float(baro_h[ib]))):
+                        write(out["baro"], ib, c, r)
                     ib += 1
                 while ig < ng and gps_t[ig] <= t[k]:
                     llh = gps_llh[ig]
                     if np.all(np.isnan(llh)):
-                        rs = (_result("non_finite", 3), _result("not_initialized", 3))
+                        write(out["gps"], ig, 0, _result("non_finite", 3, "skipped"))
                     else:
                         rs = self.update_gps(float(llh[0]), float(llh[1]), float(llh[2]), gps_vel[ig],
-                                             gps_pos_sigma[ig], gps_vel_sigma[ig])
-                    for c, r in enumerate(rs):
-                        if r.status in done:
-                            out["gps_innov"][ig, 3 * c:3 * c + 3] = r.innovation
-                            out["gps_nis"][ig, c] = r.nis
-                        out["gps_status"][ig, c] = r.status
+                                             gps_pos_sigma[ig], gps_vel_sigma[ig], t[k] - gps_t[ig])
+                        for c, r in enumerate(rs):
+                            write(out["gps"], ig, c, r)
                     ig += 1
             if self.navigating:
                 out["llh"][k] = self.llh
                 out["v_n"][k] = self.v_n
                 out["sigma"][k] = np.sqrt(np.maximum(np.diag(self.s.P), 0.0))
+                if self.s.baro_offset_valid:
+                    out["baro_offset"][k] = self.s.baro_offset
             if self.s.phase != ALIGNING:
                 out["q_nb"][k] = self.q_nb
             out["acc_bias"][k] = self.s.acc_bias
             out["gyro_bias"][k] = self.s.gyro_bias
+            out["q_scale"][k] = self.s.q_scale
             out["flags"][k] = (FLAGS[("aligning", "levelled", "navigating")[self.s.phase]]
-                               | (FLAGS["initialized"] if (not was_nav and self.navigating) else 0))
+                               | (FLAGS["initialized"] if (not was_nav and self.navigating) else 0)
+                               | (FLAGS["at_rest"] if self.at_rest else 0))
+        out["align_method"], out["heading_source"] = self.s.align_method, self.s.heading_source
         return out

@@ -151,6 +151,7 @@ template <class S> double gpsins_near_singular(S floor, int steps) {
   p.baro_sigma = S(1e-3);
   p.compass_sigma = S(1e-5);
   p.gate_gps_pos = p.gate_gps_vel = p.gate_baro = p.gate_compass = S(0);
+  p.gps_pos_sigma_min = p.gps_vel_sigma_min = p.lever_arm_sigma = p.gps_time_sigma = S(0);  // as given
   p.cov_floor = floor;
   GpsInsFilter<S> f(p);
   const Quat<S> q = quat::from_euler(S(0.1), S(-0.05), S(0.4));
@@ -168,7 +169,8 @@ template <class S> double gpsins_near_singular(S floor, int steps) {
     if (k % 10 == 0) f.update_gps(0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Constant(S(1e-3)), Vec3<S>::Constant(S(1e-4)));
     EXPECT_TRUE(f.covariance() == f.covariance().transpose()) << "step " << k;
     if (k % 10 != 9) continue;  // eigenvalues every 10th step (as above)
-    const auto h = covariance_health<double, 15>(Mat<double, 15, 15>(f.covariance().template cast<double>()));
+    constexpr int N = GpsInsFilter<S>::kStates;
+    const auto h = covariance_health<double, N>(Mat<double, N, N>(f.covariance().template cast<double>()));
     EXPECT_TRUE(h.finite);
     min_eig = std::min(min_eig, double(h.min_eig));
     if (::testing::Test::HasFailure()) break;

@@ -10,7 +10,7 @@
 
 namespace quatnav {
 
-// X(constant, python_name, bit, doc). Bits 28-31 are free.
+// X(constant, python_name, bit, doc). Bit 31 is free.
 #define QUATNAV_FLAG_TABLE(X)                                                                        \
   X(kInitialized, initialized, 0, "the filter was initialized at this sample (GpsInsFilter: navigation started)") \
   X(kPredictSkipped, predict_skipped, 1, "time update skipped (invalid IMU sample or dt)")          \
@@ -39,7 +39,10 @@ namespace quatnav {
   X(kHeadingUsed, heading_used, 24, "a heading (compass or yaw) was applied")                       \
   X(kHeadingRejected, heading_rejected, 25, "a heading (compass or yaw) failed its gate")           \
   X(kAidSkipped, aid_skipped, 26, "an aiding sample was invalid or its update failed")              \
-  X(kGpsReset, gps_reset, 27, "a GPS position or velocity reset (gate lockout)")
+  X(kGpsReset, gps_reset, 27, "a GPS position or velocity reset (gate lockout)")                         \
+  X(kCoasted, coasted, 28, "GpsInsFilter: an IMU gap longer than max_dt was coasted in steps of at most max_dt") \
+  X(kAdapted, adapted, 29, "GpsInsFilter: a GNSS fix applied after a covariance inflation, or the process-noise scale changed") \
+  X(kConstraintUsed, constraint_used, 30, "GpsInsFilter: a zero-velocity, zero-rate, non-holonomic or odometer update was applied")
 
 /// Per-sample flags (a uint32 bit mask), one table for every filter.
 namespace flags {

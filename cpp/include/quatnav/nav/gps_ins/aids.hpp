@@ -3,10 +3,15 @@
 // In the spirit of pyins' Measurement.compute_matrices(time, state) -> (z, H, R): each piece
 // holds one aiding sample and, at a state, gives its innovation y (INS minus aid, eq. 11), the
 // measurement matrix H over the error state and the noise covariance R (AidMeasurement). The
-// filter sends every piece through one gated correction path (GpsInsFilter::apply): gate,
-// Kalman correction, injection, counters. A new aid is one more piece, not a new path through
-// the filter. Each piece also states where its H can be nonzero (columns C0 .. C0 + NC - 1 of
-// the error state), which the correction exploits; fixed sizes, no heap, no virtual calls.
+// filter sends every piece through one gated correction path (GpsInsFilter::apply: gate, outlier
+// isolation, covariance inflation and process-noise adaptation for the GNSS aids, Kalman
+// correction, injection, counters). A new aid is one more piece, not a new path through the
+// filter. Each piece also states where its H can be nonzero (columns C0 .. C0 + NC - 1 of the
+// error state), which the correction exploits; fixed sizes, no heap, no virtual calls.
+//
+// R holds what the model leaves out, so that the gate judges with an honest covariance: for the
+// GNSS aids a floor on the fix's one-sigma, the uncertainty of its time on the IMU clock (times
+// the antenna's velocity for a position, its acceleration for a velocity) and the lever arm's.
 #pragma once
 
 #include <cmath>
@@ -14,15 +19,23 @@
 #include "../../core/earth.hpp"
 #include "../../core/quaternion.hpp"
 #include "../../core/types.hpp"
+#include "model.hpp"
 #include "params.hpp"
 
 namespace quatnav {
 
-/// One aid sample linearized at a state: y = INS minus aid (M), H (M x 15), R (M x M).
+/// One aid sample linearized at a state: y = INS minus aid (M), H (M x 16), R (M x M).
 template <class S, int M> struct AidMeasurement {
   Vec<S, M> y = Vec<S, M>::Zero();
-  Mat<S, M, 15> H = Mat<S, M, 15>::Zero();
+  Mat<S, M, gpsins::kN> H = Mat<S, M, gpsins::kN>::Zero();
   Mat<S, M, M> R = Mat<S, M, M>::Zero();
+};
+
+/// The outcome of one aid sample: the update's result (status, innovation, its covariance, NIS:
+/// the innovation and NIS before any inflation) and what the filter decided.
+template <class S, int M> struct GpsInsUpdate : UpdateResult<S, M> {
+  GpsInsDecision decision = GpsInsDecision::None;
+  S inflation = S(1);  ///< factor applied to the navigation block of P (Inflated), else 1
 };
 
 namespace detail {
@@ -32,63 +45,115 @@ template <class S> Vec3<S> compass_row(const Quat<S>& q_nb) {
   const S tp = std::tan(e[1]);
   return Vec3<S>(tp * std::cos(e[2]), tp * std::sin(e[2]), S(1));
 }
+
+/// The antenna's NED velocity v + C_nb (w_ib_b x l_b) (Earth rate in the lever-arm term neglected).
+template <class S> Vec3<S> antenna_velocity(const GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat3<S>& C) {
+  return s.nav.v_n + C * s.omega_b.cross(p.lever_arm_b);
+}
+
+/// Kinematic acceleration in NED from the last specific force, C_nb f_b + g_n (Coriolis left out).
+template <class S> Vec3<S> nav_acceleration(const GpsInsState<S>& s, const Mat3<S>& C) {
+  return C * s.f_b + Vec3<S>(S(0), S(0), S(earth::gravity<double>(s.nav.lat, s.nav.h)));
+}
 }  // namespace detail
 
 /// The pieces. Each has: kind (its counters), M (rows), C0, NC (the columns of the error state
-/// where H may be nonzero), gate(params) and measure(state, params, out).
+/// where H may be nonzero), kAdaptive (a GNSS aid: inflation, reset and the process-noise
+/// adaptation apply), gate(params) and measure(state, params, out); an adaptive piece also has
+/// reset(state, params, R), which puts the state on the fix.
 namespace gpsins_aid {
 
-/// GPS antenna position (lat, lon rad; h m) with its NED one-sigma (m): the INS antenna position
-/// p + C_nb l_b minus the fix, in NED metres about the fix; H = [I, 0, -[(C_nb l_b) x], 0, 0].
+/// GPS antenna position (lat, lon rad; h m) with its NED one-sigma (m), valid `age` seconds before
+/// the filter's time: the INS antenna position p + C_nb l_b, taken back by age with the antenna
+/// velocity v_ant = v + C_nb (w x l_b), minus the fix, in NED metres about the fix;
+/// H = [I, -age I, -[(C_nb l_b) x] + age [(C_nb (w x l_b)) x], 0, -age C_nb [l_b x], 0].
 template <class S> struct GpsPosition {
   static constexpr GpsInsAid kind = GpsInsAid::GpsPos;
-  static constexpr int M = 3, C0 = 0, NC = 9;
+  static constexpr int M = 3, C0 = 0, NC = 15;
+  static constexpr bool kAdaptive = true;
   double lat, lon, h;
   Vec3<S> sigma;
+  S age;
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_pos; }
   void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
     const Mat3<S> C = quat::to_rotmat(s.nav.q_nb);
     const Vec3<S> l_n = C * p.lever_arm_b;
+    const Vec3<S> v_ant = detail::antenna_velocity(s, p, C);
     double la = s.nav.lat, lo = s.nav.lon, hh = s.nav.h;
-    earth::geodetic_add(la, lo, hh, l_n.template cast<double>());
+    earth::geodetic_add(la, lo, hh, Vec3<double>((l_n - v_ant * age).template cast<double>()));
     m.y = earth::geodetic_diff<S>(la, lo, hh, lat, lon, h);
-    m.H.template block<3, 3>(0, 0).setIdentity();
-    m.H.template block<3, 3>(0, 6) = -quat::skew<S>(l_n);
-    m.R = sigma.cwiseAbs2().asDiagonal();
+    m.H.template block<3, 3>(0, gpsins::kPos).setIdentity();
+    m.H.template block<3, 3>(0, gpsins::kVel) = -age * Mat3<S>::Identity();
+    m.H.template block<3, 3>(0, gpsins::kAtt) = -quat::skew<S>(l_n) + age * quat::skew<S>(Vec3<S>(v_ant - s.nav.v_n));
+    m.H.template block<3, 3>(0, gpsins::kBg) = -age * C * quat::skew<S>(p.lever_arm_b);
+    m.R = sigma.cwiseMax(p.gps_pos_sigma_min).cwiseAbs2().asDiagonal();
+    m.R += (p.gps_time_sigma * p.gps_time_sigma) * v_ant * v_ant.transpose();
+    m.R.diagonal().array() += p.lever_arm_sigma * p.lever_arm_sigma;  // C diag(s^2) C^T = s^2 I
+  }
+  /// The IMU position from the fix (less the lever arm), its covariance block R, cross terms 0.
+  bool reset(GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
+    const Vec3<S> l_n = quat::to_rotmat(s.nav.q_nb) * p.lever_arm_b;
+    double la = lat, lo = lon, hh = h;
+    earth::geodetic_add(la, lo, hh, Vec3<double>(-l_n.template cast<double>()));
+    s.nav.lat = la;
+    s.nav.lon = lo;
+    s.nav.h = hh;
+    s.P.template middleRows<3>(gpsins::kPos).setZero();
+    s.P.template middleCols<3>(gpsins::kPos).setZero();
+    s.P.template block<3, 3>(gpsins::kPos, gpsins::kPos) = R;
+    return true;
   }
 };
 
-/// GPS antenna velocity (NED, m/s) with its one-sigma per axis: v + C_nb (w_ib_b x l_b) minus the
-/// fix (Earth rate in the lever-arm term neglected); H = [0, I, -[(C_nb (w x l_b)) x], 0, C_nb [l_b x]].
+/// GPS antenna velocity (NED, m/s) with its one-sigma per axis, valid `age` seconds before the
+/// filter's time: v + C_nb (w_ib_b x l_b), taken back by age with the acceleration
+/// a_n = C_nb f_b + g_n, minus the fix;
+/// H = [0, I, -[(C_nb (w x l_b)) x] + age [(C_nb f_b) x], age C_nb, C_nb [l_b x], 0].
 template <class S> struct GpsVelocity {
   static constexpr GpsInsAid kind = GpsInsAid::GpsVel;
   static constexpr int M = 3, C0 = 3, NC = 12;
+  static constexpr bool kAdaptive = true;
   Vec3<S> v_n;
   Vec3<S> sigma;
+  S age;
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_vel; }
   void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
     const Mat3<S> C = quat::to_rotmat(s.nav.q_nb);
-    const Vec3<S> wl = s.omega_b.cross(p.lever_arm_b);
-    m.y = s.nav.v_n + C * wl - v_n;
-    m.H.template block<3, 3>(0, 3).setIdentity();
-    m.H.template block<3, 3>(0, 6) = -quat::skew<S>(Vec3<S>(C * wl));
-    m.H.template block<3, 3>(0, 12) = C * quat::skew<S>(p.lever_arm_b);
-    m.R = sigma.cwiseAbs2().asDiagonal();
+    const Mat3<S> CW = C * quat::skew<S>(s.omega_b);
+    const Vec3<S> wl = C * s.omega_b.cross(p.lever_arm_b);
+    const Vec3<S> a_n = detail::nav_acceleration(s, C);
+    m.y = s.nav.v_n + wl - a_n * age - v_n;
+    m.H.template block<3, 3>(0, gpsins::kVel).setIdentity();
+    m.H.template block<3, 3>(0, gpsins::kAtt) = -quat::skew<S>(wl) + age * quat::skew<S>(Vec3<S>(C * s.f_b));
+    m.H.template block<3, 3>(0, gpsins::kBa) = age * C;
+    m.H.template block<3, 3>(0, gpsins::kBg) = C * quat::skew<S>(p.lever_arm_b);
+    m.R = sigma.cwiseMax(p.gps_vel_sigma_min).cwiseAbs2().asDiagonal();
+    m.R += (p.gps_time_sigma * p.gps_time_sigma) * a_n * a_n.transpose();
+    m.R += (p.lever_arm_sigma * p.lever_arm_sigma) * CW * CW.transpose();
+  }
+  /// The IMU velocity from the fix (less the lever-arm term), its covariance block R, cross terms 0.
+  bool reset(GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
+    s.nav.v_n = v_n - quat::to_rotmat(s.nav.q_nb) * s.omega_b.cross(p.lever_arm_b);
+    s.P.template middleRows<3>(gpsins::kVel).setZero();
+    s.P.template middleCols<3>(gpsins::kVel).setZero();
+    s.P.template block<3, 3>(gpsins::kVel, gpsins::kVel) = R;
+    return true;
   }
 };
 
-/// Altimeter height (m): h_INS - (h_baro + offset), H = -1 on dp_D. R adds the offset's own
-/// uncertainty (a mean of n GPS heights) to the altimeter noise.
+/// Altimeter height h (m): the altimeter reads the ellipsoidal height plus its offset (the 16th
+/// state), so y = h_INS + offset - h; H = -1 on dp_D (the down error), +1 on the offset.
 template <class S> struct BaroHeight {
   static constexpr GpsInsAid kind = GpsInsAid::Baro;
-  static constexpr int M = 1, C0 = 2, NC = 1;
+  static constexpr int M = 1, C0 = 2, NC = 14;
+  static constexpr bool kAdaptive = false;
   double h;
   static S gate(const GpsInsParams<S>& p) { return p.gate_baro; }
   void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
-    m.y[0] = S(s.nav.h - (h + s.baro_offset));
-    m.H(0, 2) = S(-1);
-    m.R(0, 0) = p.baro_sigma * p.baro_sigma +
-                p.gps_pos_sigma_v * p.gps_pos_sigma_v / S(s.baro_offset_n > 1.0 ? s.baro_offset_n : 1.0);
+    m.y[0] = S(s.nav.h + s.baro_offset - h);
+    m.H(0, gpsins::kPos + 2) = S(-1);
+    m.H(0, gpsins::kBo) = S(1);
+    m.R(0, 0) = p.baro_sigma * p.baro_sigma;
   }
 };
 
@@ -99,12 +164,13 @@ template <class S> struct BaroHeight {
 template <class S> struct BaroVerticalVelocity {
   static constexpr GpsInsAid kind = GpsInsAid::BaroVd;
   static constexpr int M = 1, C0 = 5, NC = 1;
+  static constexpr bool kAdaptive = false;
   double h, h_ref, T;
   static S gate(const GpsInsParams<S>& p) { return p.gate_baro; }
   void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
     const S vd_baro = S(-(h - h_ref) / T);
     m.y[0] = s.nav.v_n[2] - vd_baro;
-    m.H(0, 5) = S(1);
+    m.H(0, gpsins::kVel + 2) = S(1);
     m.R(0, 0) = S(2) * p.baro_sigma * p.baro_sigma / S(T * T) + p.baro_vd_sigma * p.baro_vd_sigma;
   }
 };
@@ -114,13 +180,110 @@ template <class S> struct BaroVerticalVelocity {
 template <class S> struct CompassHeading {
   static constexpr GpsInsAid kind = GpsInsAid::Compass;
   static constexpr int M = 1, C0 = 6, NC = 3;
+  static constexpr bool kAdaptive = false;
   S yaw;
   static S gate(const GpsInsParams<S>& p) { return p.gate_compass; }
   void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
     const Vec3<S> e = quat::to_euler(s.nav.q_nb);
     m.y[0] = quat::wrap_pi(e[2] - yaw);
-    m.H.template block<1, 3>(0, 6) = detail::compass_row(s.nav.q_nb).transpose();
+    m.H.template block<1, 3>(0, gpsins::kAtt) = detail::compass_row(s.nav.q_nb).transpose();
     m.R(0, 0) = p.compass_sigma * p.compass_sigma;
+  }
+};
+
+/// Raw magnetometer m_b (body axes, any unit): the angle of the field in the navigation frame as
+/// the filter sees it, m_n = C_nb m_b, minus the declination: y = wrap(atan2(m_E, m_N) - decl),
+/// the heading error tilt-compensated with the filter's own attitude. From m_n <- m_n + psi x m_n:
+/// H = [-tan(dip) cos(a), -tan(dip) sin(a), 1] on psi (a = atan2(m_E, m_N), tan(dip) = m_D / m_h).
+template <class S> struct MagHeading {
+  static constexpr GpsInsAid kind = GpsInsAid::Mag;
+  static constexpr int M = 1, C0 = 6, NC = 3;
+  static constexpr bool kAdaptive = false;
+  Vec3<S> m_b;
+  static S gate(const GpsInsParams<S>& p) { return p.gate_mag; }
+  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+    const Vec3<S> m_n = quat::rotate(s.nav.q_nb, m_b);
+    const S mh2 = m_n[0] * m_n[0] + m_n[1] * m_n[1];
+    m.y[0] = quat::wrap_pi(std::atan2(m_n[1], m_n[0]) - p.declination);
+    m.H.template block<1, 3>(0, gpsins::kAtt) =
+        Vec3<S>(-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, S(1)).transpose();
+    m.R(0, 0) = p.mag_heading_sigma * p.mag_heading_sigma;
+  }
+};
+
+namespace detail_body {
+/// The body-frame velocity at the IMU, C_nb^T v_n, and its rows of H: C_nb^T on dv and
+/// C_nb^T [v_n x] on psi (from C_nb <- (I + [psi x]) C_nb).
+template <class S, int M>
+void body_velocity_rows(const GpsInsState<S>& s, const int (&rows)[M], Vec<S, M>& v, Mat<S, M, gpsins::kN>& H) {
+  const Mat3<S> Ct = quat::to_rotmat(s.nav.q_nb).transpose();
+  const Vec3<S> v_b = Ct * s.nav.v_n;
+  const Mat3<S> Hpsi = Ct * quat::skew<S>(s.nav.v_n);
+  for (int i = 0; i < M; ++i) {
+    v[i] = v_b[rows[i]];
+    H.template block<1, 3>(i, gpsins::kVel) = Ct.row(rows[i]);
+    H.template block<1, 3>(i, gpsins::kAtt) = Hpsi.row(rows[i]);
+  }
+}
+}  // namespace detail_body
+
+/// Zero velocity at rest (ZUPT): y = v_n, H = I on dv.
+template <class S> struct ZeroVelocity {
+  static constexpr GpsInsAid kind = GpsInsAid::Zupt;
+  static constexpr int M = 3, C0 = 3, NC = 3;
+  static constexpr bool kAdaptive = false;
+  static S gate(const GpsInsParams<S>& p) { return p.gate_zupt; }
+  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+    m.y = s.nav.v_n;
+    m.H.template block<3, 3>(0, gpsins::kVel).setIdentity();
+    m.R.diagonal().setConstant(p.zupt_sigma * p.zupt_sigma);
+  }
+};
+
+/// Zero angular rate at rest (ZARU): the bias-corrected rate of the last interval (dt) is the
+/// Earth rate, y = (w_m - b_g) - C_nb^T w_ie; H = -I on db_g; R = gyro_noise^2 / dt + zaru_sigma^2.
+template <class S> struct ZeroRate {
+  static constexpr GpsInsAid kind = GpsInsAid::Zaru;
+  static constexpr int M = 3, C0 = 12, NC = 3;
+  static constexpr bool kAdaptive = false;
+  static S gate(const GpsInsParams<S>& p) { return p.gate_zupt; }
+  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+    const Vec3<S> w_ie = p.earth_rotation ? Vec3<S>(earth::earth_rate_n<double>(s.nav.lat).template cast<S>())
+                                          : Vec3<S>::Zero();
+    m.y = s.omega_b - quat::rotate_inv(s.nav.q_nb, w_ie);
+    m.H.template block<3, 3>(0, gpsins::kBg) = -Mat3<S>::Identity();
+    const S dt = s.dt_last > 0.0 ? S(s.dt_last) : S(1);
+    m.R.diagonal().setConstant(p.gyro_noise * p.gyro_noise / dt + p.zaru_sigma * p.zaru_sigma);
+  }
+};
+
+/// Non-holonomic constraint of a wheeled vehicle: no lateral (y) or vertical (z) velocity of the
+/// body at the IMU, y = rows 1, 2 of C_nb^T v_n (the lever arm to the axle and side slip are in
+/// nhc_sigma).
+template <class S> struct NonHolonomic {
+  static constexpr GpsInsAid kind = GpsInsAid::Nhc;
+  static constexpr int M = 2, C0 = 3, NC = 6;
+  static constexpr bool kAdaptive = false;
+  static S gate(const GpsInsParams<S>& p) { return p.gate_nhc; }
+  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+    static constexpr int rows[2] = {1, 2};
+    detail_body::body_velocity_rows<S, 2>(s, rows, m.y, m.H);
+    m.R.diagonal().setConstant(p.nhc_sigma * p.nhc_sigma);
+  }
+};
+
+/// Odometer forward speed (m/s): y = (C_nb^T v_n)_x - speed.
+template <class S> struct OdometerSpeed {
+  static constexpr GpsInsAid kind = GpsInsAid::Odometer;
+  static constexpr int M = 1, C0 = 3, NC = 6;
+  static constexpr bool kAdaptive = false;
+  S speed;
+  static S gate(const GpsInsParams<S>& p) { return p.gate_odometer; }
+  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+    static constexpr int rows[1] = {0};
+    detail_body::body_velocity_rows<S, 1>(s, rows, m.y, m.H);
+    m.y[0] -= speed;
+    m.R(0, 0) = p.odometer_sigma * p.odometer_sigma;
   }
 };
 

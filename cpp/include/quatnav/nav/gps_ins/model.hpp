@@ -13,9 +13,16 @@
 
 namespace quatnav {
 
+/// The error state: [dp (N, E, D, m), dv (m/s), psi (rad), db_a (m/s^2), db_g (rad/s),
+/// d_baro_offset (m)]; the index of the first component of each block.
+namespace gpsins {
+constexpr int kN = 16;
+constexpr int kPos = 0, kVel = 3, kAtt = 6, kBa = 9, kBg = 12, kBo = 15;
+}  // namespace gpsins
+
 namespace detail {
 
-template <class S> using Mat15 = Mat<S, 15, 15>;
+template <class S> using Mat16 = Mat<S, gpsins::kN, gpsins::kN>;
 
 /// Largest |latitude| (rad) the filter navigates at: the Earth model divides by cos(lat) (about
 /// 10 m from the pole). A state, fix or correction beyond it is refused.
@@ -27,17 +34,18 @@ constexpr double kGpsInsMaxAbsLat = 1.5707;
 template <class S> bool gpsins_nav_ok(const GpsInsState<S>& s) {
   return s.nav.q_nb.allFinite() && s.nav.v_n.allFinite() && std::isfinite(s.nav.lat) && std::isfinite(s.nav.lon) &&
          std::isfinite(s.nav.h) && std::abs(s.nav.lat) < kGpsInsMaxAbsLat && s.acc_bias.allFinite() &&
-         s.gyro_bias.allFinite() && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3);
+         s.gyro_bias.allFinite() && std::isfinite(s.baro_offset) && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3);
 }
 
-/// Continuous-time error dynamics matrix F (15 x 15) at a nominal state, for the bias-corrected
-/// specific force f_b (m/s^2). Block layout and equations: see the file comment.
+/// Continuous-time error dynamics matrix F (16 x 16) at a nominal state, for the bias-corrected
+/// specific force f_b (m/s^2). Block layout and equations: see the file comment (the altimeter
+/// offset is a random walk: its row is zero).
 template <class S>
-Mat15<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
+Mat16<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
   using std::cos;
   using std::sin;
   using std::tan;
-  Mat15<S> F = Mat15<S>::Zero();
+  Mat16<S> F = Mat16<S>::Zero();
   const double L = nav.lat, h = nav.h;
   const earth::Radii<double> r = earth::radii<double>(L);
   const double Rm = r.R_M + h, Rn = r.R_N + h;
@@ -107,18 +115,20 @@ Mat15<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsIns
   return F;
 }
 
-/// Continuous process noise spectral density Qc (diagonal, 15 x 15).
-template <class S> Vec<S, 15> gpsins_Qc_diag(const GpsInsParams<S>& p) {
-  Vec<S, 15> q = Vec<S, 15>::Zero();
-  q.template segment<3>(3).setConstant(p.acc_noise * p.acc_noise);
-  q.template segment<3>(6).setConstant(p.gyro_noise * p.gyro_noise);
-  q.template segment<3>(9).setConstant(p.acc_bias_noise * p.acc_bias_noise);
-  q.template segment<3>(12).setConstant(p.gyro_bias_noise * p.gyro_bias_noise);
+/// Continuous process noise spectral density Qc (diagonal, 16 x 16); the IMU terms scaled by the
+/// adaptation's q_scale.
+template <class S> Vec<S, gpsins::kN> gpsins_Qc_diag(const GpsInsParams<S>& p, S q_scale) {
+  Vec<S, gpsins::kN> q = Vec<S, gpsins::kN>::Zero();
+  q.template segment<3>(3).setConstant(q_scale * p.acc_noise * p.acc_noise);
+  q.template segment<3>(6).setConstant(q_scale * p.gyro_noise * p.gyro_noise);
+  q.template segment<3>(9).setConstant(q_scale * p.acc_bias_noise * p.acc_bias_noise);
+  q.template segment<3>(12).setConstant(q_scale * p.gyro_bias_noise * p.gyro_bias_noise);
+  q[gpsins::kBo] = p.baro_offset_noise * p.baro_offset_noise;
   return q;
 }
 
 /// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).
-template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, 15>& dx) {
+template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, gpsins::kN>& dx) {
   const Vec3<double> dp = dx.template segment<3>(0).template cast<double>();
   earth::geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, Vec3<double>(-dp));
   s.nav.v_n -= dx.template segment<3>(3);
@@ -126,6 +136,7 @@ template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, 15>& dx) {
   s.nav.q_nb = q / q.norm();
   s.acc_bias -= dx.template segment<3>(9);
   s.gyro_bias -= dx.template segment<3>(12);
+  s.baro_offset -= double(dx[gpsins::kBo]);
 }
 
 }  // namespace detail

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "../../core/fields.hpp"
+#include "../../core/quaternion.hpp"
 #include "../../core/types.hpp"
 #include "../strapdown.hpp"
 
@@ -32,19 +33,75 @@ namespace quatnav {
   X(S, baro_sigma, S(0.5), "m", "one-sigma of an altimeter height")                                     \
   X(S, baro_rate_baseline, S(1.0), "s", "baseline of the altimeter's vertical-velocity difference")     \
   X(S, baro_vd_sigma, S(0.1), "m/s", "one-sigma of the altimeter's vertical velocity")                  \
-  X(S, baro_offset_fixes, S(100), "1", "GPS fixes over which the altimeter offset is averaged")          \
+  /* the altimeter offset (its reading minus the ellipsoidal height) is the 16th state, a random walk */ \
+  X(S, baro_offset_noise, S(0.02), "m/sqrt(s)", "random-walk density of the altimeter offset")          \
   X(S, compass_sigma, S(0.035), "rad", "one-sigma of a compass heading")                                \
   X(S, declination, S(0), "rad", "magnetic declination, east of true north (added to compass headings)") \
   X(S, gate_gps_pos, S(21.108), "1 (chi-square, 3 dof)", "NIS gate of the GPS position (0: off)")       \
   X(S, gate_gps_vel, S(21.108), "1 (chi-square, 3 dof)", "NIS gate of the GPS velocity (0: off)")       \
   X(S, gate_baro, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the altimeter (0: off)")             \
   X(S, gate_compass, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the compass (0: off)")            \
-  /* after that many consecutive gate rejections of GPS position (velocity) the next rejected one  \
-     resets the position (velocity) to the fix */                                                      \
-  X(S, gps_reset_after, S(5), "1", "consecutive gate rejections before a GPS reset (0: never)")         \
-  X(S, align_time, S(2.0), "s", "duration of the static alignment")                                     \
+  /* What the GNSS model leaves out enters R: a floor on the fix's one-sigma, the uncertainty of its \
+     time on the IMU clock (times the antenna's velocity or acceleration), the lever arm's. */         \
+  X(S, gps_pos_sigma_min, S(0.01), "m", "floor of a GPS position one-sigma (given or per fix)")         \
+  X(S, gps_vel_sigma_min, S(0.01), "m/s", "floor of a GPS velocity one-sigma (given or per fix)")        \
+  X(S, gps_time_offset, S(0), "s",                                                                      \
+    "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)")                 \
+  X(S, gps_time_sigma, S(0.005), "s", "one-sigma of the GNSS time on the IMU clock")                    \
+  X(S, lever_arm_sigma, S(0), "m", "one-sigma of each lever-arm component")                             \
+  /* A GNSS fix that fails its gate right after one that failed too is not an outlier: the INS is   \
+     off. Its covariance is inflated until the fix is consistent (NIS = rows), and the fix applied; \
+     beyond inflate_max the position (velocity) is reset to the fix. */                                \
+  X(S, inflate_after, S(1), "1",                                                                        \
+    "consecutive gate rejections of a GNSS aid after which the next failing fix inflates the covariance (0: never)") \
+  X(S, inflate_max, S(1e4), "1", "largest covariance inflation; a fix that needs more resets the state to it") \
+  /* Innovation-based adaptation: a process-noise scale raised while the GNSS NIS stays above 3 per \
+     row, lowered while it stays below 1/3 */                                                          \
+  X(S, adapt_q_max, S(100), "1", "largest process-noise scale of the innovation-based adaptation (1: off)") \
+  X(S, adapt_gain, S(0.2), "1", "step of the adaptation per GNSS update (natural log of the scale)")     \
+  X(S, align_time, S(2.0), "s", "duration of the static alignment (still samples; motion restarts it)")  \
   X(S, min_speed_for_heading, S(1.0), "m/s", "GPS speed above which the heading comes from the GPS track") \
   X(bool, heading_from_gps, true, "-", "initialize the heading from the GPS track (without compass)")    \
+  /* Alignment in motion (gps_ins/alignment.hpp): TRIAD of the GNSS velocity change against the     \
+     specific force over a window, the course for the heading; with positions only, the course    \
+     between fixes at least align_course_distance apart. */                                        \
+  X(S, align_motion_time, S(1.0), "s", "shortest window of an alignment in motion")                     \
+  X(S, align_motion_max, S(10.0), "s", "longest window of an alignment in motion (then it restarts)")   \
+  X(S, align_course_distance, S(10.0), "m",                                                             \
+    "distance between the position fixes whose course gives the heading (position-only GNSS)")        \
+  X(S, align_level_sigma, S(0.1), "rad", "roll/pitch one-sigma after an alignment in motion without GNSS velocity") \
+  /* Rest: |w - lp(w)| < rest_gyr_th, |f - lp(f)| < rest_acc_th, ||lp(f)| - g| < rest_acc_th, held */ \
+  X(S, rest_gyr_th, S(0.05), "rad/s", "rest: largest deviation of the gyro from its low-pass")          \
+  X(S, rest_acc_th, S(0.5), "m/s^2",                                                                    \
+    "rest: largest deviation of the accelerometer from its low-pass and of its norm from gravity")   \
+  X(S, rest_time, S(1.0), "s", "rest: shortest duration")                                               \
+  X(S, rest_tau, S(0.5), "s", "rest: low-pass time constant")                                            \
+  X(S, rest_speed, S(0.3), "m/s",                                                                       \
+    "rest: largest speed (the GNSS's before navigation; during it the INS's, plus three "            \
+    "sigma up to this value again)")                                                                   \
+  /* Pseudo-measurements: at rest zero velocity and zero angular rate (w_ie), while moving the     \
+     non-holonomic constraint (no lateral or vertical body velocity at the IMU) */                  \
+  X(bool, zupt, true, "-", "zero-velocity and zero-angular-rate updates at rest")                       \
+  X(S, zupt_sigma, S(0.02), "m/s", "one-sigma of the velocity at rest")                                 \
+  X(S, zaru_sigma, S(0.005), "rad/s", "one-sigma of the angular rate at rest beyond the gyro's white noise") \
+  X(S, gate_zupt, S(21.108), "1 (chi-square, 3 dof)", "NIS gate of the zero-velocity and zero-rate updates (0: off)") \
+  X(bool, nhc, false, "-", "non-holonomic constraint: no lateral or vertical velocity (wheeled vehicles)") \
+  X(S, nhc_sigma, S(0.1), "m/s", "one-sigma of the lateral and vertical body velocity")                 \
+  X(S, gate_nhc, S(18.421), "1 (chi-square, 2 dof)", "NIS gate of the non-holonomic constraint (0: off)") \
+  X(S, pseudo_interval, S(0.1), "s", "shortest interval between two zero-velocity or non-holonomic updates") \
+  X(S, odometer_sigma, S(0.05), "m/s", "one-sigma of an odometer speed")                                \
+  X(S, gate_odometer, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)")          \
+  /* Raw magnetometer: heading tilt-compensated with the filter's attitude; disturbance tests on its \
+     norm and dip against a reference learned over mag_ref_samples samples */                      \
+  X(S, mag_heading_sigma, S(0.05), "rad", "one-sigma of a magnetometer heading")                        \
+  X(S, mag_norm_tol, S(0.1), "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)")    \
+  X(S, mag_dip_tol, S(0.1), "rad", "reject the magnetometer when its dip differs from the reference by more (0: off)") \
+  X(int, mag_ref_samples, 50, "1", "magnetometer samples over which the reference norm and dip are averaged") \
+  X(S, gate_mag, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the magnetometer heading (0: off)")   \
+  /* The sensor model */                                                                               \
+  X(Mat3<S>, imu_rotation, Mat3<S>::Identity(), "1",                                                    \
+    "rotation from the IMU axes to the body axes: body = imu_rotation imu")                           \
+  X(S, max_coast, S(10.0), "s", "longest IMU gap the batch run coasts across (in steps of at most max_dt)") \
   X(bool, earth_rotation, true, "-", "include the Earth rate, transport rate and Coriolis terms")         \
   X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                  \
   X(S, gyro_range, S(0), "rad/s",                                                                       \
@@ -60,12 +117,74 @@ template <class S> struct GpsInsParams {
 /// Alignment phase.
 enum class GpsInsPhase : std::uint8_t { Aligning = 0, Levelled = 1, Navigating = 2 };
 
+/// What one aid sample did (the per-sample report of the batch run and of every update).
+enum class GpsInsDecision : std::uint8_t {
+  None = 0,      ///< no update (before alignment, or the sample gave none)
+  Accepted = 1,  ///< applied
+  Rejected = 2,  ///< refused by its gate (an isolated outlier)
+  Inflated = 3,  ///< applied after the covariance was inflated to make it consistent
+  Reset = 4,     ///< the state was reset to the fix (the inflation needed exceeded inflate_max)
+  Skipped = 5,   ///< invalid input, or the update failed (state untouched)
+  Aligned = 6,   ///< used by the alignment (heading, start of navigation)
+};
+
+inline constexpr int kGpsInsDecisions = 7;
+/// The Python name of a decision (quatnav.filters.tables.GPSINS_DECISIONS, tested equal).
+inline const char* to_string(GpsInsDecision d) {
+  switch (d) {
+    case GpsInsDecision::None: return "none";
+    case GpsInsDecision::Accepted: return "accepted";
+    case GpsInsDecision::Rejected: return "rejected";
+    case GpsInsDecision::Inflated: return "inflated";
+    case GpsInsDecision::Reset: return "reset";
+    case GpsInsDecision::Skipped: return "skipped";
+    case GpsInsDecision::Aligned: return "aligned";
+  }
+  return "unknown";
+}
+
 /// The kinds of aid, the index of each in the counters.
-enum class GpsInsAid : std::uint8_t { GpsPos = 0, GpsVel = 1, Baro = 2, BaroVd = 3, Compass = 4 };
-inline constexpr int kGpsInsAidKinds = 5;
+enum class GpsInsAid : std::uint8_t {
+  GpsPos = 0, GpsVel = 1, Baro = 2, BaroVd = 3, Compass = 4, Mag = 5, Zupt = 6, Zaru = 7, Nhc = 8, Odometer = 9
+};
+inline constexpr int kGpsInsAidKinds = 10;
 /// Python names of the aid kinds, in GpsInsAid order (the keys of the counters).
-inline constexpr const char* kGpsInsAidNames[kGpsInsAidKinds] = {"gps_pos", "gps_vel", "baro", "baro_vd",
-                                                                 "compass"};
+inline constexpr const char* kGpsInsAidNames[kGpsInsAidKinds] = {"gps_pos", "gps_vel", "baro", "baro_vd", "compass",
+                                                                 "mag",     "zupt",    "zaru", "nhc",     "odometer"};
+
+/// How the filter was aligned (state().align_method) and where its heading came from
+/// (state().heading_source).
+enum class GpsInsAlignment : std::uint8_t {
+  None = 0,           ///< not aligned yet
+  Static = 1,         ///< levelled at rest from the accelerometer
+  GnssVelocity = 2,   ///< in motion: TRIAD of the GNSS velocity change against the specific force
+  GnssCourse = 3,     ///< in motion, positions only: level from the mean specific force, large sigma
+  Given = 4,          ///< set_initial() or reset()
+};
+enum class GpsInsHeading : std::uint8_t {
+  None = 0, Compass = 1, Magnetometer = 2, GnssVelocity = 3, GnssCourse = 4, Given = 5
+};
+inline const char* to_string(GpsInsAlignment a) {
+  switch (a) {
+    case GpsInsAlignment::None: return "none";
+    case GpsInsAlignment::Static: return "static";
+    case GpsInsAlignment::GnssVelocity: return "gnss_velocity";
+    case GpsInsAlignment::GnssCourse: return "gnss_course";
+    case GpsInsAlignment::Given: return "given";
+  }
+  return "unknown";
+}
+inline const char* to_string(GpsInsHeading h) {
+  switch (h) {
+    case GpsInsHeading::None: return "none";
+    case GpsInsHeading::Compass: return "compass";
+    case GpsInsHeading::Magnetometer: return "magnetometer";
+    case GpsInsHeading::GnssVelocity: return "gnss_velocity";
+    case GpsInsHeading::GnssCourse: return "gnss_course";
+    case GpsInsHeading::Given: return "given";
+  }
+  return "unknown";
+}
 
 /// Counts of measurement outcomes per aid kind (GpsInsAid order).
 using GpsInsCounts = std::array<std::uint32_t, kGpsInsAidKinds>;
@@ -73,7 +192,8 @@ using GpsInsCounts = std::array<std::uint32_t, kGpsInsAidKinds>;
   X(GpsInsCounts, accepted, GpsInsCounts{}, "-", "updates applied, per aid kind")                      \
   X(GpsInsCounts, rejected, GpsInsCounts{}, "-", "updates refused by the chi-square gate, per aid kind") \
   X(GpsInsCounts, skipped, GpsInsCounts{}, "-", "samples skipped as invalid (or failed updates), per aid kind") \
-  X(GpsInsCounts, resets, GpsInsCounts{}, "-", "gate-lockout resets, per aid kind")
+  X(GpsInsCounts, inflated, GpsInsCounts{}, "-", "updates applied after a covariance inflation, per aid kind") \
+  X(GpsInsCounts, resets, GpsInsCounts{}, "-", "state resets to a fix, per aid kind")
 
 struct GpsInsCounters {
   QUATNAV_FIELDS(GpsInsCounters, QUATNAV_GPSINS_COUNTERS)
@@ -85,28 +205,53 @@ struct GpsInsCounters {
   X(StrapdownState<S>, nav, StrapdownState<S>(), "-", "nominal navigation state")                      \
   X(Vec3<S>, acc_bias, Vec3<S>::Zero(), "m/s^2", "accelerometer bias estimate")                         \
   X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias estimate")                                 \
-  X(Mat15, P, Mat15::Zero(), "state units^2", "error-state covariance")                                  \
+  X(Mat16, P, Mat16::Zero(), "state units^2", "error-state covariance [dp, dv, psi, db_a, db_g, d_baro_offset]") \
   X(double, t, 0.0, "s", "filter time: sum of the accepted IMU intervals")                              \
   X(Vec3<S>, omega_b, Vec3<S>::Zero(), "rad/s", "last bias-corrected body rate")                         \
   X(Vec3<S>, f_b, Vec3<S>::Zero(), "m/s^2", "last bias-corrected specific force")                        \
+  X(double, dt_last, 0.0, "s", "last accepted IMU interval")                                            \
   X(GpsInsPhase, phase, GpsInsPhase::Aligning, "-", "alignment phase: 0 aligning, 1 levelled, 2 navigating") \
   X(Vec3<double>, align_sum, Vec3<double>::Zero(), "m/s", "sum of f_ib_b dt while aligning")             \
   X(double, align_time, 0.0, "s", "time accumulated while aligning")                                    \
   X(bool, heading_known, false, "-", "levelled: the yaw has been set")                                  \
-  X(bool, baro_offset_valid, false, "-", "the altimeter offset has a value")                            \
-  X(double, baro_offset, 0.0, "m", "added to the altimeter height")                                     \
+  X(bool, baro_offset_valid, false, "-", "the altimeter offset state has been initialized")             \
+  X(double, baro_offset, 0.0, "m", "altimeter offset estimate: its reading minus the ellipsoidal height") \
   X(double, baro_last, 0.0, "m", "latest altimeter height seen")                                        \
   X(bool, baro_last_valid, false, "-", "baro_last holds a height")                                      \
   X(bool, baro_ref_valid, false, "-", "a derivative baseline has started")                              \
   X(double, baro_ref_h, 0.0, "m", "altimeter height at the start of the derivative baseline")           \
   X(double, baro_ref_t, 0.0, "s", "filter time at the start of the derivative baseline")                \
-  X(double, baro_offset_n, 0.0, "1", "fixes averaged into baro_offset so far")                          \
-  X(std::uint32_t, gps_pos_reject_run, 0u, "-", "consecutive gate rejections of GPS position")          \
-  X(std::uint32_t, gps_vel_reject_run, 0u, "-", "consecutive gate rejections of GPS velocity")          \
+  X(S, q_scale, S(1), "1", "process-noise scale of the innovation-based adaptation")                  \
+  X(GpsInsAlignment, align_method, GpsInsAlignment::None, "-", "how the attitude was aligned")          \
+  X(GpsInsHeading, heading_source, GpsInsHeading::None, "-", "where the initial heading came from")     \
+  X(double, level_t, -1.0, "s", "filter time of the levelling (-1: not yet)")                           \
+  X(double, nav_start_t, -1.0, "s", "filter time navigation started (-1: not yet)")                     \
+  X(bool, rest_init, false, "-", "the rest low-passes hold a value")                                    \
+  X(Vec3<S>, rest_gyr_lp, Vec3<S>::Zero(), "rad/s", "low-passed bias-corrected rate (rest test)")        \
+  X(Vec3<S>, rest_acc_lp, Vec3<S>::Zero(), "m/s^2", "low-passed bias-corrected specific force (rest test)") \
+  X(double, rest_t, 0.0, "s", "time the IMU has been still")                                            \
+  X(S, gnss_speed, S(-1), "m/s", "last horizontal GNSS speed before navigation (-1: none)")              \
+  X(double, gnss_speed_t, 0.0, "s", "filter time of that speed")                                        \
+  X(double, pseudo_t, -1e9, "s", "filter time of the last zero-velocity or non-holonomic update")         \
+  X(bool, mot_valid, false, "-", "a motion window is open (alignment in motion)")                       \
+  X(double, mot_lat, 0.0, "rad", "latitude of the fix that opened the motion window")                   \
+  X(double, mot_lon, 0.0, "rad", "longitude of that fix")                                               \
+  X(double, mot_h, 0.0, "m", "height of that fix")                                                      \
+  X(bool, mot_has_v, false, "-", "that fix had a velocity")                                             \
+  X(Vec3<S>, mot_v0, Vec3<S>::Zero(), "m/s", "its velocity")                                            \
+  X(Quat<S>, mot_q, quat::identity<S>(), "1", "rotation from the window's first body frame to the body") \
+  X(Vec3<double>, mot_dv, Vec3<double>::Zero(), "m/s", "specific-force velocity increment in the window's first body frame") \
+  X(double, mot_T, 0.0, "s", "duration of the motion window")                                           \
+  X(bool, init_v_valid, false, "-", "set_initial() gave a velocity")                                    \
+  X(Vec3<S>, init_v, Vec3<S>::Zero(), "m/s", "the velocity set_initial() gave")                         \
+  X(S, mag_ref_norm, S(0), "field unit", "reference magnetometer norm")                                 \
+  X(S, mag_ref_dip, S(0), "rad", "reference dip of the magnetic field")                                  \
+  X(std::uint32_t, mag_ref_n, 0u, "-", "samples averaged into the reference")                           \
+  X(GpsInsCounts, reject_run, GpsInsCounts{}, "-", "consecutive gate rejections, per aid kind")          \
   X(GpsInsCounters, counters, GpsInsCounters(), "-", "outcomes per aid kind")
 
 template <class S> struct GpsInsState {
-  using Mat15 = Mat<S, 15, 15>;
+  using Mat16 = Mat<S, 16, 16>;
   QUATNAV_FIELDS(GpsInsState, QUATNAV_GPSINS_STATE)
 };
 

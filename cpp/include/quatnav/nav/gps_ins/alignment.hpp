@@ -1,0 +1,103 @@
+// quatnav: GpsInsFilter's alignment parts (nav/gps_ins.hpp): the rest detector, the TRIAD
+// attitude from two vector pairs, and the motion window that aligns from GNSS while moving.
+//
+// Rest: the gyro and the accelerometer each low-passed (time constant rest_tau); the IMU is
+// still while |w - lp(w)| < rest_gyr_th, |f - lp(f)| < rest_acc_th and ||lp(f)| - g| <
+// rest_acc_th, and the speed is below rest_speed (before navigation the GNSS speed less three of
+// its sigmas, when one is known from the last 2 s; during navigation the INS speed less three of
+// its sigmas): an IMU
+// alone cannot tell a smooth constant-velocity motion, or a gentle acceleration, from rest. At rest
+// once still for rest_time. Static levelling averages the accelerometer only
+// over still samples (motion restarts the average); ZUPT and ZARU use the rest state.
+//
+// Alignment in motion (Lee & Jeong's filter assumes a start at rest; a vehicle already moving
+// needs more): a window opens at a GNSS fix; over it the gyro integrates the rotation from the
+// body frame at its start, C_b0b, and the specific force the velocity increment in that frame,
+// dv_b0 = sum C_b0b f dt. At a later fix T >= align_motion_time seconds on:
+//   with GNSS velocity: v2 - v1 = C_nb0 dv_b0 + g_n T (Coriolis left out), and the body x axis
+//     points along the horizontal velocity (no sideslip): TRIAD with dv_b0 <-> v2 - v1 - g_n T
+//     (primary: it fixes roll and pitch whatever the acceleration) and x_b <-> the course;
+//   with positions only: once the fixes are align_course_distance apart, the course between them
+//     gives the heading and the mean velocity, and the mean specific force the level (the mean
+//     acceleration over the window taken as zero, with the one-sigma align_level_sigma).
+// The result says which alignment was used and when (GpsInsAlignment, state().level_t,
+// nav_start_t).
+#pragma once
+
+#include <cmath>
+
+#include "../../core/quaternion.hpp"
+#include "../../core/types.hpp"
+#include "params.hpp"
+
+namespace quatnav {
+namespace detail {
+
+/// One step of the rest detector on the bias-corrected rate w and specific force f over dt,
+/// with gravity g (m/s^2); `slow`: the speed allows rest (an IMU alone cannot tell a smooth
+/// constant-velocity motion from rest). Returns whether the sample is still; updates the
+/// low-passes and the time the IMU has been still (s.rest_t).
+template <class S>
+bool gpsins_rest_step(GpsInsState<S>& s, const GpsInsParams<S>& p, const Vec3<S>& w, const Vec3<S>& f, S dt, S g,
+                      bool slow) {
+  if (!s.rest_init) {
+    s.rest_gyr_lp = w;
+    s.rest_acc_lp = f;
+    s.rest_init = true;
+  } else {
+    const S a = p.rest_tau > S(0) ? S(1) - std::exp(-dt / p.rest_tau) : S(1);
+    s.rest_gyr_lp += a * (w - s.rest_gyr_lp);
+    s.rest_acc_lp += a * (f - s.rest_acc_lp);
+  }
+  const bool still = slow && (w - s.rest_gyr_lp).norm() < p.rest_gyr_th && (f - s.rest_acc_lp).norm() < p.rest_acc_th &&
+                     std::abs(s.rest_acc_lp.norm() - g) < p.rest_acc_th;
+  s.rest_t = still ? s.rest_t + double(dt) : 0.0;
+  return still;
+}
+
+/// TRIAD: the rotation C_nb with C_nb a_b = a_n exactly (the primary pair, directions) and
+/// C_nb b_b in the plane of a_n and b_n (the secondary). False when a pair is (near) parallel.
+template <class S>
+bool triad(const Vec3<S>& a_b, const Vec3<S>& b_b, const Vec3<S>& a_n, const Vec3<S>& b_n, Mat3<S>& C_nb) {
+  const S tiny = S(1e-6);
+  const Vec3<S> cb = a_b.cross(b_b), cn = a_n.cross(b_n);
+  if (!(a_b.norm() > tiny && a_n.norm() > tiny && cb.norm() > tiny * a_b.norm() * b_b.norm() &&
+        cn.norm() > tiny * a_n.norm() * b_n.norm()))
+    return false;
+  Mat3<S> Mb, Mn;
+  Mb.col(0) = a_b.normalized();
+  Mb.col(1) = cb.normalized();
+  Mb.col(2) = Mb.col(0).cross(Mb.col(1));
+  Mn.col(0) = a_n.normalized();
+  Mn.col(1) = cn.normalized();
+  Mn.col(2) = Mn.col(0).cross(Mn.col(1));
+  C_nb = Mn * Mb.transpose();
+  return C_nb.allFinite();
+}
+
+/// Restart the motion window at a fix (lat, lon, h; velocity v when has_v).
+template <class S>
+void gpsins_window_start(GpsInsState<S>& s, double lat, double lon, double h, const Vec3<S>& v, bool has_v) {
+  s.mot_valid = true;
+  s.mot_lat = lat;
+  s.mot_lon = lon;
+  s.mot_h = h;
+  s.mot_has_v = has_v;
+  s.mot_v0 = has_v ? v : Vec3<S>::Zero();
+  s.mot_q = quat::identity<S>();
+  s.mot_dv = Vec3<double>::Zero();
+  s.mot_T = 0.0;
+}
+
+/// One IMU step of the motion window: the rotation from the window's first body frame and the
+/// specific-force velocity increment in that frame (midpoint rotation).
+template <class S> void gpsins_window_step(GpsInsState<S>& s, const Vec3<S>& w, const Vec3<S>& f, S dt) {
+  const Quat<S> half = quat::mul(s.mot_q, quat::from_rotvec(Vec3<S>(w * (dt * S(0.5)))));
+  s.mot_dv += (quat::rotate(half, f) * dt).template cast<double>();
+  Quat<S> q = quat::mul(s.mot_q, quat::from_rotvec(Vec3<S>(w * dt)));
+  s.mot_q = q / q.norm();
+  s.mot_T += double(dt);
+}
+
+}  // namespace detail
+}  // namespace quatnav
