@@ -1,7 +1,8 @@
 // quatnav: every public header.
 //
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
-//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization and batch loop
+//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization and batch loop, and
+//              parts/, the robustness they compose (rest detection, accelerometer, magnetometer)
 //   nav/       strapdown, NavFilter13, GpsInsFilter and their batch loops
 // attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
@@ -18,6 +19,9 @@
 #include "core/earth.hpp"
 
 #include "attitude/attitude.hpp"
+#include "attitude/parts/rest.hpp"
+#include "attitude/parts/acc_filter.hpp"
+#include "attitude/parts/mag_disturbance.hpp"
 #include "attitude/quaternion_ekf.hpp"
 #include "attitude/quaternion_eskf.hpp"
 #include "attitude/euler_ekf.hpp"
