@@ -75,6 +75,7 @@ class _Base:
         self.p = make_params(type(self).__name__, self.defaults, params)
         self.mag = MagDisturbance(self.p)  # the reference field (and its disturbance tests)
         self.initialized = False
+        self.flags = 0  # the parts' flags of the current sample
 
     @property
     def mag_ref(self):
@@ -102,22 +103,31 @@ class _Base:
             return SimpleNamespace(status="not_initialized")
         return self._update3(acc, *GRAVITY_REF, self.p.acc_sigma, gate)
 
-    def run(self, gyr, acc, mag=None, dt=None, observer=None):
-        """Same loop as quatnav.batch.hpp: initialize, then predict + update_acc + update_mag;
-        ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as there."""
-        gyr = np.asarray(gyr, float)
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, smooth=False, observer=None):
+        """The loop of run_attitude_batch (attitude/batch.hpp) with the public ``run``'s signature:
+        initialize at the first sample, then predict, update_acc and update_mag (an all-NaN
+        magnetometer row: no sample). Times as ``t`` (timestamps) or ``dt`` (a step or one per
+        sample). Returns ``t``, ``quat``, ``bias``, ``sigma`` and the parts' ``flags``.
+        ``smooth=True`` (QuaternionESKF, EulerEKF): the smoothed estimates
+        (:func:`quatnav.reference.attitude_smoother.run_smoothed`), the forward ones in ``forward``.
+        ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as in batch.hpp."""
+        gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
+        if smooth:
+            from .attitude_smoother import run_smoothed
+            t, steps = sample_times(len(gyr), t, dt)
+            out = run_smoothed(self, gyr, acc, mag, dt=steps)
+            sm = out.smoothed
+            return SimpleNamespace(t=t, quat=sm.quat, bias=sm.bias, sigma=sm.sigma, flags=out.flags, forward=out)
         n = len(gyr)
-        dt = np.broadcast_to(np.asarray(dt, float), (n,))
-        quat = np.empty((n, 4))
-        bias = np.empty((n, 3))
-        sigma = np.empty((n, self.n_states))
+        t, steps = sample_times(n, t, dt)
+        quat, bias, sigma = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, self.n_states))
         flags = np.zeros(n, dtype=np.uint32)
         for k in range(n):
             m = None if mag is None or np.all(np.isnan(mag[k])) else mag[k]
             if not self.initialized:
                 self.initialize(acc[k], m)
             else:
-                self.predict(gyr[k], dt[k])
+                self.predict(gyr[k], steps[k])
                 if observer is not None:
                     observer.after_predict(k, self)
                 self.update_acc(acc[k])
@@ -128,8 +138,22 @@ class _Base:
             quat[k] = self.quat
             bias[k] = self.bias
             sigma[k] = np.sqrt(np.maximum(np.diag(self.P), 0))
-            flags[k] = getattr(self, "flags", 0)
-        return SimpleNamespace(quat=quat, bias=bias, sigma=sigma, flags=flags)
+            flags[k] = self.flags
+        return SimpleNamespace(t=t, quat=quat, bias=bias, sigma=sigma, flags=flags)
+
+
+def sample_times(n, t=None, dt=None):
+    """(t, steps) of n samples, as the public filters read their times: ``dt`` a step or one per
+    sample (t: 0 and the cumulated steps after the first), or timestamps ``t`` (the first step
+    repeats t[1] - t[0]). Exactly one of them."""
+    if (t is None) == (dt is None):
+        raise ValueError("dt, t: give exactly one of dt (seconds) or t (timestamps, seconds)")
+    if t is not None:
+        t = np.asarray(t, float)
+        d = np.diff(t)
+        return t, np.concatenate([d[:1], d])
+    steps = np.broadcast_to(np.asarray(dt, float), (n,)).copy()
+    return np.concatenate([[0.0], np.cumsum(steps[1:])]) if n else np.zeros(0), steps
 
 
 FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = FLAGS["acc_rejected"], FLAGS["mag_rejected"], FLAGS["at_rest"]
