@@ -132,7 +132,10 @@ def test_plot(tmp_path, scen):
 
 
 def test_cli(tmp_path, capsys):
-    from quatnav.sim.cli import main
+    from quatnav.cli import main as quatnav_main
+
+    def main(argv):
+        return quatnav_main(["simulate", *argv])
     assert main(["--list"]) == 0
     out = capsys.readouterr().out
     assert all(n in out for n in NAMES)

@@ -330,12 +330,6 @@ def _cli(args) -> int:
     return 0
 
 
-def main(argv=None) -> int:
-    """``python -m quatnav.evaluation.bench [options]``: the same as ``quatnav bench [options]``."""
-    from .. import cli
-    return cli.main(["bench"] + list(sys.argv[1:] if argv is None else argv))
-
-
 # ----------------------------------------------------------------------------------------------
 # The implementations
 # ----------------------------------------------------------------------------------------------
@@ -493,7 +487,3 @@ register("ahrs Madgwick", "ahrs", "pure Python", _ahrs("Madgwick"), limit=5000, 
 register("ahrs EKF", "ahrs", "pure Python", _ahrs("EKF"), limit=2000, requires="ahrs")
 register("filterpy EKF (quat model)", "filterpy", "pure Python", _filterpy_ekf, limit=2000, requires="filterpy")
 register("filterpy UKF (quat model)", "filterpy", "pure Python", _filterpy_ukf, limit=500, requires="filterpy")
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -70,6 +70,7 @@ def make_params(name: str, defaults: dict, given: dict) -> SimpleNamespace:
 
 class _Base:
     defaults: dict = {}
+    rts_model = None  # the 7-state filter of paper 000 has no smoother (neither has the C++ one)
 
     def __init__(self, **params):
         self.p = make_params(type(self).__name__, self.defaults, params)
@@ -108,7 +109,7 @@ class _Base:
         initialize at the first sample, then predict, update_acc and update_mag (an all-NaN
         magnetometer row: no sample). Times as ``t`` (timestamps) or ``dt`` (a step or one per
         sample). Returns ``t``, ``quat``, ``bias``, ``sigma`` and the parts' ``flags``.
-        ``smooth=True`` (QuaternionESKF, EulerEKF): the smoothed estimates
+        ``smooth=True`` (QuaternionESKF, EulerEKF: ``rts_model``): the smoothed estimates
         (:func:`quatnav.reference.attitude_smoother.run_smoothed`), the forward ones in ``forward``.
         ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as in batch.hpp."""
         gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
@@ -450,6 +451,9 @@ class QuaternionESKF(QuaternionEKF):
     (dtheta in the body frame). Same parameters, measurements and robustness steps.
     """
 
+    #: The model of its smoother (quatnav.reference.attitude_smoother).
+    rts_model = "ESKFModel"
+
     n_states = 6
 
     def initialize(self, acc, mag=None):
@@ -569,6 +573,7 @@ class EulerEKF(_Base):
     """Euler-angle EKF (paper 000's baseline) in numpy. State [roll, pitch, yaw, bx, by, bz]."""
 
     defaults = table_defaults(EULER_PARAMS)
+    rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
     n_states = 6
 
     def __init__(self, **params):

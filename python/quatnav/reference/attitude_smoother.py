@@ -10,7 +10,6 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..core import quaternion as Q
-from .attitude import EulerEKF, QuaternionESKF
 from .smoother import Recorder
 
 
@@ -34,7 +33,7 @@ class ESKFModel(_Model):
         return (f.q.copy(), f.bias.copy(), f.P.copy()) if f.initialized else None
 
     def transition(self, post, k):
-        return QuaternionESKF.propagate(post[0], post[1], self.gyr[k], self.dt[k])[1]
+        return type(self.f).propagate(post[0], post[1], self.gyr[k], self.dt[k])[1]
 
     @staticmethod
     def local(base, x):
@@ -90,7 +89,10 @@ def run_smoothed(f, gyr, acc, mag=None, dt=None):
     """Run the twin ``f`` (QuaternionESKF or EulerEKF) over a log and smooth it: the forward
     result of ``f.run`` with ``smoothed`` (quat, bias, sigma, att_sigma and the error
     covariances P; the forward values, and NaN covariances, before the filter's first estimate)."""
-    model = (ESKFModel if isinstance(f, QuaternionESKF) else EulerModel)(f, gyr, dt)
+    name = getattr(f, "rts_model", None)  # the twin names its model (no import of the twins here)
+    if name is None:
+        raise ValueError(f"smooth: {type(f).__name__} has no smoother (QuaternionESKF and EulerEKF have)")
+    model = {"ESKFModel": ESKFModel, "EulerModel": EulerModel}[name](f, gyr, dt)
     rec = Recorder(model)
     out = f.run(gyr, acc, mag, dt=dt, observer=rec)
     sm = SimpleNamespace(quat=out.quat.copy(), bias=out.bias.copy(), sigma=out.sigma.copy(),

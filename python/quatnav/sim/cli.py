@@ -87,9 +87,3 @@ def run(args) -> int:
         write_json({"name": s.name, "seed": s.seed, "description": s.description, "samples": len(tr),
                     "rate_hz": tr.rate_hz, "duration_s": float(tr.t[-1]), "sensors": sensors, "files": files}, args)
     return 0
-
-
-def main(argv=None) -> int:
-    import sys
-    from .. import cli
-    return cli.main(["simulate", *(argv if argv is not None else sys.argv[1:])])
