@@ -452,20 +452,38 @@ def motion_start(t, speed_or_rate, threshold):
     return float(t[above[0]]) if above.size else None
 
 
-def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU"):
-    """A warning when the IMU and the GNSS see the start of the motion more than 1 s apart (their
-    clocks differ: gps_time_offset), or None. Motion: |gyro| above 0.3 rad/s (smoothed over 0.2 s)
-    after a still start, the GNSS speed above 0.5 m/s after being below it."""
+def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", accel=None):
+    """A warning when the IMU and the GNSS see the start of the motion 1 to 10 s apart (their
+    clocks differ: gps_time_offset), or None. Motion in the IMU (smoothed over 0.2 s, after 1 s
+    still; the onset nearest the GNSS start): |gyro| above 0.3 rad/s or, given ``accel``, the
+    specific force more than 1 m/s^2 from its value at the start (a vehicle pulling away without
+    turning); in the GNSS the speed above 0.5 m/s after being below it. Starts more than 10 s apart are taken for different events
+    (a latency is below a second; a clock offset of seconds or more shows in check_clock)."""
     if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
         return None
     dt = float(np.median(np.diff(t)))
     w = max(1, int(round(0.2 / dt)))
-    rate = np.convolve(np.linalg.norm(gyro, axis=1), np.ones(w) / w, mode="same")
-    ti, tg = motion_start(t, rate, 0.3), motion_start(np.asarray(gnss_t), gnss_speed, 0.5)
-    if ti is None or tg is None or abs(tg - ti) <= 1.0:
+    smooth = lambda x: np.convolve(x, np.ones(w) / w, mode="same")  # noqa: E731
+    activity = smooth(np.linalg.norm(gyro, axis=1)) / 0.3
+    what = "|gyro| > 0.3 rad/s"
+    if accel is not None:
+        fs = np.column_stack([smooth(accel[:, c]) for c in range(3)])
+        k0 = slice(w, min(len(fs), 10 * w))  # the start, past the filter's edge
+        if fs[k0].size:
+            activity = np.maximum(activity, np.linalg.norm(fs - np.median(fs[k0], axis=0), axis=1) / 1.0)
+            what += " or f 1 m/s^2 from its start"
+    tg = motion_start(np.asarray(gnss_t), gnss_speed, 0.5)
+    # the IMU onsets (above the threshold after 1 s below it); the one nearest the GNSS start
+    above = activity > 1.0
+    quiet = np.convolve((~above).astype(float), np.ones(max(1, int(round(1.0 / dt)))), mode="full")[:len(t)]
+    onsets = np.flatnonzero(above[1:] & (quiet[:-1] >= round(1.0 / dt))) + 1
+    if tg is None or not onsets.size:
         return None
-    return (f"{where}: the motion starts at {tg:.3f} s in the GNSS and at {ti:.3f} s in the {imu} (|gyro| > 0.3 "
-            f"rad/s): the clocks may differ by {tg - ti:+.2f} s; if so give gps_time_offset = {ti - tg:.2f} in [filter]")
+    ti = float(t[onsets[np.argmin(np.abs(t[onsets] - tg))]])
+    if not 1.0 < abs(tg - ti) <= 10.0:
+        return None
+    return (f"{where}: the motion starts at {tg:.3f} s in the GNSS and at {ti:.3f} s in the {imu} ({what}): "
+            f"the clocks may differ by {tg - ti:+.2f} s; if so give gps_time_offset = {ti - tg:.2f} in [filter]")
 
 
 def _gnss_speed(d_g):
@@ -486,7 +504,7 @@ def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), ali
     gnss_t = np.asarray(gnss_t)
     out = [check_gyro(gyro, t, align_time, imu), check_accel(accel, imu), check_gravity(accel, t, align_time, imu),
            check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, gnss_t, gnss),
-           check_clock(t, gnss_t, gnss), check_motion_start(t, gyro, gnss_t, gnss_speed, gnss, imu)]
+           check_clock(t, gnss_t, gnss), check_motion_start(t, gyro, gnss_t, gnss_speed, gnss, imu, accel)]
     return [w for w in out if w]
 
 

@@ -46,13 +46,17 @@ GpsInsState<double> with_error(const GpsInsState<double>& s, const Vec<double, g
   return t;
 }
 
-template <class Aid> void check(const Aid& aid, double tol) {
+template <class Aid> void check(const Aid& aid, double tol, const GpsInsParams<double>& p = params()) {
   const GpsInsState<double> s = a_state();
-  const GpsInsParams<double> p = params();
   AidMeasurement<double, Aid::M> m;
   aid.measure(s, p, m);
-  const double eps[gpsins::kN] = {1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-4, 1e-6, 1e-6, 1e-6,
-                                  1e-5, 1e-5, 1e-5, 1e-6, 1e-6, 1e-6, 1e-3};
+  // Steps large enough that the position, carried as latitude and longitude in double (one ulp
+  // of longitude ~1.4e-9 m), moves by many ulps: with 1e-6 rad of attitude the lever arm's
+  // displacement (~1e-6 m) was resolved to ~1e-3 and the difference quotient was that far off.
+  // The rows are linear in the velocity and bias errors (any step) and smooth in the attitude
+  // (the central difference's error is O(eps^2)).
+  const double eps[gpsins::kN] = {1e-3, 1e-3, 1e-3, 1e-2, 1e-2, 1e-2, 1e-4, 1e-4, 1e-4,
+                                  1e-3, 1e-3, 1e-3, 1e-2, 1e-2, 1e-2, 1e-3};
   for (int i = 0; i < gpsins::kN; ++i) {
     Vec<double, gpsins::kN> e = Vec<double, gpsins::kN>::Zero();
     e[i] = eps[i];
@@ -88,8 +92,37 @@ TEST(GpsInsAids, AltimeterMatchesFiniteDifferences) {
 TEST(GpsInsAids, CompassMatchesFiniteDifferences) { check(gpsins_aid::CompassHeading<double>{1.0}, 1e-5); }
 
 TEST(GpsInsAids, MagnetometerMatchesFiniteDifferences) {
-  // A field with a dip of about 60 deg: the tilt terms of the heading row are large.
-  check(gpsins_aid::MagHeading<double>{Vec3<double>(18.0, -9.0, 40.0)}, 1e-5);
+  // A field with a dip of about 60 deg: the tilt terms of the heading row are large. The full row
+  // (mag_heading_only = false) is the exact Jacobian.
+  GpsInsParams<double> p = params();
+  p.mag_heading_only = false;
+  check(gpsins_aid::MagHeading<double>{Vec3<double>(18.0, -9.0, 40.0)}, 1e-5, p);
+}
+
+TEST(GpsInsAids, MagnetometerHeadingOnlyMovesItsTiltTermsIntoR) {
+  // The default: H has the heading column only; the tilt columns of the exact row, with the
+  // tilt covariance, are added to R (so the innovation variance H P H^T + R is the full row's
+  // whenever the tilt errors are uncorrelated with the rest).
+  GpsInsState<double> s = a_state();
+  s.P.setIdentity();
+  s.P.block<2, 2>(gpsins::kAtt, gpsins::kAtt) << 1e-4, 2e-5, 2e-5, 3e-4;
+  GpsInsParams<double> full = params();
+  full.mag_heading_only = false;
+  const GpsInsParams<double> p = params();
+  ASSERT_TRUE(p.mag_heading_only);
+  const gpsins_aid::MagHeading<double> aid{Vec3<double>(18.0, -9.0, 40.0)};
+  AidMeasurement<double, 1> mf, mh;
+  aid.measure(s, full, mf);
+  aid.measure(s, p, mh);
+  EXPECT_EQ(mh.y[0], mf.y[0]);
+  EXPECT_EQ(mh.H(0, gpsins::kAtt), 0.0);
+  EXPECT_EQ(mh.H(0, gpsins::kAtt + 1), 0.0);
+  EXPECT_EQ(mh.H(0, gpsins::kAtt + 2), 1.0);
+  EXPECT_GT(std::abs(mf.H(0, gpsins::kAtt)) + std::abs(mf.H(0, gpsins::kAtt + 1)), 0.5);  // tan(dip) ~ 1.8
+  const Vec2<double> ht = mf.H.block<1, 2>(0, gpsins::kAtt).transpose();
+  const double tilt = ht.dot(s.P.block<2, 2>(gpsins::kAtt, gpsins::kAtt) * ht);
+  EXPECT_GT(tilt, 0.0);
+  EXPECT_NEAR(mh.R(0, 0), mf.R(0, 0) + tilt, 1e-15);
 }
 
 TEST(GpsInsAids, ConstraintsMatchFiniteDifferences) {

@@ -510,3 +510,23 @@ def test_plot_shows_the_innovations_and_sigmas(files, tmp_path, monkeypatch):
     assert png.stat().st_size > 10000
     assert "innovation NIS" in seen["labels"] and "position one-sigma, m" in seen["labels"]
     assert {"gps_pos", "gps_vel", "baro", "compass"} <= set(seen["legend"])
+
+
+def test_motion_start_check_is_quiet_on_a_car_pulling_away_straight():
+    """A car moving from t = 0, stopping at 40-48 s and pulling away straight: the GNSS sees the
+    start at 48.5 s, the gyro only at the first turn; the specific force sees the start too, so no
+    clock offset is suggested. Starts 30 s apart are not read as a clock offset either."""
+    from quatnav.ins_cli import check_motion_start
+    t = np.arange(0.0, 120.0, 0.01)
+    gyro = np.zeros((len(t), 3))
+    gyro[(t > 80.0) & (t < 85.0), 2] = 0.4  # the first turn
+    accel = np.tile([0.0, 0.0, -9.81], (len(t), 1))
+    accel[(t > 48.5) & (t < 53.0), 0] = 2.5  # pulling away
+    accel[(t > 35.0) & (t < 40.0), 0] = -2.0  # braking before the stop
+    tg = np.arange(0.0, 120.0, 0.1)
+    speed = np.where((tg > 40.0) & (tg < 48.9), 0.0, 8.0)
+    assert check_motion_start(t, gyro, tg, speed, accel=accel) is None
+    assert check_motion_start(t, gyro, tg, speed) is None  # gyro only: 31 s apart, different events
+    late = np.where((tg > 40.0) & (tg < 51.0), 0.0, 8.0)  # the GNSS 2.5 s late
+    msg = check_motion_start(t, gyro, tg, late, accel=accel)
+    assert msg is not None and "gps_time_offset = -2." in msg

@@ -3263,6 +3263,14 @@ class GpsInsParams_f64:
     def mag_dip_tol(self, arg1: typing.Any) -> None:
         ...
     @property
+    def mag_heading_only(self) -> bool:
+        """
+        the magnetometer corrects the heading only (its tilt terms go into R; false: the full row) [-]
+        """
+    @mag_heading_only.setter
+    def mag_heading_only(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def mag_heading_sigma(self) -> float:
         """
         one-sigma of a magnetometer heading [rad]
@@ -4002,6 +4010,14 @@ class GpsInsParams_f32:
         """
     @mag_dip_tol.setter
     def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_heading_only(self) -> bool:
+        """
+        the magnetometer corrects the heading only (its tilt terms go into R; false: the full row) [-]
+        """
+    @mag_heading_only.setter
+    def mag_heading_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_heading_sigma(self) -> float:

@@ -398,6 +398,8 @@ GPSINS_PARAMS = (
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),
     _p("mag_heading_sigma", 0.05, "rad", "one-sigma of a magnetometer heading", "angle", limits=(0.0, 1.0)),
+    _p("mag_heading_only", True, "-", "the magnetometer corrects the heading only (its tilt terms go into R; "
+       "false: the full row)", "bool"),
     _p("mag_norm_tol", 0.1, "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)", "pos0"),
     _p("mag_dip_tol", 0.1, "rad", "reject the magnetometer when its dip differs from the reference by more (0: off)",
        "pos0"),

@@ -292,9 +292,15 @@ def _mag_heading(s, p, m_b):
     m_n = Q.rotate(s.nav.q_nb, m_b)
     mh2 = m_n[0] ** 2 + m_n[1] ** 2
     H = np.zeros((1, N))
-    H[0, ATT:ATT + 3] = [-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, 1.0]
+    h = np.array([-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, 1.0])
     y = float(Q.wrap_pi(math.atan2(m_n[1], m_n[0]) - p.declination))
-    return np.array([y]), H, np.array([[p.mag_heading_sigma ** 2]])
+    R = p.mag_heading_sigma ** 2
+    if p.mag_heading_only:  # the tilt terms into R: the magnetometer corrects the heading only
+        R += float(h[:2] @ s.P[ATT:ATT + 2, ATT:ATT + 2] @ h[:2])
+        H[0, ATT + 2] = 1.0
+    else:
+        H[0, ATT:ATT + 3] = h
+    return np.array([y]), H, np.array([[R]])
 
 
 def _body_velocity_rows(s, rows):
@@ -313,10 +319,12 @@ def _zupt(s, p):
 
 def _zaru(s, p):
     w_ie = earth.earth_rate_n(s.nav.lat) if p.earth_rotation else np.zeros(3)
+    Ct = Q.to_rotmat(s.nav.q_nb).T
     H = np.zeros((3, N))
+    H[:, ATT:ATT + 3] = -Ct @ Q.skew(w_ie)  # the Earth rate seen in the body turns with the attitude
     H[:, BG:BG + 3] = -np.eye(3)
     dt = s.dt_last if s.dt_last > 0 else 1.0
-    return s.omega_b - Q.rotate_inv(s.nav.q_nb, w_ie), H, (p.gyro_noise ** 2 / dt + p.zaru_sigma ** 2) * np.eye(3)
+    return s.omega_b - Ct @ w_ie, H, (p.gyro_noise ** 2 / dt + p.zaru_sigma ** 2) * np.eye(3)
 
 
 def _nhc(s, p):

@@ -855,7 +855,10 @@ template <class S_> class GpsInsFilter {
           }
         } else {
           State s = s_;
-          if (aid.reset(s, p_, m.R) && detail::gpsins_nav_ok(s)) {
+          // R holds outer products (the GNSS time's and the lever arm's terms) that need not be
+          // symmetric to the last bit: the covariance block it becomes must be.
+          const Mat<S, M, M> R = S(0.5) * (m.R + m.R.transpose());
+          if (aid.reset(s, p_, R) && detail::gpsins_nav_ok(s)) {
             s_ = s;
             res.decision = GpsInsDecision::Reset;
             run = 0;

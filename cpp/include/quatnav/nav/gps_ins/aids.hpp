@@ -195,6 +195,11 @@ template <class S> struct CompassHeading {
 /// the filter sees it, m_n = C_nb m_b, minus the declination: y = wrap(atan2(m_E, m_N) - decl),
 /// the heading error tilt-compensated with the filter's own attitude. From m_n <- m_n + psi x m_n:
 /// H = [-tan(dip) cos(a), -tan(dip) sin(a), 1] on psi (a = atan2(m_E, m_N), tan(dip) = m_D / m_h).
+/// With mag_heading_only (the default) the tilt terms leave H and enter R as h P_tilt h^T: the
+/// magnetometer then corrects the heading only. With the full row, a field the filter does not
+/// know exactly (a hard iron not calibrated out, a wrong declination: the usual raw log) pulls
+/// the tilt by its heading error over tan(dip) whenever another aid holds the heading (measured
+/// on the simulated car with a 10 uT hard iron and GNSS velocity: 12 deg of inclination error).
 template <class S> struct MagHeading {
   static constexpr GpsInsAid kind = GpsInsAid::Mag;
   static constexpr int M = 1, C0 = 6, NC = 3;
@@ -205,9 +210,15 @@ template <class S> struct MagHeading {
     const Vec3<S> m_n = quat::rotate(s.nav.q_nb, m_b);
     const S mh2 = m_n[0] * m_n[0] + m_n[1] * m_n[1];
     m.y[0] = quat::wrap_pi(std::atan2(m_n[1], m_n[0]) - p.declination);
-    m.H.template block<1, 3>(0, gpsins::kAtt) =
-        Vec3<S>(-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, S(1)).transpose();
+    const Vec3<S> h(-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, S(1));
     m.R(0, 0) = p.mag_heading_sigma * p.mag_heading_sigma;
+    if (p.mag_heading_only) {
+      const Vec2<S> ht = h.template head<2>();
+      m.R(0, 0) += ht.dot(s.P.template block<2, 2>(gpsins::kAtt, gpsins::kAtt) * ht);
+      m.H(0, gpsins::kAtt + 2) = S(1);
+    } else {
+      m.H.template block<1, 3>(0, gpsins::kAtt) = h.transpose();
+    }
   }
 };
 
@@ -244,13 +255,16 @@ template <class S> struct ZeroVelocity {
 /// Earth rate, y = (w_m - b_g) - C_nb^T w_ie; H = -I on db_g; R = gyro_noise^2 / dt + zaru_sigma^2.
 template <class S> struct ZeroRate {
   static constexpr GpsInsAid kind = GpsInsAid::Zaru;
-  static constexpr int M = 3, C0 = 12, NC = 3;
+  static constexpr int M = 3, C0 = 6, NC = 9;
   static constexpr bool kAdaptive = false;
   static S gate(const GpsInsParams<S>& p) { return p.gate_zupt; }
   void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
     const Vec3<S> w_ie = p.earth_rotation ? Vec3<S>(earth::earth_rate_n<double>(s.nav.lat).template cast<S>())
                                           : Vec3<S>::Zero();
-    m.y = s.omega_b - quat::rotate_inv(s.nav.q_nb, w_ie);
+    const Mat3<S> Ct = quat::to_rotmat(s.nav.q_nb).transpose();
+    m.y = s.omega_b - Ct * w_ie;
+    // C_nb <- (I + [psi x]) C_nb turns the Earth rate seen in the body: -C^T [w_ie x] on psi
+    m.H.template block<3, 3>(0, gpsins::kAtt) = -Ct * quat::skew<S>(w_ie);
     m.H.template block<3, 3>(0, gpsins::kBg) = -Mat3<S>::Identity();
     const S dt = s.dt_last > 0.0 ? S(s.dt_last) : S(1);
     m.R.diagonal().setConstant(p.gyro_noise * p.gyro_noise / dt + p.zaru_sigma * p.zaru_sigma);

@@ -94,6 +94,8 @@ namespace quatnav {
   /* Raw magnetometer: heading tilt-compensated with the filter's attitude; disturbance tests on its \
      norm and dip against a reference learned over mag_ref_samples samples */                      \
   X(S, mag_heading_sigma, S(0.05), "rad", "one-sigma of a magnetometer heading")                        \
+  X(bool, mag_heading_only, true, "-",                                                                  \
+    "the magnetometer corrects the heading only (its tilt terms go into R; false: the full row)")     \
   X(S, mag_norm_tol, S(0.1), "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)")    \
   X(S, mag_dip_tol, S(0.1), "rad", "reject the magnetometer when its dip differs from the reference by more (0: off)") \
   X(int, mag_ref_samples, 50, "1", "magnetometer samples over which the reference norm and dip are averaged") \
