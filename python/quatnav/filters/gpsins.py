@@ -447,8 +447,9 @@ class GpsInsFilter(Filter):
             holds the causal result and ``smoother`` the record's size. The forward pass's
             decisions (gated, inflated, reset fixes; rest; skipped samples) are kept: ``flags``,
             ``aids``, ``counters`` and ``q_scale`` are the forward pass's. A reset of the state to
-            a fix and the initialization of the altimeter offset are not crossed (before one, the
-            smoothed estimate uses the data up to it). The filter's state afterwards is the
+            a fix, a covariance inflation (fixes that kept failing their gate) and the
+            initialization of the altimeter offset are not crossed (before one, the smoothed
+            estimate uses the data up to it). The filter's state afterwards is the
             forward one at the last sample (where the two agree).
 
         Returns

@@ -1069,8 +1069,8 @@ class GpsInsFilter:
 # --- the Rauch-Tung-Striebel smoother (the twin of nav/gps_ins/smoother.hpp) ----------------------
 class GpsInsRtsModel:
     """The smoother's model of :class:`GpsInsFilter` (``quatnav.reference.smoother``): a snapshot
-    is the posterior ``(lat, lon, h, baro_offset, q_nb, v_n, acc_bias, gyro_bias, P, resets,
-    baro_valid)`` while navigating; the error chart is the filter's (estimate minus truth):
+    is the posterior ``(lat, lon, h, baro_offset, q_nb, v_n, acc_bias, gyro_bias, P, breaks,
+    baro_valid)`` while navigating (``breaks``: resets to a fix and covariance inflations so far); the error chart is the filter's (estimate minus truth):
     ``local(base, x)`` the error of ``base`` if ``x`` were the truth, ``retract(base, d)`` the
     injection of the error ``d`` into ``base``. ``f``: the filter whose run is recorded (its
     ``sample_transition``)."""
@@ -1083,7 +1083,8 @@ class GpsInsRtsModel:
             return None
         s = f.s
         return (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb.copy(), s.nav.v_n.copy(),
-                s.acc_bias.copy(), s.gyro_bias.copy(), s.P.copy(), sum(c["resets"] for c in s.counters.values()),
+                s.acc_bias.copy(), s.gyro_bias.copy(), s.P.copy(),
+                sum(c["resets"] + c["inflated"] for c in s.counters.values()),
                 s.baro_offset_valid)
 
     @staticmethod
@@ -1092,7 +1093,8 @@ class GpsInsRtsModel:
 
     @staticmethod
     def restart(prior, post):
-        """A reset to a fix, or the initialization of the altimeter offset: not crossed."""
+        """A reset to a fix, a covariance inflation or the initialization of the altimeter offset:
+        not crossed (nav/gps_ins/smoother.hpp says why)."""
         return prior[9] != post[9] or prior[10] != post[10]
 
     def transition(self, post, k):
