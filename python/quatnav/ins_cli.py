@@ -133,8 +133,9 @@ other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by 
   stream; --format forces the format of the files.
 --out OUT.parquet writes Parquet (pyarrow) instead of CSV; a long run shows a progress bar on a
   terminal
---kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude,
-  biases and the difference to the log's own attitude estimate (e.g. PX4's) when it has one
+--kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude
+  with its 3-sigma band, biases, the difference to the log's own attitude estimate (e.g. PX4's)
+  when it has one, the position one-sigma, and every aid's innovation NIS over time (x: not applied)
 --json FILE writes a summary (rows, navigation start, alignment, gaps, decisions, warnings);
   --json - prints it
 --diagnostics FILE.csv writes one row per aiding sample: aid, time (s), innovation_0..2 (INS

@@ -64,7 +64,7 @@ template <class Aid> void check(const Aid& aid, double tol) {
     EXPECT_LE((fd - m.H.col(i)).cwiseAbs().maxCoeff(), tol * scale)
         << "aid kind " << int(Aid::kind) << " column " << i << "\nfd " << fd.transpose() << "\nH  "
         << m.H.col(i).transpose();
-    if (i < Aid::C0 || i >= Aid::C0 + Aid::NC) EXPECT_EQ(m.H.col(i).cwiseAbs().maxCoeff(), 0.0) << i;
+    if (i < Aid::C0 || i >= Aid::C0 + Aid::NC) { EXPECT_EQ(m.H.col(i).cwiseAbs().maxCoeff(), 0.0) << i; }
   }
 }
 

@@ -154,7 +154,7 @@ TYPED_TEST(GpsInsGateTest, ConsistentFixesLeaveTheProcessNoiseAlone) {
   const Vec3<S> sig(S(0.02), S(0.02), S(0.03));
   for (int k = 0; k < 2000; ++k) {
     f.predict(rest_rate<S>(), rest_gravity<S>(), S(0.01));
-    if (k % 20 == 0) EXPECT_EQ(f.update_gps_position(kLat, kLon, kH, sig).status, Status::Ok);
+    if (k % 20 == 0) { EXPECT_EQ(f.update_gps_position(kLat, kLon, kH, sig).status, Status::Ok); }
   }
   EXPECT_EQ(double(f.q_scale()), 1.0);
 }

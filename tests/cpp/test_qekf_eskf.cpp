@@ -174,8 +174,8 @@ TYPED_TEST(Eskf, NoHeapInAnyStepAndBatch) {
 TYPED_TEST(Eskf, BadInputLeavesStateUntouched) {
   using S = TypeParam;
   auto p = QuaternionEKFParams<S>();
-  p.acc_reject = S(2);
-  p.mag_settle_time = S(0.2);
+  p.acc.acc_reject = S(2);
+  p.mag.mag_settle_time = S(0.2);
   QuaternionESKF<S> f(p);
   const Clean c = clean_rotation(1.0, Vec3<double>(0.01, -0.02, 0.015));
   f.initialize(c.acc[0].cast<S>(), c.mag[0].cast<S>());

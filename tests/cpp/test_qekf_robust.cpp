@@ -21,12 +21,12 @@ TYPED_TEST_SUITE(QekfRobust, Scalars);
 namespace {
 template <class S> QuaternionEKFParams<S> all_on() {
   QuaternionEKFParams<S> p;  // defaults: heading-only, low-pass, norm/dip tests, gate, rest
-  p.acc_adapt = S(3);
-  p.acc_reject = S(2);
+  p.acc.acc_adapt = S(3);
+  p.acc.acc_reject = S(2);
   p.acc_gate = S(30);
-  p.acc_recovery_time = S(1);
-  p.mag_settle_time = S(0.2);
-  p.mag_recovery_time = S(2);
+  p.acc.acc_recovery_time = S(1);
+  p.mag.mag_settle_time = S(0.2);
+  p.mag.mag_recovery_time = S(2);
   return p;
 }
 

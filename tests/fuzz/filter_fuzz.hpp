@@ -19,6 +19,8 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include <quatnav/quatnav.hpp>
 
@@ -124,6 +126,17 @@ template <class S, int M> StepOutcome outcome(const UpdateResult<S, M>& r, const
   return o;
 }
 
+/// mag_ref_samples, in the magnetometer part's parameters where the filter composes it.
+template <class P, class = void> struct has_mag_part : std::false_type {};
+template <class P> struct has_mag_part<P, std::void_t<decltype(std::declval<P&>().mag)>> : std::true_type {};
+template <class P> std::uint32_t& mag_ref_samples(P& p) {
+  if constexpr (has_mag_part<P>::value) {
+    return p.mag.mag_ref_samples;
+  } else {
+    return p.mag_ref_samples;
+  }
+}
+
 /// The EKF attitude filters (QuaternionEKF, EulerEKF) share their operations.
 template <class F> struct AttitudeOps {
   using S = typename F::Scalar;
@@ -135,7 +148,7 @@ template <class F> struct AttitudeOps {
     p.mag_sigma = r.positive<S>(p.mag_sigma);
     p.init_att_sigma = r.positive<S>(p.init_att_sigma);
     p.init_gyro_bias_sigma = r.positive<S>(p.init_gyro_bias_sigma);
-    p.mag_ref_samples = 1u + r.byte();
+    mag_ref_samples(p) = 1u + r.byte();
     p.max_dt = r.positive<S>(p.max_dt);
     p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
     p.acc_range = (r.byte() & 1) ? r.positive<S>(S(160)) : S(0);
@@ -175,12 +188,12 @@ template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<Quaternion
   static constexpr const char* name = "QuaternionEKF";
   static bool same(const State& a, const State& b) {
     return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
-           same_mag(a.mag, b.mag) && a.initialized == b.initialized;
+           same_mag(a.mag.ref, b.mag.ref) && a.initialized == b.initialized;
   }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
     // the estimate (the parts' low-passes and timers follow the input, which may be huge)
-    if (!s.q_nb.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag))
+    if (!s.q_nb.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag.ref))
       return why = "non-finite state", false;
     if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
       return why = "quaternion norm off 1", false;
@@ -194,8 +207,8 @@ template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<Quaternion
     s.gyro_bias = r.vec3<S>();
     for (int i = 0; i < 7; ++i)
       for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
-    s.mag.mag_ref = r.vec3<S>();
-    s.mag.mag_ref_count = r.byte();
+    s.mag.ref.mag_ref = r.vec3<S>();
+    s.mag.ref.mag_ref_count = r.byte();
     s.initialized = r.byte() & 1;
     return s;
   }

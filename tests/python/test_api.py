@@ -280,6 +280,35 @@ def test_one_vocabulary_of_shared_parameter_names():
         ref_gpsins.GpsInsFilter(accel_noise=1e-3)
 
 
+@pytest.mark.parametrize("name", ["QuaternionEKF", "EulerEKF", "MargFilter"])
+def test_twins_run_like_the_public_classes(name):
+    """The numpy twins' run has the public signature (IMU first, times and aids as keywords) and,
+    given the same times, follows the C++ filter."""
+    from quatnav import reference
+    public, twin = getattr(quatnav, name), getattr(reference, name)
+
+    def shape(f):
+        return [(p.name, p.kind, p.default) for p in inspect.signature(f).parameters.values()
+                if p.name not in ("self", "on_invalid", "observer")]  # observer: the twin smoother's hook
+
+    assert shape(twin.run) == shape(public.run)
+    from quatnav.demo import rotation_scenario
+    d = rotation_scenario(n=300, seed=4)
+    t = 10.0 + np.cumsum(np.full(300, d.dt))
+    a = public().run(d.gyr, d.acc, d.mag, t=t)
+    b = twin().run(d.gyr, d.acc, d.mag, t=t)
+    np.testing.assert_allclose(b.t, a.t)
+    np.testing.assert_allclose(b.quat, a.quat, atol=1e-9)
+    with pytest.raises(ValueError, match="give exactly one"):
+        twin().run(d.gyr, d.acc, t=t, dt=0.01)
+    if "smooth" in inspect.signature(public.run).parameters:
+        a = public().run(d.gyr, d.acc, d.mag, t=t, smooth=True)
+        b = twin().run(d.gyr, d.acc, d.mag, t=t, smooth=True)
+        np.testing.assert_allclose(b.forward.quat, a.forward.quat, atol=1e-9)
+        assert np.abs(b.quat - b.forward.quat).max() > 1e-6  # the backward pass moved the estimates
+        np.testing.assert_allclose(b.quat, a.quat, atol=1e-7)
+
+
 def test_twin_paper_values_equal_the_cpp_paper_parameters():
     """QuaternionEKF(paper=True): the numpy twin's values are those of QuaternionEKFParams::paper()."""
     from quatnav import reference

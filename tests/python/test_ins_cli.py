@@ -490,3 +490,23 @@ def test_config_initial_and_rotation_errors(files, tmp_path, capsys):
         assert cli.main(_args(dict(files, config=str(cfg)), tmp_path / "o.csv")) == 2
         err = capsys.readouterr().err
         assert expect in err and err.count("\n") == 1, err
+
+
+def test_plot_shows_the_innovations_and_sigmas(files, tmp_path, monkeypatch):
+    """--plot: six panels, among them the position one-sigma and every aid's NIS over time."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+    seen = {}
+    save = matplotlib.figure.Figure.savefig
+
+    def spy(fig, path, *a, **k):
+        seen["labels"] = [ax.get_ylabel() for ax in fig.axes]
+        seen["legend"] = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+        return save(fig, path, *a, **k)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", spy)
+    png = tmp_path / "nav.png"
+    assert cli.main(_args(files, tmp_path / "o.csv") + ["--plot", str(png)]) == 0
+    assert png.stat().st_size > 10000
+    assert "innovation NIS" in seen["labels"] and "position one-sigma, m" in seen["labels"]
+    assert {"gps_pos", "gps_vel", "baro", "compass"} <= set(seen["legend"])

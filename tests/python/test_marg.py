@@ -99,8 +99,8 @@ def test_cpp_matches_reference_step_by_step(with_mag):
     # The batch run is the same loop.
     out = quatnav.MargFilter(**params).run(d["gyr"], d["acc"], d["mag"] if with_mag else None, t=d["t"],
                                            gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"]))
-    ref_out = RefMarg(**params).run(d["gyr"], d["acc"], d["mag"] if with_mag else None, dt=d["dt"], t=d["t"],
-                                    gps_vel_n=d["gps_vel_n"], gps_t=d["gps_t"])
+    ref_out = RefMarg(**params).run(d["gyr"], d["acc"], d["mag"] if with_mag else None, t=d["t"],
+                                    gps_vel=quatnav.Aid(d["gps_t"], d["gps_vel_n"]))
     np.testing.assert_allclose(out.quat, ref_out.quat, atol=1e-9)
     np.testing.assert_allclose(out.bias, ref_out.bias, atol=1e-9)
     assert out.flag("gps_corrected")[-1] and out.flag("initialized")[0]

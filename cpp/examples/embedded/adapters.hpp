@@ -154,8 +154,9 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13Adapter {
 
 #ifdef QN_INPUT_GPSINS  // the recording has the GPS, altimeter and compass samples
 /// GpsInsFilter (paper 004) on the "gpsins" recording, fed like quatnav::gpsins_batch: sample 0
-/// only fixes the start time, every later sample is one predict followed by the compass, the
-/// altimeter and the GPS samples recorded for it, in that order. Alignment, levelling and the
+/// only fixes the start time, every later sample is one predict, the pseudo-measurements of the
+/// sample (update_constraints), then the compass, the altimeter and the GPS samples recorded for
+/// it, in that order. Alignment, levelling and the
 /// start of navigation happen inside, as in the batch run.
 template <class S> struct GpsInsAdapter {
   using Filter = quatnav::GpsInsFilter<S>;
@@ -180,6 +181,10 @@ template <class S> struct GpsInsAdapter {
     } else {
       if (f.predict(load3<S>(qn_input::gyr, k), load3<S>(qn_input::acc, k), S(qn_input::dt[k])) != Status::Ok)
         fl |= gf::kPredictSkipped;
+      // the pseudo-measurements of the IMU sample (ZUPT/ZARU at rest, NHC when enabled)
+      const quatnav::ConstraintResult<S> cr = f.update_constraints();
+      if (cr.zupt.status == Status::Ok || cr.zaru.status == Status::Ok || cr.nhc.status == Status::Ok)
+        fl |= gf::kConstraintUsed;
       while (ic < qn_input::kNCompass && qn_input::compass_k[ic] <= k) {
         fl |= quatnav::detail::gpsins_aid_flag(f.update_compass(S(qn_input::compass[ic])), gf::kHeadingUsed,
                                                gf::kHeadingRejected);

@@ -1,7 +1,9 @@
 // quatnav: every public header.
 //
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
-//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization, batch loop and smoothers
+//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization, batch loop and
+//              smoothers, and parts/, the robustness they compose (rest detection, accelerometer,
+//              magnetometer)
 //   nav/       strapdown, NavFilter13, GpsInsFilter, their batch loops and smoothers
 // attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
@@ -19,6 +21,9 @@
 #include "core/smoother.hpp"
 
 #include "attitude/attitude.hpp"
+#include "attitude/parts/rest.hpp"
+#include "attitude/parts/acc_filter.hpp"
+#include "attitude/parts/mag_disturbance.hpp"
 #include "attitude/quaternion_ekf.hpp"
 #include "attitude/quaternion_eskf.hpp"
 #include "attitude/euler_ekf.hpp"

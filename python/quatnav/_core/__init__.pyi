@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -50,6 +50,210 @@ class UpdateResult6_f64:
         ...
     @property
     def status(self) -> str:
+        ...
+class RestParams_f64:
+    """
+    Rest detection (attitude/parts/rest.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> RestParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_rate_noise(self) -> float:
+        """
+        std of the residual rate at rest [rad/s]
+        """
+    @rest_rate_noise.setter
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
+        ...
+class AccFilterParams_f64:
+    """
+    The accelerometer part (attitude/parts/acc_filter.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> AccFilterParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_adapt(self) -> float:
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
+    @acc_adapt.setter
+    def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_recovery_time(self) -> float:
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
+    @acc_recovery_time.setter
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_reject(self) -> float:
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
+    @acc_reject.setter
+    def acc_reject(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gravity(self) -> float:
+        """
+        magnitude of gravity, in the unit of acc [m/s^2]
+        """
+    @gravity.setter
+    def gravity(self, arg1: typing.Any) -> None:
+        ...
+class MagDisturbanceParams_f64:
+    """
+    The magnetometer part (attitude/parts/mag_disturbance.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> MagDisturbanceParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_recovery_time(self) -> float:
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
+    @mag_recovery_time.setter
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_samples(self) -> int:
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
+    @mag_ref_samples.setter
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_tau(self) -> float:
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
+    @mag_ref_tau.setter
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_settle_time(self) -> float:
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
+    @mag_settle_time.setter
+    def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
 class QuaternionEKFParams_f64:
     """
@@ -159,7 +363,7 @@ class QuaternionEKFParams_f64:
     @property
     def gravity(self) -> float:
         """
-        magnitude of gravity for the acceleration tests [m/s^2]
+        magnitude of gravity, in the unit of acc [m/s^2]
         """
     @gravity.setter
     def gravity(self, arg1: typing.Any) -> None:
@@ -436,6 +640,210 @@ class UpdateResult6_f32:
     @property
     def status(self) -> str:
         ...
+class RestParams_f32:
+    """
+    Rest detection (attitude/parts/rest.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> RestParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_rate_noise(self) -> float:
+        """
+        std of the residual rate at rest [rad/s]
+        """
+    @rest_rate_noise.setter
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
+        ...
+class AccFilterParams_f32:
+    """
+    The accelerometer part (attitude/parts/acc_filter.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> AccFilterParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_adapt(self) -> float:
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
+    @acc_adapt.setter
+    def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_recovery_time(self) -> float:
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
+    @acc_recovery_time.setter
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_reject(self) -> float:
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
+    @acc_reject.setter
+    def acc_reject(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gravity(self) -> float:
+        """
+        magnitude of gravity, in the unit of acc [m/s^2]
+        """
+    @gravity.setter
+    def gravity(self, arg1: typing.Any) -> None:
+        ...
+class MagDisturbanceParams_f32:
+    """
+    The magnetometer part (attitude/parts/mag_disturbance.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> MagDisturbanceParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_recovery_time(self) -> float:
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
+    @mag_recovery_time.setter
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_samples(self) -> int:
+        """
+        magnetometer samples over which the reference dip is averaged [1]
+        """
+    @mag_ref_samples.setter
+    def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_tau(self) -> float:
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
+    @mag_ref_tau.setter
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_settle_time(self) -> float:
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
+    @mag_settle_time.setter
+    def mag_settle_time(self, arg1: typing.Any) -> None:
+        ...
 class QuaternionEKFParams_f32:
     """
     Parameters of QuaternionEKF and QuaternionESKF (quaternion_ekf.hpp).
@@ -544,7 +952,7 @@ class QuaternionEKFParams_f32:
     @property
     def gravity(self) -> float:
         """
-        magnitude of gravity for the acceleration tests [m/s^2]
+        magnitude of gravity, in the unit of acc [m/s^2]
         """
     @gravity.setter
     def gravity(self, arg1: typing.Any) -> None:

@@ -77,6 +77,14 @@ class GpsInsResult(NavResult):
     """Output of :meth:`GpsInsFilter.run`: the fields of :class:`~quatnav.NavResult` (``position``
     ``[lat, lon, h]`` of the IMU, ``velocity``, ``quat``, the biases and ``sigma`` of the 16 error
     states :data:`STATE_NAMES`; NaN before navigation starts, ``quat`` NaN while aligning) and
+    the attributes below.
+
+    ``aids`` holds :class:`GpsInsAidResult` (with each sample's ``decision`` and ``inflation``):
+    ``gps_pos`` and ``gps_vel`` (innovations (K, 3): INS minus aid, m and m/s), ``baro`` (height,
+    (B, 1), m), ``baro_vd`` (the altimeter's vertical velocity, (B, 1), m/s) and ``compass`` ((C,
+    1), rad), ``mag`` (the magnetometer heading, (M, 1), rad), ``odometer`` ((O, 1), m/s) for
+    the aids given, and the pseudo-measurements ``zupt`` ((Z, 3), m/s), ``zaru`` ((Z, 3), rad/s)
+    and ``nhc`` ((H, 2), m/s) at the IMU samples where they were made.
 
     Attributes
     ----------
@@ -97,13 +105,6 @@ class GpsInsResult(NavResult):
         ``heading`` (``"compass"``, ``"magnetometer"``, ``"gnss_velocity"``, ``"gnss_course"``,
         ``"given"``, ``"none"``), ``level_t`` and ``navigation_t`` (the times of the first
         levelled and the first navigating sample of this run, s; None when not reached).
-
-    ``aids`` holds :class:`GpsInsAidResult` (with each sample's ``decision`` and ``inflation``):
-    ``gps_pos`` and ``gps_vel`` (innovations (K, 3): INS minus aid, m and m/s), ``baro`` (height,
-    (B, 1), m), ``baro_vd`` (the altimeter's vertical velocity, (B, 1), m/s) and ``compass`` ((C,
-    1), rad), ``mag`` (the magnetometer heading, (M, 1), rad), ``odometer`` ((O, 1), m/s) for
-    the aids given, and the pseudo-measurements ``zupt`` ((Z, 3), m/s), ``zaru`` ((Z, 3), rad/s)
-    and ``nhc`` ((H, 2), m/s) at the IMU samples where they were made.
     """
 
     FLAGS: ClassVar[dict] = GPSINS_FLAGS

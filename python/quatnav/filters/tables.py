@@ -198,6 +198,54 @@ def _cov_floor(d):
     return _p("cov_floor", d, "state units^2", "eigenvalue floor of the error covariance (0: off)", "pos0")
 
 
+# The robustness parts of the attitude filters (cpp/include/quatnav/attitude/parts/): one entry per
+# field, with each filter's default (a test checks them against the parts' C++ declarations).
+def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0, lp_bias_sigma=0.006):
+    """The accelerometer part (parts/acc_filter.hpp)."""
+    return (
+        _p("gravity", gravity, "m/s^2", "magnitude of gravity, in the unit of acc", "pos0"),
+        _p("acc_adapt", adapt, "1", "adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g", "pos0"),
+        _p("acc_reject", reject, "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)", "pos0"),
+        _p("acc_recovery_time", recovery_time, "s", "after this long with every accelerometer update rejected, "
+           "accept again (0: never)", "pos0"),
+        _p("acc_lp_tau", lp_tau, "s", "low-pass time constant of the accelerometer in a quasi-inertial frame "
+           "(0: off)", "pos0"),
+        _p("acc_lp_bias_sigma", lp_bias_sigma, "rad/s", "above this gyro-bias one-sigma the accelerometer "
+           "low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off)", "pos0"),
+    )
+
+
+def _mag_part(ref_samples=100, norm_tol=0.05, dip_tol=0.05, settle_time=0.0, ref_tau=30.0, recovery_time=0.0):
+    """The magnetometer part (parts/mag_disturbance.hpp)."""
+    return (
+        _p("mag_ref_samples", ref_samples, "1", "magnetometer samples over which the reference dip is averaged",
+           "int1"),
+        _p("mag_norm_tol", norm_tol, "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)",
+           "pos0"),
+        _p("mag_dip_tol", dip_tol, "rad", "reject the magnetometer when its dip differs from the reference by "
+           "more (0: off)", "pos0"),
+        _p("mag_settle_time", settle_time, "s", "after a disturbance, the field must pass the tests this long",
+           "pos0"),
+        _p("mag_ref_tau", ref_tau, "s", "time constant with which the reference norm and dip follow the field",
+           "pos0"),
+        _p("mag_recovery_time", recovery_time, "s", "after this long with every sample disturbed, the field "
+           "becomes the reference (0: never)", "pos0"),
+    )
+
+
+def _rest_part(detection=True, gyr_th=0.03, acc_th=0.5, time=1.5, tau=0.5, rate_noise=0.02):
+    """Rest detection (parts/rest.hpp)."""
+    return (
+        _p("rest_detection", detection, "-", "detect rest and use it as a zero-rate measurement of the gyro bias",
+           "bool"),
+        _p("rest_gyr_th", gyr_th, "rad/s", "rest: largest deviation of the low-passed gyro"),
+        _p("rest_acc_th", acc_th, "m/s^2", "rest: largest deviation of the low-passed accelerometer"),
+        _p("rest_time", time, "s", "rest: shortest duration"),
+        _p("rest_tau", tau, "s", "rest: low-pass time constant"),
+        _p("rest_rate_noise", rate_noise, "rad/s", "std of the residual rate at rest", "pos0"),
+    )
+
+
 _MAG_REF = _p("mag_ref_samples", 100, "1", "magnetometer samples over which the reference dip is averaged", "int1")
 
 #: QuaternionEKF (``QuaternionEKF<S>::Params``); defaults chosen on BROAD.
@@ -210,39 +258,17 @@ QEKF_PARAMS = (
     _p("mag_sigma", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer"),
     _p("init_att_sigma", 0.5, "rad", "attitude one-sigma after initialize"),
     _p("init_gyro_bias_sigma", 0.1, "rad/s", "gyro-bias one-sigma after initialize"),
-    _MAG_REF,
     _max_dt(),
     *_ranges(),
     _cov_floor(1e-12),
-    _p("mag_heading_only", True, "-", "the magnetometer corrects heading only (false: 3-row update)", "bool"),
-    _p("gravity", 9.81, "m/s^2", "magnitude of gravity for the acceleration tests", "pos0"),
-    _p("acc_adapt", 0.0, "1", "adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g", "pos0"),
-    _p("acc_reject", 0.0, "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)", "pos0"),
-    _p("acc_gate", 0.0, "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)", "pos0"),
-    _p("acc_recovery_time", 0.0, "s", "after this long with every accelerometer update rejected, accept "
-       "again (0: never)", "pos0"),
-    _p("acc_lp_tau", 3.0, "s", "low-pass time constant of the accelerometer in a quasi-inertial frame "
-       "(0: off)", "pos0"),
-    _p("acc_lp_bias_sigma", 0.006, "rad/s", "above this gyro-bias one-sigma the accelerometer low-pass "
-       "time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off)", "pos0"),
-    _p("mag_norm_tol", 0.05, "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)", "pos0"),
-    _p("mag_dip_tol", 0.05, "rad", "reject the magnetometer when its dip differs from the reference by more "
-       "(0: off)", "pos0"),
-    _p("mag_gate", 9.0, "1 (chi-square)", "NIS gate of the magnetometer update (0: off)", "pos0"),
-    _p("mag_settle_time", 0.0, "s", "after a disturbance, the field must pass the tests this long", "pos0"),
-    _p("mag_ref_tau", 30.0, "s", "time constant with which the reference norm and dip follow the field",
-       "pos0"),
-    _p("mag_recovery_time", 0.0, "s", "after this long with every sample disturbed, the field becomes the "
-       "reference (0: never)", "pos0"),
-    _p("rest_detection", True, "-", "detect rest and use it as a zero-rate measurement of the gyro bias",
-       "bool"),
-    _p("rest_gyr_th", 0.03, "rad/s", "rest: largest deviation of the low-passed gyro"),
-    _p("rest_acc_th", 0.5, "m/s^2", "rest: largest deviation of the low-passed accelerometer"),
-    _p("rest_time", 1.5, "s", "rest: shortest duration"),
-    _p("rest_tau", 0.5, "s", "rest: low-pass time constant"),
-    _p("rest_rate_noise", 0.02, "rad/s", "std of the residual rate at rest", "pos0"),
     _p("declination", 0.0, "rad", "magnetic declination, east of true north (0: x is magnetic north)",
        "angle", limits=(-_PI, _PI)),
+    _p("mag_heading_only", True, "-", "the magnetometer corrects heading only (false: 3-row update)", "bool"),
+    _p("acc_gate", 0.0, "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)", "pos0"),
+    _p("mag_gate", 9.0, "1 (chi-square)", "NIS gate of the magnetometer update (0: off)", "pos0"),
+    *_acc_part(),
+    *_mag_part(),
+    *_rest_part(),
 )
 
 #: EulerEKF (``EulerEKF<S>::Params``); the paper's values.

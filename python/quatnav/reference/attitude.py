@@ -1,4 +1,8 @@
-"""Reference (numpy) QuaternionEKF and EulerEKF of paper 000; see quatnav.filters.attitude."""
+"""Reference (numpy) QuaternionEKF and EulerEKF of paper 000; see quatnav.filters.attitude.
+
+The robustness parts (rest detection, the accelerometer part, the magnetometer reference and
+disturbance tests) are the twins of :mod:`quatnav.reference.parts`, composed as in the C++ filters.
+"""
 from __future__ import annotations
 
 from types import SimpleNamespace
@@ -8,6 +12,7 @@ import numpy as np
 from ..core import quaternion as Q
 from ..filters.tables import EULER_PARAMS, FLAGS, QEKF_PARAMS
 from .kalman import kalman_correct
+from .parts import AccFilter, MagDisturbance, Rest
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED
 
@@ -68,24 +73,17 @@ class _Base:
 
     def __init__(self, **params):
         self.p = make_params(type(self).__name__, self.defaults, params)
-        self.mag_ref = np.array([1.0, 0.0, 0.0])
-        self.mag_sin_dip_sum = 0.0
-        self.mag_ref_count = 0
-        self.mag_ref_fixed = False
+        self.mag = MagDisturbance(self.p)  # the reference field (and its disturbance tests)
         self.initialized = False
+        self.flags = 0  # the parts' flags of the current sample
+
+    @property
+    def mag_ref(self):
+        """The reference field [m_x, 0, m_z]."""
+        return self.mag.ref.mag_ref
 
     def set_mag_dip(self, dip):
-        self.mag_ref = np.array([np.cos(dip), 0.0, np.sin(dip)])
-        self.mag_ref_fixed = True
-
-    def _learn_mag_ref(self, m_n_unit):
-        """Average sin(dip) over the first mag_ref_samples samples (unless fixed)."""
-        if self.mag_ref_fixed or self.mag_ref_count >= self.p.mag_ref_samples:
-            return
-        self.mag_sin_dip_sum += m_n_unit[2]
-        self.mag_ref_count += 1
-        sd = np.clip(self.mag_sin_dip_sum / self.mag_ref_count, -1.0, 1.0)
-        self.mag_ref = np.array([np.sqrt(1 - sd * sd), 0.0, sd])
+        self.mag.ref.fix(dip)
 
     def update_mag(self, mag, gate=0.0):
         if not self.initialized:
@@ -93,36 +91,43 @@ class _Base:
         status, m = _unit(mag)
         if status != "ok":
             return SimpleNamespace(status=status)
-        self._learn_mag_ref(Q.rotate(self.quat, m))
-        return self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_sigma, gate)
-
-    def _init_mag_ref(self, mref):
-        if mref is not None:
-            if not self.mag_ref_fixed:
-                self.mag_sin_dip_sum, self.mag_ref_count = 0.0, 0
-            self._learn_mag_ref(mref)
+        before = self.mag.ref.copy()
+        self.mag.ref.learn(Q.rotate(self.quat, m), self.p.mag_ref_samples)
+        res = self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_sigma, gate)
+        if res.status != "ok":
+            self.mag.ref = before  # a refused update changes nothing
+        return res
 
     def update_acc(self, acc, gate=0.0):
         if not self.initialized:
             return SimpleNamespace(status="not_initialized")
         return self._update3(acc, *GRAVITY_REF, self.p.acc_sigma, gate)
 
-    def run(self, gyr, acc, mag=None, dt=None, observer=None):
-        """Same loop as quatnav.batch.hpp: initialize, then predict + update_acc + update_mag;
-        ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as there."""
-        gyr = np.asarray(gyr, float)
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, smooth=False, observer=None):
+        """The loop of run_attitude_batch (attitude/batch.hpp) with the public ``run``'s signature:
+        initialize at the first sample, then predict, update_acc and update_mag (an all-NaN
+        magnetometer row: no sample). Times as ``t`` (timestamps) or ``dt`` (a step or one per
+        sample). Returns ``t``, ``quat``, ``bias``, ``sigma`` and the parts' ``flags``.
+        ``smooth=True`` (QuaternionESKF, EulerEKF): the smoothed estimates
+        (:func:`quatnav.reference.attitude_smoother.run_smoothed`), the forward ones in ``forward``.
+        ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as in batch.hpp."""
+        gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
+        if smooth:
+            from .attitude_smoother import run_smoothed
+            t, steps = sample_times(len(gyr), t, dt)
+            out = run_smoothed(self, gyr, acc, mag, dt=steps)
+            sm = out.smoothed
+            return SimpleNamespace(t=t, quat=sm.quat, bias=sm.bias, sigma=sm.sigma, flags=out.flags, forward=out)
         n = len(gyr)
-        dt = np.broadcast_to(np.asarray(dt, float), (n,))
-        quat = np.empty((n, 4))
-        bias = np.empty((n, 3))
-        sigma = np.empty((n, self.n_states))
+        t, steps = sample_times(n, t, dt)
+        quat, bias, sigma = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, self.n_states))
         flags = np.zeros(n, dtype=np.uint32)
         for k in range(n):
             m = None if mag is None or np.all(np.isnan(mag[k])) else mag[k]
             if not self.initialized:
                 self.initialize(acc[k], m)
             else:
-                self.predict(gyr[k], dt[k])
+                self.predict(gyr[k], steps[k])
                 if observer is not None:
                     observer.after_predict(k, self)
                 self.update_acc(acc[k])
@@ -133,14 +138,22 @@ class _Base:
             quat[k] = self.quat
             bias[k] = self.bias
             sigma[k] = np.sqrt(np.maximum(np.diag(self.P), 0))
-            flags[k] = getattr(self, "flags", 0)
-        return SimpleNamespace(quat=quat, bias=bias, sigma=sigma, flags=flags)
+            flags[k] = self.flags
+        return SimpleNamespace(t=t, quat=quat, bias=bias, sigma=sigma, flags=flags)
 
 
-def _lowpass(y, x, dt, tau):
-    """First-order low-pass step y + a (x - y), a = dt / (tau + dt) (as quaternion_ekf.hpp)."""
-    a = dt / (tau + dt)
-    return y + a * (x - y)
+def sample_times(n, t=None, dt=None):
+    """(t, steps) of n samples, as the public filters read their times: ``dt`` a step or one per
+    sample (t: 0 and the cumulated steps after the first), or timestamps ``t`` (the first step
+    repeats t[1] - t[0]). Exactly one of them."""
+    if (t is None) == (dt is None):
+        raise ValueError("dt, t: give exactly one of dt (seconds) or t (timestamps, seconds)")
+    if t is not None:
+        t = np.asarray(t, float)
+        d = np.diff(t)
+        return t, np.concatenate([d[:1], d])
+    steps = np.broadcast_to(np.asarray(dt, float), (n,)).copy()
+    return np.concatenate([[0.0], np.cumsum(steps[1:])]) if n else np.zeros(0), steps
 
 
 FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = FLAGS["acc_rejected"], FLAGS["mag_rejected"], FLAGS["at_rest"]
@@ -176,27 +189,13 @@ class QuaternionEKF(_Base):
         self.q = Q.identity()
         self.bias = np.zeros(3)
         self.P = np.eye(7)
-        self._reset_bookkeeping()
-        self.mag_norm_ref = 0.0
-        self.flags = 0
-
-    def _reset_bookkeeping(self):
-        self.gyr_last = np.zeros(3)
         self.dt_last = 0.0
-        self.gyr_lp = np.zeros(3)
-        self.acc_lp = np.zeros(3)
-        self.lp_init = False
-        self.rest_t = 0.0
-        self.acc_reject_t = 0.0
-        self.mag_reject_t = 0.0
-        self.mag_ok_t = 1e9
-        self.q_i = Q.identity()
-        self.acc_i_lp = np.zeros(3)
-        self.acc_lp_init = False
+        self.rest, self.acc = Rest(self.p), AccFilter(self.p)
+        self.flags = 0
 
     @property
     def at_rest(self):
-        return self.p.rest_detection and self.rest_t >= self.p.rest_time
+        return self.rest.at_rest()
 
     @property
     def quat(self):
@@ -240,13 +239,13 @@ class QuaternionEKF(_Base):
 
     @staticmethod
     def propagate(q, bias, gyr, dt):
-        """f(x) = [q * exp((w - b) T), b] (exact for a constant rate) and Phi = df/dx."""
+        """f(x) = [q * exp((w - b) T), b] (exact for a constant rate), Phi = df/dx and the step's dq."""
         rv = (np.asarray(gyr, float) - bias) * dt
         dq = Q.from_rotvec(rv)
         Phi = np.eye(7)
         Phi[:4, :4] = Q.right(dq)
         Phi[:4, 4:] = -dt * Q.left(q) @ Q.from_rotvec_jacobian(rv)
-        return Q.mul(q, dq), Phi
+        return Q.mul(q, dq), Phi, dq
 
     # --- filter steps -------------------------------------------------------------------
     def initialize(self, acc, mag=None):
@@ -258,11 +257,13 @@ class QuaternionEKF(_Base):
             # magnetic heading + declination = true heading
             self.q = Q.mul(Q.from_rotvec([0.0, 0.0, self.p.declination]), self.q)
         self.bias = np.zeros(3)
-        self._reset_bookkeeping()
+        self.dt_last = 0.0
+        self.rest.restart()
+        self.acc.restart()
+        self.mag.restart()
         self.flags = 0
-        self._init_mag_ref(mref)
         if mref is not None:
-            self.mag_norm_ref = float(np.linalg.norm(mag))
+            self.mag.start(mref, np.linalg.norm(mag))
         X = Q.xi(self.q)
         self.P = np.zeros((7, 7))
         self.P[:4, :4] = (self.p.init_att_sigma / 2) ** 2 * X @ X.T
@@ -277,7 +278,7 @@ class QuaternionEKF(_Base):
             return "non_finite"
         if not (0 < dt <= self.p.max_dt):
             return "invalid_dt"
-        q_new, Phi = self.propagate(self.q, self.bias, gyr, dt)
+        q_new, Phi, dq = self.propagate(self.q, self.bias, gyr, dt)
         X = Q.xi(q_new)
         Qn = np.zeros((7, 7))
         Qn[:4, :4] = dt * self.p.gyro_noise**2 / 4 * X @ X.T
@@ -285,134 +286,60 @@ class QuaternionEKF(_Base):
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
-        # Bookkeeping of the robustness features.
-        self.flags = 0
-        gyr = np.asarray(gyr, float)
-        if self.p.acc_lp_tau > 0:
-            qi = Q.mul(self.q_i, Q.from_rotvec((gyr - self.bias) * dt))
-            self.q_i = qi / np.linalg.norm(qi)
-        self.gyr_last = gyr.copy()
-        self.dt_last = dt
-        if self.p.rest_detection and self.lp_init:
-            self.gyr_lp = _lowpass(self.gyr_lp, gyr, dt, self.p.rest_tau)
+        self._parts_predict(gyr, dq, dt)
         return "ok"
 
-    # --- robustness ---------------------------------------------------------------------
+    def _parts_predict(self, gyr, dq, dt):
+        self.flags = 0
+        self.dt_last = dt
+        self.acc.predict(dq)
+        self.rest.predict(gyr, dt)
+
+    # --- measurements with the robustness parts -------------------------------------------
     def update_acc(self, acc, gate=0.0):
-        """Accelerometer update with rest detection, low-pass, rejection and adaptive noise."""
+        """Accelerometer update: the rest test (at rest a zero-rate update of the bias), then the
+        accelerometer part's low-pass, rejection and adaptive noise, then rows 1-3 of eq. (12)."""
         if not self.initialized:
             return SimpleNamespace(status="not_initialized")
         status, _ = _unit(acc)
         if status != "ok":
             return SimpleNamespace(status=status)
-        acc = np.asarray(acc, float)
-        dt = self.dt_last
-        p = self.p
-        if p.rest_detection:
-            self._rest_step(acc)
-        acc_used = acc
-        if p.acc_lp_tau > 0:
-            a_i = Q.rotate(self.q_i, acc)
-            if not self.acc_lp_init or not dt > 0:
-                self.acc_i_lp = a_i
-                self.acc_lp_init = True
-            else:
-                self.acc_i_lp = _lowpass(self.acc_i_lp, a_i, dt, self._acc_lp_tau())
-            acc_used = Q.rotate_inv(self.q_i, self.acc_i_lp)
-        g = p.gravity
-        dev = abs(np.linalg.norm(acc_used) - g) if g > 0 else 0.0
-        recovering = p.acc_recovery_time > 0 and self.acc_reject_t >= p.acc_recovery_time
-        if p.acc_reject > 0 and dev > p.acc_reject and not recovering:
-            if p.acc_recovery_time > 0:
-                self.acc_reject_t += dt
-            self.flags |= FLAG_ACC_REJECTED
-            return SimpleNamespace(status="rejected")
-        sigma = p.acc_sigma + (p.acc_adapt * dev / g if g > 0 else 0.0)
-        gt = gate if gate > 0 else (0.0 if recovering else p.acc_gate)
-        res = self._update3(acc_used, *GRAVITY_REF, sigma, gt)
-        if res.status == "ok":
-            self.acc_reject_t = 0.0
-        elif res.status == "rejected":
-            if p.acc_recovery_time > 0:
-                self.acc_reject_t += dt
+        if self.rest.update(acc, self.bias, self.dt_last):
+            self._update_zero_rate()
+        res = self.acc.update(acc, self.dt_last, self._max_bias_var(), lambda a: self._update3(
+            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, self.p.acc_gate)))
+        if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res
 
-    def _acc_lp_tau(self):
-        return self.p.acc_lp_tau  # the 7-state filter ignores acc_lp_bias_sigma
+    def _max_bias_var(self):
+        return 0.0  # the 7-state filter keeps acc_lp_tau (acc_lp_bias_sigma: error-state filter only)
 
-    def _rest_step(self, acc):
-        p, dt = self.p, self.dt_last
-        if not self.lp_init or not dt > 0:
-            self.gyr_lp = self.gyr_last.copy()
-            self.acc_lp = acc.copy()
-            self.lp_init = dt > 0
-            self.rest_t = 0.0
-            return
-        self.acc_lp = _lowpass(self.acc_lp, acc, dt, p.rest_tau)
-        still = (np.linalg.norm(self.gyr_last - self.gyr_lp) < p.rest_gyr_th
-                 and np.linalg.norm(self.gyr_lp - self.bias) < p.rest_gyr_th
-                 and np.linalg.norm(acc - self.acc_lp) < p.rest_acc_th)
-        self.rest_t = self.rest_t + dt if still else 0.0
-        if self.rest_t < p.rest_time:
-            return
+    def _update_zero_rate(self):
         self.flags |= FLAG_AT_REST
         H = np.zeros((3, self.n_states))
         H[:, -3:] = np.eye(3)
-        r = p.gyro_noise**2 / dt + p.rest_rate_noise**2
-        self._correct(H, np.eye(3) * r, self.gyr_last - self.bias, 0.0)
+        r = self.rest.zero_rate_variance(self.p.gyro_noise, self.dt_last)
+        self._correct(H, np.eye(3) * r, self.rest.zero_rate_innovation(self.bias), 0.0)
 
     def update_mag(self, mag, gate=0.0):
-        """Magnetometer update: disturbance tests, then heading-only (or paper) update."""
+        """Magnetometer update: the magnetometer part's disturbance tests, then the heading-only
+        (or the paper's 3-row) update."""
         if not self.initialized:
             return SimpleNamespace(status="not_initialized")
         status, m = _unit(mag)
         if status != "ok":
             return SimpleNamespace(status=status)
-        p = self.p
-        mnorm = float(np.linalg.norm(mag))
-        self._learn_mag_ref(Q.rotate(self.q, m))
-        if not self.mag_norm_ref > 0:
-            self.mag_norm_ref = mnorm
-        dt = self.dt_last
-        mn = Q.rotate(self.q, m)
-        dip = np.arcsin(np.clip(mn[2], -1.0, 1.0))
-        dip_ref = np.arctan2(self.mag_ref[2], self.mag_ref[0])
-        disturbed = ((p.mag_norm_tol > 0 and abs(mnorm / self.mag_norm_ref - 1) > p.mag_norm_tol)
-                     or (p.mag_dip_tol > 0 and abs(dip - dip_ref) > p.mag_dip_tol))
-        if p.mag_settle_time > 0:
-            self.mag_ok_t = 0.0 if disturbed else self.mag_ok_t + dt
-        if not disturbed and self.mag_ok_t < p.mag_settle_time:
-            self.mag_reject_t += dt
-            self.flags |= FLAG_MAG_REJECTED
-            return SimpleNamespace(status="rejected")
-        if disturbed:
-            self.mag_reject_t += dt
-            if not (p.mag_recovery_time > 0 and self.mag_reject_t >= p.mag_recovery_time):
-                self.flags |= FLAG_MAG_REJECTED
-                return SimpleNamespace(status="rejected")
-            if not self.mag_ref_fixed:
-                self.mag_sin_dip_sum, self.mag_ref_count = 0.0, 0
-                self._learn_mag_ref(mn)
-            self.mag_norm_ref = mnorm
-        gt = gate if gate > 0 else p.mag_gate
-        if p.mag_heading_only:
-            res = self.update_heading(m, gt)
-        else:
+        gt = gate if gate > 0 else self.p.mag_gate
+
+        def update():
+            if self.p.mag_heading_only:
+                return self.update_heading(m, gt)
             rx, rz, ry = self.mag_reference()
-            res = self._update3(mag, rx, rz, p.mag_sigma, gt, ry=ry)
-        if res.status == "ok":
-            self.mag_reject_t = 0.0
-            if p.mag_ref_tau > 0 and dt > 0:
-                if not self.mag_ref_fixed and self.mag_ref_count >= p.mag_ref_samples:
-                    mn2 = Q.rotate(self.q, m)
-                    dip2 = np.arcsin(np.clip(mn2[2], -1.0, 1.0))
-                    d = _lowpass(dip_ref, dip2, dt, p.mag_ref_tau)
-                    self.mag_ref = np.array([np.cos(d), 0.0, np.sin(d)])
-                self.mag_norm_ref = _lowpass(self.mag_norm_ref, mnorm, dt, p.mag_ref_tau)
-        elif res.status == "rejected":
-            if p.mag_recovery_time > 0:
-                self.mag_reject_t += dt
+            return self._update3(mag, rx, rz, self.p.mag_sigma, gt, ry=ry)
+
+        res = self.mag.update(np.linalg.norm(mag), lambda: Q.rotate(self.q, m), self.dt_last, update)
+        if res.status == "rejected":
             self.flags |= FLAG_MAG_REJECTED
         return res
 
@@ -480,14 +407,18 @@ class QuaternionEKF(_Base):
         sm, m = _unit(mag)
         if sa != "ok" or sm != "ok":
             return SimpleNamespace(status=sa if sa != "ok" else sm)
-        self._learn_mag_ref(Q.rotate(self.q, m))
+        before = self.mag.ref.copy()
+        self.mag.ref.learn(Q.rotate(self.q, m), self.p.mag_ref_samples)
         r = self.mag_reference()
         H = np.zeros((6, 7))
         H[:3, :4] = self.H(self.q, *GRAVITY_REF)
         H[3:, :4] = self.H(self.q, *r)
         y = np.concatenate([a - self.h(self.q, *GRAVITY_REF), m - self.h(self.q, *r)])
         R = np.diag([self.p.acc_sigma**2] * 3 + [self.p.mag_sigma**2] * 3)
-        return self._correct(H, R, y, gate)
+        res = self._correct(H, R, y, gate)
+        if res.status != "ok":
+            self.mag.ref = before  # a refused update changes nothing
+        return res
 
     def _correct(self, H, R, y, gate):
         status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
@@ -527,19 +458,17 @@ class QuaternionESKF(QuaternionEKF):
             self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_gyro_bias_sigma**2] * 3)
         return status
 
-    def _acc_lp_tau(self):
-        sb = self.p.acc_lp_bias_sigma
-        vb = np.max(np.diag(self.P)[3:])
-        return self.p.acc_lp_tau * (sb * sb / vb) if sb > 0 and vb > sb * sb else self.p.acc_lp_tau
+    def _max_bias_var(self):
+        return float(np.max(np.diag(self.P)[3:]))
 
     @staticmethod
     def propagate(q, bias, gyr, dt):
-        """q+ = q * exp((w - b) dt); Phi = [C(dq)^T, -dt I; 0, I]."""
+        """q+ = q * exp((w - b) dt); Phi = [C(dq)^T, -dt I; 0, I]; the step's dq."""
         dq = Q.from_rotvec((np.asarray(gyr, float) - bias) * dt)
         Phi = np.eye(6)
         Phi[:3, :3] = Q.to_rotmat(dq).T
         Phi[:3, 3:] = -dt * np.eye(3)
-        return Q.mul(q, dq), Phi
+        return Q.mul(q, dq), Phi, dq
 
     def predict(self, gyr, dt):
         if not self.initialized:
@@ -548,20 +477,12 @@ class QuaternionESKF(QuaternionEKF):
             return "non_finite"
         if not (0 < dt <= self.p.max_dt):
             return "invalid_dt"
-        q_new, Phi = self.propagate(self.q, self.bias, gyr, dt)
+        q_new, Phi, dq = self.propagate(self.q, self.bias, gyr, dt)
         Qn = np.diag([dt * self.p.gyro_noise**2] * 3 + [dt * self.p.gyro_bias_noise**2] * 3)
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
-        self.flags = 0
-        gyr = np.asarray(gyr, float)
-        if self.p.acc_lp_tau > 0:
-            qi = Q.mul(self.q_i, Q.from_rotvec((gyr - self.bias) * dt))
-            self.q_i = qi / np.linalg.norm(qi)
-        self.gyr_last = gyr.copy()
-        self.dt_last = dt
-        if self.p.rest_detection and self.lp_init:
-            self.gyr_lp = _lowpass(self.gyr_lp, gyr, dt, self.p.rest_tau)
+        self._parts_predict(gyr, dq, dt)
         return "ok"
 
     @staticmethod
@@ -588,11 +509,15 @@ class QuaternionESKF(QuaternionEKF):
         sm, m = _unit(mag)
         if sa != "ok" or sm != "ok":
             return SimpleNamespace(status=sa if sa != "ok" else sm)
-        self._learn_mag_ref(Q.rotate(self.q, m))
+        before = self.mag.ref.copy()
+        self.mag.ref.learn(Q.rotate(self.q, m), self.p.mag_ref_samples)
         ha, Ha = self.direction_model(self.q, np.array([0.0, 0.0, -1.0]))
         hm, Hm = self.direction_model(self.q, self._mag_reference_vector())
         R = np.diag([self.p.acc_sigma**2] * 3 + [self.p.mag_sigma**2] * 3)
-        return self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate)
+        res = self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate)
+        if res.status != "ok":
+            self.mag.ref = before
+        return res
 
     def update_heading(self, m_unit, gate=0.0):
         """Heading-only update: H = [u^T, 0] with u = C_nb^T e_z, gain projected on u, R
@@ -697,7 +622,8 @@ class EulerEKF(_Base):
         q, mref = out
         self.euler = Q.to_euler(q)
         self.bias = np.zeros(3)
-        self._init_mag_ref(mref)
+        if mref is not None:
+            self.mag.ref.restart(mref, self.p.mag_ref_samples)
         self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_gyro_bias_sigma**2] * 3)
         self.initialized = True
         return "ok"

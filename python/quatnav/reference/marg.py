@@ -12,7 +12,7 @@ import numpy as np
 
 from ..core import quaternion as Q
 from ..filters.tables import MARG_PARAMS
-from .attitude import _unit, attitude_from_acc_mag, make_params, table_defaults
+from .attitude import _unit, attitude_from_acc_mag, make_params, sample_times, table_defaults
 
 
 def h(q, r):
@@ -246,30 +246,31 @@ class MargFilter:
         res.status = "ok"
         return res
 
-    def run(self, gyr, acc, mag=None, dt=None, t=None, gps_vel_n=None, gps_t=None):
-        """Same loop as run_marg_batch in marg_filter.hpp."""
-        gyr = np.asarray(gyr, float)
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_vel=None):
+        """The loop of run_marg_batch (marg_filter.hpp) with the public ``run``'s signature: times
+        as ``t`` or ``dt``; ``gps_vel`` an ``Aid(t, v_n)`` (or anything with ``.t`` and ``.value``),
+        each fix used from the first IMU sample at or after its time. Returns ``t``, ``quat``, ``bias``."""
+        gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
         n = len(gyr)
-        dt = np.broadcast_to(np.asarray(dt, float), (n,))
-        if t is None:
-            t = np.concatenate([[0.0], np.cumsum(dt[1:])])
-        m = 0 if gps_t is None else len(gps_t)
+        t, steps = sample_times(n, t, dt)
+        gps_t = np.zeros(0) if gps_vel is None else np.asarray(gps_vel.t, float)
+        gps_v = None if gps_vel is None else np.asarray(gps_vel.value, float)
         quat = np.empty((n, 4))
         bias = np.empty((n, 3))
         j = 0
         for k in range(n):
-            while j < m and gps_t[j] <= t[k]:
-                self.update_gps_velocity(gps_vel_n[j], gps_t[j])
+            while j < len(gps_t) and gps_t[j] <= t[k]:
+                self.update_gps_velocity(gps_v[j], gps_t[j])
                 j += 1
             mk = None if mag is None or np.all(np.isnan(mag[k])) else mag[k]
             if not self.initialized:
                 self.initialize(acc[k], mk)
             else:
-                self.predict(gyr[k], dt[k])
+                self.predict(gyr[k], steps[k])
                 if mk is None:
                     self.update_acc(acc[k])
                 else:
                     self.update_acc_mag(acc[k], mk)
             quat[k] = self.q
             bias[k] = self.bias
-        return SimpleNamespace(quat=quat, bias=bias)
+        return SimpleNamespace(t=t, quat=quat, bias=bias)

@@ -163,7 +163,7 @@ template <class S> double gpsins_near_singular(S floor, int steps) {
   double min_eig = 1e300;
   for (int k = 0; k < steps; ++k) {
     const Status sp = f.predict(wb, fb, S(0.01));
-    if (floor > S(0)) EXPECT_EQ(sp, Status::Ok);
+    if (floor > S(0)) { EXPECT_EQ(sp, Status::Ok); }
     f.update_compass(S(0.4));
     f.update_baro(100.0);
     if (k % 10 == 0) f.update_gps(0.6, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Constant(S(1e-3)), Vec3<S>::Constant(S(1e-4)));

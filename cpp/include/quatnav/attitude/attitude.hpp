@@ -1,5 +1,5 @@
-// quatnav: pieces shared by the attitude filters: the reference magnetic field and the
-// initialization from gravity and field.
+// quatnav: pieces shared by the attitude filters and their parts (parts/): the reference
+// magnetic field, the initialization from gravity and field, the first-order low-pass.
 #pragma once
 
 #include <cmath>
@@ -49,6 +49,12 @@ template <class S> struct MagRef {
 };
 
 namespace detail {
+
+/// First-order low-pass step y += a (x - y) with a = dt / (tau + dt).
+template <class S, class V> void lowpass(V& y, const V& x, S dt, S tau) {
+  const S a = dt / (tau + dt);
+  y = y + a * (x - y);
+}
 
 /// Tilt and heading from one accelerometer and magnetometer sample. Returns false for
 /// degenerate input. mag may be null (heading 0). mag_ref receives [m_x, 0, m_z] normalized.

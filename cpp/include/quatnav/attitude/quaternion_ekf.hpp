@@ -27,6 +27,9 @@
 #include <limits>
 
 #include "attitude.hpp"
+#include "parts/acc_filter.hpp"
+#include "parts/mag_disturbance.hpp"
+#include "parts/rest.hpp"
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
 #include "../core/fields.hpp"
@@ -52,8 +55,9 @@ namespace quatnav {
 /// deviations, scale-factor errors), so that the attitude error stays within the filter's own
 /// 3 sigma on real data. All noise values scaled by one factor give the same estimates and a
 /// covariance scaled by its square.
-// X(type, name, default, unit, doc): each field once (core/fields.hpp). The paper's values are
-// those of paper() below.
+// X(type, name, default, unit, doc): each field once (core/fields.hpp). The robustness parts
+// declare their own fields (parts/*.hpp), flattened beside these in the Python binding; paper()
+// below holds the paper's values.
 #define QUATNAV_QEKF_PARAMS(X)                                                                          \
   X(S, gyro_noise, S(0.01), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")            \
   X(S, gyro_bias_noise, S(1e-4), "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density")                    \
@@ -61,47 +65,23 @@ namespace quatnav {
   X(S, mag_sigma, S(1.0), "1 (normalized)", "std of each component of the normalized magnetometer")      \
   X(S, init_att_sigma, S(0.5), "rad", "attitude one-sigma after initialize")                             \
   X(S, init_gyro_bias_sigma, S(0.1), "rad/s", "gyro-bias one-sigma after initialize")                    \
-  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
   X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
   X(S, gyro_range, S(0), "rad/s",                                                                        \
     "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")    \
   X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
   /* the floor acts in the error state [dtheta (rad, body frame), db (rad/s)] (covariance.hpp) */       \
   X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")         \
+  /* in [-pi, pi]; otherwise x is true north: the reference field points to heading `declination` \
+     and initialize() adds it to the magnetic heading */                                             \
+  X(S, declination, S(0), "rad", "magnetic declination, east of true north (0: x is magnetic north)")    \
   /* a scalar update of the heading of the field's horizontal projection whose gain is projected on  \
      the yaw direction, so that the magnetometer never tilts roll and pitch; false: eq. 12 rows 4-6 */ \
   X(bool, mag_heading_only, true, "-", "the magnetometer corrects heading only (false: 3-row update)")   \
-  X(S, gravity, S(9.81), "m/s^2", "magnitude of gravity for the acceleration tests")                     \
-  X(S, acc_adapt, S(0), "1", "adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g")       \
-  X(S, acc_reject, S(0), "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)")            \
   X(S, acc_gate, S(0), "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)")          \
-  X(S, acc_recovery_time, S(0), "s",                                                                     \
-    "after this long with every accelerometer update rejected, accept again (0: never)")                 \
-  /* each sample is rotated into a frame carried by the bias-corrected gyro alone, low-passed there  \
-     and rotated back into the current body frame: linear accelerations average out (their mean over \
-     an interval is a velocity change over its length) while gravity stays */                         \
-  X(S, acc_lp_tau, S(3), "s", "low-pass time constant of the accelerometer in a quasi-inertial frame (0: off)") \
-  /* that frame turns by about sigma_b * tau for a bias error sigma_b (QuaternionESKF only) */         \
-  X(S, acc_lp_bias_sigma, S(0.006), "rad/s",                                                             \
-    "above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by "                \
-    "(acc_lp_bias_sigma / sigma_b)^2 (0: off)")                                                          \
-  X(S, mag_norm_tol, S(0.05), "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)")    \
-  X(S, mag_dip_tol, S(0.05), "rad",                                                                      \
-    "reject the magnetometer when its dip differs from the reference by more (0: off)")                  \
   X(S, mag_gate, S(9), "1 (chi-square)", "NIS gate of the magnetometer update (0: off)")                 \
-  X(S, mag_settle_time, S(0), "s", "after a disturbance, the field must pass the tests this long")       \
-  X(S, mag_ref_tau, S(30), "s", "time constant with which the reference norm and dip follow the field")   \
-  X(S, mag_recovery_time, S(0), "s",                                                                     \
-    "after this long with every sample disturbed, the field becomes the reference (0: never)")           \
-  X(bool, rest_detection, true, "-", "detect rest and use it as a zero-rate measurement of the gyro bias") \
-  X(S, rest_gyr_th, S(0.03), "rad/s", "rest: largest deviation of the low-passed gyro")                  \
-  X(S, rest_acc_th, S(0.5), "m/s^2", "rest: largest deviation of the low-passed accelerometer")          \
-  X(S, rest_time, S(1.5), "s", "rest: shortest duration")                                                \
-  X(S, rest_tau, S(0.5), "s", "rest: low-pass time constant")                                            \
-  X(S, rest_rate_noise, S(0.02), "rad/s", "std of the residual rate at rest")                            \
-  /* in [-pi, pi]; otherwise x is true north: the reference field points to heading `declination` \
-     and initialize() adds it to the magnetic heading */                                             \
-  X(S, declination, S(0), "rad", "magnetic declination, east of true north (0: x is magnetic north)")
+  X(AccFilterParams<S>, acc, AccFilterParams<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
+  X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
+  X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
 
 template <class S> struct QuaternionEKFParams {
   QUATNAV_FIELDS(QuaternionEKFParams, QUATNAV_QEKF_PARAMS)
@@ -116,11 +96,10 @@ template <class S> struct QuaternionEKFParams {
     p.init_att_sigma = S(0.05);
     p.init_gyro_bias_sigma = S(0.01);
     p.mag_heading_only = false;
-    p.acc_adapt = p.acc_reject = p.acc_gate = p.acc_recovery_time = p.acc_lp_tau = S(0);
-    p.acc_lp_bias_sigma = S(0);
-    p.mag_norm_tol = p.mag_dip_tol = p.mag_gate = p.mag_ref_tau = p.mag_recovery_time = S(0);
-    p.mag_settle_time = S(0);
-    p.rest_detection = false;
+    p.acc_gate = p.mag_gate = S(0);
+    AccFilter<S>::off(p.acc);
+    MagDisturbance<S>::off(p.mag);
+    Rest<S>::off(p.rest);
     return p;
   }
 };
@@ -131,22 +110,11 @@ template <class S> struct QuaternionEKFParams {
   X(Quat<S>, q_nb, quat::identity<S>(), "1", "attitude q_nb [w, x, y, z]")                               \
   X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
   X(MatP, P, MatP::Identity(), "state units^2", kCovarianceDoc)                                         \
-  X(MagRef<S>, mag, MagRef<S>(), "-", "reference field, learned or given")                               \
   X(bool, initialized, false, "-", "the filter has a state")                                            \
-  /* the bookkeeping of the robustness features */                                                    \
-  X(S, mag_norm_ref, S(0), "input unit", "learned field norm (0: not yet)")                              \
-  X(Vec3<S>, gyr_last, Vec3<S>::Zero(), "rad/s", "gyro sample of the last predict")                     \
   X(S, dt_last, S(0), "s", "step of the last predict")                                                  \
-  X(Vec3<S>, gyr_lp, Vec3<S>::Zero(), "rad/s", "low-passed gyro of the rest test")                      \
-  X(Vec3<S>, acc_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer of the rest test")             \
-  X(bool, lp_init, false, "-", "the low-pass filters of the rest test hold a sample")                   \
-  X(S, rest_t, S(0), "s", "time the rest conditions have held")                                         \
-  X(S, acc_reject_t, S(0), "s", "time every accelerometer update was rejected")                         \
-  X(S, mag_reject_t, S(0), "s", "time every magnetometer update was rejected")                          \
-  X(S, mag_ok_t, S(1e9), "s", "time the field has passed the norm and dip tests")                       \
-  X(Quat<S>, q_i, quat::identity<S>(), "1", "gyro-only frame of the accelerometer low-pass, q_ib")      \
-  X(Vec3<S>, acc_i_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer in that frame")              \
-  X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")
+  X(MagDisturbanceState<S>, mag, MagDisturbanceState<S>(), "-", "reference field and disturbance tests") \
+  X(AccFilterState<S>, acc, AccFilterState<S>(), "-", "accelerometer low-pass and rejection timer")      \
+  X(RestState<S>, rest, RestState<S>(), "-", "rest detection")
 
 template <class S> struct QuaternionEKFState {
   using MatP = Mat<S, 7, 7>;
@@ -176,10 +144,11 @@ template <class S> Mat34<S> qekf_H(const Quat<S>& q, S rx, S rz) {
   return H;
 }
 
-/// The time update f(x) and its Jacobian Phi = df/dx (eq. 9-10, exact discretization).
+/// The time update f(x) and its Jacobian Phi = df/dx (eq. 9-10, exact discretization). Returns
+/// the step's rotation dq = exp((w - b) T), q_out = q * dq.
 template <class S>
-void qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out,
-                    Mat<S, 7, 7>& Phi) {
+Quat<S> qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out,
+                       Mat<S, 7, 7>& Phi) {
   const Vec3<S> rv = (gyr - bias) * dt;  // rotation vector of the step, w~ T
   const Quat<S> dq = quat::from_rotvec(rv);
   q_out = quat::mul(q, dq);
@@ -187,6 +156,7 @@ void qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S
   Phi.template topLeftCorner<4, 4>() = quat::right(dq);
   // d(q * dq)/db = left(q) d dq / d rv * d rv / db,  d rv / db = -dt I.
   Phi.template topRightCorner<4, 3>() = -dt * quat::left(q) * quat::from_rotvec_jacobian(rv);
+  return dq;
 }
 
 /// The quaternion block of the state [q, b] (core/quat_block.hpp).
@@ -239,12 +209,6 @@ bool heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Eig
   return true;
 }
 
-/// First-order low-pass step y += a (x - y) with a = dt / (tau + dt).
-template <class S, class V> void lowpass(V& y, const V& x, S dt, S tau) {
-  const S a = dt / (tau + dt);
-  y = y + a * (x - y);
-}
-
 }  // namespace detail
 
 template <class S> class QuaternionEKF {
@@ -268,7 +232,7 @@ template <class S> class QuaternionEKF {
   /// is detected, kAccRejected / kMagRejected when the robustness tests rejected a measurement.
   std::uint32_t extra_flags() const { return flags_; }
   /// True while rest is detected (rest_detection on).
-  bool at_rest() const { return params_.rest_detection && st_.rest_t >= params_.rest_time; }
+  bool at_rest() const { return Rest<S>::at_rest(params_.rest, st_.rest); }
 
   /// Restore a state previously read with state(). Refused (InvalidArgument) when the
   /// quaternion is not unit length or anything is non-finite.
@@ -289,9 +253,7 @@ template <class S> class QuaternionEKF {
   }
 
   /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
-  void set_mag_dip(S dip) {
-    st_.mag.fix(dip);
-  }
+  void set_mag_dip(S dip) { st_.mag.ref.fix(dip); }
 
   /// Initialize from one accelerometer (and optionally magnetometer) sample: tilt from gravity,
   /// heading from the field (heading 0 without one); covariance from the parameters. The
@@ -323,7 +285,7 @@ template <class S> class QuaternionEKF {
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
     Mat7 Phi;
-    detail::qekf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, Phi);
+    const Quat<S> dq = detail::qekf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, Phi);
     // P = Phi P Phi^T + Q (eq. 13-14) by blocks, Phi = [F B; 0 I] (predict_covariance_fb).
     const Mat4<S> F = Phi.template topLeftCorner<4, 4>();
     const Mat43<S> B = Phi.template topRightCorner<4, 3>();
@@ -337,25 +299,19 @@ template <class S> class QuaternionEKF {
     st_.q_nb = q_new / q_new.norm();
     detail::qekf_floor_symmetric_covariance(st_.q_nb, P_new, params_.cov_floor);
     st_.P = P_new;
-    // Bookkeeping for the robustness features: the last rate and step, the rest low-pass.
     flags_ = 0;
-    if (params_.acc_lp_tau > S(0)) {
-      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.gyro_bias) * dt)));
-      st_.q_i = qi / qi.norm();
-    }
-    st_.gyr_last = gyr;
     st_.dt_last = dt;
-    if (params_.rest_detection && st_.lp_init) detail::lowpass(st_.gyr_lp, Vec3<S>(gyr), dt, params_.rest_tau);
+    AccFilter<S>::predict(params_.acc, st_.acc, dq);
+    Rest<S>::predict(params_.rest, st_.rest, gyr, dt);
     return Status::Ok;
   }
 
   /// Accelerometer update (rows 1-3 of eq. 12); acc normalized here (m/s^2 when the robustness
-  /// features are on). With rest_detection, the rest test runs first and, at rest, a zero-rate
-  /// update of the bias (z = w - b = 0, R = gyro_noise^2/dt + rest_rate_noise^2) precedes the
-  /// acc update. Then: rejection when ||a| - g| > acc_reject (status Rejected, kAccRejected),
-  /// adaptive noise acc_noise + acc_adapt ||a| - g| / g, NIS gate (gate, else acc_gate).
-  /// A Rejected update leaves q, bias and P untouched but advances the robustness bookkeeping
-  /// (the low-pass filters, the rest and rejection timers): those follow the input signal.
+  /// parts are on). First the rest test (parts/rest.hpp): at rest, a zero-rate update of the bias
+  /// precedes the acc update. Then the accelerometer part (parts/acc_filter.hpp): the low-passed
+  /// sample, its rejection (status Rejected, kAccRejected) and adaptive noise; the NIS gate is
+  /// `gate`, else acc_gate. A Rejected update leaves q, bias and P untouched but advances the
+  /// parts' low-passes and timers: those follow the input signal.
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
@@ -363,116 +319,37 @@ template <class S> class QuaternionEKF {
     Vec3<S> a;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
-    const S dt = st_.dt_last;
-    if (params_.rest_detection) rest_step(acc);
-    Vec3<S> acc_used = acc;
-    if (params_.acc_lp_tau > S(0)) {
-      const Vec3<S> a_i = quat::rotate(st_.q_i, acc);
-      if (!st_.acc_lp_init || !(dt > S(0))) {
-        st_.acc_i_lp = a_i;
-        st_.acc_lp_init = true;
-      } else {
-        detail::lowpass(st_.acc_i_lp, a_i, dt, params_.acc_lp_tau);
-      }
-      acc_used = quat::rotate_inv(st_.q_i, st_.acc_i_lp);
-    }
-    const S g = params_.gravity;
-    const S dev = g > S(0) ? std::abs(acc_used.norm() - g) : S(0);
-    const bool recovering = params_.acc_recovery_time > S(0) && st_.acc_reject_t >= params_.acc_recovery_time;
-    if (params_.acc_reject > S(0) && dev > params_.acc_reject && !recovering) {
-      res.status = Status::Rejected;
-      if (params_.acc_recovery_time > S(0)) st_.acc_reject_t += dt;
-      flags_ |= flags::kAccRejected;
-      return res;
-    }
-    const S sigma = params_.acc_sigma + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
-    const S gt = gate > S(0) ? gate : (recovering ? S(0) : params_.acc_gate);
-    res = update3(acc_used, detail::qekf_h(st_.q_nb, S(0), S(-1)), detail::qekf_H(st_.q_nb, S(0), S(-1)), sigma, gt);
-    if (res.status == Status::Ok) {
-      st_.acc_reject_t = S(0);
-    } else if (res.status == Status::Rejected) {
-      if (params_.acc_recovery_time > S(0)) st_.acc_reject_t += dt;
-      flags_ |= flags::kAccRejected;
-    }
-    return res;
+    if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
+    // The 7-state filter keeps acc_lp_tau whatever its bias variance (max_bias_var 0).
+    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, S(0), flags_, [&](const AccSample<S>& in) {
+      return update3(in.acc, detail::qekf_h(st_.q_nb, S(0), S(-1)), detail::qekf_H(st_.q_nb, S(0), S(-1)),
+                     params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
+    });
   }
 
   /// Magnetometer update; mag in any unit, normalized here.
   ///
   /// mag_heading_only (default): one row, the heading of the field (heading_model); the
   /// result's innovation[0] is the heading innovation [rad], innovation_cov(0,0) its variance
-  /// (other rows zero). Otherwise rows 4-6 of eq. (12). Before either: the disturbance test
-  /// (norm against the learned norm, dip against the learned dip) may reject (status Rejected,
-  /// kMagRejected); then the NIS gate (gate, else mag_gate). While accepted, the norm and dip
-  /// references follow the field with time constant mag_ref_tau.
+  /// (other rows zero). Otherwise rows 4-6 of eq. (12). Before either: the magnetometer part's
+  /// disturbance tests (parts/mag_disturbance.hpp) may reject (status Rejected, kMagRejected);
+  /// then the NIS gate (gate, else mag_gate). While accepted, the reference norm and dip follow
+  /// the field with time constant mag_ref_tau.
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
     Vec3<S> m;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
-    const S mnorm = mag.norm();
-    const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(st_.q_nb, m), params_.mag_ref_samples);
-    if (!(st_.mag_norm_ref > S(0))) st_.mag_norm_ref = mnorm;
-    const S dt = st_.dt_last;
-    const Vec3<S> mn = quat::rotate(st_.q_nb, m);
-    const S dip = std::asin(std::max(S(-1), std::min(S(1), mn[2])));
-    const S dip_ref = std::atan2(st_.mag.mag_ref[2], st_.mag.mag_ref[0]);
-    const bool disturbed = (params_.mag_norm_tol > S(0) &&
-                            std::abs(mnorm / st_.mag_norm_ref - S(1)) > params_.mag_norm_tol) ||
-                           (params_.mag_dip_tol > S(0) && std::abs(dip - dip_ref) > params_.mag_dip_tol);
-    if (params_.mag_settle_time > S(0)) st_.mag_ok_t = disturbed ? S(0) : st_.mag_ok_t + dt;
-    if (!disturbed && st_.mag_ok_t < params_.mag_settle_time) {
-      st_.mag_reject_t += dt;
-      res.status = Status::Rejected;
-      flags_ |= flags::kMagRejected;
-      st_.mag = mag_before;
-      return res;
-    }
-    if (disturbed) {
-      st_.mag_reject_t += dt;
-      if (!(params_.mag_recovery_time > S(0) && st_.mag_reject_t >= params_.mag_recovery_time)) {
-        res.status = Status::Rejected;
-        flags_ |= flags::kMagRejected;
-        st_.mag = mag_before;
-        return res;
-      }
-      // A steady new field: take it as the reference and go on.
-      if (!st_.mag.mag_ref_fixed) {
-        st_.mag = MagRef<S>();
-        st_.mag.learn(mn, params_.mag_ref_samples);
-      }
-      st_.mag_norm_ref = mnorm;
-    }
     const S gt = gate > S(0) ? gate : params_.mag_gate;
-    if (params_.mag_heading_only) {
-      res = update_heading(m, gt);
-    } else {
+    const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
+    return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
+      if (params_.mag_heading_only) return update_heading(m, gt);
       Vec3<S> h;
       Mat34<S> Hm;
       mag_model(h, Hm);
-      res = update3(mag, h, Hm, params_.mag_sigma, gt);
-    }
-    if (res.status == Status::Ok) {
-      st_.mag_reject_t = S(0);
-      if (params_.mag_ref_tau > S(0) && dt > S(0)) {
-        // Follow slow changes of the field once the initial average is complete.
-        if (!st_.mag.mag_ref_fixed && st_.mag.mag_ref_count >= params_.mag_ref_samples) {
-          const Vec3<S> mn2 = quat::rotate(st_.q_nb, m);
-          const S dip2 = std::asin(std::max(S(-1), std::min(S(1), mn2[2])));
-          S d = dip_ref;
-          detail::lowpass(d, dip2, dt, params_.mag_ref_tau);
-          st_.mag.mag_ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
-        }
-        detail::lowpass(st_.mag_norm_ref, mnorm, dt, params_.mag_ref_tau);
-      }
-    } else if (res.status == Status::Rejected) {
-      if (params_.mag_recovery_time > S(0)) st_.mag_reject_t += dt;
-      flags_ |= flags::kMagRejected;
-    }
-    if (res.status != Status::Ok && !disturbed) st_.mag = mag_before;  // a refused update keeps the reference
-    return res;
+      return update3(mag, h, Hm, params_.mag_sigma, gt);
+    });
   }
 
   /// Joint accelerometer + magnetometer update, eq. (11)-(12) as one 6-vector.
@@ -485,8 +362,8 @@ template <class S> class QuaternionEKF {
     if (res.status != Status::Ok) return res;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
-    const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(st_.q_nb, m), params_.mag_ref_samples);
+    const MagRef<S> ref_before = st_.mag.ref;
+    st_.mag.ref.learn(quat::rotate(st_.q_nb, m), params_.mag.mag_ref_samples);
     Vec<S, 6> z, h;
     z << a, m;
     Mat<S, 6, 7> H = Mat<S, 6, 7>::Zero();
@@ -500,34 +377,19 @@ template <class S> class QuaternionEKF {
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
     apply_correction<6, 0, 4>(H, r, Vec<S, 6>(z - h), res, gate);
-    if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
+    if (res.status != Status::Ok) st_.mag.ref = ref_before;  // a refused update changes nothing
     return res;
   }
 
  private:
-  /// Rest test (low-passed gyro and acc) and, at rest, the zero-rate update of the bias.
-  void rest_step(const Vec3<S>& acc) {
-    const S dt = st_.dt_last;
-    if (!st_.lp_init || !(dt > S(0))) {
-      st_.gyr_lp = st_.gyr_last;
-      st_.acc_lp = acc;
-      st_.lp_init = dt > S(0);
-      st_.rest_t = S(0);
-      return;
-    }
-    detail::lowpass(st_.acc_lp, acc, dt, params_.rest_tau);
-    const bool still = (st_.gyr_last - st_.gyr_lp).norm() < params_.rest_gyr_th &&
-                       (st_.gyr_lp - st_.gyro_bias).norm() < params_.rest_gyr_th &&
-                       (acc - st_.acc_lp).norm() < params_.rest_acc_th;
-    st_.rest_t = still ? st_.rest_t + dt : S(0);
-    if (st_.rest_t < params_.rest_time) return;
+  /// At rest (parts/rest.hpp): the zero-rate measurement of the bias, z = w - b = 0 + noise.
+  void update_zero_rate() {
     flags_ |= flags::kAtRest;
-    // Zero-rate measurement: z = w_meas - b = 0 + noise.
     Mat<S, 3, 7> H = Mat<S, 3, 7>::Zero();
     H.template rightCols<3>().setIdentity();
-    const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
+    const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
-    apply_correction<3, 4, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.gyro_bias), res, S(0));
+    apply_correction<3, 4, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
   }
 
   /// Heading-only magnetometer update (see heading_model): Kalman gain projected on the yaw
@@ -594,19 +456,13 @@ template <class S> class QuaternionEKF {
     }
     st_.q_nb = q;
     st_.gyro_bias.setZero();
-    st_.lp_init = false;
-    st_.acc_lp_init = false;
-    st_.q_i = quat::identity<S>();
-    st_.rest_t = st_.acc_reject_t = st_.mag_reject_t = S(0);
-    st_.mag_ok_t = S(1e9);
     st_.dt_last = S(0);
+    Rest<S>::restart(st_.rest);
+    AccFilter<S>::restart(st_.acc);
+    MagDisturbance<S>::restart(st_.mag);
     flags_ = 0;
-    if (mag) {
-      // Start learning the reference afresh from this sample (unless the user fixed it).
-      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
-      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
-      st_.mag_norm_ref = mag->norm();
-    }
+    // The reference field is learned afresh from this sample (unless the user fixed it).
+    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     // Attitude sigma s (rad) on each body axis -> quaternion block (s/2)^2 Xi Xi^T.
     st_.P.setZero();
     const Mat43<S> X = quat::xi(st_.q_nb);
@@ -625,7 +481,7 @@ template <class S> class QuaternionEKF {
   /// h and H are those of the paper at q_m, and H picks up the constant factor
   /// d q_m / d q = left(Rz(-d)) (chain rule).
   void mag_model(Vec3<S>& h, Mat34<S>& H) const {
-    const S rx = st_.mag.mag_ref[0], rz = st_.mag.mag_ref[2];
+    const S rx = st_.mag.ref.mag_ref[0], rz = st_.mag.ref.mag_ref[2];
     if (params_.declination == S(0)) {
       h = detail::qekf_h(st_.q_nb, rx, rz);
       H = detail::qekf_H(st_.q_nb, rx, rz);

@@ -31,6 +31,9 @@
 #include <cstdint>
 
 #include "attitude.hpp"
+#include "parts/acc_filter.hpp"
+#include "parts/mag_disturbance.hpp"
+#include "parts/rest.hpp"
 #include "quaternion_ekf.hpp"
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
@@ -51,12 +54,13 @@ template <class S> struct QuaternionESKFState {
 namespace detail {
 
 /// The error-state time update: nominal q+ = q * exp((w - b) dt) and F = C(dq)^T, the
-/// attitude-error block of Phi = [F -dt I; 0 I].
+/// attitude-error block of Phi = [F -dt I; 0 I]. Returns the step's rotation dq.
 template <class S>
-void eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
+Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
   const Quat<S> dq = quat::from_rotvec(Vec3<S>((gyr - bias) * dt));
   q_out = quat::mul(q, dq);
   F = quat::to_rotmat(dq).transpose();
+  return dq;
 }
 
 /// P+ = Phi P Phi^T + Q for Phi = [F -dt I; 0 I], Q = diag(qa I, qb I), by blocks (P = [A C; C^T D]):
@@ -143,8 +147,9 @@ template <class S> class QuaternionESKF {
   const Vec3<S>& bias() const { return st_.gyro_bias; }
   const Mat6& covariance() const { return st_.P; }
   bool initialized() const { return st_.initialized; }
+  /// Flags of the last sample beyond the update statuses (kAtRest, kAccRejected, kMagRejected).
   std::uint32_t extra_flags() const { return flags_; }
-  bool at_rest() const { return params_.rest_detection && st_.rest_t >= params_.rest_time; }
+  bool at_rest() const { return Rest<S>::at_rest(params_.rest, st_.rest); }
 
   Status set_state(const State& s) {
     if (!detail::fields_finite(s)) return Status::NonFinite;
@@ -158,7 +163,7 @@ template <class S> class QuaternionESKF {
   Mat3<S> attitude_covariance() const { return st_.P.template topLeftCorner<3, 3>(); }
   Vec3<S> attitude_variance() const { return st_.P.diagonal().template head<3>(); }
 
-  void set_mag_dip(S dip) { st_.mag.fix(dip); }
+  void set_mag_dip(S dip) { st_.mag.ref.fix(dip); }
 
   Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
   Status initialize(const Vec3<S>& acc, const Vec3<S>& mag) { return init_impl(acc, &mag); }
@@ -188,7 +193,7 @@ template <class S> class QuaternionESKF {
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
     Mat3<S> F;
-    detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
+    const Quat<S> dq = detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
     Mat6 P_new = st_.P;
     detail::eskf_predict_covariance<S>(P_new, F, dt, dt * params_.gyro_noise * params_.gyro_noise,
                                        dt * params_.gyro_bias_noise * params_.gyro_bias_noise);
@@ -197,17 +202,15 @@ template <class S> class QuaternionESKF {
     if (params_.cov_floor > S(0)) floor_covariance<S, 6>(P_new, params_.cov_floor);
     st_.P = P_new;
     flags_ = 0;
-    if (params_.acc_lp_tau > S(0)) {
-      const Quat<S> qi = quat::mul(st_.q_i, quat::from_rotvec(Vec3<S>((gyr - st_.gyro_bias) * dt)));
-      st_.q_i = qi / qi.norm();
-    }
-    st_.gyr_last = gyr;
     st_.dt_last = dt;
-    if (params_.rest_detection && st_.lp_init) detail::lowpass(st_.gyr_lp, Vec3<S>(gyr), dt, params_.rest_tau);
+    AccFilter<S>::predict(params_.acc, st_.acc, dq);
+    Rest<S>::predict(params_.rest, st_.rest, gyr, dt);
     return Status::Ok;
   }
 
-  /// Accelerometer update: the robustness steps of QuaternionEKF::update_acc, then 3 scalar rows.
+  /// Accelerometer update: the rest test and the accelerometer part as in QuaternionEKF::update_acc,
+  /// the low-pass time constant following the gyro-bias variance (acc_lp_bias_sigma); then 3
+  /// scalar rows.
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
@@ -215,105 +218,26 @@ template <class S> class QuaternionESKF {
     Vec3<S> a;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
-    const S dt = st_.dt_last;
-    if (params_.rest_detection) rest_step(acc);
-    Vec3<S> acc_used = acc;
-    if (params_.acc_lp_tau > S(0)) {
-      const Vec3<S> a_i = quat::rotate(st_.q_i, acc);
-      if (!st_.acc_lp_init || !(dt > S(0))) {
-        st_.acc_i_lp = a_i;
-        st_.acc_lp_init = true;
-      } else {
-        detail::lowpass(st_.acc_i_lp, a_i, dt, acc_lp_time_constant());
-      }
-      acc_used = quat::rotate_inv(st_.q_i, st_.acc_i_lp);
-    }
-    const S g = params_.gravity;
-    const S dev = g > S(0) ? std::abs(acc_used.norm() - g) : S(0);
-    const bool recovering = params_.acc_recovery_time > S(0) && st_.acc_reject_t >= params_.acc_recovery_time;
-    if (params_.acc_reject > S(0) && dev > params_.acc_reject && !recovering) {
-      res.status = Status::Rejected;
-      if (params_.acc_recovery_time > S(0)) st_.acc_reject_t += dt;
-      flags_ |= flags::kAccRejected;
-      return res;
-    }
-    const S sigma = params_.acc_sigma + (g > S(0) ? params_.acc_adapt * dev / g : S(0));
-    const S gt = gate > S(0) ? gate : (recovering ? S(0) : params_.acc_gate);
-    res = update3(acc_used, Vec3<S>(S(0), S(0), S(-1)), sigma, gt);
-    if (res.status == Status::Ok) {
-      st_.acc_reject_t = S(0);
-    } else if (res.status == Status::Rejected) {
-      if (params_.acc_recovery_time > S(0)) st_.acc_reject_t += dt;
-      flags_ |= flags::kAccRejected;
-    }
-    return res;
+    if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
+    const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
+    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
+      return update3(in.acc, Vec3<S>(S(0), S(0), S(-1)), params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
+    });
   }
 
-  /// Magnetometer update: the disturbance tests and reference learning of
-  /// QuaternionEKF::update_mag, then the heading-only or the 3-row update.
+  /// Magnetometer update: the magnetometer part as in QuaternionEKF::update_mag, then the
+  /// heading-only or the 3-row update.
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
     Vec3<S> m;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
-    const S mnorm = mag.norm();
-    const MagRef<S> mag_before = st_.mag;
-    const Vec3<S> mn = quat::rotate(st_.q_nb, m);
-    st_.mag.learn(mn, params_.mag_ref_samples);
-    if (!(st_.mag_norm_ref > S(0))) st_.mag_norm_ref = mnorm;
-    const S dt = st_.dt_last;
-    const S dip = std::asin(std::max(S(-1), std::min(S(1), mn[2])));
-    const S dip_ref = std::atan2(st_.mag.mag_ref[2], st_.mag.mag_ref[0]);
-    const bool disturbed = (params_.mag_norm_tol > S(0) &&
-                            std::abs(mnorm / st_.mag_norm_ref - S(1)) > params_.mag_norm_tol) ||
-                           (params_.mag_dip_tol > S(0) && std::abs(dip - dip_ref) > params_.mag_dip_tol);
-    if (params_.mag_settle_time > S(0)) st_.mag_ok_t = disturbed ? S(0) : st_.mag_ok_t + dt;
-    if (!disturbed && st_.mag_ok_t < params_.mag_settle_time) {
-      st_.mag_reject_t += dt;
-      res.status = Status::Rejected;
-      flags_ |= flags::kMagRejected;
-      st_.mag = mag_before;
-      return res;
-    }
-    if (disturbed) {
-      st_.mag_reject_t += dt;
-      if (!(params_.mag_recovery_time > S(0) && st_.mag_reject_t >= params_.mag_recovery_time)) {
-        res.status = Status::Rejected;
-        flags_ |= flags::kMagRejected;
-        st_.mag = mag_before;
-        return res;
-      }
-      if (!st_.mag.mag_ref_fixed) {
-        st_.mag = MagRef<S>();
-        st_.mag.learn(mn, params_.mag_ref_samples);
-      }
-      st_.mag_norm_ref = mnorm;
-    }
     const S gt = gate > S(0) ? gate : params_.mag_gate;
-    if (params_.mag_heading_only) {
-      res = update_heading(m, gt);
-    } else {
-      res = update3(mag, mag_reference(), params_.mag_sigma, gt);
-    }
-    if (res.status == Status::Ok) {
-      st_.mag_reject_t = S(0);
-      if (params_.mag_ref_tau > S(0) && dt > S(0)) {
-        if (!st_.mag.mag_ref_fixed && st_.mag.mag_ref_count >= params_.mag_ref_samples) {
-          const Vec3<S> mn2 = quat::rotate(st_.q_nb, m);
-          const S dip2 = std::asin(std::max(S(-1), std::min(S(1), mn2[2])));
-          S d = dip_ref;
-          detail::lowpass(d, dip2, dt, params_.mag_ref_tau);
-          st_.mag.mag_ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
-        }
-        detail::lowpass(st_.mag_norm_ref, mnorm, dt, params_.mag_ref_tau);
-      }
-    } else if (res.status == Status::Rejected) {
-      if (params_.mag_recovery_time > S(0)) st_.mag_reject_t += dt;
-      flags_ |= flags::kMagRejected;
-    }
-    if (res.status != Status::Ok && !disturbed) st_.mag = mag_before;
-    return res;
+    const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
+    return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
+      return params_.mag_heading_only ? update_heading(m, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
+    });
   }
 
   /// Joint accelerometer + magnetometer update (6 scalar rows).
@@ -326,8 +250,8 @@ template <class S> class QuaternionESKF {
     if (res.status != Status::Ok) return res;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
-    const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(st_.q_nb, m), params_.mag_ref_samples);
+    const MagRef<S> ref_before = st_.mag.ref;
+    st_.mag.ref.learn(quat::rotate(st_.q_nb, m), params_.mag.mag_ref_samples);
     Vec3<S> ha, hm;
     Mat<S, 3, 6> Ha, Hm;
     detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), ha, Ha);
@@ -339,47 +263,24 @@ template <class S> class QuaternionESKF {
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
     apply_correction<6, 0, 3>(H, r, y, res, gate);
-    if (res.status != Status::Ok) st_.mag = mag_before;
+    if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
 
  private:
-  void rest_step(const Vec3<S>& acc) {
-    const S dt = st_.dt_last;
-    if (!st_.lp_init || !(dt > S(0))) {
-      st_.gyr_lp = st_.gyr_last;
-      st_.acc_lp = acc;
-      st_.lp_init = dt > S(0);
-      st_.rest_t = S(0);
-      return;
-    }
-    detail::lowpass(st_.acc_lp, acc, dt, params_.rest_tau);
-    const bool still = (st_.gyr_last - st_.gyr_lp).norm() < params_.rest_gyr_th &&
-                       (st_.gyr_lp - st_.gyro_bias).norm() < params_.rest_gyr_th &&
-                       (acc - st_.acc_lp).norm() < params_.rest_acc_th;
-    st_.rest_t = still ? st_.rest_t + dt : S(0);
-    if (st_.rest_t < params_.rest_time) return;
+  /// At rest (parts/rest.hpp): the zero-rate measurement of the bias, z = w - b = 0 + noise.
+  void update_zero_rate() {
     flags_ |= flags::kAtRest;
     Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
     H.template rightCols<3>().setIdentity();
-    const S r = params_.gyro_noise * params_.gyro_noise / dt + params_.rest_rate_noise * params_.rest_rate_noise;
+    const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
-    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Vec3<S>(st_.gyr_last - st_.gyro_bias), res, S(0));
-  }
-
-  /// The time constant of the accelerometer low-pass: acc_lp_tau, shrunk by
-  /// (acc_lp_bias_sigma / sigma_b)^2 while the largest gyro-bias variance sigma_b^2 is above
-  /// acc_lp_bias_sigma^2 (QuaternionEKFParams::acc_lp_bias_sigma).
-  S acc_lp_time_constant() const {
-    const S sb = params_.acc_lp_bias_sigma;
-    if (!(sb > S(0))) return params_.acc_lp_tau;
-    const S vb = st_.P.diagonal().template tail<3>().maxCoeff();
-    return vb > sb * sb ? params_.acc_lp_tau * (sb * sb / vb) : params_.acc_lp_tau;
+    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
   }
 
   /// The reference field in the filter's frame: [m_x, 0, m_z] turned by the declination.
   Vec3<S> mag_reference() const {
-    const Vec3<S> r(st_.mag.mag_ref[0], S(0), st_.mag.mag_ref[2]);
+    const Vec3<S> r(st_.mag.ref.mag_ref[0], S(0), st_.mag.ref.mag_ref[2]);
     if (params_.declination == S(0)) return r;
     return quat::rotate(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), r);
   }
@@ -445,18 +346,12 @@ template <class S> class QuaternionESKF {
     if (mag && params_.declination != S(0)) q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
     st_.q_nb = q;
     st_.gyro_bias.setZero();
-    st_.lp_init = false;
-    st_.acc_lp_init = false;
-    st_.q_i = quat::identity<S>();
-    st_.rest_t = st_.acc_reject_t = st_.mag_reject_t = S(0);
-    st_.mag_ok_t = S(1e9);
     st_.dt_last = S(0);
+    Rest<S>::restart(st_.rest);
+    AccFilter<S>::restart(st_.acc);
+    MagDisturbance<S>::restart(st_.mag);
     flags_ = 0;
-    if (mag) {
-      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
-      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
-      st_.mag_norm_ref = mag->norm();
-    }
+    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     st_.P.setZero();
     st_.P.diagonal().template head<3>().setConstant(params_.init_att_sigma * params_.init_att_sigma);
     st_.P.diagonal().template tail<3>().setConstant(params_.init_gyro_bias_sigma * params_.init_gyro_bias_sigma);

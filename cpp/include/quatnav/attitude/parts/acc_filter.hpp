@@ -1,0 +1,161 @@
+// quatnav: the accelerometer's treatment before an attitude update, a part of the attitude
+// filters (QuaternionEKF, QuaternionESKF, EulerEKF, MargFilter compose it): a low-pass in a
+// quasi-inertial frame, the rejection of samples whose norm is not gravity's, an adaptive noise
+// and the recovery from a run of rejections.
+//
+//  * Low-pass (acc_lp_tau > 0). Each sample is rotated into a frame q_i carried by the
+//    bias-corrected gyro alone (q_i <- q_i * exp((w - b) dt) at every predict), low-passed there
+//    and rotated back into the current body frame; the result replaces the raw sample. Linear
+//    accelerations average out in that frame (their mean over an interval is a velocity change
+//    over its length) while gravity stays. The frame turns by about sigma_b * tau for a gyro-bias
+//    error sigma_b, so while the filter's largest gyro-bias variance sigma_b^2 exceeds
+//    acc_lp_bias_sigma^2 the time constant is acc_lp_tau * (acc_lp_bias_sigma / sigma_b)^2: the
+//    low-pass is only trusted as far as the bias is known.
+//  * Rejection (acc_reject > 0): a sample with ||a| - g| > acc_reject is not used.
+//  * Adaptive noise: the filter's one-sigma of the normalized sample grows by
+//    acc_adapt * ||a| - g| / g (MargFilter lowers its gain instead).
+//  * Recovery (acc_recovery_time > 0): after that long with every update rejected (by the norm
+//    test or the filter's gate) the samples are accepted again, with the adaptive noise and
+//    without the default gate, so that a filter with a wrong tilt comes back.
+//
+// The part follows the input signal: the low-pass and the timer advance whatever the update does.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "../attitude.hpp"
+#include "../../core/fields.hpp"
+#include "../../core/quaternion.hpp"
+#include "../../core/types.hpp"
+
+namespace quatnav {
+
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_ACC_FILTER_PARAMS(X)                                                                    \
+  X(S, gravity, S(9.81), "m/s^2", "magnitude of gravity, in the unit of acc")                            \
+  X(S, acc_adapt, S(0), "1", "adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g")       \
+  X(S, acc_reject, S(0), "m/s^2", "reject the accelerometer when ||a|-g| exceeds it (0: off)")            \
+  X(S, acc_recovery_time, S(0), "s",                                                                     \
+    "after this long with every accelerometer update rejected, accept again (0: never)")                 \
+  X(S, acc_lp_tau, S(3), "s", "low-pass time constant of the accelerometer in a quasi-inertial frame (0: off)") \
+  X(S, acc_lp_bias_sigma, S(0.006), "rad/s",                                                             \
+    "above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by "                \
+    "(acc_lp_bias_sigma / sigma_b)^2 (0: off)")
+
+/// Parameters of the accelerometer part (the defaults are QuaternionEKF's, chosen on BROAD).
+template <class S> struct AccFilterParams {
+  QUATNAV_FIELDS(AccFilterParams, QUATNAV_ACC_FILTER_PARAMS)
+};
+
+#define QUATNAV_ACC_FILTER_STATE(X)                                                                     \
+  X(Quat<S>, q_i, quat::identity<S>(), "1", "gyro-only frame of the accelerometer low-pass, q_ib")      \
+  X(Vec3<S>, acc_i_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer in that frame")              \
+  X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")                                           \
+  X(S, acc_reject_t, S(0), "s", "time every accelerometer update was rejected")
+
+template <class S> struct AccFilterState {
+  QUATNAV_FIELDS(AccFilterState, QUATNAV_ACC_FILTER_STATE)
+};
+
+/// The sample an attitude filter uses, and how (AccFilter::screen).
+template <class S> struct AccSample {
+  Vec3<S> acc;                ///< the sample to use: low-passed when acc_lp_tau > 0 [unit of acc]
+  S sigma_add = S(0);         ///< added to the filter's one-sigma of the normalized sample (acc_adapt)
+  bool rejected = false;      ///< refused by the norm test: no update
+  bool recovering = false;    ///< after acc_recovery_time of rejections: accept, without the default gate
+
+  /// The NIS gate of the update: the one given, else the filter's default (none while recovering).
+  S gate(S given, S default_gate) const { return given > S(0) ? given : (recovering ? S(0) : default_gate); }
+};
+
+/// The steps of the accelerometer part, on a filter's AccFilterParams and AccFilterState.
+template <class S> struct AccFilter {
+  using Params = AccFilterParams<S>;
+  using State = AccFilterState<S>;
+
+  /// Switch the part off (the plain filters of the papers): the raw sample, never rejected, the
+  /// constant noise (gravity is kept: MargFilter's eq. 7 uses it).
+  static void off(Params& p) {
+    p.acc_adapt = p.acc_reject = p.acc_recovery_time = p.acc_lp_tau = p.acc_lp_bias_sigma = S(0);
+  }
+
+  /// When the filter starts (initialize): the low-pass and the timer start afresh.
+  static void restart(State& s) {
+    s.acc_lp_init = false;
+    s.q_i = quat::identity<S>();
+    s.acc_reject_t = S(0);
+  }
+
+  /// At every predict: carry the low-pass frame by the step's rotation dq = exp((w - b) dt).
+  static void predict(const Params& p, State& s, const Quat<S>& dq) {
+    if (!(p.acc_lp_tau > S(0))) return;
+    const Quat<S> qi = quat::mul(s.q_i, dq);
+    s.q_i = qi / qi.norm();
+  }
+
+  /// predict() for a filter that has no dq of its own: the bias-corrected rate w - b [rad/s] over dt [s].
+  static void predict_rate(const Params& p, State& s, const Vec3<S>& rate, S dt) {
+    if (p.acc_lp_tau > S(0)) predict(p, s, quat::from_rotvec(Vec3<S>(rate * dt)));
+  }
+
+  /// The low-pass time constant for a largest gyro-bias variance max_bias_var [(rad/s)^2]
+  /// (0: a filter that does not shrink it).
+  static S time_constant(const Params& p, S max_bias_var) {
+    const S sb = p.acc_lp_bias_sigma;
+    if (!(sb > S(0))) return p.acc_lp_tau;
+    return max_bias_var > sb * sb ? p.acc_lp_tau * (sb * sb / max_bias_var) : p.acc_lp_tau;
+  }
+
+  /// At every accelerometer sample acc (dt: the step of the last predict): the sample to use, its
+  /// extra noise and whether it is refused. The filter then updates (or not) and calls finish().
+  static AccSample<S> screen(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var) {
+    AccSample<S> out;
+    out.acc = acc;
+    if (p.acc_lp_tau > S(0)) {
+      const Vec3<S> a_i = quat::rotate(s.q_i, acc);
+      if (!s.acc_lp_init || !(dt > S(0))) {
+        s.acc_i_lp = a_i;
+        s.acc_lp_init = true;
+      } else {
+        detail::lowpass(s.acc_i_lp, a_i, dt, time_constant(p, max_bias_var));
+      }
+      out.acc = quat::rotate_inv(s.q_i, s.acc_i_lp);
+    }
+    const S g = p.gravity;
+    const S dev = g > S(0) ? std::abs(out.acc.norm() - g) : S(0);
+    out.recovering = p.acc_recovery_time > S(0) && s.acc_reject_t >= p.acc_recovery_time;
+    out.rejected = p.acc_reject > S(0) && dev > p.acc_reject && !out.recovering;
+    out.sigma_add = g > S(0) ? p.acc_adapt * dev / g : S(0);
+    return out;
+  }
+
+  /// The accelerometer update of an attitude filter: screen(), the filter's own update
+  /// filter_update(const AccSample&) -> its result (not called for a refused sample), finish();
+  /// kAccRejected in sample_flags when the sample was rejected (norm test or the filter's gate).
+  template <class Update>
+  static auto update(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var, std::uint32_t& sample_flags,
+                     Update&& filter_update) {
+    const AccSample<S> in = screen(p, s, acc, dt, max_bias_var);
+    decltype(filter_update(in)) res;
+    if (in.rejected) {
+      res.status = Status::Rejected;
+    } else {
+      res = filter_update(in);
+    }
+    finish(p, s, res.status, dt);
+    if (res.status == Status::Rejected) sample_flags |= flags::kAccRejected;
+    return res;
+  }
+
+  /// After the update (status Rejected also for a sample refused by screen()): the rejection timer.
+  static void finish(const Params& p, State& s, Status status, S dt) {
+    if (status == Status::Ok) {
+      s.acc_reject_t = S(0);
+    } else if (status == Status::Rejected && p.acc_recovery_time > S(0)) {
+      s.acc_reject_t += dt;
+    }
+  }
+};
+
+}  // namespace quatnav

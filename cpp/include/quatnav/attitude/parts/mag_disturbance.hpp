@@ -1,0 +1,167 @@
+// quatnav: the magnetometer's reference field and its disturbance tests, a part of the attitude
+// filters (QuaternionEKF, QuaternionESKF, EulerEKF, MargFilter compose it).
+//
+//  * Reference (always): the normalized field [m_x, 0, m_z] (MagRef, attitude.hpp), learned from
+//    the dip of the first mag_ref_samples samples unless set_mag_dip() fixed it, and the field's
+//    norm mag_norm_ref (the first sample's, in the unit of mag).
+//  * Disturbance tests: a sample is disturbed when its norm differs from mag_norm_ref by more than
+//    mag_norm_tol (relative) or its dip from the reference's by more than mag_dip_tol. A disturbed
+//    sample is not used.
+//  * Settling (mag_settle_time > 0): after a disturbance the field must pass the tests this long
+//    before it is used again (a field passing them by chance inside a disturbance is not trusted).
+//  * Recovery (mag_recovery_time > 0): after that long with every sample rejected, the current
+//    field is taken as the new reference (a steady new field, e.g. another building).
+//  * Learning (mag_ref_tau > 0): while samples are accepted, the reference norm and dip follow the
+//    field with this time constant.
+//
+// A sample the filter does not accept leaves the reference as it was (the timers follow the
+// input signal); the filter's own gate and update come between screen() and finish().
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "../attitude.hpp"
+#include "../../core/fields.hpp"
+#include "../../core/types.hpp"
+
+namespace quatnav {
+
+// X(type, name, default, unit, doc): each field once (core/fields.hpp).
+#define QUATNAV_MAG_DISTURBANCE_PARAMS(X)                                                               \
+  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
+  X(S, mag_norm_tol, S(0.05), "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)")    \
+  X(S, mag_dip_tol, S(0.05), "rad",                                                                      \
+    "reject the magnetometer when its dip differs from the reference by more (0: off)")                  \
+  X(S, mag_settle_time, S(0), "s", "after a disturbance, the field must pass the tests this long")       \
+  X(S, mag_ref_tau, S(30), "s", "time constant with which the reference norm and dip follow the field")   \
+  X(S, mag_recovery_time, S(0), "s",                                                                     \
+    "after this long with every sample disturbed, the field becomes the reference (0: never)")
+
+/// Parameters of the magnetometer part (the defaults are QuaternionEKF's, chosen on BROAD).
+template <class S> struct MagDisturbanceParams {
+  QUATNAV_FIELDS(MagDisturbanceParams, QUATNAV_MAG_DISTURBANCE_PARAMS)
+};
+
+#define QUATNAV_MAG_DISTURBANCE_STATE(X)                                                                \
+  X(MagRef<S>, ref, MagRef<S>(), "-", "reference field, learned or given")                               \
+  X(S, mag_norm_ref, S(0), "unit of mag", "learned field norm (0: not yet)")                             \
+  X(S, mag_reject_t, S(0), "s", "time every magnetometer update was rejected")                          \
+  X(S, mag_ok_t, S(1e9), "s", "time the field has passed the norm and dip tests")
+
+template <class S> struct MagDisturbanceState {
+  QUATNAV_FIELDS(MagDisturbanceState, QUATNAV_MAG_DISTURBANCE_STATE)
+};
+
+/// What MagDisturbance::screen decided about one sample (kept for finish()).
+template <class S> struct MagSample {
+  bool use = true;         ///< pass it to the filter's update (false: rejected by the tests)
+  bool disturbed = false;  ///< the norm or dip test failed (a recovery may still use it)
+  S dip_ref = S(0);        ///< the reference dip the tests compared with [rad]
+  S norm = S(0);           ///< |mag| [unit of mag]
+  MagRef<S> before;        ///< the reference before the sample, restored when it is not used
+};
+
+/// The steps of the magnetometer part, on a filter's MagDisturbanceParams and MagDisturbanceState.
+template <class S> struct MagDisturbance {
+  using Params = MagDisturbanceParams<S>;
+  using State = MagDisturbanceState<S>;
+
+  /// Switch the disturbance tests off (the plain filters of the papers): every sample is used; the
+  /// reference is still learned from the first mag_ref_samples.
+  static void off(Params& p) {
+    p.mag_norm_tol = p.mag_dip_tol = p.mag_settle_time = p.mag_ref_tau = p.mag_recovery_time = S(0);
+  }
+
+  /// When the filter starts (initialize): the timers start afresh.
+  static void restart(State& s) {
+    s.mag_reject_t = S(0);
+    s.mag_ok_t = S(1e9);
+  }
+
+  /// initialize() with a field sample: learn the reference afresh from it (unless fixed) and take
+  /// its norm. m_n_unit: the unit field in the navigation frame; norm: |mag|.
+  static void start(const Params& p, State& s, const Vec3<S>& m_n_unit, S norm) {
+    s.ref.restart(m_n_unit, p.mag_ref_samples);
+    s.mag_norm_ref = norm;
+  }
+
+  /// The reference field [m_x, 0, m_z] (magnetic north frame).
+  static const Vec3<S>& reference(const State& s) { return s.ref.mag_ref; }
+
+  /// At every magnetometer sample, before the filter's update: learn the reference from it
+  /// (tentatively), run the disturbance tests and the settle and recovery timers. m_n: the unit
+  /// field rotated into the navigation frame by the current attitude; norm: |mag|; dt: the step
+  /// of the last predict.
+  static MagSample<S> screen(const Params& p, State& s, S norm, const Vec3<S>& m_n, S dt) {
+    MagSample<S> c;
+    c.norm = norm;
+    c.before = s.ref;
+    s.ref.learn(m_n, p.mag_ref_samples);
+    if (!(s.mag_norm_ref > S(0))) s.mag_norm_ref = norm;
+    if (p.mag_dip_tol > S(0) || p.mag_ref_tau > S(0)) c.dip_ref = std::atan2(s.ref.mag_ref[2], s.ref.mag_ref[0]);
+    c.disturbed = (p.mag_norm_tol > S(0) && std::abs(norm / s.mag_norm_ref - S(1)) > p.mag_norm_tol) ||
+                  (p.mag_dip_tol > S(0) && std::abs(dip(m_n) - c.dip_ref) > p.mag_dip_tol);
+    if (p.mag_settle_time > S(0)) s.mag_ok_t = c.disturbed ? S(0) : s.mag_ok_t + dt;
+    if (c.disturbed || s.mag_ok_t < p.mag_settle_time) {
+      s.mag_reject_t += dt;
+      if (!c.disturbed || !(p.mag_recovery_time > S(0) && s.mag_reject_t >= p.mag_recovery_time)) {
+        s.ref = c.before;
+        c.use = false;
+        return c;
+      }
+      // A steady new field: take it as the reference and go on.
+      s.ref.restart(m_n, p.mag_ref_samples);
+      s.mag_norm_ref = norm;
+    }
+    return c;
+  }
+
+  /// After the filter's update of a sample screen() passed, with its status: an accepted sample
+  /// clears the rejection timer and (mag_ref_tau) moves the reference norm and dip towards it,
+  /// m_n_after() giving the unit field in the navigation frame at the corrected attitude; a sample
+  /// not accepted leaves the reference as it was before screen() (unless it became the new one).
+  template <class FieldAfter>
+  static void finish(const Params& p, State& s, const MagSample<S>& c, Status status, FieldAfter&& m_n_after, S dt) {
+    if (status == Status::Ok) {
+      s.mag_reject_t = S(0);
+      if (p.mag_ref_tau > S(0) && dt > S(0)) {
+        if (!s.ref.mag_ref_fixed && s.ref.mag_ref_count >= p.mag_ref_samples) {
+          S d = c.dip_ref;
+          detail::lowpass(d, dip(m_n_after()), dt, p.mag_ref_tau);
+          s.ref.mag_ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
+        }
+        detail::lowpass(s.mag_norm_ref, c.norm, dt, p.mag_ref_tau);
+      }
+    } else if (status == Status::Rejected && p.mag_recovery_time > S(0)) {
+      s.mag_reject_t += dt;
+    }
+    if (status != Status::Ok && !c.disturbed) s.ref = c.before;
+  }
+
+  /// The magnetometer update of an attitude filter: screen(), the filter's own update
+  /// filter_update() -> its result (not called for a rejected sample), finish(); kMagRejected in
+  /// sample_flags when the sample was rejected (disturbance tests or the filter's gate). field_n():
+  /// the unit field in the navigation frame at the filter's current attitude (before and after
+  /// the update); norm: |mag|.
+  template <class Field, class Update>
+  static auto update(const Params& p, State& s, S norm, const Field& field_n, S dt, std::uint32_t& sample_flags,
+                     Update&& filter_update) {
+    const MagSample<S> c = screen(p, s, norm, field_n(), dt);
+    decltype(filter_update()) res;
+    if (c.use) {
+      res = filter_update();
+      finish(p, s, c, res.status, field_n, dt);
+    } else {
+      res.status = Status::Rejected;
+    }
+    if (res.status == Status::Rejected) sample_flags |= flags::kMagRejected;
+    return res;
+  }
+
+  /// The dip (inclination, positive down) of a unit field in the navigation frame [rad].
+  static S dip(const Vec3<S>& m_n) { return std::asin(std::max(S(-1), std::min(S(1), m_n[2]))); }
+};
+
+}  // namespace quatnav
