@@ -227,19 +227,25 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
               py::array_t<double> sllh({n, py::ssize_t(3)}), sbo({n});
               auto sv = empty<S>(n, 3), sq = empty<S>(n, 4), sba = empty<S>(n, 3), sbg = empty<S>(n, 3),
                    ssig = empty<S>(n, N);
-              GpsInsSmoothedOutput<S> out{sllh.mutable_data(), sv.mutable_data(), sq.mutable_data(),
-                                          sba.mutable_data(), sbg.mutable_data(), ssig.mutable_data(),
-                                          sbo.mutable_data()};
+              GpsInsSmoothedOutput<S> out;
+              out.out.llh = sllh.mutable_data();
+              out.out.v_n = sv.mutable_data();
+              out.out.q_nb = sq.mutable_data();
+              out.out.acc_bias = sba.mutable_data();
+              out.out.gyro_bias = sbg.mutable_data();
+              out.out.sigma = ssig.mutable_data();
+              out.out.baro_offset = sbo.mutable_data();
               GpsInsRtsModel<S> model(f, io.t, io.gyro, io.accel, io.increments);
               auto forward = [&](auto&& obs) {
                 gpsins_batch(f, io, obs);
-                std::copy(io.llh, io.llh + 3 * n, out.llh);
-                std::copy(io.v_n, io.v_n + 3 * n, out.v_n);
-                std::copy(io.q_nb, io.q_nb + 4 * n, out.q_nb);
-                std::copy(io.acc_bias, io.acc_bias + 3 * n, out.acc_bias);
-                std::copy(io.gyro_bias, io.gyro_bias + 3 * n, out.gyro_bias);
-                std::copy(io.sigma, io.sigma + N * n, out.sigma);
-                std::copy(io.baro_offset, io.baro_offset + n, out.baro_offset);
+                const GpsInsBatchIo<S>& o = out.out;
+                std::copy(io.llh, io.llh + 3 * n, o.llh);
+                std::copy(io.v_n, io.v_n + 3 * n, o.v_n);
+                std::copy(io.q_nb, io.q_nb + 4 * n, o.q_nb);
+                std::copy(io.acc_bias, io.acc_bias + 3 * n, o.acc_bias);
+                std::copy(io.gyro_bias, io.gyro_bias + 3 * n, o.gyro_bias);
+                std::copy(io.sigma, io.sigma + N * n, o.sigma);
+                std::copy(io.baro_offset, io.baro_offset + n, o.baro_offset);
               };
               const py::dict info =
                   run_smoothed(model, std::size_t(n), gpsins_max_epochs(f.params(), io), segment, forward, out);

@@ -132,9 +132,7 @@ TYPED_TEST(GpsInsSmootherTest, SmoothedRunBeatsForwardInsideAnOutage) {
   EXPECT_EQ(sm.llh, fw.llh);
   EXPECT_EQ(sm.sigma, fw.sigma);
   EXPECT_EQ(sm.gps_status, fw.gps_status);  // the decisions of the forward pass
-  GpsInsSmoothedOutput<S> out{sm.llh.data(), sm.v.data(), sm.q.data(), sm.ba.data(), sm.bg.data(), sm.sigma.data(),
-                              sm.bo.data()};
-  const auto r = rts.smooth(out);
+  const auto r = rts.smooth(GpsInsSmoothedOutput<S>{io});
   Eigen::internal::set_is_malloc_allowed(true);
   ASSERT_EQ(r, RtsSmoother<GpsInsRtsModel<S>>::Result::Ok);
   // Records: the GNSS epochs and the checkpoints, not every sample.
@@ -156,9 +154,7 @@ TYPED_TEST(GpsInsSmootherTest, SmoothedRunBeatsForwardInsideAnOutage) {
     const GpsInsBatchIo<S> io1 = c.io(s1);
     ASSERT_TRUE(rts1.reserve(std::size_t(c.n), gpsins_max_epochs(f2.params(), io1), 1));
     gpsins_batch(f2, io1, rts1);
-    ASSERT_EQ(rts1.smooth(GpsInsSmoothedOutput<S>{s1.llh.data(), s1.v.data(), s1.q.data(), s1.ba.data(),
-                                                  s1.bg.data(), s1.sigma.data(), s1.bo.data()}),
-              RtsSmoother<GpsInsRtsModel<S>>::Result::Ok);
+    ASSERT_EQ(rts1.smooth(GpsInsSmoothedOutput<S>{io1}), RtsSmoother<GpsInsRtsModel<S>>::Result::Ok);
     EXPECT_GT(rts1.records(), std::size_t(c.n) - 2);
     EXPECT_EQ(s1.llh, sm.llh);
     EXPECT_EQ(s1.q, sm.q);

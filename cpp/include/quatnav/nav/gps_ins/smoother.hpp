@@ -83,14 +83,7 @@ template <class S_> struct GpsInsRtsModel {
   bool capture(const Filter& f, Record& r) const {
     if (!f.navigating()) return false;
     const GpsInsState<S>& s = f.state();
-    r.lat = s.nav.lat;
-    r.lon = s.nav.lon;
-    r.h = s.nav.h;
-    r.baro_offset = s.baro_offset;
-    r.q_nb = s.nav.q_nb;
-    r.v_n = s.nav.v_n;
-    r.acc_bias = s.acc_bias;
-    r.gyro_bias = s.gyro_bias;
+    nominal_from(s, r);
     r.q_scale = s.q_scale;
     r.dtheta_prev = s.nav.dtheta_prev;
     r.dv_prev = s.nav.dv_prev;
@@ -159,38 +152,40 @@ template <class S_> struct GpsInsRtsModel {
   /// out = the filter's injection of the error d into base, with the error covariance Ps.
   void retract(const Record& base, const Vec16& d, const Mat16& Ps, Record& out) const {
     GpsInsState<S> s;
-    s.nav.lat = base.lat;
-    s.nav.lon = base.lon;
-    s.nav.h = base.h;
-    s.nav.q_nb = base.q_nb;
-    s.nav.v_n = base.v_n;
-    s.acc_bias = base.acc_bias;
-    s.gyro_bias = base.gyro_bias;
-    s.baro_offset = base.baro_offset;
+    nominal_to(base, s);
     detail::gpsins_inject(s, d);
     out = base;
-    out.lat = s.nav.lat;
-    out.lon = s.nav.lon;
-    out.h = s.nav.h;
-    out.q_nb = s.nav.q_nb;
-    out.v_n = s.nav.v_n;
-    out.acc_bias = s.acc_bias;
-    out.gyro_bias = s.gyro_bias;
-    out.baro_offset = s.baro_offset;
+    nominal_from(s, out);
     out.P.pack(Ps);
   }
 
  private:
+  /// The nominal state (position, attitude, velocity, biases, altimeter offset) between a record
+  /// and a filter state.
+  static void nominal_from(const GpsInsState<S>& s, Record& r) {
+    r.lat = s.nav.lat;
+    r.lon = s.nav.lon;
+    r.h = s.nav.h;
+    r.q_nb = s.nav.q_nb;
+    r.v_n = s.nav.v_n;
+    r.acc_bias = s.acc_bias;
+    r.gyro_bias = s.gyro_bias;
+    r.baro_offset = s.baro_offset;
+  }
+  static void nominal_to(const Record& r, GpsInsState<S>& s) {
+    s.nav.lat = r.lat;
+    s.nav.lon = r.lon;
+    s.nav.h = r.h;
+    s.nav.q_nb = r.q_nb;
+    s.nav.v_n = r.v_n;
+    s.acc_bias = r.acc_bias;
+    s.gyro_bias = r.gyro_bias;
+    s.baro_offset = r.baro_offset;
+  }
+
   /// The filter copy in the state of `post` (navigating); false when refused.
   bool load(const Record& post) {
-    st_.nav.lat = post.lat;
-    st_.nav.lon = post.lon;
-    st_.nav.h = post.h;
-    st_.nav.q_nb = post.q_nb;
-    st_.nav.v_n = post.v_n;
-    st_.acc_bias = post.acc_bias;
-    st_.gyro_bias = post.gyro_bias;
-    st_.baro_offset = post.baro_offset;
+    nominal_to(post, st_);
     st_.baro_offset_valid = post.baro_valid;
     st_.q_scale = post.q_scale;
     st_.nav.dtheta_prev = post.dtheta_prev;
@@ -209,30 +204,25 @@ template <class S_> struct GpsInsRtsModel {
   bool inc_;
 };
 
-/// Writes the smoothed estimates in the layout of gpsins_batch's outputs (any pointer may be
-/// null): llh (n x 3, double), v_n, acc_bias, gyro_bias (n x 3), q_nb (n x 4), sigma (n x 16),
-/// baro_offset (n; NaN while the offset is not initialized).
+/// Writes the smoothed estimates where the output pointers of `out` say, in the layout of
+/// gpsins_batch's outputs (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; any may be
+/// null; the other fields of `out` are not used).
 template <class S> struct GpsInsSmoothedOutput {
-  double* llh = nullptr;
-  S* v_n = nullptr;
-  S* q_nb = nullptr;
-  S* acc_bias = nullptr;
-  S* gyro_bias = nullptr;
-  S* sigma = nullptr;
-  double* baro_offset = nullptr;
+  GpsInsBatchIo<S> out;
 
   void operator()(std::size_t k, const typename GpsInsRtsModel<S>::Record& r, const Mat<S, 16, 16>& Ps) const {
-    if (llh) {
-      llh[3 * k] = r.lat;
-      llh[3 * k + 1] = r.lon;
-      llh[3 * k + 2] = r.h;
+    if (out.llh) {
+      out.llh[3 * k] = r.lat;
+      out.llh[3 * k + 1] = r.lon;
+      out.llh[3 * k + 2] = r.h;
     }
-    if (v_n) Eigen::Map<Vec3<S>>(v_n + 3 * k) = r.v_n;
-    if (q_nb) Eigen::Map<Vec4<S>>(q_nb + 4 * k) = r.q_nb;
-    if (acc_bias) Eigen::Map<Vec3<S>>(acc_bias + 3 * k) = r.acc_bias;
-    if (gyro_bias) Eigen::Map<Vec3<S>>(gyro_bias + 3 * k) = r.gyro_bias;
-    if (sigma) Eigen::Map<Vec<S, 16>>(sigma + 16 * k) = Ps.diagonal().cwiseMax(S(0)).cwiseSqrt();
-    if (baro_offset) baro_offset[k] = r.baro_valid ? r.baro_offset : std::numeric_limits<double>::quiet_NaN();
+    if (out.v_n) Eigen::Map<Vec3<S>>(out.v_n + 3 * k) = r.v_n;
+    if (out.q_nb) Eigen::Map<Vec4<S>>(out.q_nb + 4 * k) = r.q_nb;
+    if (out.acc_bias) Eigen::Map<Vec3<S>>(out.acc_bias + 3 * k) = r.acc_bias;
+    if (out.gyro_bias) Eigen::Map<Vec3<S>>(out.gyro_bias + 3 * k) = r.gyro_bias;
+    if (out.sigma) Eigen::Map<Vec<S, 16>>(out.sigma + 16 * k) = Ps.diagonal().cwiseMax(S(0)).cwiseSqrt();
+    if (out.baro_offset)
+      out.baro_offset[k] = r.baro_valid ? r.baro_offset : std::numeric_limits<double>::quiet_NaN();
   }
 };
 
