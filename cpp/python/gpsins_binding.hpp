@@ -4,10 +4,14 @@
 // declarations (fields_binding.hpp).
 #pragma once
 
+#include <algorithm>
+
 #include <quatnav/nav/gps_ins.hpp>
+#include <quatnav/nav/gps_ins/smoother.hpp>
 
 #include "common.hpp"
 #include "fields_binding.hpp"
+#include "smoother_binding.hpp"
 
 namespace quatnav_py {
 
@@ -151,7 +155,7 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
              bool increments, const carray<double>& gps_t, const carray<double>& gps_llh, const carray<S>& gps_vel,
              const carray<S>& gps_pos_sigma, const carray<S>& gps_vel_sigma, const carray<double>& baro_t,
              const carray<double>& baro_h, const carray<double>& compass_t, const carray<S>& compass_yaw,
-             const carray<double>& odo_t, const carray<S>& odo_speed) {
+             const carray<double>& odo_t, const carray<S>& odo_speed, bool smooth, std::size_t segment) {
             const py::ssize_t n = t.ndim() == 1 ? t.shape(0) : -1;
             if (n < 0) throw py::value_error("t: expected shape (N,)");
             require_shape<S>(gyro, "gyro", n, 3);
@@ -216,11 +220,49 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             io.report.zupt = zu.out();
             io.report.zaru = za.out();
             io.report.nhc = nh.out();
-            {
+            py::dict d;
+            if (smooth) {
+              // The smoothed arrays start as copies of the forward ones (written by the forward
+              // loop): the samples the backward pass does not visit (before navigation) keep them.
+              py::array_t<double> sllh({n, py::ssize_t(3)}), sbo({n});
+              auto sv = empty<S>(n, 3), sq = empty<S>(n, 4), sba = empty<S>(n, 3), sbg = empty<S>(n, 3),
+                   ssig = empty<S>(n, N);
+              GpsInsSmoothedOutput<S> out;
+              out.out.llh = sllh.mutable_data();
+              out.out.v_n = sv.mutable_data();
+              out.out.q_nb = sq.mutable_data();
+              out.out.acc_bias = sba.mutable_data();
+              out.out.gyro_bias = sbg.mutable_data();
+              out.out.sigma = ssig.mutable_data();
+              out.out.baro_offset = sbo.mutable_data();
+              GpsInsRtsModel<S> model(f, io.t, io.gyro, io.accel, io.increments);
+              auto forward = [&](auto&& obs) {
+                gpsins_batch(f, io, obs);
+                const GpsInsBatchIo<S>& o = out.out;
+                std::copy(io.llh, io.llh + 3 * n, o.llh);
+                std::copy(io.v_n, io.v_n + 3 * n, o.v_n);
+                std::copy(io.q_nb, io.q_nb + 4 * n, o.q_nb);
+                std::copy(io.acc_bias, io.acc_bias + 3 * n, o.acc_bias);
+                std::copy(io.gyro_bias, io.gyro_bias + 3 * n, o.gyro_bias);
+                std::copy(io.sigma, io.sigma + N * n, o.sigma);
+                std::copy(io.baro_offset, io.baro_offset + n, o.baro_offset);
+              };
+              const py::dict info =
+                  run_smoothed(model, std::size_t(n), gpsins_max_epochs(f.params(), io), segment, forward, out);
+              py::dict sd;
+              sd["llh"] = sllh;
+              sd["v_n"] = sv;
+              sd["q_nb"] = sq;
+              sd["acc_bias"] = sba;
+              sd["gyro_bias"] = sbg;
+              sd["sigma"] = ssig;
+              sd["baro_offset"] = sbo;
+              sd["info"] = info;
+              d["smoothed"] = sd;
+            } else {
               py::gil_scoped_release release;
               gpsins_batch(f, io);
             }
-            py::dict d;
             d["llh"] = llh;
             d["v_n"] = v;
             d["q_nb"] = q;
@@ -245,8 +287,11 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
           py::arg("t"), py::arg("gyro"), py::arg("accel"), py::arg("mag"), py::arg("increments"), py::arg("gps_t"),
           py::arg("gps_llh"), py::arg("gps_vel"), py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"),
           py::arg("baro_h"), py::arg("compass_t"), py::arg("compass_yaw"), py::arg("odo_t"), py::arg("odo_speed"),
+          py::arg("smooth") = false, py::arg("segment") = std::size_t(256),
           "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; "
-          "each aid's report is a dict (innovation, nis, status, decision, inflation).");
+          "each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also "
+          "'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, "
+          "baro_offset) and the smoother's 'info' (nav/gps_ins/smoother.hpp).");
   def_state_dict<F>(cls);
 }
 

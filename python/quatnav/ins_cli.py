@@ -612,7 +612,7 @@ def write_diagnostics(path, r) -> int:
 
 
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
-              calibration=None, mag=None, odometer=None, diagnostics=None):
+              calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -628,6 +628,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     ``calibration``: a calibration TOML file (``quatnav calibrate``) applied to the gyro and
     accelerometer samples before the filter sees them. ``mag``, ``odometer``: CSV files of a raw
     magnetometer and an odometer; ``diagnostics``: a CSV file for the per-sample report of the aids.
+    ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
     """
     import quatnav
 
@@ -729,7 +730,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         kw["mag"] = mag_at_imu_rows(tt, d_m["time"], np.column_stack([d_m[f"mag_{c}"] for c in "xyz"]))
     from .csvio import progress_bar, write_table
     bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
-    r = f.run(gg, aa, t=tt, imu_input="increment" if increments else "rate", **kw)
+    r = f.run(gg, aa, t=tt, imu_input="increment" if increments else "rate", smooth=smooth, **kw)
     bar.update(len(tt))
     bar.set_description("ins run: write")
     nav = r.navigating & original
@@ -761,12 +762,14 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         msg += "; gated out: " + ", ".join(f"{k} {v}" for k, v in rej.items())
     if nav.any():
         msg += f"; alignment {r.alignment['method']}, heading from {r.alignment['heading']}"
+    if smooth and nav.any():
+        msg += "; smoothed"
     summary = {"output": str(out), "rows": n_nav, "imu_samples": int(len(t)),
                "navigation_start_s": float(r.t[nav][0]) if nav.any() else None,
                "coasted_gaps": [{"lines": [int(lines_i[k - 1]), int(lines_i[k])], "seconds": step} for k, step in gaps],
                "gated_out": rej, "counters": r.counters, "alignment": r.alignment,
                "decisions": {k: a.decisions() for k, a in r.aids.items()}, "diagnostics_rows": n_diag,
-               "warnings": warnings}
+               "warnings": warnings, "smoothed": bool(smooth)}
     return msg, bool(nav.any()), summary
 
 
@@ -783,7 +786,7 @@ def _run(args) -> int:
                                  config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr),
                                  log=log, fmt=args.format, tracks=tracks,
                                  calibration=getattr(args, "calibration", None), mag=args.mag,
-                                 odometer=args.odometer, diagnostics=args.diagnostics)
+                                 odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth)
     print(msg)
     if ok:
         from . import nav_outputs
@@ -853,6 +856,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
     r.add_argument("--diagnostics", metavar="DIAG.csv",
                    help="also write one row per aiding sample: innovation, NIS, status, decision, inflation")
+    r.add_argument("--smooth", action="store_true",
+                   help="write the smoothed solution: a Rauch-Tung-Striebel backward pass after the filter, so that "
+                        "every row uses the whole log (post-processing; bridges GNSS outages); the gating "
+                        "decisions and the diagnostics are the filter's")
     r.add_argument("--kml", metavar="FILE.kml", help="also write the track as KML (Google Earth)")
     r.add_argument("--gpx", metavar="FILE.gpx", help="also write the track as GPX")
     r.add_argument("--plot", metavar="FILE.png", help="also plot track with GNSS fixes, attitude, biases")

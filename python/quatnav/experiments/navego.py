@@ -75,9 +75,10 @@ def filter_params(d) -> dict:
         gps_vel_sigma=float(np.mean(d.gnss_vel_sigma)), lever_arm_b=tuple(float(x) for x in d.lever_arm_b))
 
 
-def run_navego(directory=None, seconds=None, params=None):
+def run_navego(directory=None, seconds=None, params=None, smooth=False):
     """Run the filter on the NaveGo data; returns (summary dict, arrays dict). ``params``
-    overrides entries of :func:`filter_params` (parameter tuning)."""
+    overrides entries of :func:`filter_params` (parameter tuning). ``smooth``: also the
+    Rauch-Tung-Striebel smoothed run's RMSE (``summary["ins_gnss_smoothed"]``)."""
     import quatnav
     from ..core import quaternion as Q
     from ..datasets import navego
@@ -99,15 +100,28 @@ def run_navego(directory=None, seconds=None, params=None):
     llh0 = llh0 + ned_to_dllh(-l_n, llh0)
     f.reset(q0, d.gnss_vel[0], llh0, P=np.diag(sig ** 2))
     r = f.run(gyro, accel, t=t, gps_pos=quatnav.Aid(d.gnss_t[gm], d.gnss_llh[gm]),
-              gps_vel=quatnav.Aid(d.gnss_t[gm], d.gnss_vel[gm]))
+              gps_vel=quatnav.Aid(d.gnss_t[gm], d.gnss_vel[gm]), smooth=smooth)
     i = np.searchsorted(d.ref_t, t)
-    dp = ned_error(r.position, d.ref_llh[i])
-    dv = r.velocity - d.ref_vel[i]
-    de = np.degrees(np.angle(np.exp(1j * (r.euler - d.ref_rpy[i]))))
+    names = ("n", "e", "d")
+
+    def errors(r):
+        return (ned_error(r.position, d.ref_llh[i]), r.velocity - d.ref_vel[i],
+                np.degrees(np.angle(np.exp(1j * (r.euler - d.ref_rpy[i])))))
+
+    def rmse(dp, dv, de):
+        return {"position_rmse_m": dict(zip(names, map(float, _rms(dp)))),
+                "horizontal_rmse_m": float(_rms(np.hypot(dp[:, 0], dp[:, 1]))),
+                "velocity_rmse_mps": dict(zip(names, map(float, _rms(dv)))),
+                "attitude_rmse_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de))))}
+
+    smoothed = None
+    if smooth:
+        smoothed = rmse(*errors(r))
+        r = r.forward
+    dp, dv, de = errors(r)
     j = np.searchsorted(d.ref_t, d.gnss_t[gm] - 1e-9)
     gdp = ned_error(d.gnss_llh[gm], d.ref_llh[j])
     gdv = d.gnss_vel[gm] - d.ref_vel[j]
-    names = ("n", "e", "d")
     # The gyro bias in the data: measured rate minus the reference rate from successive
     # reference DCMs (C_k^T C_k+1 = I + [w dt x]; Earth rate, 0.004 deg/s, left in).
     Cr = d.ref_C_nb[i]
@@ -120,10 +134,7 @@ def run_navego(directory=None, seconds=None, params=None):
         "alignment": "dataset ini_align (NaveGo's own start); position and velocity from the first fix",
         "params": {k: (list(v) if isinstance(v, tuple) else v) for k, v in params.items()},
         "ins_gnss": {
-            "position_rmse_m": dict(zip(names, map(float, _rms(dp)))),
-            "horizontal_rmse_m": float(_rms(np.hypot(dp[:, 0], dp[:, 1]))),
-            "velocity_rmse_mps": dict(zip(names, map(float, _rms(dv)))),
-            "attitude_rmse_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de)))),
+            **rmse(dp, dv, de),
             "position_max_m": dict(zip(names, map(float, np.max(np.abs(dp), axis=0)))),
             "attitude_max_deg": dict(zip(("roll", "pitch", "yaw"), map(float, np.max(np.abs(de), axis=0)))),
         },
@@ -143,6 +154,8 @@ def run_navego(directory=None, seconds=None, params=None):
         "gate_lockout_resets": {k: int(r.counters[k].get("resets", 0)) for k in ("gps_pos", "gps_vel")},
         "accepted": {k: int(v["accepted"]) for k, v in r.counters.items()},
     }
+    if smoothed is not None:
+        out["ins_gnss_smoothed"] = smoothed
     arrays = dict(t=t, dp=dp, dv=dv, deul=de, sigma=r.sigma, gnss_t=d.gnss_t[gm], gnss_dp=gdp)
     return out, arrays
 
@@ -300,7 +313,7 @@ def run(args) -> int:
         raise UsageError(f"--seconds: expected a positive number, got {args.seconds:g}")
     try:
         from ..datasets import navego
-        out, arrays = run_navego(args.data, args.seconds)
+        out, arrays = run_navego(args.data, args.seconds, smooth=True)
         d = navego.load(args.data)
         out["cli_in_motion"], _ = run_cli(d, True, args.seconds)
         out["cli_position_only"], _ = run_cli(d, False, args.seconds)
@@ -315,6 +328,10 @@ def run(args) -> int:
     print(f"NaveGo synthetic, {out['duration_s']:.1f} s")
     print(f"INS/GNSS RMSE: position (m) {fmt(a['position_rmse_m'], 2)}; velocity (m/s) "
           f"{fmt(a['velocity_rmse_mps'], 3)}; attitude (deg) {fmt(a['attitude_rmse_deg'], 2)}")
+    if "ins_gnss_smoothed" in out:
+        z = out["ins_gnss_smoothed"]
+        print(f"INS/GNSS smoothed RMSE: position (m) {fmt(z['position_rmse_m'], 2)}; velocity (m/s) "
+              f"{fmt(z['velocity_rmse_mps'], 3)}; attitude (deg) {fmt(z['attitude_rmse_deg'], 2)}")
     print(f"GNSS-only RMSE: position (m) {fmt(g['position_rmse_m'], 2)}; velocity (m/s) "
           f"{fmt(g['velocity_rmse_mps'], 3)}")
     print(f"gate rejections: {out['rejections']}")

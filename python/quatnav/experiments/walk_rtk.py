@@ -125,9 +125,10 @@ def score(w, r, outages=()):
 
 
 def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, period=30.0, seconds=None,
-             runs=RUNS, params=None):
+             runs=RUNS, params=None, smooth=False):
     """The runs ``runs`` (default all four); returns (summary dict, per-run arrays).
-    ``params`` overrides entries of :data:`WALK_PARAMS`."""
+    ``params`` overrides entries of :data:`WALK_PARAMS`. ``smooth``: the runs with outages also
+    smoothed (``run(..., smooth=True)``), scored in ``summary[run]["smoothed"]``."""
     fp = dict(WALK_PARAMS, **(params or {}))
     import quatnav
     from ..datasets import gnss_imu_walk as W
@@ -156,9 +157,15 @@ def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, perio
         outs = windows if name.endswith("outages") else ()
         run_p = dict(fp, **{k: fp[k] / 10 for k in NOISE_KEYS}) if name == "rtk_noise_div10" else fp
         f = quatnav.GpsInsFilter(**run_p)
+        sm = smooth and bool(outs)
         r = f.run(gyro, accel, t=t, gps_pos=quatnav.Aid(w.gnss_t[g], llh[g], ps[g]),
-                  gps_vel=quatnav.Aid(w.gnss_t[g], vel[g], vs[g]), outages=outs)
+                  gps_vel=quatnav.Aid(w.gnss_t[g], vel[g], vs[g]), outages=outs, smooth=sm)
+        if sm:  # the smoothed run's score; the rest is the forward (causal) one's
+            s_smoothed = score(w, r, outs)[0]
+            r = r.forward
         s, a = score(w, r, outs)
+        if sm:
+            s["smoothed"] = s_smoothed
         nav = r.navigating
         s["navigating_from_s"] = float(r.t[nav][0] - t[0]) if nav.any() else None
         s["rejections"] = {k: int(v) for k, v in r.rejections.items()}
@@ -265,7 +272,7 @@ def run(args) -> int:
             raise UsageError(f"{opt}: expected a positive number of seconds, got {v:g}")
     try:
         summary, arrays = run_walk(args.data, args.seed, args.noise_m, args.outage_first, args.outage_length,
-                                   args.outage_period)
+                                   args.outage_period, smooth=True)
     except FileNotFoundError as exc:
         raise UsageError(f"{exc} (use --data DIR or set QUATNAV_DATA to the folder that holds gnss_imu_walk/)") \
             from None
@@ -291,6 +298,13 @@ def run(args) -> int:
         if "gnss_input_horizontal_rms_m" in s:
             line += f" (noisy GNSS input RMS {s['gnss_input_horizontal_rms_m']:.2f} m)"
         print(line)
+        if s.get("smoothed", {}).get("during_outages"):
+            z = s["smoothed"]
+            worst = [(o["horizontal_max_m"], q["horizontal_max_m"]) for o, q in zip(s["outages"], z["outages"])
+                     if o["fixed_epochs"]]
+            print(f"{name} smoothed: during outages RMS {z['during_outages']['horizontal_m']['rms']:.3f} m, max "
+                  f"{z['during_outages']['horizontal_m']['max']:.3f} m; worst per outage smoothed/forward "
+                  + ", ".join(f"{b:.2f}/{a:.2f}" for a, b in worst) + " m")
     if args.sweep:
         for run in ("rtk_outages", "degraded_outages"):
             w = summary["outage_sweep"][run]

@@ -18,7 +18,7 @@ import numpy as np
 
 from .. import _validate as V
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    skipped_imu_rows, times_of)
+                    skipped_imu_rows, smoother_info, times_of)
 from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "GPSINS_FLAGS", "GPSINS_DECISIONS", "STATE_NAMES",
@@ -389,7 +389,8 @@ class GpsInsFilter(Filter):
 
     # --- batch --------------------------------------------------------------------------------
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
-            odometer=None, outages=(), imu_input: str = "rate", on_invalid: str = "raise") -> GpsInsResult:
+            odometer=None, outages=(), imu_input: str = "rate", on_invalid: str = "raise",
+            smooth: bool = False) -> GpsInsResult:
         """Run over an IMU record and aiding records at their own times (C++ loop, GIL released).
 
         Parameters
@@ -439,6 +440,18 @@ class GpsInsFilter(Filter):
             ``"compass"`` (aiding rows)). Times must be finite and strictly increasing in both
             modes. A saturated IMU row (``gyro_range`` / ``acc_range``) is skipped and reported in
             both modes.
+        smooth : bool
+            Also run the Rauch-Tung-Striebel backward pass (in C++, after the forward pass; see
+            ``docs/SMOOTHING.md`` and ``nav/gps_ins/smoother.hpp``): the result's ``position``,
+            ``velocity``, ``quat``, biases, ``baro_offset`` and ``sigma`` are then the smoothed
+            ones over the navigating samples (each using every sample of the run), ``forward``
+            holds the causal result and ``smoother`` the record's size. The forward pass's
+            decisions (gated, inflated, reset fixes; rest; skipped samples) are kept: ``flags``,
+            ``aids``, ``counters`` and ``q_scale`` are the forward pass's. A reset of the state to
+            a fix, a covariance inflation (fixes that kept failing their gate) and the
+            initialization of the altimeter offset are not crossed (before one, the smoothed
+            estimate uses the data up to it). The filter's state afterwards is the
+            forward one at the last sample (where the two agree).
 
         Returns
         -------
@@ -505,7 +518,7 @@ class GpsInsFilter(Filter):
         odo_t = np.zeros(0) if o is None else aid_times(o.t, "odometer.t")
         odo_v = _rows(np.zeros(0) if o is None else o.value, "odometer.value", len(odo_t), 1, self.dtype, False, strict)
         d = self._f.run(t, gyro, accel, mag_a, imu_input == "increment", gps_t, gps_llh, gps_vel_v, gps_pos_sigma,
-                        gps_vel_sigma, baro_t, baro_h, compass_t, compass_yaw, odo_t, odo_v)
+                        gps_vel_sigma, baro_t, baro_h, compass_t, compass_yaw, odo_t, odo_v, bool(smooth))
         flags = d["flags"]
         skipped = skipped_imu_rows(flags, GPSINS_FLAGS, drop_first=True)  # sample 0 only fixes the start time
         refused = [STATUS_NAMES.index(x) for x in ("non_finite", "numerical_failure", "solve_failed", "invalid_argument")]
@@ -541,7 +554,16 @@ class GpsInsFilter(Filter):
         alignment = {"method": d["align_method"], "heading": d["heading_source"],
                      "level_t": float(t[np.argmax(phase != 0)]) if phase.any() else None,
                      "navigation_t": float(t[nav_rows[0]]) if nav_rows.size else None}
-        return GpsInsResult("GpsInsFilter", t, d["q_nb"], d["gyro_bias"], d["sigma"], flags, aids=aids,
-                            skipped_rows=skipped, sigma_names=STATE_NAMES, velocity=d["v_n"],
-                            acc_bias=d["acc_bias"], position=d["llh"], counters=self.counters,
-                            baro_offset=d["baro_offset"], q_scale=d["q_scale"], alignment=alignment)
+        counters = self.counters
+
+        def result(o, **kw):
+            return GpsInsResult("GpsInsFilter", t, o["q_nb"], o["gyro_bias"], o["sigma"], flags, aids=aids,
+                                skipped_rows=skipped, sigma_names=STATE_NAMES, velocity=o["v_n"],
+                                acc_bias=o["acc_bias"], position=o["llh"], counters=counters,
+                                baro_offset=o["baro_offset"], q_scale=d["q_scale"], alignment=alignment, **kw)
+
+        fwd = result(d)
+        if not smooth:
+            return fwd
+        sm = d["smoothed"]
+        return result(sm, forward=fwd, smoother=smoother_info(sm["info"]))

@@ -23,8 +23,10 @@ from ..core import quaternion as Q
 from ..core.strapdown import StrapdownState, strapdown_step
 from ..filters.tables import FLAGS, GPSINS_PARAMS
 from .kalman import kalman_correct
+from .smoother import Recorder
 
-__all__ = ["DEFAULTS", "GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING"]
+__all__ = ["DEFAULTS", "GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING",
+           "GpsInsRtsModel", "run_smoothed"]
 
 ALIGNING, LEVELLED, NAVIGATING = 0, 1, 2
 KINDS = ("gps_pos", "gps_vel", "baro", "baro_vd", "compass", "mag", "zupt", "zaru", "nhc", "odometer")
@@ -506,6 +508,7 @@ class GpsInsFilter:
                 return st
             Fdt = F * dt
             Phi = np.eye(N) + Fdt + 0.5 * Fdt @ Fdt
+            self.last_transition = Phi  # the smoother's (GpsInsRtsModel)
             qc = _qc_diag(p, s.q_scale)
             Qd = 0.5 * dt * (Phi * qc) @ Phi.T + np.diag(0.5 * dt * qc)
             P = Phi @ s.P @ Phi.T + Qd
@@ -965,9 +968,11 @@ class GpsInsFilter:
     # --- batch ----------------------------------------------------------------------------
     def run(self, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_sigma=None,
             gps_vel_sigma=None, baro_t=(), baro_h=None, compass_t=(), compass_yaw=None, mag=None,
-            odo_t=(), odo_speed=None, increments=False):
+            odo_t=(), odo_speed=None, increments=False, observer=None):
         """The loop of ``quatnav::gpsins_batch`` in Python; returns a dict of the same arrays
-        (statuses and decisions as names)."""
+        (statuses and decisions as names). ``observer``: ``after_predict(k, f)`` after the time
+        update of sample k (``f.sample_transition``: the product of its steps' transitions) and
+        ``after_sample(k, f)`` after all its steps (the smoother's record, :func:`run_smoothed`)."""
         p = self.p
         t = np.asarray(t, float)
         n = len(t)
@@ -1017,9 +1022,14 @@ class GpsInsFilter:
                 if p.max_dt < step <= p.max_coast and p.max_dt > 0:
                     m = int(math.ceil(step / (p.max_dt * (1 - 1e-9))))
                 st = "ok"
+                self.sample_transition = np.eye(N)
                 for _ in range(m):
                     if st == "ok":
                         st = self.predict(w, a, step / m)
+                        if st == "ok" and self.navigating:
+                            self.sample_transition = self.last_transition @ self.sample_transition
+                if observer is not None:
+                    observer.after_predict(k, self)
                 for name, r in zip(("zupt", "zaru", "nhc"), self.update_constraints()):
                     write(out[name], k, 0, r)
                 if mag is not None and not np.all(np.isnan(mag[k])):
@@ -1058,5 +1068,101 @@ class GpsInsFilter:
             out["flags"][k] = (FLAGS[("aligning", "levelled", "navigating")[self.s.phase]]
                                | (FLAGS["initialized"] if (not was_nav and self.navigating) else 0)
                                | (FLAGS["at_rest"] if self.at_rest else 0))
+            if observer is not None:
+                observer.after_sample(k, self)
         out["align_method"], out["heading_source"] = self.s.align_method, self.s.heading_source
         return out
+
+
+# --- the Rauch-Tung-Striebel smoother (the twin of nav/gps_ins/smoother.hpp) ----------------------
+class GpsInsRtsModel:
+    """The smoother's model of :class:`GpsInsFilter` (``quatnav.reference.smoother``): a snapshot
+    is the posterior ``(lat, lon, h, baro_offset, q_nb, v_n, acc_bias, gyro_bias, P, breaks,
+    baro_valid)`` while navigating (``breaks``: resets to a fix and covariance inflations so far); the error chart is the filter's (estimate minus truth):
+    ``local(base, x)`` the error of ``base`` if ``x`` were the truth, ``retract(base, d)`` the
+    injection of the error ``d`` into ``base``. ``f``: the filter whose run is recorded (its
+    ``sample_transition``)."""
+
+    def __init__(self, f):
+        self.f = f
+
+    def snapshot(self, f):
+        if not f.navigating:
+            return None
+        s = f.s
+        return (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb.copy(), s.nav.v_n.copy(),
+                s.acc_bias.copy(), s.gyro_bias.copy(), s.P.copy(),
+                sum(c["resets"] + c["inflated"] for c in s.counters.values()),
+                s.baro_offset_valid)
+
+    @staticmethod
+    def same(a, b):
+        return all(np.array_equal(x, y) for x, y in zip(a, b))
+
+    @staticmethod
+    def restart(prior, post):
+        """A reset to a fix, a covariance inflation or the initialization of the altimeter offset:
+        not crossed (nav/gps_ins/smoother.hpp says why)."""
+        return prior[9] != post[9] or prior[10] != post[10]
+
+    def transition(self, post, k):
+        return self.f.sample_transition
+
+    @staticmethod
+    def error_covariance(x):
+        return x[8]
+
+    @staticmethod
+    def local(base, x):
+        return np.concatenate([geodetic_diff(base[0], base[1], base[2], x[0], x[1], x[2]), base[5] - x[5],
+                               Q.to_rotvec(Q.mul(base[4], Q.conj(x[4]))), base[6] - x[6], base[7] - x[7],
+                               [base[3] - x[3]]])
+
+    @staticmethod
+    def retract(base, d, Ps):
+        s = _new_state()
+        s.nav = StrapdownState(q_nb=base[4], v_n=base[5], lat=base[0], lon=base[1], h=base[2])
+        s.acc_bias, s.gyro_bias, s.baro_offset = base[6], base[7], base[3]
+        GpsInsFilter._inject(s, d)
+        return (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb, s.nav.v_n, s.acc_bias, s.gyro_bias, Ps,
+                base[9], base[10])
+
+
+class _GpsInsRecorder(Recorder):
+    """The record, with the filter's restarts (no link across them)."""
+
+    def after_predict(self, k, f):
+        super().after_predict(k, f)
+        if self._pending is not None and not isinstance(self._pending[1], str):
+            self._prior = self._pending[1][0]
+        else:
+            self._prior = None
+
+    def after_sample(self, k, f):
+        pending = self._pending
+        prior = getattr(self, "_prior", None)
+        super().after_sample(k, f)
+        if pending is not None and prior is not None and self.links and self.posts:
+            if pending[0] == k and self.model.restart(prior, self.posts[-1]):
+                self.links[-1] = None
+        self._prior = None
+
+
+def run_smoothed(f, t, gyro, accel, **aids):
+    """:meth:`GpsInsFilter.run` followed by the backward pass. Returns ``(out, smoothed)``: the
+    forward dict and ``{"llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset"}``,
+    the smoothed values at the navigating samples and the forward ones elsewhere."""
+    rec = _GpsInsRecorder(GpsInsRtsModel(f))
+    out = f.run(t, gyro, accel, observer=rec, **aids)
+    sm = {k: np.array(out[k], dtype=float, copy=True)
+          for k in ("llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset")}
+    if rec.first is None:
+        return out, sm
+    first, xs, Ps = rec.smooth()
+    for i, (x, P) in enumerate(zip(xs, Ps)):
+        k = first + i
+        sm["llh"][k] = x[0:3]
+        sm["v_n"][k], sm["q_nb"][k], sm["acc_bias"][k], sm["gyro_bias"][k] = x[5], x[4], x[6], x[7]
+        sm["sigma"][k] = np.sqrt(np.maximum(np.diag(P), 0.0))
+        sm["baro_offset"][k] = x[3] if x[10] else np.nan
+    return out, sm

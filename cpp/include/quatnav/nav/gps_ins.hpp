@@ -264,9 +264,8 @@ template <class S_> class GpsInsFilter {
     if (detail::saturated(omega_ib_b, p_.gyro_range) || detail::saturated(f_ib_b, p_.acc_range))
       return Status::Saturated;
     State s = s_;
-    const bool rotated = !(p_.imu_rotation.array() == Mat3<S>::Identity().array()).all();
-    const Vec3<S> w_m = rotated ? Vec3<S>(p_.imu_rotation * omega_ib_b) : omega_ib_b;
-    const Vec3<S> f_m = rotated ? Vec3<S>(p_.imu_rotation * f_ib_b) : f_ib_b;
+    const Vec3<S> w_m = imu_to_body(omega_ib_b);
+    const Vec3<S> f_m = imu_to_body(f_ib_b);
     const Vec3<S> w = w_m - s.gyro_bias;
     const Vec3<S> f = f_m - s.acc_bias;
     const S g = s.phase == GpsInsPhase::Navigating ? S(earth::gravity<double>(s.nav.lat, s.nav.h))
@@ -317,11 +316,9 @@ template <class S_> class GpsInsFilter {
     } else {
       StrapdownParams sp;
       sp.earth_rotation = p_.earth_rotation;
-      const Mat16 F = detail::gpsins_F<S>(s.nav, f, p_);
+      const Mat16 Phi = detail::gpsins_Phi<S>(s.nav, f, dt, p_);
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
-      const Mat16 Fdt = F * dt;
-      const Mat16 Phi = Mat16::Identity() + Fdt + S(0.5) * fixed_mul(Fdt, Fdt);
       const Vec16 qc = detail::gpsins_Qc_diag(p_, s.q_scale);
       const Mat16 PhiQ = Phi * qc.asDiagonal();
       Mat16 Qd = S(0.5) * dt * fixed_mul(PhiQ, Phi.transpose());
@@ -557,7 +554,17 @@ template <class S_> class GpsInsFilter {
     return apply(gpsins_aid::CompassHeading<S>{yaw_meas});
   }
 
+  /// The error-state transition Phi that a navigating time update with specific force f_ib_b
+  /// (IMU axes) over dt makes from the current state (the smoother's, nav/gps_ins/smoother.hpp).
+  Mat16 transition(const Vec3<S>& f_ib_b, S dt) const {
+    return detail::gpsins_Phi<S>(s_.nav, Vec3<S>(imu_to_body(f_ib_b) - s_.acc_bias), dt, p_);
+  }
+
  private:
+  Vec3<S> imu_to_body(const Vec3<S>& v) const {
+    const bool rotated = !(p_.imu_rotation.array() == Mat3<S>::Identity().array()).all();
+    return rotated ? Vec3<S>(p_.imu_rotation * v) : v;
+  }
   Vec3<S> gps_pos_sigma(const Vec3<S>& s) const {
     return Vec3<S>(std::isnan(s[0]) ? p_.gps_pos_sigma_h : s[0], std::isnan(s[1]) ? p_.gps_pos_sigma_h : s[1],
                    std::isnan(s[2]) ? p_.gps_pos_sigma_v : s[2]);
@@ -1015,6 +1022,32 @@ std::uint32_t gpsins_update_flags(const GpsInsUpdate<S, M>& r, std::uint32_t use
   return fl;
 }
 
+/// The time update of batch sample k >= 1: the mean rate w and specific force a over
+/// (t[k-1], t[k]] (increments divided by the interval), in m equal steps of dt; a gap longer than
+/// max_dt (up to max_coast) is coasted in steps of at most max_dt (m > 1).
+template <class S> struct GpsInsSampleStep {
+  Vec3<S> w, a;
+  long m;
+  S dt;
+};
+template <class S>
+GpsInsSampleStep<S> gpsins_sample_step(const GpsInsParams<S>& p, const double* t, const S* gyro, const S* accel,
+                                       bool increments, std::size_t k) {
+  GpsInsSampleStep<S> u;
+  const double step = t[k] - t[k - 1];
+  u.w = Eigen::Map<const Vec3<S>>(gyro + 3 * k);
+  u.a = Eigen::Map<const Vec3<S>>(accel + 3 * k);
+  if (increments) {  // angle and velocity increments over the interval: their means
+    u.w /= S(step);
+    u.a /= S(step);
+  }
+  const double max_dt = double(p.max_dt);
+  u.m = 1;
+  if (step > max_dt && step <= double(p.max_coast) && max_dt > 0.0) u.m = long(std::ceil(step / (max_dt * (1.0 - 1e-9))));
+  u.dt = S(step / double(u.m));
+  return u;
+}
+
 /// Prefill an aid's report: NaN innovations and NIS, NotInitialized, decision None, inflation 1.
 template <class S> void gpsins_out_init(const GpsInsAidOut<S>& o, std::size_t rows, int cols, int m) {
   const S nan = std::numeric_limits<S>::quiet_NaN();
@@ -1041,8 +1074,11 @@ void gpsins_out_write(const GpsInsAidOut<S>& o, std::size_t row, int cols, int c
 }
 }  // namespace detail
 
-/// Run the filter over the records of `io` (see GpsInsBatchIo). Allocates nothing.
-template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>& io) {
+/// Run the filter over the records of `io` (see GpsInsBatchIo). Allocates nothing. Every sample
+/// is reported to `obs` (core/checks.hpp's NoBatchObserver; the smoother's record): after the
+/// time update of sample k (all its coasting steps), and after all its steps.
+template <class S, class Observer = NoBatchObserver>
+void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>& io, Observer&& obs = Observer{}) {
   namespace gf = flags;
   const S nan = std::numeric_limits<S>::quiet_NaN();
   detail::gpsins_out_init(io.report.gps, io.ng, 2, 3);
@@ -1068,22 +1104,12 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
     const bool was_nav = f.navigating();
     const S q_scale0 = f.q_scale();
     if (k > 0) {
-      const double step = io.t[k] - io.t[k - 1];
-      Vec3<S> w = Eigen::Map<const Vec3<S>>(io.gyro + 3 * k), a = Eigen::Map<const Vec3<S>>(io.accel + 3 * k);
-      if (io.increments) {  // angle and velocity increments over the interval: their means
-        w /= S(step);
-        a /= S(step);
-      }
-      // A gap longer than max_dt (up to max_coast) is coasted in equal steps of at most max_dt.
-      const double max_dt = double(f.params().max_dt);
-      long m = 1;
-      if (step > max_dt && step <= double(f.params().max_coast) && max_dt > 0.0) {
-        m = long(std::ceil(step / (max_dt * (1.0 - 1e-9))));
-        fl |= gf::kCoasted;
-      }
+      const detail::GpsInsSampleStep<S> u = detail::gpsins_sample_step(f.params(), io.t, io.gyro, io.accel, io.increments, k);
+      if (u.m > 1) fl |= gf::kCoasted;
       Status s = Status::Ok;
-      for (long j = 0; j < m && s == Status::Ok; ++j) s = f.predict(w, a, S(step / double(m)));
+      for (long j = 0; j < u.m && s == Status::Ok; ++j) s = f.predict(u.w, u.a, u.dt);
       if (s != Status::Ok) fl |= gf::kPredictSkipped | (s == Status::Saturated ? gf::kSaturated : 0u);
+      obs.after_predict(k, f);
       const ConstraintResult<S> cr = f.update_constraints();
       detail::gpsins_out_write(io.report.zupt, k, 1, 0, cr.zupt);
       detail::gpsins_out_write(io.report.zaru, k, 1, 0, cr.zaru);
@@ -1164,6 +1190,7 @@ template <class S> void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>&
       io.baro_offset[k] = nav && f.state().baro_offset_valid ? f.baro_offset() : std::numeric_limits<double>::quiet_NaN();
     if (io.q_scale) io.q_scale[k] = f.q_scale();
     if (io.flags) io.flags[k] = fl;
+    obs.after_sample(k, f);
   }
 }
 

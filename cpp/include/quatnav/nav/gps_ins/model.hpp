@@ -115,6 +115,14 @@ Mat16<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsIns
   return F;
 }
 
+/// The discrete error-state transition over one IMU interval dt, with F at the nominal state
+/// before the step: Phi = I + F dt + (F dt)^2 / 2 (the time update's and the smoother's).
+template <class S>
+Mat16<S> gpsins_Phi(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, const GpsInsParams<S>& p) {
+  const Mat16<S> Fdt = gpsins_F<S>(nav, f_b, p) * dt;
+  return Mat16<S>::Identity() + Fdt + S(0.5) * fixed_mul(Fdt, Fdt);
+}
+
 /// Continuous process noise spectral density Qc (diagonal, 16 x 16); the IMU terms scaled by the
 /// adaptation's q_scale.
 template <class S> Vec<S, gpsins::kN> gpsins_Qc_diag(const GpsInsParams<S>& p, S q_scale) {
