@@ -3,6 +3,7 @@ forward run alone, for N samples.
 
     python bench/bench_smoother.py --filter qekf --n 1e5,1e6,1e7 [--json FILE]
     python bench/bench_smoother.py --filter nav13 --n 1e5,1e6,1e7
+    python bench/bench_smoother.py --filter gpsins --n 1e5,1e6,1e7
 
 Every (filter, N, mode) runs in its own process under ``/usr/bin/time -v`` (when present): its
 maximum resident set size is the process's peak memory, whatever allocated it (numpy, the
@@ -14,7 +15,8 @@ reported by the smoother itself: ``smoother["bytes"]``). Wall times depend on th
 Data: ``qekf``/``euler``: the simulated hand-held MARG samples of ``quatnav bench``
 (:func:`quatnav.evaluation.bench.marg_data`, 200 Hz); ``nav13``: an IMU at rest (gravity and the
 Earth rate with the filter's noise densities) at 100 Hz with zero NED velocity and yaw measured at
-10 Hz.
+10 Hz; ``gpsins``: the same at 200 Hz with GNSS position and velocity and a compass at 5 Hz (the rest detection
+off, as on a moving vehicle: the records are the GNSS epochs).
 """
 from __future__ import annotations
 
@@ -41,13 +43,14 @@ def _data(name: str, n: int):
     # and yaw measured at 10 Hz: consistent for any length (a moving signal made up of sines is
     # not, and the filter drifts off it over hours).
     from quatnav.core import earth
-    t = np.arange(1, n + 1) * 0.01
+    dt = 0.005 if name == "gpsins" else 0.01
+    t = np.arange(1, n + 1) * dt
     rng = np.random.default_rng(0)
     g = earth.gravity_n(0.6, 50.0)[2]
     w_ie = earth.earth_rate_n(0.6)
-    f = np.array([0.0, 0.0, -g]) + 2.9420e-5 / np.sqrt(0.01) * rng.standard_normal((n, 3))
-    w = w_ie + 1.4544e-7 / np.sqrt(0.01) * rng.standard_normal((n, 3))
-    k = np.arange(9, n, 10)
+    f = np.array([0.0, 0.0, -g]) + 2.9420e-5 / np.sqrt(dt) * rng.standard_normal((n, 3))
+    w = w_ie + 1.4544e-7 / np.sqrt(dt) * rng.standard_normal((n, 3))
+    k = np.arange(9, n, 10) if name != "gpsins" else np.arange(39, n, 40)
     return dict(gyr=w, acc=f, t=t, kv=k)
 
 
@@ -60,6 +63,13 @@ def _run(name: str, n: int, smooth: bool) -> dict:
     if name in ("qekf", "euler"):
         f = quatnav.QuaternionEKF() if name == "qekf" else quatnav.EulerEKF()
         r = f.run(d["gyr"], d["acc"], d["mag"], dt=d["dt"], smooth=smooth)
+    elif name == "gpsins":
+        f = quatnav.GpsInsFilter(zupt=False)
+        kv = d["kv"]
+        tg = d["t"][kv]
+        r = f.run(d["gyr"], d["acc"], t=d["t"], smooth=smooth,
+                  gps_pos=quatnav.Aid(tg, np.tile([0.6, 2.0, 50.0], (len(kv), 1))),
+                  gps_vel=quatnav.Aid(tg, np.zeros((len(kv), 3))), compass=quatnav.Aid(tg, np.zeros(len(kv))))
     else:
         f = quatnav.NavFilter13()
         f.reset([0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], lat=0.6, lon=2.0, h=50.0)
@@ -91,7 +101,7 @@ def _child(name: str, n: int, smooth: bool) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--filter", default="qekf", choices=("qekf", "euler", "nav13"))
+    ap.add_argument("--filter", default="qekf", choices=("qekf", "euler", "nav13", "gpsins"))
     ap.add_argument("--n", default="1e5,1e6", help="comma list of sample counts (default 1e5,1e6)")
     ap.add_argument("--json", default=None, metavar="FILE")
     ap.add_argument("--one", nargs=3, help=argparse.SUPPRESS)
