@@ -17,8 +17,8 @@ def test_marg_data_is_consistent():
 
 def test_cli_small_run_writes_json(tmp_path, capsys):
     out = tmp_path / "b.json"
-    rc = bench.main(["-n", "3000", "--repeat", "1", "--filters", "QuaternionEKF,VQF",
-                     "--json", str(out)])
+    from quatnav.cli import main
+    rc = main(["bench", "-n", "3000", "--repeat", "1", "--filters", "QuaternionEKF,VQF", "--json", str(out)])
     assert rc == 0
     res = json.loads(out.read_text())
     rows = res["throughput"]["results"]

@@ -34,4 +34,5 @@
 #include "nav/strapdown.hpp"
 #include "nav/nav_filter13.hpp"
 #include "nav/gps_ins.hpp"
+#include "nav/gps_ins/smoother.hpp"
 #include "nav/nav13_smoother.hpp"
