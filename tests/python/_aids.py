@@ -1,4 +1,5 @@
-"""The numpy twin's GPS/INS aid keywords (gps_t, gps_llh, ...) as GpsInsFilter.run's Aid keywords."""
+"""GPS/INS aids given as arrays (gps_t, gps_llh, ...) as the Aid keywords of GpsInsFilter.run (the public
+class's and its numpy twin's)."""
 import quatnav
 
 

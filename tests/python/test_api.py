@@ -309,6 +309,46 @@ def test_twins_run_like_the_public_classes(name):
         np.testing.assert_allclose(b.quat, a.quat, atol=1e-7)
 
 
+def test_gpsins_twin_runs_like_the_public_class():
+    """The GpsInsFilter twin's run and run_smoothed have the public run's signature (IMU first,
+    times and aids as keywords, the aids as Aid); given the same times and aids it follows the
+    C++ filter, and its smooth=True is run_smoothed."""
+    from quatnav import reference
+    from quatnav.reference.gpsins import run_smoothed
+
+    def shape(f, drop=()):
+        return [(p.name, p.kind, p.default) for p in inspect.signature(f).parameters.values()
+                if p.name not in ("self", "f", "on_invalid", "observer") + drop]
+
+    assert shape(reference.GpsInsFilter.run) == shape(quatnav.GpsInsFilter.run)
+    assert shape(run_smoothed) == shape(quatnav.GpsInsFilter.run, drop=("smooth",))
+    s, n = make_scenario("paper004_walk", seed=0), 1200
+    lever = np.asarray(s.params["gps"]["lever_arm_b_m"], float)
+    aids = dict(gps_pos=quatnav.Aid(s.gps.t_valid, np.column_stack([s.gps.lat, s.gps.lon, s.gps.h])),
+                gps_vel=quatnav.Aid(s.gps.t_valid, s.gps.v_n), baro=quatnav.Aid(s.baro.t, s.baro.h),
+                compass=quatnav.Aid(s.compass.t, s.compass.yaw), outages=[(15.0, 18.0)])
+    a = quatnav.GpsInsFilter(lever_arm_b=lever).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **aids)
+    b = reference.GpsInsFilter(lever_arm_b=lever).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **aids)
+    nav = a.navigating
+    assert nav.sum() > 500
+    np.testing.assert_allclose(b["t"], a.t)
+    np.testing.assert_allclose(b["llh"][nav, :2], a.position[nav, :2], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(b["q_nb"][nav], a.quat[nav], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(b["gps"]["decision"][:, 0], a.aids["gps_pos"].decision_names)
+    assert (a.aids["gps_pos"].decision_names == "skipped").sum() > 0  # the outage
+    with pytest.raises(ValueError, match="give exactly one"):
+        reference.GpsInsFilter().run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], dt=0.01)
+    with pytest.raises(ValueError, match="gps_vel: needs gps_pos"):
+        reference.GpsInsFilter().run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], gps_vel=aids["gps_vel"])
+    sm = reference.GpsInsFilter(lever_arm_b=lever).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], smooth=True,
+                                                       **aids)
+    fwd, ref = run_smoothed(reference.GpsInsFilter(lever_arm_b=lever), s.imu.gyro[:n], s.imu.accel[:n],
+                            t=s.imu.t[:n], **aids)
+    np.testing.assert_array_equal(sm["llh"], ref["llh"])
+    np.testing.assert_array_equal(sm["forward"]["llh"], fwd["llh"])
+    np.testing.assert_array_equal(fwd["llh"], b["llh"])
+
+
 def test_twin_paper_values_equal_the_cpp_paper_parameters():
     """QuaternionEKF(paper=True): the numpy twin's values are those of QuaternionEKFParams::paper()."""
     from quatnav import reference

@@ -40,7 +40,7 @@ def test_cpp_matches_reference_step_by_step(walk):
     s, n = walk, 1500  # alignment, levelling and ~25 s of navigation with every aid
     kw = _aids(s)
     r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
-    ref = R.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    ref = R.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
     assert r.navigating.sum() > 1000
     np.testing.assert_array_equal(np.isnan(r.position), np.isnan(ref["llh"]))
     nav = r.navigating
@@ -68,7 +68,7 @@ def test_cpp_matches_reference_step_by_step(walk):
 
 def R_filter_counters(kw, n, s):
     f = R.GpsInsFilter(lever_arm_b=LEVER)
-    f.run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    f.run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
     return f.counters
 
 

@@ -130,10 +130,7 @@ def test_cpp_matches_reference_step_by_step(car, case):
         f.set_initial(euler=s.truth.rpy[k])
         ref.set_initial(Q.from_euler(s.truth.rpy[k]))
     r = f.run(gyr, acc, mag, t=t, **kw)
-    g = kw["gps_pos"]
-    out = ref.run(t, gyr, acc, gps_t=g.t, gps_llh=g.value, gps_pos_sigma=g.sigma,
-                  gps_vel=kw["gps_vel"].value if "gps_vel" in kw else None,
-                  gps_vel_sigma=kw["gps_vel"].sigma if "gps_vel" in kw else None, mag=mag)
+    out = ref.run(gyr, acc, mag, t=t, **kw)
     assert r.alignment["method"] == out["align_method"] and r.alignment["heading"] == out["heading_source"]
     nav = r.navigating
     assert nav.sum() > 500

@@ -42,7 +42,7 @@ def test_cpp_matches_reference_through_outlier_and_reset(jumped):
     s, n, kw, _, _ = jumped
     r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
     ref_f = R.GpsInsFilter(lever_arm_b=LEVER)
-    ref = ref_f.run(s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    ref = ref_f.run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], **as_aids(kw))
     assert r.counters == ref_f.counters
     assert r.counters["gps_pos"]["resets"] >= 1 and r.counters["gps_pos"]["rejected"] >= 2
     assert r.flag("gps_reset").sum() == r.counters["gps_pos"]["resets"] + r.counters["gps_vel"]["resets"]

@@ -137,7 +137,8 @@ def test_cpp_matches_the_numpy_twin_backward_pass():
     kw["gps_llh"][(kw["gps_t"] >= 15.0) & (kw["gps_t"] < 22.0)] = np.nan  # a 7 s outage
     r = quatnav.GpsInsFilter(lever_arm_b=LEVER).run(s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n], smooth=True,
                                                    **as_aids(kw))
-    fwd, ref = run_smoothed(R.GpsInsFilter(lever_arm_b=LEVER), s.imu.t[:n], s.imu.gyro[:n], s.imu.accel[:n], **kw)
+    fwd, ref = run_smoothed(R.GpsInsFilter(lever_arm_b=LEVER), s.imu.gyro[:n], s.imu.accel[:n], t=s.imu.t[:n],
+                            **as_aids(kw))
     nav = r.navigating
     assert nav.sum() > 1000
     d = np.abs(r.position[nav] - r.forward.position[nav]).max(axis=0)

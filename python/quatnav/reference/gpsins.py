@@ -22,6 +22,7 @@ from ..core import earth
 from ..core import quaternion as Q
 from ..core.strapdown import StrapdownState, strapdown_step
 from ..filters.tables import FLAGS, GPSINS_PARAMS
+from .attitude import sample_times
 from .kalman import kalman_correct
 from .smoother import Recorder
 
@@ -966,13 +967,57 @@ class GpsInsFilter:
         return self._apply("compass", *_compass(self.s, p, yaw_meas), p.gate_compass)
 
     # --- batch ----------------------------------------------------------------------------
-    def run(self, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_sigma=None,
-            gps_vel_sigma=None, baro_t=(), baro_h=None, compass_t=(), compass_yaw=None, mag=None,
-            odo_t=(), odo_speed=None, increments=False, observer=None):
-        """The loop of ``quatnav::gpsins_batch`` in Python; returns a dict of the same arrays
-        (statuses and decisions as names). ``observer``: ``after_predict(k, f)`` after the time
-        update of sample k (``f.sample_transition``: the product of its steps' transitions) and
-        ``after_sample(k, f)`` after all its steps (the smoother's record, :func:`run_smoothed`)."""
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
+            odometer=None, outages=(), imu_input="rate", smooth=False, observer=None):
+        """The loop of ``quatnav::gpsins_batch`` in Python with the public ``run``'s signature
+        (:meth:`quatnav.GpsInsFilter.run`): IMU first, times as ``t`` or ``dt``, the aids as
+        ``Aid(t, value[, sigma])`` (anything with ``.t``, ``.value`` and optionally ``.sigma``),
+        ``outages`` as ``(t_start, t_end)`` pairs that drop the fixes inside them, ``imu_input``
+        "rate" or "increment". Returns a dict of the C++ batch's arrays (``llh``, ``v_n``,
+        ``q_nb``, ``acc_bias``, ``gyro_bias``, ``sigma``, ``baro_offset``, ``q_scale``,
+        ``flags``, ``t`` and one report per aid, statuses and decisions as names).
+        ``smooth=True``: the smoothed values over the navigating samples
+        (:func:`run_smoothed`), the forward dict in ``forward``. ``observer``:
+        ``after_predict(k, f)`` after the time update of sample k (``f.sample_transition``: the
+        product of its steps' transitions) and ``after_sample(k, f)`` after all its steps (the
+        smoother's record)."""
+        aids = dict(gps_pos=gps_pos, gps_vel=gps_vel, baro=baro, compass=compass, odometer=odometer,
+                    outages=outages, imu_input=imu_input)
+        if smooth:
+            out, sm = run_smoothed(self, gyr, acc, mag, t=t, dt=dt, observer=observer, **aids)
+            return {**out, **sm, "forward": out}
+        if imu_input not in ("rate", "increment"):
+            raise ValueError(f"imu_input: expected 'rate' or 'increment', got {imu_input!r}")
+        gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
+        t, _ = sample_times(len(gyr), t, dt)
+        if gps_vel is not None and gps_pos is None:
+            raise ValueError("gps_vel: needs gps_pos (the filter takes a velocity with a position fix)")
+        kw = {}
+        if gps_pos is not None:
+            kw["gps_t"] = np.asarray(gps_pos.t, float)
+            kw["gps_llh"] = np.array(gps_pos.value, float)
+            kw["gps_pos_sigma"] = getattr(gps_pos, "sigma", None)
+            for o in outages:
+                kw["gps_llh"][(kw["gps_t"] >= o[0]) & (kw["gps_t"] < o[1])] = np.nan
+        if gps_vel is not None:
+            if not np.array_equal(np.asarray(gps_vel.t, float), np.asarray(gps_pos.t, float)):
+                raise ValueError("gps_vel.t: expected the times of gps_pos (give NaN rows where a fix has no velocity)")
+            kw["gps_vel"], kw["gps_vel_sigma"] = gps_vel.value, getattr(gps_vel, "sigma", None)
+        if baro is not None:
+            kw["baro_t"], kw["baro_h"] = baro.t, baro.value
+        if compass is not None:
+            kw["compass_t"], kw["compass_yaw"] = compass.t, compass.value
+        if odometer is not None:
+            kw["odo_t"], kw["odo_speed"] = odometer.t, odometer.value
+        out = self._loop(t, gyr, acc, mag=None if mag is None else np.asarray(mag, float),
+                         increments=imu_input == "increment", observer=observer, **kw)
+        out["t"] = t
+        return out
+
+    def _loop(self, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_sigma=None,
+              gps_vel_sigma=None, baro_t=(), baro_h=None, compass_t=(), compass_yaw=None, mag=None,
+              odo_t=(), odo_speed=None, increments=False, observer=None):
+        """The batch loop over arrays (:meth:`run` unpacks its aids into them)."""
         p = self.p
         t = np.asarray(t, float)
         n = len(t)
@@ -1148,12 +1193,31 @@ class _GpsInsRecorder(Recorder):
         self._prior = None
 
 
-def run_smoothed(f, t, gyro, accel, **aids):
-    """:meth:`GpsInsFilter.run` followed by the backward pass. Returns ``(out, smoothed)``: the
-    forward dict and ``{"llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset"}``,
-    the smoothed values at the navigating samples and the forward ones elsewhere."""
+class _Both:
+    """Two observers of one run, in order."""
+
+    def __init__(self, a, b):
+        self.a, self.b = a, b
+
+    def after_predict(self, k, f):
+        self.a.after_predict(k, f)
+        self.b.after_predict(k, f)
+
+    def after_sample(self, k, f):
+        self.a.after_sample(k, f)
+        self.b.after_sample(k, f)
+
+
+def run_smoothed(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
+                 odometer=None, outages=(), imu_input="rate", observer=None):
+    """:meth:`GpsInsFilter.run` (the same arguments) followed by the backward pass. Returns
+    ``(out, smoothed)``: the forward dict and ``{"llh", "v_n", "q_nb", "acc_bias", "gyro_bias",
+    "sigma", "baro_offset"}``, the smoothed values at the navigating samples and the forward ones
+    elsewhere. ``observer``: also told of every sample (after the smoother's record)."""
     rec = _GpsInsRecorder(GpsInsRtsModel(f))
-    out = f.run(t, gyro, accel, observer=rec, **aids)
+    out = f.run(gyr, acc, mag, t=t, dt=dt, gps_pos=gps_pos, gps_vel=gps_vel, baro=baro, compass=compass,
+                odometer=odometer, outages=outages, imu_input=imu_input,
+                observer=rec if observer is None else _Both(rec, observer))
     sm = {k: np.array(out[k], dtype=float, copy=True)
           for k in ("llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset")}
     if rec.first is None:
