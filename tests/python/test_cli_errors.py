@@ -220,7 +220,7 @@ def test_missing_extra_is_named(logs, tmp_path, args, block, extra):
 # --- not user errors -----------------------------------------------------------------------------
 _BUG = """import sys
 import numpy as np
-import quatnav.ins_cli as m
+import quatnav.cli.ins as m
 def broken(*a, **k):
     return np.zeros(3) + np.zeros(4)   # a ValueError from numpy: a bug, not the user's mistake
 m.run_files = broken

@@ -113,7 +113,7 @@ def test_without_pandas_names_the_extra(tmp_path, monkeypatch):
 
 def test_numpy_alone_imports_quatnav():
     import subprocess
-    code = "import sys; sys.modules['pandas'] = None; import quatnav, quatnav.csvio, quatnav.ins_cli, quatnav.cli"
+    code = "import sys; sys.modules['pandas'] = None; import quatnav, quatnav.csvio, quatnav.cli.ins, quatnav.cli"
     import quatnav
     from pathlib import Path
     env = {"PYTHONPATH": str(Path(quatnav.__file__).resolve().parent.parent)}

@@ -65,7 +65,7 @@ def test_run_in_process_against_truth_and_api(walk, files, capsys):
     cap = capsys.readouterr()
     assert "wrote" in cap.out and cap.err == ""  # consistent input: no warning
     header, a = _read(out)
-    from quatnav.ins_cli import OUTPUT_COLUMNS
+    from quatnav.cli.ins import OUTPUT_COLUMNS
     assert tuple(header) == OUTPUT_COLUMNS
     c = {n: a[:, i] for i, n in enumerate(header)}
     # same numbers as the Python API on the same data (the files' printed digits: the rest
@@ -223,7 +223,7 @@ def test_no_navigation_exits_1(files, tmp_path, capsys):
     fl = _bad(tmp_path, files, "gnss", [g[0], "-5.0" + g[1][g[1].index(","):]])
     assert cli.main(_args(fl, out)) == 1
     assert "navigation never started" in capsys.readouterr().out
-    from quatnav.ins_cli import OUTPUT_COLUMNS
+    from quatnav.cli.ins import OUTPUT_COLUMNS
     with open(out) as fh:
         assert fh.read().splitlines() == [",".join(OUTPUT_COLUMNS)]
 
@@ -300,7 +300,7 @@ def test_gap_is_coasted_and_reported_with_file_lines(walk, files, tmp_path, caps
 
 
 def test_no_warnings_on_the_simulated_scenarios():
-    from quatnav.ins_cli import plausibility_warnings
+    from quatnav.cli.ins import plausibility_warnings
     for name in ("paper004_static", "paper004_turntable", "paper004_walk", "paper002_straight_then_circle"):
         s = make_scenario(name, seed=1)
         g = s.gps
@@ -358,7 +358,7 @@ def test_gnss_in_radians_and_times_that_do_not_overlap(files, tmp_path, capsys):
 
 
 def test_magnetometer_units():
-    from quatnav.ins_cli import check_magnetometer
+    from quatnav.cli.ins import check_magnetometer
     rng = np.random.default_rng(0)
     m = rng.standard_normal((500, 3))
     m = 48.0 * m / np.linalg.norm(m, axis=1, keepdims=True)  # uT
@@ -375,7 +375,7 @@ def test_plausibility_on_real_logs(data_dir):
     (z up) and its file's unit (g) are named."""
     from quatnav.datasets import gnss_imu_walk as W
     from quatnav.datasets import navego
-    from quatnav.ins_cli import plausibility_warnings
+    from quatnav.cli.ins import plausibility_warnings
     for sub in ("navego_synthetic", "gnss_imu_walk"):
         if not (data_dir / sub).is_dir():
             pytest.skip(f"{sub} not in {data_dir}")
@@ -415,7 +415,7 @@ def test_upside_down_imu_warns_and_imu_rotation_fixes_it(walk, files, tmp_path, 
 
 
 def test_gnss_on_another_clock_names_the_offset(files, tmp_path, capsys):
-    from quatnav.ins_cli import check_clock, check_motion_start
+    from quatnav.cli.ins import check_clock, check_motion_start
     # a 10 s log whose GNSS times are 18 s ahead (GPS time against UTC): no overlap, the offset named
     t10 = np.arange(0.0, 10.0, 0.01)
     assert "GPS time against UTC" in check_clock(t10 + 1e9, np.arange(0.0, 10.0, 0.2) + 1e9 + 18.0)
@@ -463,7 +463,7 @@ def test_initial_state_mag_odometer_increments_and_diagnostics(walk, files, tmp_
     assert summary["decisions"]["mag"].get("accepted", 0) > 100
     assert summary["decisions"]["odometer"].get("accepted", 0) > 100
     rows = list(csv.DictReader(open(diag)))
-    from quatnav.ins_cli import DIAGNOSTICS_COLUMNS
+    from quatnav.cli.ins import DIAGNOSTICS_COLUMNS
     assert tuple(rows[0]) == DIAGNOSTICS_COLUMNS
     aids = {r["aid"] for r in rows}
     assert {"gps_pos", "gps_vel", "mag", "odometer"} <= aids
@@ -516,7 +516,7 @@ def test_motion_start_check_is_quiet_on_a_car_pulling_away_straight():
     """A car moving from t = 0, stopping at 40-48 s and pulling away straight: the GNSS sees the
     start at 48.5 s, the gyro only at the first turn; the specific force sees the start too, so no
     clock offset is suggested. Starts 30 s apart are not read as a clock offset either."""
-    from quatnav.ins_cli import check_motion_start
+    from quatnav.cli.ins import check_motion_start
     t = np.arange(0.0, 120.0, 0.01)
     gyro = np.zeros((len(t), 3))
     gyro[(t > 80.0) & (t < 85.0), 2] = 0.4  # the first turn

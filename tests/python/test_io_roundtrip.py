@@ -18,7 +18,7 @@ import pytest
 
 import quatnav
 from quatnav import cli, io
-from quatnav.compare_cli import compare
+from quatnav.cli.compare import compare
 from quatnav.core import earth as E
 from quatnav.core import quaternion as Q
 

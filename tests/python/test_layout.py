@@ -6,7 +6,11 @@
 * every public header is reachable from quatnav.hpp.
 
 That each header compiles on its own is checked by the C++ build (tests/cpp/CMakeLists.txt,
-quatnav_self_contained_headers)."""
+quatnav_self_contained_headers).
+
+And the layout of the Python package (python/quatnav/): the command line is the package
+``quatnav.cli`` (its ``main`` the ``quatnav`` script and ``python -m quatnav``), one module per tool
+inside it; no command-line module sits at the package top."""
 import re
 from pathlib import Path
 
@@ -106,3 +110,21 @@ def test_the_rule_checker_sees_a_violation(tmp_path):
     finally:
         INCLUDE, ROOT = saved
     assert found == [(3, "attitude"), (4, "nav")]
+
+
+PACKAGE = Path(__file__).resolve().parents[2] / "python" / "quatnav"
+
+
+def test_the_command_line_is_one_package():
+    cli = PACKAGE / "cli"
+    assert (cli / "__init__.py").is_file() and (cli / "__main__.py").is_file()  # python -m quatnav.cli
+    for name in ("util", "ins", "ahrs", "compare", "calibrate"):
+        assert (cli / f"{name}.py").is_file(), f"python/quatnav/cli/{name}.py missing"
+    loose = sorted(p.name for p in PACKAGE.glob("*.py") if "cli" in p.stem)
+    assert not loose, f"command-line modules at the package top (they belong in quatnav/cli/): {loose}"
+    text = (PACKAGE.parents[1] / "pyproject.toml").read_text()
+    assert 'quatnav = "quatnav.cli:main"' in text
+    assert "from .cli import main" in (PACKAGE / "__main__.py").read_text()
+    init = (cli / "__init__.py").read_text()
+    for name in ("ins", "ahrs", "compare", "calibrate"):
+        assert f"from . import {name}\n" in init, f"quatnav.cli does not add the {name} subcommand"

@@ -19,7 +19,7 @@ Reported: RMSE of N/E/D position (m), N/E/D velocity (m/s), roll/pitch/yaw (deg)
 run, the same for the GNSS fixes alone (position and velocity), and the gate rejections.
 
 Two more runs go through ``quatnav ins run`` (CSV files and a TOML config written to a temporary
-folder, :func:`quatnav.ins_cli.run_files`) with the filter's own alignment, **without**
+folder, :func:`quatnav.cli.ins.run_files`) with the filter's own alignment, **without**
 ``ini_align``: ``cli_in_motion`` (GNSS position and velocity: the alignment in motion from the
 GNSS velocity change against the specific force) and ``cli_position_only`` (the velocity columns
 left out: the course between fixes). Their errors are scored from the CLI's output rows (from the
@@ -203,7 +203,7 @@ def run_cli(d, velocity=True, seconds=None, folder=None):
     Returns (summary dict, arrays)."""
     import tempfile
 
-    from .. import ins_cli
+    from ..cli import ins as ins_cli
     with tempfile.TemporaryDirectory() as tmp:
         work = folder or tmp
         imu, gnss, cfg = write_cli_inputs(d, work, cli_params(d), velocity, seconds)
@@ -308,7 +308,7 @@ def plot(arrays, path):
 
 
 def run(args) -> int:
-    from ..cliutil import UsageError, write_json
+    from ..cli.util import UsageError, write_json
     if args.seconds is not None and not args.seconds > 0:
         raise UsageError(f"--seconds: expected a positive number, got {args.seconds:g}")
     try:

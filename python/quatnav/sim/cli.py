@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..cliutil import UsageError, write_json
+from ..cli.util import UsageError, write_json
 
 
 def add_parser(subparsers):

@@ -18,7 +18,7 @@ from pathlib import Path
 
 __all__ = ["main", "build_parser"]
 
-from .cliutil import _EXTRAS, UsageError, missing_extra
+from .util import _EXTRAS, UsageError, missing_extra
 
 EPILOG = """\
 environment:
@@ -57,7 +57,7 @@ def _raised_by_quatnav(exc: BaseException) -> bool:
     while tb.tb_next is not None:
         tb = tb.tb_next
     fname = tb.tb_frame.f_code.co_filename
-    pkg = str(Path(__file__).resolve().parent)
+    pkg = str(Path(__file__).resolve().parents[1])  # the quatnav package
     try:
         inside = str(Path(fname).resolve()).startswith(pkg + os.sep)
     except OSError:  # pragma: no cover
@@ -87,26 +87,26 @@ def build_parser() -> argparse.ArgumentParser:
                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="store_true", help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    from . import demo
+    from .. import demo
     demo.add_parser(sub)
-    from .sim import cli as sim_cli
+    from ..sim import cli as sim_cli
     sim_cli.add_parser(sub)
-    from . import experiments
+    from .. import experiments
     experiments.add_parser(sub)
-    from .evaluation import bench
+    from ..evaluation import bench
     bench.add_parser(sub)
-    from .evaluation import evaluate
+    from ..evaluation import evaluate
     evaluate.add_parser(sub)
-    from . import ins_cli
-    ins_cli.add_parser(sub)
-    from . import ahrs_cli
-    ahrs_cli.add_parser(sub)
-    from . import compare_cli
-    compare_cli.add_parser(sub)
-    from . import calibrate_cli
-    calibrate_cli.add_parser(sub)
-    calibrate_cli.add_allan_parser(sub)
-    from .evaluation import optimize
+    from . import ins
+    ins.add_parser(sub)
+    from . import ahrs
+    ahrs.add_parser(sub)
+    from . import compare
+    compare.add_parser(sub)
+    from . import calibrate
+    calibrate.add_parser(sub)
+    calibrate.add_allan_parser(sub)
+    from ..evaluation import optimize
     optimize.add_parser(sub)
     _leaf_progs(parser)
     parser.set_defaults(func=None)
@@ -129,7 +129,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:
-        from . import __version__
+        from .. import __version__
         print(__version__)
         return 0
     prog = getattr(args, "_prog", "quatnav")
@@ -179,6 +179,3 @@ def main(argv=None) -> int:
         print(f"{prog}: error: {_plain(exc)}", file=sys.stderr)
         return 2
 
-
-if __name__ == "__main__":
-    sys.exit(main())

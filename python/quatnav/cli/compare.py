@@ -16,10 +16,10 @@ import math
 
 import numpy as np
 
-from .cliutil import UsageError, write_json
-from .core import earth as E
-from .core import quaternion as Q
-from .evaluation import metrics as M
+from ..core import earth as E
+from ..core import quaternion as Q
+from ..evaluation import metrics as M
+from .util import UsageError, write_json
 
 EPILOG = """\
 inputs: any file quatnav.io.read knows; a CSV track has time and q_w..q_z (ahrs run output) or
@@ -136,7 +136,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def _read_track(path, fmt):
-    from . import io
+    from .. import io
     if str(path).lower().endswith(".parquet"):
         import pandas as pd
         import tempfile, os

@@ -75,8 +75,8 @@ import sys
 
 import numpy as np
 
-from .cliutil import UsageError, write_json
-from .csvio import CsvError, read_table
+from ..csvio import CsvError, read_table
+from .util import UsageError, write_json
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 IMU_INCREMENT_COLUMNS = ("time", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")
@@ -185,8 +185,8 @@ def load_config(path, initial: dict | None = None) -> dict:
         raise InputError(f"config {path}: cannot open ({e.strerror})") from None
     except toml.TOMLDecodeError as e:
         raise InputError(f"config {path}: not valid TOML ({e})") from None
-    from .filters.gpsins import PARAM_NAMES
-    from .filters.tables import GPSINS_PARAMS
+    from ..filters.gpsins import PARAM_NAMES
+    from ..filters.tables import GPSINS_PARAMS
     kinds = {q.name: q.kind for q in GPSINS_PARAMS}
     # a noise file of 'quatnav allan' also holds [parameters.NAME] (other filters) and [allan] (read-outs)
     unknown = [k for k in doc if k not in ("filter", "initial", "parameters", "allan")]
@@ -539,7 +539,7 @@ def _columns_of(log, what):
 def _reader(log, fmt):
     """A ``read_csv`` that takes any file :func:`quatnav.io.read` knows (CSV files keep the CSV
     reader and its messages); ``log`` (a Log) serves the files not given."""
-    from . import io
+    from .. import io
 
     def read(path, required, optional=(), what="file"):
         if path is None:
@@ -584,7 +584,7 @@ def mag_at_imu_rows(t_imu, t_mag, mag):
 
 def diagnostics_table(r) -> list:
     """One row per aiding sample of a run (see ``--diagnostics``)."""
-    from .filters.tables import GPSINS_DECISIONS, STATUS_NAMES
+    from ..filters.tables import GPSINS_DECISIONS, STATUS_NAMES
     rows = []
     qs = r.q_scale
     for name, a in r.aids.items():
@@ -708,7 +708,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
     accel = np.column_stack([d_imu[c] for c in ("accel_x", "accel_y", "accel_z")])
     if calibration:
-        from .calibration import apply_calibration_args
+        from ..calibration import apply_calibration_args
         gyro, accel, _ = apply_calibration_args(argparse.Namespace(calibration=calibration), gyro, accel)
     gaps, wt = check_imu_times(t, lines_i, max_dt, where=f"IMU {imu}")
     for w in wt:
@@ -728,7 +728,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         gg, aa = gg * share[:, None], aa * share[:, None]
     if d_m is not None:
         kw["mag"] = mag_at_imu_rows(tt, d_m["time"], np.column_stack([d_m[f"mag_{c}"] for c in "xyz"]))
-    from .csvio import progress_bar, write_table
+    from ..csvio import progress_bar, write_table
     bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
     r = f.run(gg, aa, t=tt, imu_input="increment" if increments else "rate", smooth=smooth, **kw)
     bar.update(len(tt))
@@ -777,7 +777,7 @@ def _run(args) -> int:
     prog = getattr(args, "_prog", "quatnav ins run")
     log = None
     if args.log:
-        from . import io
+        from .. import io
         log = io.read(args.log, format=args.format)
     elif not (args.imu and args.gnss):
         raise UsageError("give --imu IMU and --gnss GNSS, or --log FILE")
@@ -789,7 +789,7 @@ def _run(args) -> int:
                                  odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth)
     print(msg)
     if ok:
-        from . import nav_outputs
+        from .. import nav_outputs
         r, nav = tracks["result"], tracks["nav"]
         if args.kml:
             nav_outputs.write_kml(args.kml, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
@@ -810,7 +810,7 @@ def config_keys_text(width: int = 100) -> str:
     the parameter table of :class:`quatnav.GpsInsFilter`."""
     import textwrap
 
-    from .filters.tables import GPSINS_PARAMS
+    from ..filters.tables import GPSINS_PARAMS
     lines = ["[filter] keys (quatnav.GpsInsFilter parameters; unit, default):"]
     for q in GPSINS_PARAMS:
         d = q.default
@@ -850,7 +850,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--mag", metavar="MAG.csv", help="raw magnetometer: time, mag_x, mag_y, mag_z (optional; IMU axes)")
     r.add_argument("--odometer", metavar="ODO.csv", help="odometer: time, speed (m/s, optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
-    from .calibration import add_calibration_argument
+    from ..calibration import add_calibration_argument
     add_calibration_argument(r)
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output CSV")
     r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")

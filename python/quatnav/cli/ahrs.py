@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .cliutil import UsageError
+from .util import UsageError
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 
@@ -62,7 +62,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--smooth", action="store_true", help="offline: the smoothed attitude (qekf, euler-ekf)")
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output file (.csv or .parquet)")
     r.add_argument("--plot", metavar="FILE.png", help="also plot the result")
-    from .calibration import add_calibration_argument
+    from ..calibration import add_calibration_argument
     add_calibration_argument(r)
     r.set_defaults(func=_run)
     p.set_defaults(func=None)
@@ -77,7 +77,7 @@ def topic_options(topics, path, fmt="auto") -> dict:
     """Reader options of ``--topic KIND=TOPIC`` values for the log ``path``."""
     if not topics:
         return {}
-    from . import io
+    from .. import io
     kind = io.detect(path) if fmt == "auto" else fmt
     known = TOPIC_OPTIONS.get(kind, {})
     out = {}
@@ -93,14 +93,14 @@ def topic_options(topics, path, fmt="auto") -> dict:
 
 
 def load_inputs(args):
-    from . import io
+    from .. import io
     if args.log:
         log = io.read(args.log, format=args.format, **topic_options(getattr(args, "topic", []), args.log, args.format))
     else:
         log = io.read(args.imu, format="csv", kind="imu")
         if args.mag:
-            from .io.csvfile import read_csv
-            from .csvio import read_table, CsvError
+            from ..io.csvfile import read_csv
+            from ..csvio import read_table, CsvError
             try:
                 c = read_table(args.mag, ("time", "mag_x", "mag_y", "mag_z"), what="MAG").columns
             except CsvError as e:
@@ -128,7 +128,7 @@ def run_filter(log, name="qekf", declination_deg=0.0, rate=None, smooth=False):
     """Run the attitude filter ``name`` on ``log`` (IMU averaged to ``rate`` Hz when given;
     ``smooth``: the smoothed result); returns its result."""
     import quatnav
-    from .io import mag_on_imu_times
+    from ..io import mag_on_imu_times
     t, gyr, acc = log.imu.t, log.imu.gyr, log.imu.acc
     mag = mag_on_imu_times(log)
     if rate:
@@ -151,7 +151,7 @@ def run_filter(log, name="qekf", declination_deg=0.0, rate=None, smooth=False):
     if not takes_decl and declination_deg and mag is not None:
         # a filter without the parameter (EulerEKF) refers yaw to magnetic north: turn the
         # navigation frame about down by the declination (q_true_nb = q_z(decl) * q_mag_nb)
-        from .core import quaternion as Q
+        from ..core import quaternion as Q
         d = math.radians(declination_deg)
         res.quat[:] = Q.mul(np.array([math.cos(d / 2), 0.0, 0.0, math.sin(d / 2)]), res.quat)
     return res
@@ -206,7 +206,7 @@ def plot_attitude(res, log, path):
     for i, c in enumerate(("roll", "pitch", "yaw")):
         ax[0].plot(res.t, e[:, i], label=c)
     if ref is not None:
-        from .core import quaternion as Q
+        from ..core import quaternion as Q
         er = np.degrees(Q.to_euler(ref.quat))
         for i in range(3):
             ax[0].plot(ref.t, er[:, i], "k:", lw=0.8, label=ref.name if i == 0 else None)
@@ -215,7 +215,7 @@ def plot_attitude(res, log, path):
     ax[1].plot(res.t, np.degrees(res.bias))
     ax[1].set_ylabel("gyro bias, deg/s")
     if ref is not None:
-        from .compare_cli import attitude_difference
+        from .compare import attitude_difference
         d = attitude_difference(res.t, res.quat, ref.t, ref.quat)
         ax[2].plot(d["t"], d["inclination_deg"], label="inclination")
         ax[2].plot(d["t"], d["heading_deg"], label="heading")
@@ -230,7 +230,7 @@ def plot_attitude(res, log, path):
 def _run(args) -> int:
     log = load_inputs(args)
     if getattr(args, "calibration", None):
-        from .calibration import apply_calibration_args
+        from ..calibration import apply_calibration_args
         mag = log.mag.values if log.mag is not None else None
         log.imu.gyr, log.imu.acc, mag = apply_calibration_args(args, log.imu.gyr, log.imu.acc, mag)
         if log.mag is not None:

@@ -7,7 +7,7 @@ import warnings
 
 import numpy as np
 
-from .cliutil import UsageError, write_json
+from .util import UsageError, write_json
 
 __all__ = ["add_parser", "read_log"]
 
@@ -29,7 +29,7 @@ examples:
 
 def read_log(path, mag=False):
     """(t, gyr, acc, mag or None) of an IMU CSV log; a bad file raises UsageError."""
-    from .csvio import CsvError, read_table
+    from ..csvio import CsvError, read_table
     try:
         tab = read_table(path, IMU, MAG, what="LOG", min_rows=2)
     except CsvError as e:
@@ -41,7 +41,7 @@ def read_log(path, mag=False):
 
 
 def _fit(args):
-    from . import calibration as cal
+    from .. import calibration as cal
     t, gyr, acc, mag = read_log(args.log, mag=args.sensor == "mag")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -78,7 +78,7 @@ def _summary(res) -> str:
 
 
 def _plot(res, raw, path):
-    from . import _plotting
+    from .. import _plotting
     fig = _plotting.figure((9, 3.2))
     cal = res.apply(raw)
     pairs = ((0, 1), (0, 2), (1, 2))
@@ -96,7 +96,7 @@ def _plot(res, raw, path):
 
 
 def _run(args) -> int:
-    from . import calibration as cal
+    from .. import calibration as cal
     prog = getattr(args, "_prog", "quatnav calibrate")
     if args.model and args.sensor == "gyro":
         raise UsageError("--model is for mag and acc (the gyro model follows from the data)")
@@ -155,8 +155,8 @@ their relative standard errors). See docs/CALIBRATION.md."""
 
 
 def _allan(args) -> int:
-    from . import calibration as cal
-    from .calibration.noise import noise_parameters, plot_allan
+    from .. import calibration as cal
+    from ..calibration.noise import noise_parameters, plot_allan
     t, gyr, acc, _ = read_log(args.log)
     dt = np.diff(t)
     if np.max(dt) > 1.5 * np.median(dt):
