@@ -1,4 +1,4 @@
-"""quatnav.csvio.read_table: delimiters, byte-order mark, header case, decimal comma, and errors
+"""quatnav.io.table.read_table: delimiters, byte-order mark, header case, decimal comma, and errors
 that name the file, its line number and the column."""
 import sys
 
@@ -7,7 +7,7 @@ import pytest
 
 pytest.importorskip("pandas")
 
-from quatnav.csvio import CsvError, read_table, sniff_delimiter  # noqa: E402
+from quatnav.io.table import CsvError, read_table, sniff_delimiter  # noqa: E402
 
 COLS = ("time", "gyro_x", "accel_z")
 
@@ -113,7 +113,7 @@ def test_without_pandas_names_the_extra(tmp_path, monkeypatch):
 
 def test_numpy_alone_imports_quatnav():
     import subprocess
-    code = "import sys; sys.modules['pandas'] = None; import quatnav, quatnav.csvio, quatnav.cli.ins, quatnav.cli"
+    code = "import sys; sys.modules['pandas'] = None; import quatnav, quatnav.io.table, quatnav.cli.ins, quatnav.cli"
     import quatnav
     from pathlib import Path
     env = {"PYTHONPATH": str(Path(quatnav.__file__).resolve().parent.parent)}
@@ -152,7 +152,7 @@ def _fmt_values():
 
 @pytest.mark.parametrize("fmt", ["%.6g", "%.10g", "%.3g", "%.6f", "%.10f"])
 def test_round_to_format_gives_printf_numbers(fmt):
-    from quatnav.csvio import round_to_format
+    from quatnav.io.table import round_to_format
     v = _fmt_values()
     if fmt.endswith("f"):
         v = v[~(np.abs(v) > (400.0 if fmt == "%.10f" else 1e5))]   # %.10f: latitudes, longitudes
@@ -168,7 +168,7 @@ def test_round_to_format_gives_printf_numbers(fmt):
 
 def test_write_table_csv_and_parquet(tmp_path, monkeypatch):
     import pandas as pd
-    from quatnav.csvio import write_table
+    from quatnav.io.table import write_table
     v = _fmt_values()
     v = v[np.isfinite(v)]
     t = np.arange(len(v)) * 0.005
@@ -202,7 +202,7 @@ def test_write_table_csv_and_parquet(tmp_path, monkeypatch):
 def test_progress_bar_only_on_a_terminal_and_for_long_jobs(monkeypatch):
     import io as _io
 
-    from quatnav.csvio import progress_bar
+    from quatnav.io.table import progress_bar
     pytest.importorskip("tqdm")
     short, off = progress_bar(1000), progress_bar(10 ** 6)   # pytest's stderr is no terminal
     for b in (short, off):

@@ -128,3 +128,13 @@ def test_the_command_line_is_one_package():
     init = (cli / "__init__.py").read_text()
     for name in ("ins", "ahrs", "compare", "calibrate"):
         assert f"from . import {name}\n" in init, f"quatnav.cli does not add the {name} subcommand"
+
+
+def test_the_package_top_holds_only_its_face_and_private_helpers():
+    """Everything else sits in a package by job (core, filters, reference, sim, io, datasets,
+    calibration, evaluation, experiments, cli)."""
+    top = sorted(p.stem for p in PACKAGE.glob("*.py") if not p.stem.startswith("_"))
+    assert top == ["demo"], f"modules at the package top that belong in a package by job: {top}"
+    jobs = {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").is_file()}
+    assert {"core", "filters", "reference", "sim", "io", "datasets", "calibration", "evaluation",
+            "experiments", "cli"} <= jobs

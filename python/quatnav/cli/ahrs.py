@@ -100,7 +100,7 @@ def load_inputs(args):
         log = io.read(args.imu, format="csv", kind="imu")
         if args.mag:
             from ..io.csvfile import read_csv
-            from ..csvio import read_table, CsvError
+            from ..io.table import read_table, CsvError
             try:
                 c = read_table(args.mag, ("time", "mag_x", "mag_y", "mag_z"), what="MAG").columns
             except CsvError as e:

@@ -29,7 +29,7 @@ examples:
 
 def read_log(path, mag=False):
     """(t, gyr, acc, mag or None) of an IMU CSV log; a bad file raises UsageError."""
-    from ..csvio import CsvError, read_table
+    from ..io.table import CsvError, read_table
     try:
         tab = read_table(path, IMU, MAG, what="LOG", min_rows=2)
     except CsvError as e:

@@ -8,7 +8,7 @@
 
 Every input file is CSV with a header row of named columns (any order, matched without regard to
 case or surrounding spaces; extra columns are ignored; blank lines and lines starting with ``#``
-are skipped), read by :func:`quatnav.csvio.read_table` (pandas: ``pip install 'quatnav[io]'``):
+are skipped), read by :func:`quatnav.io.table.read_table` (pandas: ``pip install 'quatnav[io]'``):
 ``,``, ``;`` or tab delimiters, UTF-8 with or without a byte-order mark. Times are in seconds on
 one clock shared by all files and strictly increasing within each file.
 
@@ -75,7 +75,7 @@ import sys
 
 import numpy as np
 
-from ..csvio import CsvError, read_table
+from ..io.table import CsvError, read_table
 from .util import UsageError, write_json
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
@@ -158,7 +158,7 @@ class InputError(UsageError, ValueError):
 def read_csv(path, required, optional=(), what="file"):
     """Read a CSV with a header row; returns ({column: float array}, file line numbers).
 
-    See :func:`quatnav.csvio.read_table`; raises :class:`InputError` naming the file, line, column.
+    See :func:`quatnav.io.table.read_table`; raises :class:`InputError` naming the file, line, column.
     """
     try:
         tab = read_table(path, required, optional, what=what)
@@ -728,7 +728,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         gg, aa = gg * share[:, None], aa * share[:, None]
     if d_m is not None:
         kw["mag"] = mag_at_imu_rows(tt, d_m["time"], np.column_stack([d_m[f"mag_{c}"] for c in "xyz"]))
-    from ..csvio import progress_bar, write_table
+    from ..io.table import progress_bar, write_table
     bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
     r = f.run(gg, aa, t=tt, imu_input="increment" if increments else "rate", smooth=smooth, **kw)
     bar.update(len(tt))
@@ -789,16 +789,16 @@ def _run(args) -> int:
                                  odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth)
     print(msg)
     if ok:
-        from .. import nav_outputs
+        from ..io import tracks as track_files
         r, nav = tracks["result"], tracks["nav"]
         if args.kml:
-            nav_outputs.write_kml(args.kml, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
+            track_files.write_kml(args.kml, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
             print(f"wrote {args.kml}")
         if args.gpx:
-            nav_outputs.write_gpx(args.gpx, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
+            track_files.write_gpx(args.gpx, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
             print(f"wrote {args.gpx}")
         if args.plot:
-            nav_outputs.plot_nav(args.plot, r, nav, tracks["gnss"], log)
+            track_files.plot_nav(args.plot, r, nav, tracks["gnss"], log)
             print(f"wrote {args.plot}")
     if args.json:
         write_json(summary, args)

@@ -85,7 +85,7 @@ def read(path, format: str = "auto", **options) -> Log:
         return read_nmea(path, **options)
     if fmt == "csv":
         from .csvfile import read_csv
-        from ..csvio import CsvError
+        from .table import CsvError
         try:
             return read_csv(path, **options)
         except CsvError as e:

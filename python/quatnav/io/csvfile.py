@@ -1,4 +1,4 @@
-"""CSV logs with a header row of named columns, read by :func:`quatnav.csvio.read_table` (the
+"""CSV logs with a header row of named columns, read by :func:`quatnav.io.table.read_table` (the
 columns of ``quatnav ins run``). One file may hold several streams on the same rows; what a file
 holds is decided by its columns:
 
@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import quaternion as Q
-from ..csvio import read_table
+from .table import read_table
 from .log import Baro, Compass, Gnss, Imu, Log, Mag, Reference
 
 __all__ = ["read_csv", "header_names"]

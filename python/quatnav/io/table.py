@@ -170,7 +170,7 @@ def read_table(path, required, optional=(), what: str = "file", increasing: str 
     ModuleNotFoundError
         Without pandas (``pip install 'quatnav[io]'``).
     """
-    from ._optional import require
+    from .._optional import require
     pd = require("pandas", "reading CSV files")
     required, optional = tuple(required), tuple(optional)
     where = f"{what} {path}"

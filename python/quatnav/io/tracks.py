@@ -51,7 +51,7 @@ def plot_nav(path, r, nav, gnss, log=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from .core import earth as E
+    from ..core import earth as E
     lat0, lon0, h0 = np.radians(gnss["lat"][0]), np.radians(gnss["lon"][0]), gnss["h"][0]
     p = E.geodetic_to_ned(r.lat[nav], r.lon[nav], r.h[nav], lat0, lon0, h0)
     g = E.geodetic_to_ned(np.radians(gnss["lat"]), np.radians(gnss["lon"]), gnss["h"], lat0, lon0, h0)
@@ -80,7 +80,7 @@ def plot_nav(path, r, nav, gnss, log=None):
     ax[1, 0].plot(t, np.degrees(r.bias[nav]) * 3600)
     ax[1, 0].set_ylabel("gyro bias, deg/h")
     if ref is not None:
-        from .cli.compare import attitude_difference
+        from ..cli.compare import attitude_difference
         d = attitude_difference(t, r.quat[nav], ref.t, ref.quat)
         ax[1, 1].plot(d["t"], d["inclination_deg"], label="inclination")
         ax[1, 1].plot(d["t"], d["heading_deg"], label="heading")
