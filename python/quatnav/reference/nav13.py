@@ -245,7 +245,8 @@ class NavFilter13:
             return "non_finite"
         if not (0.0 < dt <= p.max_dt):
             return "invalid_dt"
-        if (p.gyro_range > 0 and np.abs(w).max() >= p.gyro_range) or (p.acc_range > 0 and np.abs(f).max() >= p.acc_range):
+        if ((p.gyro_range > 0 and np.abs(w).max() >= p.gyro_range)
+                or (p.acc_range > 0 and np.abs(f).max() >= p.acc_range)):
             return "saturated"
         u = self._input(f_ib_b, omega_ib_b, dt)
         u.f_ib_b = rotation_correction(u.f_ib_b, u.omega_ib_b, self.x[BA], self.x[BG], u.dt)
@@ -421,8 +422,9 @@ class NavFilter13:
                     r = update(a.value[i])
                     a.innovation[i], a.nis[i], a.status[i] = r.innovation, r.nis, r.status
                     ok, rejected = used[name]
+                    skipped = FLAGS["aid_skipped"]
                     fl |= {"ok": ok, "rejected": rejected,
-                           "solve_failed": FLAGS["solve_failed"] | FLAGS["aid_skipped"]}.get(r.status, FLAGS["aid_skipped"])
+                           "solve_failed": FLAGS["solve_failed"] | skipped}.get(r.status, skipped)
                     i += 1
                 next_[name] = i
             return fl
