@@ -11,7 +11,7 @@ import numpy as np
 
 from ..core import earth
 from ..core import quaternion as Q
-from ..filters.tables import NAV13_PARAMS
+from ..filters.tables import FLAGS, NAV13_PARAMS
 from .kalman import kalman_correct
 from .smoother import rts
 
@@ -20,6 +20,8 @@ V, QI, BA, BG = slice(0, 3), slice(3, 7), slice(7, 10), slice(10, 13)
 
 #: The parameters of the C++ filter with its defaults (the one table, quatnav.filters.tables).
 DEFAULTS = {p.name: p.default for p in NAV13_PARAMS if p.core_name is not None}
+#: The options of the batch run that are no C++ parameter (the NIS gates of the two aids).
+GATES = {p.name: p.default for p in NAV13_PARAMS if p.core_name is None and p.name != "time_update"}
 
 
 def quad_rotmat(M):
@@ -179,9 +181,10 @@ class NavFilter13:
         if time_update not in TIME_UPDATES:
             raise ValueError(f"time_update: expected one of {TIME_UPDATES}, got {time_update!r}")
         self.time_update = time_update
-        unknown = sorted(set(params) - set(DEFAULTS))
+        unknown = sorted(set(params) - set(DEFAULTS) - set(GATES))
         if unknown:
-            raise TypeError(f"NavFilter13: unknown parameter {unknown[0]!r}; known: {', '.join(DEFAULTS)}")
+            raise TypeError(f"NavFilter13: unknown parameter {unknown[0]!r}; known: {', '.join({**DEFAULTS, **GATES})}")
+        self.gates = {k: float(params.pop(k, v)) for k, v in GATES.items()}
         p = dict(DEFAULTS)
         p.update(params)
         self.params = SimpleNamespace(**p)
@@ -231,6 +234,20 @@ class NavFilter13:
         return u
 
     def predict(self, omega_ib_b, f_ib_b, dt):
+        """The time update over ``dt``; refused (a status, the state untouched) like the C++ step:
+        before :meth:`reset`, for a non-finite input, a ``dt`` outside (0, max_dt] or a sample at
+        or above ``gyro_range`` / ``acc_range`` (when positive). ``cov_floor`` is not modelled."""
+        p = self.params
+        w, f = np.asarray(omega_ib_b, float), np.asarray(f_ib_b, float)
+        if not self.initialized:
+            return "not_initialized"
+        if not (np.all(np.isfinite(w)) and np.all(np.isfinite(f))):
+            return "non_finite"
+        if not (0.0 < dt <= p.max_dt):
+            return "invalid_dt"
+        if ((p.gyro_range > 0 and np.abs(w).max() >= p.gyro_range)
+                or (p.acc_range > 0 and np.abs(f).max() >= p.acc_range)):
+            return "saturated"
         u = self._input(f_ib_b, omega_ib_b, dt)
         u.f_ib_b = rotation_correction(u.f_ib_b, u.omega_ib_b, self.x[BA], self.x[BG], u.dt)
         x, P = self.x, self.P
@@ -347,6 +364,104 @@ class NavFilter13:
         y = np.concatenate([np.asarray(v_meas, float) - self.x[V], [Q.wrap_pi(float(yaw) - yaw_of(self.x[QI]))]])
         return self._correct(H, R, y, gate)
 
+
+    # -- batch -----------------------------------------------------------------------------------
+    def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_vel=None, yaw=None, return_covariance=False,
+            smooth=False):
+        """The loop of ``quatnav::run_nav13_batch`` (nav/nav_filter13.hpp) with the public ``run``'s
+        signature (:meth:`quatnav.NavFilter13.run`, without ``on_invalid``), continuing from the
+        state given to :meth:`reset`.
+
+        Times: ``t`` (the first step repeats ``t[1] - t[0]``) or ``dt`` (a step or one per sample,
+        ``t = cumsum(dt)``), as the public class reads them. The aids as ``Aid(t, value)`` (anything
+        with ``.t`` and ``.value``): ``gps_vel`` NED velocities (K, 3), ``yaw`` angles (M,). A
+        measurement at time ``tm`` is applied after the predict of the first sample k with
+        ``tm <= t[k] + 1e-4 dt[k]`` (those up to ``t[0] - dt[0] + 1e-4 dt[0]`` before the first
+        predict); on one sample every due velocity before every due yaw, with the gates
+        ``gate_gps_vel`` and ``gate_yaw`` of the constructor.
+
+        Returns a namespace: ``t``, ``x`` (N, 13), ``quat``, ``velocity``, ``acc_bias``,
+        ``gyro_bias``, ``sigma`` (N, 13), ``att_sigma`` (N, 3), ``P`` (N, 13, 13, or None without
+        ``return_covariance``), ``flags`` (the C++ bits) and ``aids`` (per given aid: ``t``,
+        ``innovation``, ``nis``, ``status`` names; "not_initialized" for a measurement after the
+        last sample). ``smooth=True``: the estimates, sigmas and P are the Rauch-Tung-Striebel
+        smoothed ones (:func:`smooth`), the forward namespace in ``forward``."""
+        if mag is not None:
+            raise TypeError("mag: NavFilter13 uses no magnetometer (pass None)")
+        if not self.initialized:
+            raise ValueError("run: the filter is not initialized (call reset first)")
+        gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
+        n = len(gyr)
+        if (t is None) == (dt is None):
+            raise ValueError("dt, t: give exactly one of dt (seconds) or t (timestamps, seconds)")
+        if t is not None:
+            t = np.asarray(t, float)
+            d = np.diff(t)
+            steps = np.concatenate([d[:1], d])
+        else:
+            steps = np.broadcast_to(np.asarray(dt, float), (n,)).copy()
+            t = np.cumsum(steps)
+        aids = {}
+        for name, aid, cols in (("gps_vel", gps_vel, 3), ("yaw", yaw, 1)):
+            ta = np.zeros(0) if aid is None else np.asarray(aid.t, float)
+            va = np.zeros((0, cols)) if aid is None else np.asarray(aid.value, float).reshape(len(ta), cols)
+            aids[name] = SimpleNamespace(t=ta, value=va, innovation=np.full((len(ta), cols), np.nan),
+                                         nis=np.full(len(ta), np.nan),
+                                         status=np.full(len(ta), "not_initialized", dtype=object))
+        vel, yw = aids["gps_vel"], aids["yaw"]
+        next_ = {"gps_vel": 0, "yaw": 0}
+        used = {"gps_vel": (FLAGS["gps_vel_used"], FLAGS["gps_vel_rejected"]),
+                "yaw": (FLAGS["heading_used"], FLAGS["heading_rejected"])}
+
+        def apply(t_now):
+            fl = 0
+            for name, a, update in (("gps_vel", vel, lambda v: self.update_velocity(v, self.gates["gate_gps_vel"])),
+                                    ("yaw", yw, lambda v: self.update_yaw(v[0], self.gates["gate_yaw"]))):
+                i = next_[name]
+                while i < len(a.t) and a.t[i] <= t_now:
+                    r = update(a.value[i])
+                    a.innovation[i], a.nis[i], a.status[i] = r.innovation, r.nis, r.status
+                    ok, rejected = used[name]
+                    skipped = FLAGS["aid_skipped"]
+                    fl |= {"ok": ok, "rejected": rejected,
+                           "solve_failed": FLAGS["solve_failed"] | skipped}.get(r.status, skipped)
+                    i += 1
+                next_[name] = i
+            return fl
+
+        out = dict(x=np.empty((n, 13)), sigma=np.empty((n, 13)), att_sigma=np.empty((n, 3)),
+                   P=np.empty((n, 13, 13)), flags=np.zeros(n, np.uint32))
+        posts, links = [], []
+        fl0 = apply(t[0] - steps[0] + 1e-4 * steps[0]) if n else 0
+        for k in range(n):
+            fl = fl0 if k == 0 else 0
+            status = self.predict(gyr[k], acc[k], steps[k])
+            if status != "ok":
+                fl |= FLAGS["predict_skipped"] | (FLAGS["saturated"] if status == "saturated" else 0)
+            if k:
+                links.append((self.snapshot(), self.last_transition()) if status == "ok" else "same")
+            fl |= apply(t[k] + 1e-4 * steps[k])
+            posts.append(self.snapshot())
+            out["x"][k], out["P"][k], out["flags"][k] = self.x, self.P, fl
+            out["sigma"][k] = np.sqrt(np.maximum(np.diag(self.P), 0.0))
+            out["att_sigma"][k] = np.sqrt(np.maximum(np.diag(self.error_covariance())[3:6], 0.0))
+
+        def result(x, sigma, att_sigma, P, **kw):
+            return SimpleNamespace(t=t, x=x, quat=x[:, QI], velocity=x[:, V], acc_bias=x[:, BA], gyro_bias=x[:, BG],
+                                   sigma=sigma, att_sigma=att_sigma, P=P if return_covariance else None,
+                                   flags=out["flags"], aids={k: aids[k] for k, a in (("gps_vel", gps_vel), ("yaw", yaw))
+                                                             if a is not None}, **kw)
+
+        fwd = result(out["x"], out["sigma"], out["att_sigma"], out["P"])
+        if not smooth or n == 0:
+            return fwd
+        xs, Pe = rts(posts, links, error_covariance, local, retract)  # smooth(posts, links)
+        x = np.array([s[0] for s in xs])
+        P = np.array([s[1] for s in xs])
+        Pe = np.array(Pe)
+        sigma = np.sqrt(np.maximum(np.diagonal(P, axis1=1, axis2=2), 0.0))
+        att_sigma = np.sqrt(np.maximum(np.diagonal(Pe[:, 3:6, 3:6], axis1=1, axis2=2), 0.0))
+        return result(x, sigma, att_sigma, P, forward=fwd)
 
 # -- the Rauch-Tung-Striebel smoother (cpp/include/quatnav/nav/nav13_smoother.hpp) -------------------
 def error_covariance(state):
