@@ -222,8 +222,16 @@ template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S
     bv[i] = a[i] - s * k[i];
   }
   S* p = P.data();  // column-major: P(i, j) = p[i + N j]
+  // Unrolled (the same operations in the same order): for N = 6 the loop counters and the
+  // indexing of the triangular loop cost more than its 21 pairs of multiply-adds.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
   for (int j = 0; j < N; ++j) {
     const S kj = kv[j], bj = bv[j];
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
     for (int i = j; i < N; ++i) {
       const S v = p[i + N * j] - av[i] * kj - kv[i] * bj;
       p[i + N * j] = v;
