@@ -466,9 +466,11 @@ def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
     when the median |gyr| reads as gravity in m/s^2 and the median |acc| as a rate."""
     if not len(g):
         return
-    with np.errstate(invalid="ignore"):
-        ng = np.linalg.norm(g.astype(np.float64), axis=1)
-        na = np.linalg.norm(a.astype(np.float64), axis=1)
+    # Norms in float64 by einsum (no float64 copies of the inputs, no temporaries of
+    # np.linalg.norm): on a long run this test cost a sixth of QuaternionEKF's batch run.
+    with np.errstate(invalid="ignore", over="ignore"):
+        ng = np.sqrt(np.einsum("ij,ij->i", g, g, dtype=np.float64))
+        na = np.sqrt(np.einsum("ij,ij->i", a, a, dtype=np.float64))
         ng, na = ng[np.isfinite(ng)], na[np.isfinite(na)]
     # Gravity within 10 %, and a rate below 3 rad/s where the specific force should be (in m/s^2
     # or in g): a gyro whose median reads 9-10.8 rad/s with such an accelerometer is swapped.
