@@ -161,6 +161,45 @@ template <class S> struct QEKFPaperCase : QEKFCase<S> {
   }
 };
 
+// The default QuaternionEKF of the Python package: the 6-state error-state filter
+// (quaternion_eskf.hpp) with the robustness parts, and the same split as above.
+template <class S> struct ESKFCase {
+  static constexpr const char* name = "QuaternionESKF";
+  static constexpr bool countable = true;
+  static constexpr const char* policy = "error state";
+  static constexpr const char* step_desc = "predict+acc+mag";
+  quatnav::QuaternionESKF<S> f;
+  void init(const Sample<S>& s) { f.initialize(s.acc, s.mag); }
+  void step(const Sample<S>& s) {
+    f.predict(s.gyr, s.dt);
+    f.update_acc(s.acc);
+    f.update_mag(s.mag);
+  }
+};
+
+template <class S> struct ESKFPredictCase : ESKFCase<S> {
+  static constexpr const char* policy = "error state, predict only";
+  static constexpr const char* step_desc = "predict";
+  void step(const Sample<S>& s) { this->f.predict(s.gyr, s.dt); }
+};
+
+template <class S> struct ESKFPredictAccCase : ESKFCase<S> {
+  static constexpr const char* policy = "error state, predict+acc only";
+  static constexpr const char* step_desc = "predict+acc";
+  void step(const Sample<S>& s) {
+    this->f.predict(s.gyr, s.dt);
+    this->f.update_acc(s.acc);
+  }
+};
+
+template <class S> struct ESKFPaperCase : ESKFCase<S> {
+  static constexpr const char* policy = "error state, paper() parameters";
+  void init(const Sample<S>& s) {
+    this->f = quatnav::QuaternionESKF<S>(quatnav::QuaternionEKFParams<S>::paper());
+    this->f.initialize(s.acc, s.mag);
+  }
+};
+
 template <class S> struct EulerEKFCase {
   static constexpr const char* name = "EulerEKF";
   static constexpr bool countable = true;
@@ -329,6 +368,10 @@ int main(int argc, char** argv) {
   qb::run_case<qb::QEKFPredictAccCase>(opt);
   qb::run_case<qb::QEKFNoFloorCase>(opt);
   qb::run_case<qb::QEKFPaperCase>(opt);
+  qb::run_case<qb::ESKFCase>(opt);
+  qb::run_case<qb::ESKFPredictCase>(opt);
+  qb::run_case<qb::ESKFPredictAccCase>(opt);
+  qb::run_case<qb::ESKFPaperCase>(opt);
   qb::run_case<qb::EulerEKFCase>(opt);
   qb::run_case<qb::Nav13EkfCase>(opt);
   qb::run_case<qb::Nav13SecondOrderCase>(opt);
