@@ -332,6 +332,7 @@ for _scen, _stride in (("rotation", 50), ("broad", 400)):
             continue
         CASES.append(_case(f"{_tag}_{_scen}", _scen, run_qekf, _call, _stride, **_opts))
     CASES.append(_case(f"euler_{_scen}", _scen, run_euler, "EulerEKF()", _stride))
+    CASES.append(_case(f"euler-paper_{_scen}", _scen, run_euler, "EulerEKF(paper=True)", _stride, paper=True))
     CASES.append(_case(f"marg_{_scen}", _scen, run_marg, "MargFilter()", _stride))
     if _scen == "rotation":
         CASES += [
@@ -345,6 +346,7 @@ CASES += [
     _case("qekf_handheld", "handheld", run_qekf, "QuaternionEKF()", 100),
     _case("qekf-paper_handheld", "handheld", run_qekf, "QuaternionEKF(paper=True)", 100, paper=True),
     _case("euler_handheld", "handheld", run_euler, "EulerEKF()", 100),
+    _case("euler-paper_handheld", "handheld", run_euler, "EulerEKF(paper=True)", 100, paper=True),
     _case("marg-bias_handheld", "handheld", run_marg, "MargFilter(bias_gain=0.05)", 100, bias_gain=0.05),
     _case("marg_turn", "turn", run_marg, "MargFilter(), no GPS", 70),
     _case("marg-gps_turn", "turn", run_marg,

@@ -235,11 +235,11 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
   static constexpr const char* name = "EulerEKF";
   static bool same(const State& a, const State& b) {
     return bits_equal(a.euler, b.euler) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
-           same_mag(a.mag, b.mag) && a.initialized == b.initialized;
+           same_mag(a.mag.ref, b.mag.ref) && a.initialized == b.initialized;
   }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
-    if (!s.euler.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag))
+    if (!s.euler.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag.ref))
       return why = "non-finite state", false;
     if (!f.quat().allFinite()) return why = "non-finite quaternion", false;
     if (!symmetric<S, 6>(s.P)) return why = "P not symmetric", false;
@@ -251,8 +251,8 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
     s.gyro_bias = r.vec3<S>();
     for (int i = 0; i < 6; ++i)
       for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
-    s.mag.mag_ref = r.vec3<S>();
-    s.mag.mag_ref_count = r.byte();
+    s.mag.ref.mag_ref = r.vec3<S>();
+    s.mag.ref.mag_ref_count = r.byte();
     s.initialized = r.byte() & 1;
     return s;
   }

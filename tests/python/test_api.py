@@ -414,14 +414,18 @@ def test_nav13_twin_runs_like_the_public_class(tu, n):
         f.run(gyr, acc, t=t, dt=0.01)
 
 
-def test_twin_paper_values_equal_the_cpp_paper_parameters():
-    """QuaternionEKF(paper=True): the numpy twin's values are those of QuaternionEKFParams::paper()."""
+@pytest.mark.parametrize("name", ["QuaternionEKF", "EulerEKF"])
+def test_twin_paper_values_equal_the_cpp_paper_parameters(name):
+    """paper=True: the numpy twin's values are those of the C++ Params::paper()."""
     from quatnav import reference
-    cpp = core().QuaternionEKFParams_f64.paper().to_dict()
-    twin = vars(reference.QuaternionEKF(paper=True).p)
+    cpp = getattr(core(), _CORE_CLASSES[name][0] + "_f64").paper().to_dict()
+    twin = vars(getattr(reference, name)(paper=True).p)
     assert set(cpp) == set(twin)
     for k, v in cpp.items():
-        assert twin[k] == pytest.approx(v, rel=1e-15), k
+        assert np.asarray(twin[k]) == pytest.approx(np.asarray(v), rel=1e-15), k
+    public = getattr(quatnav, name)(paper=True).params
+    for k, v in cpp.items():
+        assert np.asarray(public[k]) == pytest.approx(np.asarray(v), rel=1e-7), k
 
 
 def test_parameters_page_lists_every_parameter():

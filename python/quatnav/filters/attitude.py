@@ -354,7 +354,15 @@ class EulerEKF(_AttitudeFilter):
     singular: the ``"singular"`` flag reports it (``singular_cos``: the |cos(pitch)| threshold).
     Parameters as :class:`QuaternionEKF` (including ``gyro_range``, ``acc_range`` and
     ``cov_floor``, here a floor on the eigenvalues of P itself) plus ``singular_cos`` (default 0.02);
-    ``init_att_sigma`` is the one-sigma of each Euler angle.
+    ``init_att_sigma`` is the one-sigma of each Euler angle. The noise defaults are the paper's.
+
+    The robustness parts are QuaternionEKF's, with the same names and defaults: rest detection
+    (``rest_*``: at rest a zero-rate measurement of the gyro bias, flag ``at_rest``), the
+    accelerometer part (``gravity``, ``acc_lp_tau``, ``acc_lp_bias_sigma``, ``acc_reject``,
+    ``acc_adapt``, ``acc_recovery_time``; flag ``acc_rejected``) and the magnetometer part
+    (``mag_ref_samples``, ``mag_norm_tol``, ``mag_dip_tol``, ``mag_settle_time``, ``mag_ref_tau``,
+    ``mag_recovery_time``; flag ``mag_rejected``). ``EulerEKF(paper=True)`` switches them off: the
+    plain baseline of paper 000.
     """
 
     _core_name = "EulerEKF"
@@ -371,6 +379,11 @@ class EulerEKF(_AttitudeFilter):
     @property
     def near_singularity(self) -> bool:
         return bool(self._f.near_singularity)
+
+    @property
+    def at_rest(self) -> bool:
+        """True while rest is detected."""
+        return bool(self._f.at_rest)
 
     def reset(self, euler, bias=None, P=None) -> None:
         e = V.vector(euler, "euler", dtype=self.dtype)

@@ -271,21 +271,24 @@ QEKF_PARAMS = (
     *_rest_part(),
 )
 
-#: EulerEKF (``EulerEKF<S>::Params``); the paper's values.
+#: EulerEKF (``EulerEKF<S>::Params``): the paper's noise values and QuaternionEKF's robustness parts
+#: (``paper=True`` switches the parts off).
 EULER_PARAMS = (
-    _p("paper", False, "-", "accepted as in QuaternionEKF; the defaults are the paper's values already",
-       "bool", None),
+    _p("paper", False, "-", "the plain baseline of paper 000: the robustness parts off; the other arguments "
+       "are applied on top", "bool", None),
     _gyro_noise(0.005),
     _gyro_bias_noise(1e-5),
     _p("acc_sigma", 0.05, "1 (normalized)", "std of each component of the normalized accelerometer"),
     _p("mag_sigma", 0.1, "1 (normalized)", "std of each component of the normalized magnetometer"),
     _p("init_att_sigma", 0.05, "rad", "one-sigma of each Euler angle after initialize"),
     _p("init_gyro_bias_sigma", 0.01, "rad/s", "gyro-bias one-sigma after initialize"),
-    _MAG_REF,
     _max_dt(),
     _p("singular_cos", 0.02, "1", "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it"),
     *_ranges(),
     _cov_floor(1e-12),
+    *_acc_part(),
+    *_mag_part(),
+    *_rest_part(),
 )
 
 #: MargFilter (``MargFilter<S>::Params``).

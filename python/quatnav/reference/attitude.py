@@ -573,15 +573,27 @@ class EulerEKF(_Base):
     """Euler-angle EKF (paper 000's baseline) in numpy. State [roll, pitch, yaw, bx, by, bz]."""
 
     defaults = table_defaults(EULER_PARAMS)
+    #: EulerEKFParams::paper(): the robustness parts off (a test compares it with the C++).
+    paper_overrides = dict(acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
+                           acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
+                           mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
     n_states = 6
 
-    def __init__(self, **params):
+    def __init__(self, paper=False, **params):
+        if paper:
+            params = {**self.paper_overrides, **params}
         super().__init__(**params)
         self.euler = np.zeros(3)
         self.bias = np.zeros(3)
         self.P = np.eye(6)
         self.near_singularity = False
+        self.dt_last = 0.0
+        self.rest, self.acc = Rest(self.p), AccFilter(self.p)
+
+    @property
+    def at_rest(self):
+        return self.rest.at_rest()
 
     @property
     def quat(self):
@@ -627,8 +639,13 @@ class EulerEKF(_Base):
         q, mref = out
         self.euler = Q.to_euler(q)
         self.bias = np.zeros(3)
+        self.dt_last = 0.0
+        self.rest.restart()
+        self.acc.restart()
+        self.mag.restart()
+        self.flags = 0
         if mref is not None:
-            self.mag.ref.restart(mref, self.p.mag_ref_samples)
+            self.mag.start(mref, np.linalg.norm(mag))
         self.P = np.diag([self.p.init_att_sigma**2] * 3 + [self.p.init_gyro_bias_sigma**2] * 3)
         self.initialized = True
         return "ok"
@@ -645,11 +662,49 @@ class EulerEKF(_Base):
         Qn[:3, :3] = dt * self.p.gyro_noise**2 * E @ E.T
         Qn[3:, 3:] = np.eye(3) * dt * self.p.gyro_bias_noise**2
         P = F @ self.P @ F.T + Qn
+        self.acc.predict_rate(np.asarray(gyr, float) - self.bias, dt)
         self.P = 0.5 * (P + P.T)
         e[0], e[2] = Q.wrap_pi(e[0]), Q.wrap_pi(e[2])
         self.euler = e
         self.near_singularity = singular
+        self.flags = 0
+        self.dt_last = dt
+        self.rest.predict(gyr, dt)
         return "ok"
+
+    # --- measurements with the robustness parts (as QuaternionESKF) ------------------------
+    def update_acc(self, acc, gate=0.0):
+        """The rest test (at rest a zero-rate update of the bias), the accelerometer part, 3 rows."""
+        if not self.initialized:
+            return SimpleNamespace(status="not_initialized")
+        status, _ = _unit(acc)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        if self.rest.update(acc, self.bias, self.dt_last):
+            self.flags |= FLAG_AT_REST
+            H = np.zeros((3, 6))
+            H[:, 3:] = np.eye(3)
+            r = self.rest.zero_rate_variance(self.p.gyro_noise, self.dt_last)
+            self._correct(H, np.eye(3) * r, self.rest.zero_rate_innovation(self.bias), 0.0)
+        max_bias_var = float(np.max(np.diag(self.P)[3:]))
+        res = self.acc.update(acc, self.dt_last, max_bias_var, lambda a: self._update3(
+            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0)))
+        if res.status == "rejected":
+            self.flags |= FLAG_ACC_REJECTED
+        return res
+
+    def update_mag(self, mag, gate=0.0):
+        """The magnetometer part's disturbance tests, then the 3-row update."""
+        if not self.initialized:
+            return SimpleNamespace(status="not_initialized")
+        status, m = _unit(mag)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        res = self.mag.update(np.linalg.norm(mag), lambda: Q.rotate(self.quat, m), self.dt_last,
+                              lambda: self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_sigma, gate))
+        if res.status == "rejected":
+            self.flags |= FLAG_MAG_REJECTED
+        return res
 
     def _update3(self, v, rx, rz, sigma, gate):
         status, u = _unit(v)
@@ -660,8 +715,11 @@ class EulerEKF(_Base):
         H = np.zeros((3, 6))
         for i in range(3):
             H[:, i] = dC[i] @ r
-        status, dx, P, S, nis = kalman_correct(self.P, H, np.eye(3) * sigma**2, u - C @ r, gate)
-        res = SimpleNamespace(status=status, innovation=u - C @ r, innovation_cov=S, nis=nis)
+        return self._correct(H, np.eye(3) * sigma**2, u - C @ r, gate)
+
+    def _correct(self, H, R, y, gate):
+        status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
+        res = SimpleNamespace(status=status, innovation=y, innovation_cov=S, nis=nis)
         if status != "ok":
             return res
         e = self.euler + dx[:3]

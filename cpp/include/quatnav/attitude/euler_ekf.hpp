@@ -13,12 +13,22 @@
 // step still runs with cos(pitch) held at +/-singular_cos, and near_singularity() (batch flag
 // kSingular) reports it: results there are not to be trusted. This is the parametrization's
 // fault, not the data's; the quaternion EKF has no such point.
+//
+// The robustness parts (parts/*.hpp) as in QuaternionESKF: rest detection with its zero-rate
+// measurement of the bias block (H = [0 I]), the accelerometer part (low-pass in a gyro-carried
+// frame, norm rejection, adaptive noise, recovery; the low-pass time constant follows the
+// largest gyro-bias variance) and the magnetometer part (reference field and disturbance tests).
+// Their parameters and state fields carry the same names; paper() switches them off and gives
+// paper 000's plain baseline.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 
 #include "attitude.hpp"
+#include "parts/acc_filter.hpp"
+#include "parts/mag_disturbance.hpp"
+#include "parts/rest.hpp"
 #include "../core/fields.hpp"
 #include "../core/covariance.hpp"
 #include "../core/kalman.hpp"
@@ -27,7 +37,9 @@
 
 namespace quatnav {
 
-/// Parameters of EulerEKF: paper 000's values. Every field has its unit and default.
+/// Parameters of EulerEKF: paper 000's noise values with the robustness parts of QuaternionEKF
+/// (the same fields and defaults); paper() switches the parts off. Every field has its unit and
+/// default.
 // X(type, name, default, unit, doc): each field once (core/fields.hpp).
 #define QUATNAV_EULER_PARAMS(X)                                                                         \
   X(S, gyro_noise, S(0.005), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")           \
@@ -36,7 +48,6 @@ namespace quatnav {
   X(S, mag_sigma, S(0.1), "1 (normalized)", "std of each component of the normalized magnetometer")      \
   X(S, init_att_sigma, S(0.05), "rad", "one-sigma of each Euler angle after initialize")                 \
   X(S, init_gyro_bias_sigma, S(0.01), "rad/s", "gyro-bias one-sigma after initialize")                   \
-  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
   X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
   X(S, singular_cos, S(0.02), "1",                                                                       \
     "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it")                   \
@@ -44,18 +55,33 @@ namespace quatnav {
     "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")    \
   X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
   /* here a floor on the eigenvalues of P itself (covariance.hpp) */                                  \
-  X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")
+  X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")         \
+  X(AccFilterParams<S>, acc, AccFilterParams<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
+  X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
+  X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
 
 template <class S> struct EulerEKFParams {
   QUATNAV_FIELDS(EulerEKFParams, QUATNAV_EULER_PARAMS)
+
+  /// The plain baseline of paper 000: the same noise values, every robustness part off.
+  static EulerEKFParams paper() {
+    EulerEKFParams p;
+    AccFilter<S>::off(p.acc);
+    MagDisturbance<S>::off(p.mag);
+    Rest<S>::off(p.rest);
+    return p;
+  }
 };
 
 #define QUATNAV_EULER_STATE(X)                                                                          \
   X(Vec3<S>, euler, Vec3<S>::Zero(), "rad", "ZYX Euler angles [roll, pitch, yaw] of C_nb")               \
   X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
   X(Mat6, P, Mat6::Identity(), "state units^2", "covariance of [euler, gyro_bias]")                      \
-  X(MagRef<S>, mag, MagRef<S>(), "-", "reference field, learned or given")                               \
-  X(bool, initialized, false, "-", "the filter has a state")
+  X(bool, initialized, false, "-", "the filter has a state")                                            \
+  X(S, dt_last, S(0), "s", "step of the last predict")                                                  \
+  X(MagDisturbanceState<S>, mag, MagDisturbanceState<S>(), "-", "reference field and disturbance tests") \
+  X(AccFilterState<S>, acc, AccFilterState<S>(), "-", "accelerometer low-pass and rejection timer")      \
+  X(RestState<S>, rest, RestState<S>(), "-", "rest detection")
 
 /// The complete state of EulerEKF; state()/set_state() round-trip exactly.
 template <class S> struct EulerEKFState {
@@ -155,7 +181,9 @@ template <class S> class EulerEKF {
   bool initialized() const { return st_.initialized; }
   /// True when the last predict ran with |cos(pitch)| below singular_cos.
   bool near_singularity() const { return singular_; }
-  std::uint32_t extra_flags() const { return singular_ ? flags::kSingular : 0u; }
+  /// Flags of the last sample beyond the update statuses (kSingular, kAtRest, kAccRejected, kMagRejected).
+  std::uint32_t extra_flags() const { return flags_ | (singular_ ? flags::kSingular : 0u); }
+  bool at_rest() const { return Rest<S>::at_rest(params_.rest, st_.rest); }
 
   Status set_state(const State& s) {
     if (!detail::fields_finite(s)) return Status::NonFinite;
@@ -177,9 +205,7 @@ template <class S> class EulerEKF {
     return W * st_.P.template topLeftCorner<3, 3>() * W.transpose();
   }
 
-  void set_mag_dip(S dip) {
-    st_.mag.fix(dip);
-  }
+  void set_mag_dip(S dip) { st_.mag.ref.fix(dip); }
 
   Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
   Status initialize(const Vec3<S>& acc, const Vec3<S>& mag) { return init_impl(acc, &mag); }
@@ -218,35 +244,62 @@ template <class S> class EulerEKF {
     floor_covariance<S, 6>(P, params_.cov_floor);
     e[0] = quat::wrap_pi(e[0]);
     e[2] = quat::wrap_pi(e[2]);
+    AccFilter<S>::predict_rate(params_.acc, st_.acc, Vec3<S>(gyr - st_.gyro_bias), dt);
     st_.euler = e;
     st_.P = P;
     singular_ = singular;
+    flags_ = 0;
+    st_.dt_last = dt;
+    Rest<S>::predict(params_.rest, st_.rest, gyr, dt);
     return Status::Ok;
   }
 
+  /// Accelerometer update: the rest test (at rest the zero-rate measurement of the bias), then
+  /// the accelerometer part (low-pass, rejection, adaptive noise, recovery) and the 3-row update.
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
-    if (st_.initialized && detail::saturated(acc, params_.acc_range)) {
-      UpdateResult<S, 3> r;
-      r.status = Status::Saturated;
-      return r;
+    UpdateResult<S, 3> res;
+    if (!st_.initialized) return res;
+    if (detail::saturated(acc, params_.acc_range)) {
+      res.status = Status::Saturated;
+      return res;
     }
-    return update3(acc, S(0), S(-1), params_.acc_sigma, gate);
+    Vec3<S> a;
+    res.status = detail::unit_vector(acc, a);
+    if (res.status != Status::Ok) return res;
+    if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
+    const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
+    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
+      return update3(in.acc, S(0), S(-1), params_.acc_sigma + in.sigma_add, in.gate(gate, S(0)));
+    });
   }
 
+  /// Magnetometer update: the magnetometer part (reference field, disturbance tests), then the
+  /// 3-row update against the reference [m_x, 0, m_z].
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
     Vec3<S> m;
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
-    const MagRef<S> mag_before = st_.mag;
-    st_.mag.learn(quat::rotate(quat(), m), params_.mag_ref_samples);
-    res = update3(mag, st_.mag.mag_ref[0], st_.mag.mag_ref[2], params_.mag_sigma, gate);
-    if (res.status != Status::Ok) st_.mag = mag_before;  // a refused update changes nothing
-    return res;
+    const auto field_n = [&] { return Vec3<S>(quat::rotate(quat(), m)); };
+    return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
+      const Vec3<S>& r = MagDisturbance<S>::reference(st_.mag);
+      return update3(mag, r[0], r[2], params_.mag_sigma, gate);
+    });
   }
 
  private:
+  /// At rest (parts/rest.hpp): the zero-rate measurement of the bias, z = w - b = 0 + noise.
+  void update_zero_rate() {
+    flags_ |= flags::kAtRest;
+    Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
+    H.template rightCols<3>().setIdentity();
+    const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
+    UpdateResult<S, 3> res;
+    correct<3, 3, 3>(H, Mat3<S>(Mat3<S>::Identity() * r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res,
+                     S(0));
+  }
+
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
     if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
     Quat<S> q;
@@ -254,11 +307,13 @@ template <class S> class EulerEKF {
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     st_.euler = quat::to_euler(q);
     st_.gyro_bias.setZero();
-    if (mag) {
-      // Start learning the reference afresh from this sample (unless the user fixed it).
-      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
-      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
-    }
+    st_.dt_last = S(0);
+    Rest<S>::restart(st_.rest);
+    AccFilter<S>::restart(st_.acc);
+    MagDisturbance<S>::restart(st_.mag);
+    flags_ = 0;
+    // Start learning the reference afresh from this sample (unless the user fixed it).
+    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     st_.P.setZero();
     st_.P.template topLeftCorner<3, 3>().diagonal().setConstant(params_.init_att_sigma * params_.init_att_sigma);
     st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_gyro_bias_sigma *
@@ -276,22 +331,28 @@ template <class S> class EulerEKF {
     Vec3<S> h;
     Mat<S, 3, 6> H;
     detail::euler_measurement(st_.euler, rx, rz, h, H);
-    const Mat3<S> R = Mat3<S>::Identity() * (sigma * sigma);
+    correct<3, 0, 3>(H, Mat3<S>(Mat3<S>::Identity() * (sigma * sigma)), Vec3<S>(u - h), res, gate);
+    return res;
+  }
+
+  /// kalman_correct on the rows of H (nonzero in NC columns from C0 on), then the state.
+  template <int M, int C0, int NC>
+  void correct(const Mat<S, M, 6>& H, const Mat<S, M, M>& R, const Vec<S, M>& y, UpdateResult<S, M>& res, S gate) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    if (kalman_correct<S, 6, 3, 0, 3>(P, H, R, Vec3<S>(u - h), dx, res, gate) != Status::Ok) return res;
+    if (kalman_correct<S, 6, M, C0, NC>(P, H, R, y, dx, res, gate) != Status::Ok) return;
     floor_covariance<S, 6>(P, params_.cov_floor);
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);
     st_.euler[2] = quat::wrap_pi(st_.euler[2]);
     st_.gyro_bias += dx.template tail<3>();
     st_.P = P;
-    return res;
   }
 
   Params params_{};
   State st_{};
   bool singular_ = false;
+  std::uint32_t flags_ = 0;
 };
 
 }  // namespace quatnav
