@@ -334,6 +334,7 @@ for _scen, _stride in (("rotation", 50), ("broad", 400)):
     CASES.append(_case(f"euler_{_scen}", _scen, run_euler, "EulerEKF()", _stride))
     CASES.append(_case(f"euler-paper_{_scen}", _scen, run_euler, "EulerEKF(paper=True)", _stride, paper=True))
     CASES.append(_case(f"marg_{_scen}", _scen, run_marg, "MargFilter()", _stride))
+    CASES.append(_case(f"marg-paper_{_scen}", _scen, run_marg, "MargFilter(paper=True)", _stride, paper=True))
     if _scen == "rotation":
         CASES += [
             _case("euler-6d_rotation", _scen, run_euler, "EulerEKF(), no magnetometer", _stride, mag=False),
@@ -352,6 +353,9 @@ CASES += [
     _case("marg-gps_turn", "turn", run_marg,
           "MargFilter(declination=scenario's, lever_arm_b=scenario's, gps_acc_tau=0.05), GPS velocity", 70,
           gps=True, lever=True, declination=True, gps_acc_tau=0.05),
+    _case("marg-paper-gps_turn", "turn", run_marg,
+          "MargFilter(paper=True, declination=scenario's, lever_arm_b=scenario's, gps_acc_tau=0.05), GPS velocity",
+          70, gps=True, lever=True, declination=True, gps_acc_tau=0.05, paper=True),
     _case("marg-gps-f32_turn", "turn", run_marg,
           "MargFilter(declination=scenario's, lever_arm_b=scenario's, gps_acc_tau=0.05, dtype=float32), GPS velocity",
           70, gps=True, lever=True, declination=True, gps_acc_tau=0.05, dtype=F32),

@@ -191,9 +191,11 @@ template <class S> void bind_marg(py::module_& m) {
                " residual=" + std::to_string(double(r.residual)) + ">";
       });
   bind_fields_struct<typename F::Params>(m, cls_name<S>("MargFilterParams"), "Parameters of MargFilter (marg_filter.hpp).")
-      .def_property_readonly("valid", [](const typename F::Params& p) { return F::valid_params(p); });
+      .def_property_readonly("valid", [](const typename F::Params& p) { return F::valid_params(p); })
+      .def_static("paper", &F::Params::paper, "Parameters of the plain paper-001 filter (robustness parts off).");
   auto cls = bind_attitude_class<F>(m, "MargFilter");
   cls.def_property_readonly("gps_acc_available", &F::gps_acc_available)
+      .def_property_readonly("at_rest", &F::at_rest)
       .def_property_readonly("gps_acc_n", [](const F& f) { return V3(f.gps_acc_n()); })
       .def("update_acc", &F::update_acc, py::arg("acc"))
       .def("update_acc_mag", &F::update_acc_mag, py::arg("acc"), py::arg("mag"))

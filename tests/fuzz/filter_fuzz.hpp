@@ -291,11 +291,11 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
     p.gps_timeout = r.positive<S>(p.gps_timeout);
     p.lever_arm_b = Vec3<S>(S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>()), S(r.raw<std::int8_t>())) / S(64);
     p.max_dt = r.positive<S>(p.max_dt);
-    p.mag_ref_samples = 1u + r.byte();
+    mag_ref_samples(p) = 1u + r.byte();
     return p;
   }
   static bool same(const State& a, const State& b) {
-    return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && same_mag(a.mag, b.mag) &&
+    return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && same_mag(a.mag.ref, b.mag.ref) &&
            bits_equal(a.omega_b, b.omega_b) && bits_equal(a.omega_dot_b, b.omega_dot_b) &&
            bits_equal(a.gps_vel_n, b.gps_vel_n) && bits_equal(a.gps_acc_n, b.gps_acc_n) &&
            bits_equal(a.gps_t, b.gps_t) && bits_equal(a.time_since_gps, b.time_since_gps) &&
@@ -344,7 +344,7 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
           case 0: for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>(); break;
           case 1: s.gyro_bias = r.vec3<S>(); s.omega_dot_b = r.vec3<S>(); break;
           case 2: s.gps_t = r.scalar<S>(); s.time_since_gps = r.scalar<S>(); s.gps_fixes = int(r.byte() % 5) - 1; break;
-          default: s.mag.mag_ref = r.vec3<S>(); s.initialized = r.byte() & 1; break;
+          default: s.mag.ref.mag_ref = r.vec3<S>(); s.initialized = r.byte() & 1; break;
         }
         return {f.set_state(s), true, "set_state"};
       }

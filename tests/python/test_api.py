@@ -414,7 +414,7 @@ def test_nav13_twin_runs_like_the_public_class(tu, n):
         f.run(gyr, acc, t=t, dt=0.01)
 
 
-@pytest.mark.parametrize("name", ["QuaternionEKF", "EulerEKF"])
+@pytest.mark.parametrize("name", ["QuaternionEKF", "EulerEKF", "MargFilter"])
 def test_twin_paper_values_equal_the_cpp_paper_parameters(name):
     """paper=True: the numpy twin's values are those of the C++ Params::paper()."""
     from quatnav import reference

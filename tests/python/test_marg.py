@@ -153,7 +153,7 @@ def test_stationary_error_matches_prediction():
     rng = np.random.default_rng(11)
     acc = np.array([0.0, 0.0, -G0]) + s_a * rng.standard_normal((n, 3))
     gyr = s_g * rng.standard_normal((n, 3))
-    res = quatnav.MargFilter(gain=k_gain, gn_max_iter=5, gn_tol=1e-12).run(gyr, acc, dt=T)
+    res = quatnav.MargFilter(paper=True, gain=k_gain, gn_max_iter=5, gn_tol=1e-12).run(gyr, acc, dt=T)
     a = 1 - np.exp(-k_gain * T)
     s_z = s_a / G0
     V = ((1 - a) ** 2 * s_g**2 * T**2 + a**2 * s_z**2) / (1 - (1 - a) ** 2)

@@ -15,7 +15,8 @@ from quatnav.reference.parts import AccFilter, MagDisturbance, MagRef, Rest
 
 PARTS = {"RestParams": Rest, "AccFilterParams": AccFilter, "MagDisturbanceParams": MagDisturbance}
 #: The filters composing each part (a table row of a part's field is the part's declaration).
-COMPOSED = {"QuaternionEKF": ("QuaternionEKFParams", tuple(PARTS)), "EulerEKF": ("EulerEKFParams", tuple(PARTS))}
+COMPOSED = {"QuaternionEKF": ("QuaternionEKFParams", tuple(PARTS)), "EulerEKF": ("EulerEKFParams", tuple(PARTS)),
+            "MargFilter": ("MargFilterParams", tuple(PARTS))}
 
 
 def _params(struct: str, **kw) -> SimpleNamespace:

@@ -58,6 +58,15 @@ class MargFilter(Filter):
     -----
     The accelerometer must be in m/s^2 when the correction is used (the GPS acceleration is
     compared with it); the magnetometer may be in any unit.
+
+    The robustness parts of :class:`~quatnav.QuaternionEKF`, with the same names and defaults
+    (``gravity``: 9.80665, the g of eq. 7): rest detection (``rest_*``; at rest the low-passed
+    gyro is taken as the gyro bias, flag ``at_rest``), the accelerometer part (``acc_lp_tau``
+    low-pass; ``acc_reject``: a rejected sample skips the update, flag ``acc_rejected``;
+    ``acc_adapt`` lowers the gain to ``gain / (1 + acc_adapt ||a|-g|/g)``; not applied while eq. 7
+    corrects the sample) and the magnetometer part (``mag_*``: a disturbed field is not used and
+    the update runs on gravity alone, flag ``mag_rejected``). ``MargFilter(paper=True)`` switches
+    them off: the plain filter of paper 001.
     """
 
     n_states = 7  # q and the gyro bias
@@ -66,7 +75,14 @@ class MargFilter(Filter):
     _core_params = "MargFilterParams"
 
     def _make(self, p):
+        if self._opts.get("paper"):
+            p = self._core_struct(getattr(core(), "MargFilterParams" + self._suffix).paper())
         return getattr(core(), "MargFilter" + self._suffix)(p)
+
+    @property
+    def at_rest(self) -> bool:
+        """True while rest is detected."""
+        return bool(self._f.at_rest)
 
     @property
     def quat(self) -> np.ndarray:

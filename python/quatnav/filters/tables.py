@@ -246,8 +246,6 @@ def _rest_part(detection=True, gyr_th=0.03, acc_th=0.5, time=1.5, tau=0.5, rate_
     )
 
 
-_MAG_REF = _p("mag_ref_samples", 100, "1", "magnetometer samples over which the reference dip is averaged", "int1")
-
 #: QuaternionEKF (``QuaternionEKF<S>::Params``); defaults chosen on BROAD.
 QEKF_PARAMS = (
     _p("paper", False, "-", "start from the paper's values (plain filter of paper 000, robustness off); "
@@ -291,22 +289,26 @@ EULER_PARAMS = (
     *_rest_part(),
 )
 
-#: MargFilter (``MargFilter<S>::Params``).
+#: MargFilter (``MargFilter<S>::Params``) with the robustness parts of the other attitude filters
+#: (``paper=True`` switches them off; the accelerometer part's ``gravity`` is the g of eq. 7).
 MARG_PARAMS = (
+    _p("paper", False, "-", "the plain filter of paper 001: the robustness parts off; the other arguments "
+       "are applied on top", "bool", None),
     _p("gain", 1.0, "1/s", "k of eq. (6): pull towards the Gauss-Newton attitude (0: gyro only)", "pos0"),
     _p("bias_gain", 0.0, "1/s^2", "gyro-bias integral gain (0: no bias estimate)", "pos0"),
     _p("gn_max_iter", 3, "1", "Gauss-Newton iterations per update, at most", "iter"),
     _p("gn_tol", 1e-6, "1", "the iteration stops when |dq| is below it"),
-    _p("gravity", 9.80665, "m/s^2", "magnitude of gravity in eq. (7)"),
     _p("lever_arm_b", (0.0, 0.0, 0.0), "m", "GPS antenna relative to the IMU, body FRD", "vec3"),
     _p("gps_correction", True, "-", "apply eq. (7) when a GPS acceleration is available", "bool"),
     _p("gps_acc_tau", 0.05, "s", "low-pass time constant of the GPS acceleration", "pos0"),
     _p("omega_dot_tau", 0.1, "s", "low-pass time constant of the angular acceleration", "pos0"),
     _p("gps_timeout", 0.5, "s", "a GPS acceleration older than this is not used"),
     _max_dt(),
-    _MAG_REF,
     _p("declination", 0.0, "rad", "magnetic declination, east of true north (GPS velocities are rotated "
        "into the magnetic frame)", "angle", limits=(-_PI, _PI)),
+    *_acc_part(gravity=9.80665),
+    *_mag_part(),
+    *_rest_part(),
 )
 
 #: NavFilter13 (``NavFilter13Params<S>``); the paper's values.

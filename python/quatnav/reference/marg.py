@@ -2,7 +2,10 @@
 
 Gauss-Newton attitude from gravity and field (eq. 1-5) blended with gyro integration (eq. 6),
 the accelerometer corrected by the GPS antenna acceleration and the lever-arm terms (eq. 7,
-as corrected in marg_filter.hpp: f_b + w_dot x d + w x (w x d) = C_bn (a_g_n - g_n)).
+as corrected in marg_filter.hpp: f_b + w_dot x d + w x (w x d) = C_bn (a_g_n - g_n)), and the
+robustness parts of :mod:`quatnav.reference.parts` composed as in the C++ filter (at rest the
+low-passed gyro is the bias; a rejected accelerometer sample skips the update; a disturbed field
+leaves the update to gravity alone).
 """
 from __future__ import annotations
 
@@ -12,7 +15,9 @@ import numpy as np
 
 from ..core import quaternion as Q
 from ..filters.tables import MARG_PARAMS
+from ..filters.tables import FLAGS
 from .attitude import _unit, attitude_from_acc_mag, make_params, sample_times, table_defaults
+from .parts import AccFilter, MagDisturbance, Rest
 
 
 def h(q, r):
@@ -86,15 +91,21 @@ class MargFilter:
     """MargFilter (paper 001) in numpy, method for method like the C++ class."""
 
     defaults = table_defaults(MARG_PARAMS)
+    #: MargFilterParams::paper(): the robustness parts off (a test compares it with the C++).
+    paper_overrides = dict(acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
+                           acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
+                           mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
 
-    def __init__(self, **params):
+    def __init__(self, paper=False, **params):
+        if paper:
+            params = {**self.paper_overrides, **params}
         self.p = make_params("MargFilter", self.defaults, params)
         self.q = Q.identity()
         self.bias = np.zeros(3)
-        self.mag_ref = np.array([1.0, 0.0, 0.0])
-        self.mag_sin_dip_sum = 0.0
-        self.mag_ref_count = 0
-        self.mag_ref_fixed = False
+        self.mag = MagDisturbance(self.p)
+        self.rest, self.acc = Rest(self.p), AccFilter(self.p)
+        self.dt_last = 0.0
+        self.flags = 0
         self.omega_b = np.zeros(3)
         self.omega_dot_b = np.zeros(3)
         self.omega_set = False
@@ -110,19 +121,17 @@ class MargFilter:
     def quat(self):
         return self.q
 
-    def set_mag_dip(self, dip):
-        self.mag_ref = np.array([np.cos(dip), 0.0, np.sin(dip)])
-        self.mag_ref_fixed = True
+    @property
+    def mag_ref(self):
+        """The reference field [m_x, 0, m_z]."""
+        return self.mag.ref.mag_ref
 
-    def _learned(self, m_n_unit):
-        """(ref, sum, count) after learning from one field sample: the mean of sin(dip) over the
-        first mag_ref_samples samples, as the other attitude filters (unless fixed)."""
-        s, c = self.mag_sin_dip_sum, self.mag_ref_count
-        if self.mag_ref_fixed or c >= self.p.mag_ref_samples:
-            return self.mag_ref, s, c
-        s, c = s + m_n_unit[2], c + 1
-        sd = np.clip(s / c, -1.0, 1.0)
-        return np.array([np.sqrt(1 - sd * sd), 0.0, sd]), s, c
+    @property
+    def at_rest(self):
+        return self.rest.at_rest()
+
+    def set_mag_dip(self, dip):
+        self.mag.ref.fix(dip)
 
     def gps_acc_available(self):
         return (self.p.gps_correction and self.gps_fixes >= 2
@@ -134,9 +143,13 @@ class MargFilter:
             return "zero_norm"
         self.q, mref = out
         self.bias = np.zeros(3)
-        if mref is not None and not self.mag_ref_fixed:
-            self.mag_sin_dip_sum, self.mag_ref_count = 0.0, 0
-            self.mag_ref, self.mag_sin_dip_sum, self.mag_ref_count = self._learned(mref / np.linalg.norm(mref))
+        self.dt_last = 0.0
+        self.rest.restart()
+        self.acc.restart()
+        self.mag.restart()
+        self.flags = 0
+        if mref is not None:
+            self.mag.start(mref / np.linalg.norm(mref), np.linalg.norm(mag))
         self.time_since_update = 0.0
         self.initialized = True
         return "ok"
@@ -158,6 +171,10 @@ class MargFilter:
         self.omega_b, self.omega_set = w, True
         self.time_since_gps += dt
         self.time_since_update += dt
+        self.dt_last = dt
+        self.flags = 0
+        self.acc.predict_rate(w, dt)
+        self.rest.predict(gyr, dt)
         return "ok"
 
     def update_gps_velocity(self, v_n, t):
@@ -191,21 +208,57 @@ class MargFilter:
     def update_acc_mag(self, acc, mag):
         return self._update(acc, mag)
 
+    @staticmethod
+    def _result(status):
+        return SimpleNamespace(status=status, iterations=0, converged=False, gps_corrected=False, residual=0.0,
+                               residual_final=0.0, correction=np.zeros(3))
+
     def _update(self, acc, mag):
-        res = SimpleNamespace(status="not_initialized", iterations=0, converged=False,
-                              gps_corrected=False, residual=0.0, residual_final=0.0,
-                              correction=np.zeros(3))
+        """The parts around the Gauss-Newton update (marg_filter.hpp, update_parts)."""
         if not self.initialized:
-            return res
+            return self._result("not_initialized")
         acc = np.asarray(acc, float)
         if not np.all(np.isfinite(acc)) or (mag is not None and not np.all(np.isfinite(mag))):
-            res.status = "non_finite"
-            return res
+            return self._result("non_finite")
+        m0 = None
+        if mag is not None:
+            st, m0 = _unit(mag)
+            if st != "ok":
+                return self._result(st)
+        dt = self.dt_last
+        if self.rest.update(acc, self.bias, dt):
+            self.flags |= FLAGS["at_rest"]
+            self.bias = self.rest.gyr_lp.copy()  # no covariance: the low-passed gyro is the bias
+        sample = self.acc.screen(acc, dt, 0.0)
+        gps = self.gps_acc_available()
+        mc = None
+        if m0 is not None:
+            mc = self.mag.screen(float(np.linalg.norm(mag)), Q.rotate(self.q, m0), dt)
+            if not mc.use:
+                self.flags |= FLAGS["mag_rejected"]
+        use_mag = mc is not None and mc.use
+        if sample.rejected and not gps:
+            res = self._result("rejected")
+        else:
+            a = acc if gps else sample.acc
+            gain = self.p.gain if gps else self.p.gain / (1.0 + sample.sigma_add)
+            res = self._gauss_newton_update(a, m0 if use_mag else None, gain)
+        self.acc.finish(res.status, dt)
+        if res.status == "rejected":
+            self.flags |= FLAGS["acc_rejected"]
+            if use_mag and not mc.disturbed:
+                self.mag.ref = mc.before  # the field was not used
+        elif use_mag:
+            self.mag.finish(mc, res.status, lambda: Q.rotate(self.q, m0), dt)
+        return res
+
+    def _gauss_newton_update(self, acc, m0, gain):
+        res = self._result("ok")
         f, ref_n = acc, np.array([0.0, 0.0, -1.0])
         res.gps_corrected = self.gps_acc_available()
         if res.gps_corrected:  # eq. (7')
             f = lever_corrected(acc, self.omega_b, self.omega_dot_b, np.asarray(self.p.lever_arm_b, float))
-            ref_n = self.gps_acc_n - np.array([0.0, 0.0, self.p.gravity])
+            ref_n = self.gps_acc_n - np.array([0.0, 0.0, self.p.gravity])  # the accelerometer part's g
         st, n0 = _unit(f)
         if st != "ok":
             res.status = st
@@ -215,14 +268,8 @@ class MargFilter:
             res.status = st
             return res
         meas, refs = [n0], [n_ref]
-        learned = (self.mag_ref, self.mag_sin_dip_sum, self.mag_ref_count)
-        if mag is not None:
-            st, m0 = _unit(mag)
-            if st != "ok":
-                res.status = st
-                return res
-            learned = self._learned(Q.rotate(self.q, m0))
-            meas, refs = [m0, n0], [learned[0], n_ref]
+        if m0 is not None:  # the reference learned from it by the magnetometer part's screen()
+            meas, refs = [m0, n0], [self.mag_ref.copy(), n_ref]
         q_pred = self.q
         st, q_gn, res.iterations, res.converged = gauss_newton(q_pred, meas, refs, int(self.p.gn_max_iter),
                                                                self.p.gn_tol)
@@ -233,7 +280,7 @@ class MargFilter:
         res.residual_final = residual(q_gn, meas, refs)
         q_gn = q_gn / np.linalg.norm(q_gn)
         T = self.time_since_update
-        alpha = 1.0 - np.exp(-self.p.gain * T)                          # eq. (6) over T
+        alpha = 1.0 - np.exp(-gain * T)                          # eq. (6) over T
         q_new = q_pred + alpha * (q_gn - q_pred)
         q_new = q_new / np.linalg.norm(q_new)
         if self.p.bias_gain > 0:
@@ -242,8 +289,6 @@ class MargFilter:
         res.correction = Q.to_rotvec(Q.mul(Q.conj(q_pred), q_new))
         self.q = q_new
         self.time_since_update = 0.0
-        self.mag_ref, self.mag_sin_dip_sum, self.mag_ref_count = learned
-        res.status = "ok"
         return res
 
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_vel=None):
@@ -257,6 +302,7 @@ class MargFilter:
         gps_v = None if gps_vel is None else np.asarray(gps_vel.value, float)
         quat = np.empty((n, 4))
         bias = np.empty((n, 3))
+        flags = np.zeros(n, dtype=np.uint32)
         j = 0
         for k in range(n):
             while j < len(gps_t) and gps_t[j] <= t[k]:
@@ -273,4 +319,5 @@ class MargFilter:
                     self.update_acc_mag(acc[k], mk)
             quat[k] = self.q
             bias[k] = self.bias
-        return SimpleNamespace(t=t, quat=quat, bias=bias)
+            flags[k] = self.flags
+        return SimpleNamespace(t=t, quat=quat, bias=bias, flags=flags)

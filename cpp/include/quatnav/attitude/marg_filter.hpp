@@ -37,6 +37,19 @@
 //    rate in w (7e-5 rad/s) is neglected in the lever-arm terms.
 //  * The paper scales by 1/g; we normalize both sides of each vector pair instead, so that the
 //    Gauss-Newton residual compares directions only, as in eq. (3) for the magnetic field.
+//
+// The robustness parts of the other attitude filters (parts/*.hpp), with the same parameter
+// and state names and flags; paper() switches them off (the plain filter of paper 001):
+//  * rest (rest.hpp): the filter has no covariance, so at rest the low-passed gyro of the rest
+//    test is taken as the gyro bias (flag kAtRest);
+//  * the accelerometer part (acc_filter.hpp): the low-passed sample replaces the raw one, a sample
+//    it rejects skips the whole Gauss-Newton update (status Rejected, flag kAccRejected; the
+//    gyro integration goes on), its adaptive noise lowers the gain, k / (1 + sigma_add). While
+//    eq. (7) corrects the sample with the GPS acceleration the raw sample is used (the part
+//    still follows the signal); its `gravity` is the g of eq. (7);
+//  * the magnetometer part (mag_disturbance.hpp): a disturbed field is not used, the update
+//    runs on gravity alone (6D mode: the heading is left as the gyro carried it; flag
+//    kMagRejected).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -46,6 +59,9 @@
 #include <limits>
 
 #include "attitude.hpp"
+#include "parts/acc_filter.hpp"
+#include "parts/mag_disturbance.hpp"
+#include "parts/rest.hpp"
 #include "../core/fields.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
@@ -59,29 +75,48 @@ namespace quatnav {
   X(S, bias_gain, S(0), "1/s^2", "gyro-bias integral gain (0: no bias estimate)")                        \
   X(int, gn_max_iter, 3, "1", "Gauss-Newton iterations per update, at most")                             \
   X(S, gn_tol, S(1e-6), "1", "the iteration stops when |dq| is below it")                                \
-  X(S, gravity, S(9.80665), "m/s^2", "magnitude of gravity in eq. (7)")                                  \
   X(Vec3<S>, lever_arm_b, Vec3<S>::Zero(), "m", "GPS antenna relative to the IMU, body FRD")             \
   X(bool, gps_correction, true, "-", "apply eq. (7) when a GPS acceleration is available")               \
   X(S, gps_acc_tau, S(0.05), "s", "low-pass time constant of the GPS acceleration")                      \
   X(S, omega_dot_tau, S(0.1), "s", "low-pass time constant of the angular acceleration")                 \
   X(S, gps_timeout, S(0.5), "s", "a GPS acceleration older than this is not used")                       \
   X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
-  X(std::uint32_t, mag_ref_samples, 100, "1", "magnetometer samples over which the reference dip is averaged") \
   /* the filter's navigation frame is NED with x along magnetic north (the reference field is         \
      [m_x, 0, m_z]); GPS velocities are in true NED and are rotated by -declination about down before  \
      use. Left at 0 while the field points 8 deg off true north, a 2 m/s^2 turn acceleration is         \
      misplaced by 0.3 m/s^2. */                                                                        \
   X(S, declination, S(0), "rad",                                                                         \
-    "magnetic declination, east of true north (GPS velocities are rotated into the magnetic frame)")
+    "magnetic declination, east of true north (GPS velocities are rotated into the magnetic frame)")     \
+  /* the accelerometer part's gravity is the g of eq. (7): 9.80665 m/s^2 here */                        \
+  X(AccFilterParams<S>, acc, detail::marg_acc_defaults<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
+  X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
+  X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
+
+namespace detail {
+/// The accelerometer part's defaults in MargFilter: the other filters' with eq. (7)'s g.
+template <class S> AccFilterParams<S> marg_acc_defaults() {
+  AccFilterParams<S> p;
+  p.gravity = S(9.80665);
+  return p;
+}
+}  // namespace detail
 
 template <class S> struct MargFilterParams {
   QUATNAV_FIELDS(MargFilterParams, QUATNAV_MARG_PARAMS)
+
+  /// The plain filter of paper 001: every robustness part off.
+  static MargFilterParams paper() {
+    MargFilterParams p;
+    AccFilter<S>::off(p.acc);
+    MagDisturbance<S>::off(p.mag);
+    Rest<S>::off(p.rest);
+    return p;
+  }
 };
 
 #define QUATNAV_MARG_STATE(X)                                                                           \
   X(Quat<S>, q_nb, quat::identity<S>(), "1", "attitude q_nb [w, x, y, z]")                               \
   X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
-  X(MagRef<S>, mag, MagRef<S>(), "-", "reference field, learned or given")                               \
   X(Vec3<S>, omega_b, Vec3<S>::Zero(), "rad/s", "last bias-corrected body rate")                         \
   X(Vec3<S>, omega_dot_b, Vec3<S>::Zero(), "rad/s^2", "low-passed angular acceleration")                 \
   X(Vec3<S>, gps_vel_n, Vec3<S>::Zero(), "m/s", "last GPS velocity, magnetic NED")                       \
@@ -91,7 +126,11 @@ template <class S> struct MargFilterParams {
   X(S, time_since_update, S(0), "s", "time integrated since the last update")                           \
   X(int, gps_fixes, 0, "-", "0: none, 1: velocity only, 2: acceleration")                               \
   X(bool, omega_set, false, "-", "omega_b holds a rate (w_dot can be formed)")                          \
-  X(bool, initialized, false, "-", "the filter has a state")
+  X(bool, initialized, false, "-", "the filter has a state")                                            \
+  X(S, dt_last, S(0), "s", "step of the last predict")                                                  \
+  X(MagDisturbanceState<S>, mag, MagDisturbanceState<S>(), "-", "reference field and disturbance tests") \
+  X(AccFilterState<S>, acc, AccFilterState<S>(), "-", "accelerometer low-pass and rejection timer")      \
+  X(RestState<S>, rest, RestState<S>(), "-", "rest detection")
 
 /// The complete filter state; state()/set_state() round-trip exactly.
 template <class S> struct MargFilterState {
@@ -221,10 +260,10 @@ template <class S> class MargFilter {
   /// True when every parameter is in its range (the constructor does not check).
   static bool valid_params(const Params& p) {
     return p.gain >= S(0) && p.bias_gain >= S(0) && p.gn_max_iter >= 1 && p.gn_tol > S(0) &&
-           p.gravity > S(0) && p.lever_arm_b.allFinite() && p.gps_acc_tau >= S(0) &&
+           p.acc.gravity > S(0) && p.lever_arm_b.allFinite() && p.gps_acc_tau >= S(0) &&
            p.omega_dot_tau >= S(0) && p.gps_timeout > S(0) && p.max_dt > S(0) && std::isfinite(p.declination) &&
            std::isfinite(p.gain) && std::isfinite(p.bias_gain) && std::isfinite(p.gps_acc_tau) &&
-           std::isfinite(p.omega_dot_tau) && std::isfinite(p.gravity);
+           std::isfinite(p.omega_dot_tau) && std::isfinite(p.acc.gravity);
   }
 
   const Params& params() const { return params_; }
@@ -232,6 +271,9 @@ template <class S> class MargFilter {
   const Quat<S>& quat() const { return st_.q_nb; }
   const Vec3<S>& bias() const { return st_.gyro_bias; }
   bool initialized() const { return st_.initialized; }
+  /// Flags of the last sample beyond the update status (kAtRest, kAccRejected, kMagRejected).
+  std::uint32_t extra_flags() const { return flags_; }
+  bool at_rest() const { return Rest<S>::at_rest(params_.rest, st_.rest); }
   /// The GPS antenna acceleration eq. (7) would use now, if any [m/s^2].
   bool gps_acc_available() const {
     return params_.gps_correction && st_.gps_fixes >= 2 && st_.time_since_gps <= params_.gps_timeout;
@@ -249,7 +291,7 @@ template <class S> class MargFilter {
   }
 
   /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
-  void set_mag_dip(S dip) { st_.mag.fix(dip); }
+  void set_mag_dip(S dip) { st_.mag.ref.fix(dip); }
 
   /// Initialize from one accelerometer (and optionally magnetometer) sample.
   Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
@@ -287,6 +329,10 @@ template <class S> class MargFilter {
     st_.omega_set = true;
     st_.time_since_gps += dt;
     st_.time_since_update += dt;
+    st_.dt_last = dt;
+    flags_ = 0;
+    AccFilter<S>::predict_rate(params_.acc, st_.acc, w, dt);
+    Rest<S>::predict(params_.rest, st_.rest, gyr, dt);
     return Status::Ok;
   }
 
@@ -331,42 +377,85 @@ template <class S> class MargFilter {
 
   /// Gauss-Newton update with the accelerometer only (6D mode; heading is not observed).
   /// acc: specific force [m/s^2] (units matter only when eq. 7 is applied).
-  Result update_acc(const Vec3<S>& acc) { return update_impl<1>(acc, nullptr); }
+  Result update_acc(const Vec3<S>& acc) { return update_parts(acc, nullptr); }
 
   /// Gauss-Newton update with accelerometer [m/s^2] and magnetometer (any unit), eq. (1)-(6).
-  Result update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag) { return update_impl<2>(acc, &mag); }
+  Result update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag) { return update_parts(acc, &mag); }
 
  private:
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
     if (!acc.allFinite() || (mag && !mag->allFinite())) return Status::NonFinite;
     Quat<S> q;
-    Vec3<S> mref = st_.mag.mag_ref;
+    Vec3<S> mref = st_.mag.ref.mag_ref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
     st_.q_nb = q;
     st_.gyro_bias.setZero();
-    if (mag) {
-      // Start learning the reference afresh from this sample (unless the user fixed it).
-      if (!st_.mag.mag_ref_fixed) st_.mag = MagRef<S>();
-      st_.mag.learn(Vec3<S>(mref / mref.norm()), params_.mag_ref_samples);
-    }
+    st_.dt_last = S(0);
+    Rest<S>::restart(st_.rest);
+    AccFilter<S>::restart(st_.acc);
+    MagDisturbance<S>::restart(st_.mag);
+    flags_ = 0;
+    // Start learning the reference afresh from this sample (unless the user fixed it).
+    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     st_.time_since_update = S(0);
     st_.initialized = true;
     return Status::Ok;
   }
 
-  template <int K> Result update_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
+  /// The parts around the Gauss-Newton update (see the top of this file): the rest test, the
+  /// accelerometer part's sample, the magnetometer part's tests, update_impl, their finish().
+  Result update_parts(const Vec3<S>& acc, const Vec3<S>* mag) {
     Result res;
     if (!st_.initialized) return res;
     if (!acc.allFinite() || (mag && !mag->allFinite())) {
       res.status = Status::NonFinite;
       return res;
     }
+    Vec3<S> m_unit = Vec3<S>::Zero();
+    if (mag) {
+      res.status = detail::unit_vector(*mag, m_unit);
+      if (res.status != Status::Ok) return res;
+    }
+    const S dt = st_.dt_last;
+    if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, dt)) {
+      // No covariance to weigh a zero-rate measurement with: the low-passed gyro is the bias.
+      flags_ |= flags::kAtRest;
+      st_.gyro_bias = st_.rest.gyr_lp;
+    }
+    const AccSample<S> in = AccFilter<S>::screen(params_.acc, st_.acc, acc, dt, S(0));
+    const bool gps = gps_acc_available();
+    MagSample<S> mc;
+    mc.use = false;
+    if (mag) {
+      mc = MagDisturbance<S>::screen(params_.mag, st_.mag, mag->norm(), quat::rotate(st_.q_nb, m_unit), dt);
+      if (!mc.use) flags_ |= flags::kMagRejected;
+    }
+    if (in.rejected && !gps) {
+      res.status = Status::Rejected;
+    } else {
+      const Vec3<S>& a = gps ? acc : in.acc;
+      const S gain = gps ? params_.gain : params_.gain / (S(1) + in.sigma_add);
+      res = mc.use ? update_impl<2>(a, &m_unit, gain) : update_impl<1>(a, nullptr, gain);
+    }
+    AccFilter<S>::finish(params_.acc, st_.acc, res.status, dt);
+    if (res.status == Status::Rejected) flags_ |= flags::kAccRejected;
+    if (mc.use && res.status == Status::Rejected) {
+      if (!mc.disturbed) st_.mag.ref = mc.before;  // the field was not used (the accelerometer was refused)
+    } else if (mc.use) {
+      MagDisturbance<S>::finish(params_.mag, st_.mag, mc, res.status, [&] { return Vec3<S>(quat::rotate(st_.q_nb, m_unit)); },
+                                dt);
+    }
+    return res;
+  }
+
+  template <int K> Result update_impl(const Vec3<S>& acc, const Vec3<S>* mag, S gain) {
+    Result res;
     // Gravity pair, corrected by eq. (7') when the GPS acceleration is available.
     Vec3<S> f = acc, ref_n(S(0), S(0), S(-1));
     res.gps_corrected = gps_acc_available();
     if (res.gps_corrected) {
       f = detail::marg_lever_corrected(acc, st_.omega_b, st_.omega_dot_b, params_.lever_arm_b);
-      ref_n = st_.gps_acc_n - Vec3<S>(S(0), S(0), params_.gravity);
+      ref_n = st_.gps_acc_n - Vec3<S>(S(0), S(0), params_.acc.gravity);
     }
     Mat<S, 3, K> meas, refs;
     Vec3<S> u;
@@ -376,13 +465,10 @@ template <class S> class MargFilter {
     res.status = detail::unit_vector(ref_n, u);
     if (res.status != Status::Ok) return res;
     refs.col(K - 1) = u;
-    MagRef<S> mag_ref = st_.mag;  // kept only if the update succeeds
     if constexpr (K == 2) {
-      res.status = detail::unit_vector(*mag, u);
-      if (res.status != Status::Ok) return res;
-      meas.col(0) = u;
-      mag_ref.learn(quat::rotate(st_.q_nb, u), params_.mag_ref_samples);
-      refs.col(0) = mag_ref.mag_ref;
+      // The unit field; the reference learned from it by the magnetometer part's screen().
+      meas.col(0) = *mag;
+      refs.col(0) = MagDisturbance<S>::reference(st_.mag);
     }
     // Gauss-Newton from the predicted attitude, eq. (3)-(5).
     const Quat<S> q_pred = st_.q_nb;
@@ -400,7 +486,7 @@ template <class S> class MargFilter {
     q_gn /= n_gn;
     // eq. (6), integrated over the time since the last update with q_GN held.
     const S T = st_.time_since_update;
-    const S alpha = S(1) - std::exp(-params_.gain * T);
+    const S alpha = S(1) - std::exp(-gain * T);
     Quat<S> q_new = q_pred + alpha * (q_gn - q_pred);
     const S n_new = q_new.norm();
     if (!(n_new > S(0.5)) || !q_new.allFinite()) {
@@ -421,12 +507,12 @@ template <class S> class MargFilter {
     st_.q_nb = q_new;
     st_.gyro_bias = bias;
     st_.time_since_update = S(0);
-    st_.mag = mag_ref;
     return res;
   }
 
   Params params_{};
   State st_{};
+  std::uint32_t flags_ = 0;
 };
 
 /// Batch run of MargFilter over n IMU samples with GPS velocity fixes at their own times.
@@ -473,12 +559,15 @@ void run_marg_batch(MargFilter<S>& f, const S* t, const S* dt, const S* gyr, con
         used_gps = r.gps_corrected;
         if (r.gps_corrected) fl |= flags::kGpsCorrected;
         if (!r.converged) fl |= flags::kGnNotConverged;
+      } else if (r.status == Status::Rejected) {
+        // rejected by the accelerometer part: kAccRejected (extra_flags)
       } else if (r.status == Status::SolveFailed || r.status == Status::NumericalFailure) {
         fl |= flags::kSolveFailed | flags::kAccSkipped | (have_mag ? flags::kMagSkipped : 0u);
       } else {
         fl |= flags::kAccSkipped | (have_mag ? flags::kMagSkipped : 0u);
       }
     }
+    fl |= f.extra_flags();
     if (quat_out) Eigen::Map<Vec4<S>>(quat_out + 4 * k) = f.quat();
     if (bias_out) Eigen::Map<Vec3<S>>(bias_out + 3 * k) = f.bias();
     if (gps_acc_out)
