@@ -1325,11 +1325,40 @@ class EulerEKFParams_f64:
         """
         From a dict of some fields (the others keep their defaults); unknown keys refused.
         """
+    @staticmethod
+    def paper() -> EulerEKFParams_f64:
+        """
+        Parameters of the plain paper-000 baseline (robustness parts off).
+        """
     def __init__(self) -> None:
         ...
     def __repr__(self) -> str:
         ...
     def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_adapt(self) -> float:
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
+    @acc_adapt.setter
+    def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
@@ -1338,6 +1367,22 @@ class EulerEKFParams_f64:
         """
     @acc_range.setter
     def acc_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_recovery_time(self) -> float:
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
+    @acc_recovery_time.setter
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_reject(self) -> float:
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
+    @acc_reject.setter
+    def acc_reject(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_sigma(self) -> float:
@@ -1354,6 +1399,14 @@ class EulerEKFParams_f64:
         """
     @cov_floor.setter
     def cov_floor(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gravity(self) -> float:
+        """
+        magnitude of gravity, in the unit of acc [m/s^2]
+        """
+    @gravity.setter
+    def gravity(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
@@ -1396,12 +1449,52 @@ class EulerEKFParams_f64:
     def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_recovery_time(self) -> float:
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
+    @mag_recovery_time.setter
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def mag_ref_samples(self) -> int:
         """
         magnetometer samples over which the reference dip is averaged [1]
         """
     @mag_ref_samples.setter
     def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_tau(self) -> float:
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
+    @mag_ref_tau.setter
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_settle_time(self) -> float:
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
+    @mag_settle_time.setter
+    def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_sigma(self) -> float:
@@ -1418,6 +1511,54 @@ class EulerEKFParams_f64:
         """
     @max_dt.setter
     def max_dt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_rate_noise(self) -> float:
+        """
+        std of the residual rate at rest [rad/s]
+        """
+    @rest_rate_noise.setter
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def singular_cos(self) -> float:
@@ -1458,6 +1599,9 @@ class EulerEKF_f64:
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
         ...
     def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f64:
+        ...
+    @property
+    def at_rest(self) -> bool:
         ...
     @property
     def attitude_covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
@@ -1504,11 +1648,40 @@ class EulerEKFParams_f32:
         """
         From a dict of some fields (the others keep their defaults); unknown keys refused.
         """
+    @staticmethod
+    def paper() -> EulerEKFParams_f32:
+        """
+        Parameters of the plain paper-000 baseline (robustness parts off).
+        """
     def __init__(self) -> None:
         ...
     def __repr__(self) -> str:
         ...
     def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_adapt(self) -> float:
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
+    @acc_adapt.setter
+    def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_range(self) -> float:
@@ -1517,6 +1690,22 @@ class EulerEKFParams_f32:
         """
     @acc_range.setter
     def acc_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_recovery_time(self) -> float:
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
+    @acc_recovery_time.setter
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_reject(self) -> float:
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
+    @acc_reject.setter
+    def acc_reject(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_sigma(self) -> float:
@@ -1533,6 +1722,14 @@ class EulerEKFParams_f32:
         """
     @cov_floor.setter
     def cov_floor(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gravity(self) -> float:
+        """
+        magnitude of gravity, in the unit of acc [m/s^2]
+        """
+    @gravity.setter
+    def gravity(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_bias_noise(self) -> float:
@@ -1575,12 +1772,52 @@ class EulerEKFParams_f32:
     def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_recovery_time(self) -> float:
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
+    @mag_recovery_time.setter
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def mag_ref_samples(self) -> int:
         """
         magnetometer samples over which the reference dip is averaged [1]
         """
     @mag_ref_samples.setter
     def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_tau(self) -> float:
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
+    @mag_ref_tau.setter
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_settle_time(self) -> float:
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
+    @mag_settle_time.setter
+    def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def mag_sigma(self) -> float:
@@ -1597,6 +1834,54 @@ class EulerEKFParams_f32:
         """
     @max_dt.setter
     def max_dt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_rate_noise(self) -> float:
+        """
+        std of the residual rate at rest [rad/s]
+        """
+    @rest_rate_noise.setter
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def singular_cos(self) -> float:
@@ -1637,6 +1922,9 @@ class EulerEKF_f32:
     def update_acc(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
         ...
     def update_mag(self, mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> UpdateResult3_f32:
+        ...
+    @property
+    def at_rest(self) -> bool:
         ...
     @property
     def attitude_covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 3]"]:
@@ -1713,11 +2001,56 @@ class MargFilterParams_f64:
         """
         From a dict of some fields (the others keep their defaults); unknown keys refused.
         """
+    @staticmethod
+    def paper() -> MargFilterParams_f64:
+        """
+        Parameters of the plain paper-001 filter (robustness parts off).
+        """
     def __init__(self) -> None:
         ...
     def __repr__(self) -> str:
         ...
     def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_adapt(self) -> float:
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
+    @acc_adapt.setter
+    def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_recovery_time(self) -> float:
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
+    @acc_recovery_time.setter
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_reject(self) -> float:
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
+    @acc_reject.setter
+    def acc_reject(self, arg1: typing.Any) -> None:
         ...
     @property
     def bias_gain(self) -> float:
@@ -1786,7 +2119,7 @@ class MargFilterParams_f64:
     @property
     def gravity(self) -> float:
         """
-        magnitude of gravity in eq. (7) [m/s^2]
+        magnitude of gravity, in the unit of acc [m/s^2]
         """
     @gravity.setter
     def gravity(self, arg1: typing.Any) -> None:
@@ -1800,12 +2133,52 @@ class MargFilterParams_f64:
     def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_recovery_time(self) -> float:
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
+    @mag_recovery_time.setter
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def mag_ref_samples(self) -> int:
         """
         magnetometer samples over which the reference dip is averaged [1]
         """
     @mag_ref_samples.setter
     def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_tau(self) -> float:
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
+    @mag_ref_tau.setter
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_settle_time(self) -> float:
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
+    @mag_settle_time.setter
+    def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
@@ -1822,6 +2195,54 @@ class MargFilterParams_f64:
         """
     @omega_dot_tau.setter
     def omega_dot_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_rate_noise(self) -> float:
+        """
+        std of the residual rate at rest [rad/s]
+        """
+    @rest_rate_noise.setter
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def valid(self) -> bool:
@@ -1859,6 +2280,9 @@ class MargFilter_f64:
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> MargUpdateResult_f64:
         ...
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], t: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    @property
+    def at_rest(self) -> bool:
         ...
     @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
@@ -1926,11 +2350,56 @@ class MargFilterParams_f32:
         """
         From a dict of some fields (the others keep their defaults); unknown keys refused.
         """
+    @staticmethod
+    def paper() -> MargFilterParams_f32:
+        """
+        Parameters of the plain paper-001 filter (robustness parts off).
+        """
     def __init__(self) -> None:
         ...
     def __repr__(self) -> str:
         ...
     def to_dict(self) -> dict:
+        ...
+    @property
+    def acc_adapt(self) -> float:
+        """
+        adaptive accelerometer noise: std acc_sigma + acc_adapt * ||a|-g|/g [1]
+        """
+    @acc_adapt.setter
+    def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_bias_sigma(self) -> float:
+        """
+        above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
+        """
+    @acc_lp_bias_sigma.setter
+    def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_tau(self) -> float:
+        """
+        low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
+        """
+    @acc_lp_tau.setter
+    def acc_lp_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_recovery_time(self) -> float:
+        """
+        after this long with every accelerometer update rejected, accept again (0: never) [s]
+        """
+    @acc_recovery_time.setter
+    def acc_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_reject(self) -> float:
+        """
+        reject the accelerometer when ||a|-g| exceeds it (0: off) [m/s^2]
+        """
+    @acc_reject.setter
+    def acc_reject(self, arg1: typing.Any) -> None:
         ...
     @property
     def bias_gain(self) -> float:
@@ -1999,7 +2468,7 @@ class MargFilterParams_f32:
     @property
     def gravity(self) -> float:
         """
-        magnitude of gravity in eq. (7) [m/s^2]
+        magnitude of gravity, in the unit of acc [m/s^2]
         """
     @gravity.setter
     def gravity(self, arg1: typing.Any) -> None:
@@ -2013,12 +2482,52 @@ class MargFilterParams_f32:
     def lever_arm_b(self, arg1: typing.Any) -> None:
         ...
     @property
+    def mag_dip_tol(self) -> float:
+        """
+        reject the magnetometer when its dip differs from the reference by more (0: off) [rad]
+        """
+    @mag_dip_tol.setter
+    def mag_dip_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_norm_tol(self) -> float:
+        """
+        reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off) [1]
+        """
+    @mag_norm_tol.setter
+    def mag_norm_tol(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_recovery_time(self) -> float:
+        """
+        after this long with every sample disturbed, the field becomes the reference (0: never) [s]
+        """
+    @mag_recovery_time.setter
+    def mag_recovery_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def mag_ref_samples(self) -> int:
         """
         magnetometer samples over which the reference dip is averaged [1]
         """
     @mag_ref_samples.setter
     def mag_ref_samples(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_ref_tau(self) -> float:
+        """
+        time constant with which the reference norm and dip follow the field [s]
+        """
+    @mag_ref_tau.setter
+    def mag_ref_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mag_settle_time(self) -> float:
+        """
+        after a disturbance, the field must pass the tests this long [s]
+        """
+    @mag_settle_time.setter
+    def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def max_dt(self) -> float:
@@ -2035,6 +2544,54 @@ class MargFilterParams_f32:
         """
     @omega_dot_tau.setter
     def omega_dot_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_acc_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed accelerometer [m/s^2]
+        """
+    @rest_acc_th.setter
+    def rest_acc_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_detection(self) -> bool:
+        """
+        detect rest and use it as a zero-rate measurement of the gyro bias [-]
+        """
+    @rest_detection.setter
+    def rest_detection(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_gyr_th(self) -> float:
+        """
+        rest: largest deviation of the low-passed gyro [rad/s]
+        """
+    @rest_gyr_th.setter
+    def rest_gyr_th(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_rate_noise(self) -> float:
+        """
+        std of the residual rate at rest [rad/s]
+        """
+    @rest_rate_noise.setter
+    def rest_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_tau(self) -> float:
+        """
+        rest: low-pass time constant [s]
+        """
+    @rest_tau.setter
+    def rest_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def rest_time(self) -> float:
+        """
+        rest: shortest duration [s]
+        """
+    @rest_time.setter
+    def rest_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def valid(self) -> bool:
@@ -2072,6 +2629,9 @@ class MargFilter_f32:
     def update_acc_mag(self, acc: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], mag: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> MargUpdateResult_f32:
         ...
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], t: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    @property
+    def at_rest(self) -> bool:
         ...
     @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
