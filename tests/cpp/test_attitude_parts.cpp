@@ -116,7 +116,9 @@ TYPED_TEST(AttitudeParts, AMagneticDisturbanceIsFlaggedAndDoesNotTurnTheHeading)
       flagged += (k >= 500 && (fl & flags::kMagRejected)) ? 1 : 0;
     }
     yaw_err[paper] = std::abs(yaw_of(f.quat()));
-    if (!paper) EXPECT_GT(flagged, 990);
+    if (!paper) {
+      EXPECT_GT(flagged, 990);
+    }
   }
   EXPECT_LT(yaw_err[false], S(0.01));
   EXPECT_GT(yaw_err[true], S(0.2));
@@ -140,13 +142,15 @@ TYPED_TEST(AttitudeParts, ALinearAccelerationBurstIsRejected) {
     S worst = S(0);
     for (int k = 0; k < 600; ++k) {
       const bool burst = k >= 200 && k < 400;
-      const Vec3<S> a = burst ? Vec3<S>(w.acc + Vec3<S>(S(4), S(0), S(0))) : w.acc;  // 4 m/s^2 forward
+      const Vec3<S> a = burst ? Vec3<S>(w.acc + Vec3<S>(S(6), S(0), S(0))) : w.acc;  // 6 m/s^2 forward: ||a| - g| = 1.7
       const std::uint32_t fl = step(f, wobble<S>(k, S(0.001)), a, &w.mag, dt);
       rejected += (burst && (fl & flags::kAccRejected)) ? 1 : 0;
       worst = std::max(worst, tilt_of(f.quat()));
     }
     tilt_err[paper] = worst;
-    if (!paper) EXPECT_EQ(rejected, 200);
+    if (!paper) {
+      EXPECT_EQ(rejected, 200);
+    }
   }
   EXPECT_LT(tilt_err[false], S(0.01));
   EXPECT_GT(tilt_err[true], S(0.1));

@@ -220,6 +220,9 @@ class MargFilter:
         acc = np.asarray(acc, float)
         if not np.all(np.isfinite(acc)) or (mag is not None and not np.all(np.isfinite(mag))):
             return self._result("non_finite")
+        st, _ = _unit(acc)  # bad input leaves the state untouched: checked before the parts
+        if st != "ok":
+            return self._result(st)
         m0 = None
         if mag is not None:
             st, m0 = _unit(mag)

@@ -411,11 +411,11 @@ template <class S> class MargFilter {
       res.status = Status::NonFinite;
       return res;
     }
+    // Bad input leaves the state untouched: checked before the parts follow the sample.
     Vec3<S> m_unit = Vec3<S>::Zero();
-    if (mag) {
-      res.status = detail::unit_vector(*mag, m_unit);
-      if (res.status != Status::Ok) return res;
-    }
+    res.status = detail::unit_vector(acc, m_unit);
+    if (res.status == Status::Ok && mag) res.status = detail::unit_vector(*mag, m_unit);
+    if (res.status != Status::Ok) return res;
     const S dt = st_.dt_last;
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, dt)) {
       // No covariance to weigh a zero-rate measurement with: the low-passed gyro is the bias.
