@@ -4,6 +4,7 @@
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <quatnav/nav/nav_filter13.hpp>
 #include <random>
@@ -382,6 +383,36 @@ TYPED_TEST(Nav13Filter, BatchEqualsSteps) {
     for (int i = 0; i < 13; ++i) EXPECT_EQ(b.x()[i], x[13 * k + i]);
   }
   EXPECT_EQ(m, vt.size());
+}
+
+TYPED_TEST(Nav13Filter, BatchReportsMeasurementsAfterTheLastSampleAsNeverApplied) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  const int n = 20;
+  std::vector<S> fb(3 * n), wb(3 * n, S(0)), t(n), dt(n, S(0.01));
+  for (int k = 0; k < n; ++k) {
+    fb[3 * k + 2] = S(-9.8);
+    t[k] = S(0.01 * (k + 1));
+  }
+  const std::vector<S> vt{S(0.1), S(0.5), S(0.6)}, vel{S(0), S(0), S(0), S(1), S(1), S(1), S(1), S(1), S(1)};
+  const std::vector<S> yt{S(0.05), S(0.9)}, yaw{S(0.1), S(0.2)};
+  // Sentinels that a result left unwritten would keep.
+  std::vector<S> vi(9, S(7)), vn(3, S(7)), yi(2, S(7)), yn(2, S(7));
+  std::vector<std::uint8_t> vs(3, 99), ys(2, 99);
+  F f = make_filter<F>();
+  run_nav13_batch(f, wb.data(), fb.data(), t.data(), dt.data(), n, vt.data(), vel.data(), vt.size(), yt.data(),
+                  yaw.data(), yt.size(), S(0), S(0), static_cast<S*>(nullptr), static_cast<S*>(nullptr),
+                  static_cast<S*>(nullptr), static_cast<S*>(nullptr), static_cast<std::uint32_t*>(nullptr), vi.data(),
+                  vn.data(), vs.data(), yi.data(), yn.data(), ys.data());
+  EXPECT_EQ(vs[0], static_cast<std::uint8_t>(Status::Ok));
+  EXPECT_EQ(ys[0], static_cast<std::uint8_t>(Status::Ok));
+  for (int j = 1; j < 3; ++j) {
+    EXPECT_EQ(vs[j], static_cast<std::uint8_t>(Status::NotInitialized));
+    EXPECT_TRUE(std::isnan(vn[j]));
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isnan(vi[3 * j + i]));
+  }
+  EXPECT_EQ(ys[1], static_cast<std::uint8_t>(Status::NotInitialized));
+  EXPECT_TRUE(std::isnan(yi[1]) && std::isnan(yn[1]));
 }
 
 TYPED_TEST(Nav13Filter, StaysUnitAndSymmetric) {

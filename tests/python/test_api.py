@@ -374,7 +374,7 @@ def test_nav13_twin_runs_like_the_public_class(tu, n):
     gyr, acc, t = s.imu.gyro[1:n + 1].copy(), s.imu.accel[1:n + 1], s.imu.t[1:n + 1]
     gyr[n // 2] = [0.0, 0.0, 3.0]  # saturated: the predict is skipped (the smoother's "same" link)
     aids = dict(gps_vel=Aid(s.gps.t_valid, s.gps.v_n), yaw=Aid(s.compass.t, s.compass.yaw))
-    due = {k: int(np.sum(a.t <= t[-1] + 1e-4 * (t[1] - t[0]))) for k, a in aids.items()}  # later ones: not run
+    due = {k: int(np.sum(a.t <= t[-1] + 1e-4 * (t[1] - t[0]))) for k, a in aids.items()}  # later ones: never applied
 
     def both(**opts):
         a = quatnav.NavFilter13(time_update=tu, **kw)
@@ -397,6 +397,11 @@ def test_nav13_twin_runs_like_the_public_class(tu, n):
             np.testing.assert_array_equal(rb.status[:m], [STATUS_NAMES[c] for c in ra.status[:m]])
             np.testing.assert_allclose(rb.innovation[:m], ra.innovation[:m], rtol=0, atol=1e-10)
             np.testing.assert_allclose(rb.nis[:m], ra.nis[:m], rtol=1e-8, atol=1e-10)
+            # Fixes after the last sample are never applied: NaN, status not_initialized, in both.
+            assert len(ra.status) > m
+            np.testing.assert_array_equal(ra.status_names[m:], rb.status[m:])
+            assert (ra.status_names[m:] == "not_initialized").all()
+            assert np.isnan(ra.innovation[m:]).all() and np.isnan(ra.nis[m:]).all()
         assert a.flag("saturated")[n // 2] and (b.aids["yaw"].status == "rejected").sum() > 0
         assert b.aids["gps_vel"].status[0] == "ok" and b.flags[0] & quatnav.NavFilter13.FLAGS["gps_vel_used"]
         if smooth:

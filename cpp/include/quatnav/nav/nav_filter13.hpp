@@ -74,6 +74,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <cstddef>
 #include <cstdint>
 
@@ -735,6 +736,19 @@ void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const S* t
       Eigen::Map<Vec3<S>>(att_sigma_out + 3 * k) =
           f.error_covariance().template block<3, 3>(3, 3).diagonal().cwiseMax(S(0)).cwiseSqrt();
     if (flags_out) flags_out[k] = fl;
+  }
+  // Measurements after the last sample are never applied: NaN innovation and NIS, and the status
+  // of a filter that has no state for them yet (NotInitialized), never left unwritten.
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  for (; iv < nv; ++iv) {
+    if (vel_innov) Eigen::Map<Vec3<S>>(vel_innov + 3 * iv).setConstant(nan);
+    if (vel_nis) vel_nis[iv] = nan;
+    if (vel_status) vel_status[iv] = static_cast<std::uint8_t>(Status::NotInitialized);
+  }
+  for (; iy < ny; ++iy) {
+    if (yaw_innov) yaw_innov[iy] = nan;
+    if (yaw_nis) yaw_nis[iy] = nan;
+    if (yaw_status) yaw_status[iy] = static_cast<std::uint8_t>(Status::NotInitialized);
   }
 }
 
