@@ -57,10 +57,9 @@ void run(const Rotation& r, std::size_t segment, Outputs<Filter>& fwd, Outputs<F
   using Model = typename AttitudeRtsModelOf<Filter>::type;
   const std::vector<S> gyr(r.gyr.begin(), r.gyr.end()), acc(r.acc.begin(), r.acc.end()),
       mag(r.mag.begin(), r.mag.end()), dt(r.n, S(r.dt));
-  // The paper's plain filter for QuaternionESKF (no low-pass, no disturbance tests): the
-  // simulation has none of what those parts are for.
-  typename Filter::Params p;
-  if constexpr (std::is_same_v<Filter, QuaternionESKF<S>>) p = Filter::Params::paper();
+  // The paper's plain filters (no rest detection, low-pass or disturbance tests): the simulation
+  // has none of what those parts are for, and the smoother's model is the plain filter's.
+  typename Filter::Params p = Filter::Params::paper();
   p.gyro_noise = S(0.003 * std::sqrt(r.dt));
   p.gyro_bias_noise = S(1e-6);
   p.acc_sigma = S(0.05 / 9.81);
