@@ -416,6 +416,12 @@ template <class S> class MargFilter {
     res.status = detail::unit_vector(acc, m_unit);
     if (res.status == Status::Ok && mag) res.status = detail::unit_vector(*mag, m_unit);
     if (res.status != Status::Ok) return res;
+    // A reading whose norm overflows (finite components beyond the type's range) is refused like
+    // a non-finite one: the parts keep norms and low-passes in their state.
+    if (!std::isfinite(acc.norm()) || (mag && !std::isfinite(mag->norm()))) {
+      res.status = Status::NonFinite;
+      return res;
+    }
     const S dt = st_.dt_last;
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, dt)) {
       // No covariance to weigh a zero-rate measurement with: the low-passed gyro is the bias.
