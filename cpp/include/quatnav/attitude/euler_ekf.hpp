@@ -26,9 +26,7 @@
 #include <cstdint>
 
 #include "attitude.hpp"
-#include "parts/acc_filter.hpp"
-#include "parts/mag_disturbance.hpp"
-#include "parts/rest.hpp"
+#include "parts/parts.hpp"
 #include "../core/fields.hpp"
 #include "../core/covariance.hpp"
 #include "../core/kalman.hpp"
@@ -308,12 +306,9 @@ template <class S> class EulerEKF {
     st_.euler = quat::to_euler(q);
     st_.gyro_bias.setZero();
     st_.dt_last = S(0);
-    Rest<S>::restart(st_.rest);
-    AccFilter<S>::restart(st_.acc);
-    MagDisturbance<S>::restart(st_.mag);
+    // The parts start afresh; the reference field is learned from this sample (unless the user fixed it).
+    restart_parts<S>(params_, st_, mag, mref);
     flags_ = 0;
-    // Start learning the reference afresh from this sample (unless the user fixed it).
-    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     st_.P.setZero();
     st_.P.template topLeftCorner<3, 3>().diagonal().setConstant(params_.init_att_sigma * params_.init_att_sigma);
     st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_gyro_bias_sigma *

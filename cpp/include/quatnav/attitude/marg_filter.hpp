@@ -59,9 +59,7 @@
 #include <limits>
 
 #include "attitude.hpp"
-#include "parts/acc_filter.hpp"
-#include "parts/mag_disturbance.hpp"
-#include "parts/rest.hpp"
+#include "parts/parts.hpp"
 #include "../core/fields.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
@@ -391,12 +389,9 @@ template <class S> class MargFilter {
     st_.q_nb = q;
     st_.gyro_bias.setZero();
     st_.dt_last = S(0);
-    Rest<S>::restart(st_.rest);
-    AccFilter<S>::restart(st_.acc);
-    MagDisturbance<S>::restart(st_.mag);
+    // The parts start afresh; the reference field is learned from this sample (unless the user fixed it).
+    restart_parts<S>(params_, st_, mag, mref);
     flags_ = 0;
-    // Start learning the reference afresh from this sample (unless the user fixed it).
-    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     st_.time_since_update = S(0);
     st_.initialized = true;
     return Status::Ok;

@@ -27,9 +27,7 @@
 #include <limits>
 
 #include "attitude.hpp"
-#include "parts/acc_filter.hpp"
-#include "parts/mag_disturbance.hpp"
-#include "parts/rest.hpp"
+#include "parts/parts.hpp"
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
 #include "../core/fields.hpp"
@@ -457,12 +455,9 @@ template <class S> class QuaternionEKF {
     st_.q_nb = q;
     st_.gyro_bias.setZero();
     st_.dt_last = S(0);
-    Rest<S>::restart(st_.rest);
-    AccFilter<S>::restart(st_.acc);
-    MagDisturbance<S>::restart(st_.mag);
+    // The parts start afresh; the reference field is learned from this sample (unless the user fixed it).
+    restart_parts<S>(params_, st_, mag, mref);
     flags_ = 0;
-    // The reference field is learned afresh from this sample (unless the user fixed it).
-    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     // Attitude sigma s (rad) on each body axis -> quaternion block (s/2)^2 Xi Xi^T.
     st_.P.setZero();
     const Mat43<S> X = quat::xi(st_.q_nb);

@@ -31,9 +31,7 @@
 #include <cstdint>
 
 #include "attitude.hpp"
-#include "parts/acc_filter.hpp"
-#include "parts/mag_disturbance.hpp"
-#include "parts/rest.hpp"
+#include "parts/parts.hpp"
 #include "quaternion_ekf.hpp"
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
@@ -347,11 +345,9 @@ template <class S> class QuaternionESKF {
     st_.q_nb = q;
     st_.gyro_bias.setZero();
     st_.dt_last = S(0);
-    Rest<S>::restart(st_.rest);
-    AccFilter<S>::restart(st_.acc);
-    MagDisturbance<S>::restart(st_.mag);
+    // The parts start afresh; the reference field is learned from this sample (unless the user fixed it).
+    restart_parts<S>(params_, st_, mag, mref);
     flags_ = 0;
-    if (mag) MagDisturbance<S>::start(params_.mag, st_.mag, Vec3<S>(mref / mref.norm()), mag->norm());
     st_.P.setZero();
     st_.P.diagonal().template head<3>().setConstant(params_.init_att_sigma * params_.init_att_sigma);
     st_.P.diagonal().template tail<3>().setConstant(params_.init_gyro_bias_sigma * params_.init_gyro_bias_sigma);
