@@ -22,6 +22,7 @@
 #include <new>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "flop_counter.hpp"
@@ -214,14 +215,74 @@ template <class S> struct EulerEKFCase {
   }
 };
 
+// The Gauss-Newton MARG filter (marg_filter.hpp): gyro integration, then the accelerometer and
+// magnetometer pair by Gauss-Newton. The iterations of its updates are summed (the flop count of
+// a step depends on them; printed with --iterations).
+template <class S> struct MargCase {
+  static constexpr const char* name = "MargFilter";
+  static constexpr bool countable = true;
+  static constexpr const char* policy = "gauss-newton";
+  static constexpr const char* step_desc = "predict+acc_mag";
+  static inline std::uint64_t updates = 0, iterations = 0;
+  quatnav::MargFilter<S> f;
+  void init(const Sample<S>& s) { f.initialize(s.acc, s.mag); }
+  void step(const Sample<S>& s) {
+    f.predict(s.gyr, s.dt);
+    const auto r = f.update_acc_mag(s.acc, s.mag);
+    ++updates;
+    iterations += std::uint64_t(r.iterations);
+  }
+};
+
+// The 16-state GPS/INS filter (gps_ins.hpp), navigating from a given state: the time update of one
+// IMU sample (strapdown and covariance propagation) with a GNSS epoch every 200th sample (1 Hz at
+// 200 Hz, so that the unaided vertical channel and P stay bounded over the repeats: the step is
+// the time update plus 1/200 of an epoch), and the time update with an epoch at every sample
+// (position and velocity, 3 + 3 rows). The fixes are the filter's own position and velocity (the
+// rows' cost does not depend on the innovation). The flop count leaves out what the filter computes
+// in double whatever S is (the geodetic position, the Earth terms of F).
+template <class S> struct GpsInsCase {
+  static constexpr const char* name = "GpsInsFilter";
+  static constexpr bool countable = true;
+  static constexpr const char* policy = "time update, gnss 1/200";
+  static constexpr const char* step_desc = "predict";
+  static constexpr int kGnssEvery = 200;
+  quatnav::GpsInsFilter<S> f;
+  int n = 0;
+  void init(const Sample<S>&) {
+    const Quat<S> q = quatnav::quat::from_euler<S>(S(0.1), S(-0.2), S(0.5));
+    const auto P = f.initial_covariance(Vec3<S>(S(2), S(2), S(4)), S(0.2));
+    f.reset(q, Vec3<S>(S(10), S(2), S(0)), 0.8, 0.2, 100.0, Vec3<S>::Zero(), Vec3<S>::Zero(), P);
+  }
+  void gnss() {
+    const Vec3<double> llh = f.llh();
+    f.update_gps(llh[0], llh[1], llh[2], Vec3<S>(f.v_n()), Vec3<S>(S(2), S(2), S(4)), Vec3<S>::Constant(S(0.2)));
+  }
+  void step(const Sample<S>& s) {
+    f.predict(s.gyr, s.acc, s.dt);
+    if (++n == kGnssEvery) {
+      n = 0;
+      gnss();
+    }
+  }
+};
+template <class S> struct GpsInsGnssCase : GpsInsCase<S> {
+  static constexpr const char* policy = "time update + gnss pos+vel";
+  static constexpr const char* step_desc = "predict+gnss";
+  void step(const Sample<S>& s) {
+    this->f.predict(s.gyr, s.acc, s.dt);
+    this->gnss();
+  }
+};
+
 // The 13-state GPS-aided navigation filter (nav_filter13.hpp): its time update alone, one row per
 // policy (EKF, second order, UKF), from a representative state and covariance. The measurement
-// updates are the same for the three policies. No flop count (the filter carries the geodetic
-// position in double, which the counting scalar does not model).
+// updates are the same for the three policies. The flop count leaves out the geodetic position,
+// which the filter carries in double whatever S is.
 template <class S, quatnav::TimeUpdate TU> struct Nav13CaseT {
   static constexpr const char* name = "NavFilter13";
   static constexpr const char* step_desc = "predict";
-  static constexpr bool countable = false;
+  static constexpr bool countable = true;
   quatnav::NavFilter13<S, TU> f;
   void init(const Sample<S>&) {
     const Quat<S> q = quatnav::quat::from_euler<S>(S(0.1), S(-0.1), S(0.5));
@@ -231,7 +292,7 @@ template <class S, quatnav::TimeUpdate TU> struct Nav13CaseT {
     P.template block<4, 4>(3, 3) = S(0.25 * 0.03) * X * X.transpose();
     P.template block<3, 3>(7, 7).diagonal().setConstant(S(4e-4));
     P.template block<3, 3>(10, 10).diagonal().setConstant(S(1e-10));
-    f.reset(Vec3<S>(S(1), S(1), S(0)), q, Vec3<S>::Zero(), Vec3<S>::Zero(), P, S(0.63), S(2.2), S(50));
+    f.reset(Vec3<S>(S(1), S(1), S(0)), q, Vec3<S>::Zero(), Vec3<S>::Zero(), P, 0.63, 2.2, 50.0);
   }
   void step(const Sample<S>& s) { f.predict(s.gyr, s.acc, s.dt); }
 };
@@ -256,6 +317,7 @@ struct Options {
   bool list = false;     // --list: print the case labels and exit
   bool flops = true;     // --no-flops: skip the counting run (callgrind.sh)
   std::string scalar;    // --scalar float|double: time only that one
+  bool iterations = false;  // --iterations: MargFilter's mean Gauss-Newton iterations per update
 };
 
 // Not inlined, so that `valgrind --tool=callgrind --toggle-collect='*timed_steps*'` counts
@@ -332,6 +394,13 @@ template <template <class> class CaseT> void run_case(const Options& opt) {
     std::printf("%-42s %-18s %8.0f %9.1f %7.2f %9.1f %7.2f %6llu\n", label.c_str(), CaseT<double>::step_desc,
                 flops, ns_d, flops / ns_d, ns_f, flops / ns_f, (unsigned long long)(alloc_d + alloc_f));
   }
+  if constexpr (std::is_same_v<CaseT<double>, MargCase<double>>) {
+    if (opt.iterations) {
+      const double u = double(MargCase<double>::updates + MargCase<float>::updates);
+      std::printf("  MargFilter Gauss-Newton iterations per update (timed runs, f64+f32): %.3f\n",
+                  double(MargCase<double>::iterations + MargCase<float>::iterations) / (u > 0 ? u : 1.0));
+    }
+  }
   std::fflush(stdout);
 }
 
@@ -347,9 +416,10 @@ int main(int argc, char** argv) {
     else if (a == "--csv") opt.csv = true;
     else if (a == "--no-flops") opt.flops = false;
     else if (a == "--list") opt.list = true;
+    else if (a == "--iterations") opt.iterations = true;
     else if (a == "--scalar" && i + 1 < argc) opt.scalar = argv[++i];
     else {
-      std::printf("usage: %s [--reps R] [--steps N] [--filter SUBSTR] [--csv] [--no-flops] [--scalar float|double]\n", argv[0]);
+      std::printf("usage: %s [--reps R] [--steps N] [--filter SUBSTR] [--csv] [--no-flops] [--scalar float|double] [--iterations]\n", argv[0]);
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
@@ -373,6 +443,9 @@ int main(int argc, char** argv) {
   qb::run_case<qb::ESKFPredictAccCase>(opt);
   qb::run_case<qb::ESKFPaperCase>(opt);
   qb::run_case<qb::EulerEKFCase>(opt);
+  qb::run_case<qb::MargCase>(opt);
+  qb::run_case<qb::GpsInsCase>(opt);
+  qb::run_case<qb::GpsInsGnssCase>(opt);
   qb::run_case<qb::Nav13EkfCase>(opt);
   qb::run_case<qb::Nav13SecondOrderCase>(opt);
   qb::run_case<qb::Nav13UkfCase>(opt);
