@@ -356,7 +356,9 @@ class EulerEKF(_AttitudeFilter):
     ``cov_floor``, here a floor on the eigenvalues of P itself) plus ``singular_cos`` (default 0.02);
     ``init_att_sigma`` is the one-sigma of each Euler angle. The noise defaults are the paper's.
 
-    The robustness parts are QuaternionEKF's, with the same names and defaults: rest detection
+    The robustness parts are QuaternionEKF's, with the same names and defaults except
+    ``acc_lp_tau`` (1 s here, 3 s there: this filter learns its gyro bias more slowly, and the
+    low-pass frame drifts by the bias error over ``acc_lp_tau``): rest detection
     (``rest_*``: at rest a zero-rate measurement of the gyro bias, flag ``at_rest``), the
     accelerometer part (``gravity``, ``acc_lp_tau``, ``acc_lp_bias_sigma``, ``acc_reject``,
     ``acc_adapt``, ``acc_recovery_time``; flag ``acc_rejected``) and the magnetometer part

@@ -60,7 +60,9 @@ class MargFilter(Filter):
     compared with it); the magnetometer may be in any unit.
 
     The robustness parts of :class:`~quatnav.QuaternionEKF`, with the same names and defaults
-    (``gravity``: 9.80665, the g of eq. 7): rest detection (``rest_*``; at rest the low-passed
+    except ``gravity`` (9.80665, the g of eq. 7) and ``acc_lp_tau`` (1 s instead of 3 s: the
+    filter has no gyro-bias covariance to shorten the low-pass with while the bias is unknown, and
+    the low-pass frame drifts by the bias error over ``acc_lp_tau``): rest detection (``rest_*``; at rest the low-passed
     gyro is taken as the gyro bias, flag ``at_rest``), the accelerometer part (``acc_lp_tau``
     low-pass; ``acc_reject``: a rejected sample skips the update, flag ``acc_rejected``;
     ``acc_adapt`` lowers the gain to ``gain / (1 + acc_adapt ||a|-g|/g)``; not applied while eq. 7

@@ -284,7 +284,7 @@ EULER_PARAMS = (
     _p("singular_cos", 0.02, "1", "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it"),
     *_ranges(),
     _cov_floor(1e-12),
-    *_acc_part(),
+    *_acc_part(lp_tau=1.0),
     *_mag_part(),
     *_rest_part(),
 )
@@ -306,7 +306,7 @@ MARG_PARAMS = (
     _max_dt(),
     _p("declination", 0.0, "rad", "magnetic declination, east of true north (GPS velocities are rotated "
        "into the magnetic frame)", "angle", limits=(-_PI, _PI)),
-    *_acc_part(gravity=9.80665),
+    *_acc_part(gravity=9.80665, lp_tau=1.0),
     *_mag_part(),
     *_rest_part(),
 )

@@ -85,16 +85,23 @@ namespace quatnav {
      misplaced by 0.3 m/s^2. */                                                                        \
   X(S, declination, S(0), "rad",                                                                         \
     "magnetic declination, east of true north (GPS velocities are rotated into the magnetic frame)")     \
-  /* the accelerometer part's gravity is the g of eq. (7): 9.80665 m/s^2 here */                        \
+  /* the accelerometer part's gravity is the g of eq. (7): 9.80665 m/s^2 here, and its low-pass is     \
+     shorter (detail::marg_acc_defaults) */                                                             \
   X(AccFilterParams<S>, acc, detail::marg_acc_defaults<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
   X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
   X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
 
 namespace detail {
-/// The accelerometer part's defaults in MargFilter: the other filters' with eq. (7)'s g.
+/// The accelerometer part's defaults in MargFilter: eq. (7)'s g, and a 1 s low-pass instead of 3 s.
+/// MargFilter has no gyro-bias covariance to shrink the low-pass with (AccFilter::time_constant),
+/// so its low-pass frame drifts by the whole bias error over acc_lp_tau. 1 s was chosen on BROAD
+/// and the simulated rotation of `quatnav demo` together (docs/broad.md, "The accelerometer
+/// low-pass of EulerEKF and MargFilter"): mean total 3.21 deg on BROAD (2.93 with 3 s) and a third
+/// of the 3 s error under a 1.5 deg/s gyro bias.
 template <class S> AccFilterParams<S> marg_acc_defaults() {
   AccFilterParams<S> p;
   p.gravity = S(9.80665);
+  p.acc_lp_tau = S(1);
   return p;
 }
 }  // namespace detail
