@@ -7,7 +7,7 @@
 #      does find_package(quatnav) (cpp/examples/consumer),
 #   5. cross-compiles every filter in float32 for a Cortex-M4F and compares it in QEMU with the
 #      host double run (cpp/examples/embedded/run.py; apt gcc-arm-none-eabi, qemu-system-arm),
-#   6. runs pytest on tests/python against the installed package,
+#   6. runs pytest on tests/python against the installed package (QUATNAV_JOBS workers, pytest-xdist),
 #   7. builds the documentation site with warnings as errors (tools/docs.sh).
 # Environment: PYTHON (an interpreter to use as it is; default: a virtual environment in .venv,
 #              see tools/setup_env.sh), QUATNAV_JOBS (default 2),
@@ -73,8 +73,9 @@ echo "== embedded: cross-compile every filter for a Cortex-M4F, run it in QEMU, 
 QUATNAV_JOBS="$JOBS" timeout 1500 "$PY" cpp/examples/embedded/run.py --check --opt O2 --report-dir build/embedded/report
 
 # --- Python tests ---------------------------------------------------------------------------
-echo "== pytest"
-"$PY" -m pytest -q tests/python "$@"
+# pytest-xdist: one worker per job, each test file on one worker (module fixtures built once)
+echo "== pytest ($JOBS workers)"
+"$PY" -m pytest -q -n "$JOBS" --dist loadfile tests/python "$@"
 
 # --- documentation site (sphinx -W: a warning fails) ------------------------------------------
 echo "== documentation site"
