@@ -21,10 +21,12 @@ from ._toml import dumps
 from .online import OnlineHardIron, hard_iron_track
 from .sensors import (STANDARD_GRAVITY, SensorCalibration, accelerometer, gyroscope, magnetometer,
                       rest_segments, sphere_coverage)
+from .time_offset import TimeOffsetEstimate, gps_time_offset
 
 __all__ = ["Calibration", "SensorCalibration", "magnetometer", "accelerometer", "gyroscope",
            "rest_segments", "sphere_coverage", "apply", "save_calibration", "load_calibration",
-           "apply_calibration_args", "STANDARD_GRAVITY", "OnlineHardIron", "hard_iron_track"]
+           "apply_calibration_args", "STANDARD_GRAVITY", "OnlineHardIron", "hard_iron_track",
+           "gps_time_offset", "TimeOffsetEstimate"]
 
 _SENSORS = ("gyro", "acc", "mag")
 

@@ -612,7 +612,8 @@ def write_diagnostics(path, r) -> int:
 
 
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
-              calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False):
+              calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False, time_offset=None,
+              executor=None):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -629,6 +630,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     accelerometer samples before the filter sees them. ``mag``, ``odometer``: CSV files of a raw
     magnetometer and an odometer; ``diagnostics``: a CSV file for the per-sample report of the aids.
     ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
+    ``time_offset``: ``(low, high)`` s: estimate ``gps_time_offset`` over that interval first
+    (:func:`quatnav.calibration.gps_time_offset`, its runs through ``executor``) and run with it;
+    ``summary["gps_time_offset_estimate"]`` holds the estimate.
     """
     import quatnav
 
@@ -728,9 +732,30 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         gg, aa = gg * share[:, None], aa * share[:, None]
     if d_m is not None:
         kw["mag"] = mag_at_imu_rows(tt, d_m["time"], np.column_stack([d_m[f"mag_{c}"] for c in "xyz"]))
+    imu_input = "increment" if increments else "rate"
+    estimate = None
+    if time_offset is not None:
+        from ..calibration.time_offset import gps_time_offset
+        if executor is None:  # the runs release the GIL: threads keep every core busy
+            import os
+            from concurrent.futures import ThreadPoolExecutor
+            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as ex:
+                estimate = gps_time_offset(f, gg, aa, t=tt, imu_input=imu_input, bounds=time_offset, executor=ex, **kw)
+        else:
+            estimate = gps_time_offset(f, gg, aa, t=tt, imu_input=imu_input, bounds=time_offset, executor=executor,
+                                       **kw)
+        if "gps_time_offset" in params:
+            note(f"the estimated gps_time_offset ({estimate.offset:+.4f} s) replaces the configured one "
+                 f"({params['gps_time_offset']:+g} s)")
+        state = f.get_state()
+        f = quatnav.GpsInsFilter(**dict(params, gps_time_offset=estimate.offset))
+        f.set_state(state)
+        if estimate.at_bound:
+            note(f"the estimated gps_time_offset is at the end of the searched {time_offset[0]:+g} .. "
+                 f"{time_offset[1]:+g} s: widen --estimate-time-offset LOW,HIGH")
     from ..io.table import progress_bar, write_table
     bar = progress_bar(2 * len(tt), desc="ins run: filter", unit="row")  # a terminal and a long log only
-    r = f.run(gg, aa, t=tt, imu_input="increment" if increments else "rate", smooth=smooth, **kw)
+    r = f.run(gg, aa, t=tt, imu_input=imu_input, smooth=smooth, **kw)
     bar.update(len(tt))
     bar.set_description("ins run: write")
     nav = r.navigating & original
@@ -764,12 +789,18 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         msg += f"; alignment {r.alignment['method']}, heading from {r.alignment['heading']}"
     if smooth and nav.any():
         msg += "; smoothed"
+    if estimate is not None:
+        msg = f"estimated {estimate}\n" + msg
     summary = {"output": str(out), "rows": n_nav, "imu_samples": int(len(t)),
                "navigation_start_s": float(r.t[nav][0]) if nav.any() else None,
                "coasted_gaps": [{"lines": [int(lines_i[k - 1]), int(lines_i[k])], "seconds": step} for k, step in gaps],
                "gated_out": rej, "counters": r.counters, "alignment": r.alignment,
                "decisions": {k: a.decisions() for k, a in r.aids.items()}, "diagnostics_rows": n_diag,
                "warnings": warnings, "smoothed": bool(smooth)}
+    if estimate is not None:
+        summary["gps_time_offset_estimate"] = {
+            "offset_s": estimate.offset, "sigma_s": estimate.sigma if np.isfinite(estimate.sigma) else None,
+            "at_bound": estimate.at_bound, "bounds_s": list(estimate.bounds), "runs": estimate.runs}
     return msg, bool(nav.any()), summary
 
 
@@ -786,7 +817,8 @@ def _run(args) -> int:
                                  config=args.config, warn=lambda w: print(f"{prog}: warning: {w}", file=sys.stderr),
                                  log=log, fmt=args.format, tracks=tracks,
                                  calibration=getattr(args, "calibration", None), mag=args.mag,
-                                 odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth)
+                                 odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth,
+                                 time_offset=args.estimate_time_offset)
     print(msg)
     if ok:
         from ..io import tracks as track_files
@@ -830,6 +862,17 @@ def config_keys_text(width: int = 100) -> str:
     return "\n".join(lines)
 
 
+def _offset_bounds(text: str) -> tuple:
+    """``LOW,HIGH`` in seconds (argparse type of --estimate-time-offset)."""
+    try:
+        lo, hi = (float(x) for x in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected LOW,HIGH in seconds (e.g. -0.5,0.5), got {text!r}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise argparse.ArgumentTypeError(f"expected finite LOW < HIGH, got {text!r}")
+    return lo, hi
+
+
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``quatnav ins run`` on an argparse subparsers object."""
     p = subparsers.add_parser("ins", help="GPS/INS navigation on CSV logs (see 'quatnav ins run -h')",
@@ -860,6 +903,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="write the smoothed solution: a Rauch-Tung-Striebel backward pass after the filter, so that "
                         "every row uses the whole log (post-processing; bridges GNSS outages); the gating "
                         "decisions and the diagnostics are the filter's")
+    r.add_argument("--estimate-time-offset", nargs="?", const=(-0.5, 0.5), default=None, type=_offset_bounds,
+                   metavar="LOW,HIGH",
+                   help="estimate gps_time_offset (s, the GNSS clock to the IMU's; a receiver latency L is -L) "
+                        "from the log first, searching LOW..HIGH s (default -0.5,0.5), and run with it: the "
+                        "offset whose GNSS innovations are smallest (needs motion; prints the estimate and its "
+                        "one-sigma); a negative LOW takes '=': --estimate-time-offset=-0.3,0.1")
     r.add_argument("--kml", metavar="FILE.kml", help="also write the track as KML (Google Earth)")
     r.add_argument("--gpx", metavar="FILE.gpx", help="also write the track as GPX")
     r.add_argument("--plot", metavar="FILE.png", help="also plot track with GNSS fixes, attitude, biases")
