@@ -32,7 +32,9 @@
 //
 // Discretization over one IMU interval dt, with F evaluated before the step:
 //   Phi = I + F dt + (F dt)^2 / 2,  Qd = (Phi Qc Phi^T + Qc) dt / 2  (trapezoidal),
-//   P <- Phi P Phi^T + Qd.
+//   P <- Phi P Phi^T + Qd,
+// evaluated by blocks, with only the nonzero blocks of F and Phi, as Phi (P + Qc dt / 2) Phi^T +
+// Qc dt / 2 (detail::gpsins_Phi_blocks, detail::gpsins_propagate in gps_ins/model.hpp).
 // Qc: accelerometer white noise on dv, gyro white noise on psi, bias driving noise on db (all
 // scaled by the adaptation's q_scale, see below), the offset's random walk.
 //
@@ -316,14 +318,10 @@ template <class S_> class GpsInsFilter {
     } else {
       StrapdownParams sp;
       sp.earth_rotation = p_.earth_rotation;
-      const Mat16 Phi = detail::gpsins_Phi<S>(s.nav, f, dt, p_);
+      const detail::GpsInsPhi<S> Phi = detail::gpsins_Phi_blocks<S>(s.nav, f, dt, p_);
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
-      const Vec16 qc = detail::gpsins_Qc_diag(p_, s.q_scale);
-      const Mat16 PhiQ = Phi * qc.asDiagonal();
-      Mat16 Qd = S(0.5) * dt * fixed_mul(PhiQ, Phi.transpose());
-      Qd.diagonal() += S(0.5) * dt * qc;
-      Mat16 P = fixed_mul(fixed_mul(Phi, s.P), Phi.transpose()) + Qd;
+      Mat16 P = detail::gpsins_propagate<S>(Phi, s.P, detail::gpsins_Qc_diag(p_, s.q_scale), dt);
       symmetrize(P);
       if (p_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / p_.acc_bias_tau);
       if (p_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / p_.gyro_bias_tau);
