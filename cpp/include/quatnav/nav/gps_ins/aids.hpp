@@ -55,6 +55,14 @@ template <class S> Vec3<S> antenna_velocity(const GpsInsState<S>& s, const GpsIn
 template <class S> Vec3<S> nav_acceleration(const GpsInsState<S>& s, const Mat3<S>& C) {
   return C * s.f_b + Vec3<S>(S(0), S(0), S(earth::gravity<double>(s.nav.lat, s.nav.h)));
 }
+
+/// After a reset of the 3 states from K0 to a fix: their covariance block is the fix's R and their
+/// cross terms with every other state are zero.
+template <int K0, class S> void reset_block(GpsInsState<S>& s, const Mat3<S>& R) {
+  s.P.template middleRows<3>(K0).setZero();
+  s.P.template middleCols<3>(K0).setZero();
+  s.P.template block<3, 3>(K0, K0) = R;
+}
 }  // namespace detail
 
 /// The pieces. Each has: kind (its counters), M (rows), C0, NC (the columns of the error state
@@ -98,9 +106,7 @@ template <class S> struct GpsPosition {
     s.nav.lat = la;
     s.nav.lon = lo;
     s.nav.h = hh;
-    s.P.template middleRows<3>(gpsins::kPos).setZero();
-    s.P.template middleCols<3>(gpsins::kPos).setZero();
-    s.P.template block<3, 3>(gpsins::kPos, gpsins::kPos) = R;
+    detail::reset_block<gpsins::kPos>(s, R);
     return true;
   }
 };
@@ -134,9 +140,7 @@ template <class S> struct GpsVelocity {
   /// The IMU velocity from the fix (less the lever-arm term), its covariance block R, cross terms 0.
   bool reset(GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
     s.nav.v_n = v_n - quat::to_rotmat(s.nav.q_nb) * s.omega_b.cross(p.lever_arm_b);
-    s.P.template middleRows<3>(gpsins::kVel).setZero();
-    s.P.template middleCols<3>(gpsins::kVel).setZero();
-    s.P.template block<3, 3>(gpsins::kVel, gpsins::kVel) = R;
+    detail::reset_block<gpsins::kVel>(s, R);
     return true;
   }
 };
