@@ -180,6 +180,9 @@ def test_write_table_csv_and_parquet(tmp_path, monkeypatch):
             seen.append(n)
     write_table(tmp_path / "a.csv", names, cols, fmts, chunk_rows=1000, progress=P())
     assert sum(seen) == len(v) and len(seen) == -(-len(v) // 1000)
+    # the chunks, formatted on threads, are written in order: the same bytes as one chunk
+    write_table(tmp_path / "d.csv", names, cols, fmts, chunk_rows=len(v) + 1)
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "d.csv").read_bytes()
     df = pd.read_csv(tmp_path / "a.csv")
     assert list(df.columns) == names
     for c, col, f in zip(names, cols, fmts):
