@@ -41,6 +41,10 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+from ..filters._base import Aid
+from ..filters.gpsins import GpsInsFilter
 
 __all__ = ["gps_time_offset", "TimeOffsetEstimate"]
 
@@ -119,9 +123,10 @@ def _parabola(x, y, half: int = 4):
     return float(np.clip(v, x[a], x[b - 1])), float(2 * c2)
 
 
-def gps_time_offset(filter, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None,
-                    bounds=(-0.5, 0.5), points: int = 21,
-                    executor: Executor | None = None, **aids) -> TimeOffsetEstimate:
+def gps_time_offset(filter: GpsInsFilter, gyr: ArrayLike, acc: ArrayLike, mag: ArrayLike | None = None, *,
+                    t: ArrayLike | None = None, dt: "float | ArrayLike | None" = None, gps_pos: Aid | None = None,
+                    gps_vel: Aid | None = None, bounds: "tuple[float, float]" = (-0.5, 0.5), points: int = 21,
+                    executor: Executor | None = None, **aids: object) -> TimeOffsetEstimate:
     """Estimate the ``gps_time_offset`` of a GPS/INS log (see the module's description).
 
     Parameters
@@ -146,7 +151,6 @@ def gps_time_offset(filter, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None
     -------
     TimeOffsetEstimate
     """
-    from ..filters.gpsins import GpsInsFilter
     if not isinstance(filter, GpsInsFilter):
         raise TypeError(f"filter: expected a quatnav.GpsInsFilter, got {type(filter).__name__}")
     if gps_pos is None and gps_vel is None:
