@@ -5,7 +5,7 @@ filter then compares the INS with fixes from another moment, and a vehicle at sp
 acceleration ``a`` sees position innovations ``v * dt`` and velocity innovations ``a * dt``.
 :func:`gps_time_offset` finds the ``gps_time_offset`` parameter of
 :class:`quatnav.GpsInsFilter` that makes those innovations smallest, by running the filter on
-the log over a grid of offsets (a coarse grid, then finer grids around the best point):
+the log over a grid of offsets (a coarse grid, then a finer grid around the best point)::
 
     est = quatnav.calibration.gps_time_offset(quatnav.GpsInsFilter(lever_arm_b=(0.1, 0, -0.3)),
                                               gyr, acc, t=t, gps_pos=Aid(tg, llh), gps_vel=Aid(tg, v_n))
@@ -20,7 +20,7 @@ offset is the maximum-likelihood offset. Two choices keep the criterion smooth a
   ``gps_time_sigma`` (the speed and acceleration times that sigma) to the covariance of every
   fix. At each grid, it is set to half the grid's step (never below the filter's own value),
   so that a coarse grid does not gate out the fixes of every offset but the right one, and the
-  fine grids see the innovations at their resolution.
+  fine grid sees the innovations at its resolution.
 * **The same fixes at every offset of a grid.** Fixes whose NIS exists at every offset of a
   grid are summed (a shifted fix can fall before the alignment or after the IMU's end).
 
