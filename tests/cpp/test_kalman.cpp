@@ -125,6 +125,56 @@ template <int N, int M, int C0, int NC> void check_diagonal_matches_joint(unsign
   EXPECT_NEAR(rs.nis, y.dot(S.inverse() * y), 1e-10 * (1 + rs.nis));
 }
 
+// The in-place form on a scratch copy gives the same bits as kalman_correct_diagonal.
+template <int N, int M, int C0, int NC> void check_diagonal_in_place(unsigned seed) {
+  Randn rnd(seed);
+  const Mat<double, N, N> P0 = rnd.spd<Mat<double, N, N>>(0.1);
+  Mat<double, M, N> H = Mat<double, M, N>::Zero();
+  for (int i = 0; i < M; ++i)
+    for (int j = C0; j < C0 + NC; ++j) H(i, j) = rnd();
+  Vec<double, M> r, y;
+  for (int i = 0; i < M; ++i) {
+    r[i] = 0.05 + std::abs(rnd());
+    y[i] = rnd();
+  }
+  Mat<double, N, N> Pa = P0, Pb = P0;
+  Vec<double, N> dxa, dxb;
+  UpdateResult<double, M> ra, rb;
+  ASSERT_EQ((kalman_correct_diagonal<double, N, M, C0, NC>(Pa, H, r, y, dxa, ra)), Status::Ok);
+  const Mat<double, M, NC> Hc = H.template middleCols<NC>(C0);
+  ASSERT_EQ((kalman_correct_diagonal_in_place<double, N, M, C0, NC>(Pb, Hc, r, y, dxb, rb)), Status::Ok);
+  EXPECT_EQ(std::memcmp(Pa.data(), Pb.data(), sizeof Pa), 0);
+  EXPECT_EQ(std::memcmp(dxa.data(), dxb.data(), sizeof dxa), 0);
+  EXPECT_EQ(ra.nis, rb.nis);
+  EXPECT_EQ(ra.innovation_cov, rb.innovation_cov);
+}
+
+TEST(Kalman, DiagonalInPlaceMatchesCopying) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    check_diagonal_in_place<7, 3, 0, 4>(seed);
+    check_diagonal_in_place<6, 3, 0, 3>(seed + 30);
+    check_diagonal_in_place<6, 3, 3, 3>(seed + 50);
+  }
+  // The one test it leaves to the caller: a covariance with a non-finite element outside the
+  // measured columns. In place the status is Ok (the caller tests Pw); kalman_correct_diagonal
+  // reports NumericalFailure and keeps P and dx.
+  Mat<double, 2, 2> P = Mat<double, 2, 2>::Identity();
+  P(0, 0) = std::numeric_limits<double>::infinity();
+  const Mat<double, 2, 2> P0 = P;
+  const Mat<double, 1, 2> H(0.0, 1.0);
+  const Mat<double, 1, 1> Hc(1.0);
+  const Vec<double, 1> r(1.0), y(0.5);
+  Vec<double, 2> dx = Vec<double, 2>::Constant(42.0);
+  UpdateResult<double, 1> res;
+  Mat<double, 2, 2> Pw = P;
+  EXPECT_EQ((kalman_correct_diagonal_in_place<double, 2, 1, 1, 1>(Pw, Hc, r, y, dx, res)), Status::Ok);
+  EXPECT_FALSE(all_finite(Pw));
+  dx.setConstant(42.0);
+  EXPECT_EQ((kalman_correct_diagonal<double, 2, 1>(P, H, r, y, dx, res)), Status::NumericalFailure);
+  EXPECT_EQ(std::memcmp(P.data(), P0.data(), sizeof P), 0);
+  EXPECT_EQ(dx[0], 42.0);
+}
+
 TEST(Kalman, DiagonalSequentialMatchesJoint) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     check_diagonal_matches_joint<7, 3, 0, 4>(seed);

@@ -514,12 +514,13 @@ template <class S> class QuaternionEKF {
   template <int M, int C0, int NC>
   void apply_correction(const Mat<S, M, 7>& H, const Vec<S, M>& r, const Vec<S, M>& y,
                         UpdateResult<S, M>& res, S gate) {
-    Mat7 P = st_.P;
+    Mat7 P = st_.P;  // the one working copy; its finiteness is tested in the check step
     Vec<S, 7> dx;
-    kalman_correct_diagonal<S, 7, M, C0, NC>(P, H, r, y, dx, res, gate);
+    const Mat<S, M, NC> Hc = H.template middleCols<NC>(C0);
+    kalman_correct_diagonal_in_place<S, 7, M, C0, NC>(P, Hc, r, y, dx, res, gate);
     inject_and_commit(
         res, P, [&] { return Quat<S>(st_.q_nb + dx.template head<4>()); },
-        [](const Quat<S>& q, const Mat7&) { return q.norm() > S(0.5); },
+        [](const Quat<S>& q, const Mat7& Pc) { return all_finite(Pc) && q.norm() > S(0.5); },
         [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
         [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
   }

@@ -63,31 +63,39 @@ Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr
 
 /// P+ = Phi P Phi^T + Q for Phi = [F -dt I; 0 I], Q = diag(qa I, qb I), by blocks (P = [A C; C^T D]):
 ///   P+_aa = F A F^T - dt (F C + (F C)^T) + dt^2 D + qa I,  P+_ab = F C - dt D,  P+_bb = D + qb I.
-/// Every block is written exactly symmetric (the attitude block by its lower triangle). In place.
-template <class S> void eskf_predict_covariance(Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb) {
-  const Mat3<S> A = P.template topLeftCorner<3, 3>();
-  const Mat3<S> C = P.template topRightCorner<3, 3>();
-  const Mat3<S> D = P.template bottomRightCorner<3, 3>();
+/// Every block is written exactly symmetric (the attitude block by its lower triangle). Writes
+/// P_new (not aliasing P).
+template <class S> void eskf_predict_covariance(const Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb,
+                                                Mat<S, 6, 6>& P_new) {
+  const auto A = P.template topLeftCorner<3, 3>();
+  const auto C = P.template topRightCorner<3, 3>();
+  const auto D = P.template bottomRightCorner<3, 3>();
   Mat3<S> FC;
   FC.noalias() = F * C;
   Mat3<S> FA;
   FA.noalias() = F * A;
-  const Mat3<S> U = FC - dt * D;  // top-right block
   for (int j = 0; j < 3; ++j)
     for (int i = j; i < 3; ++i) {
       const S v = FA.row(i).dot(F.row(j)) - dt * (FC(i, j) + FC(j, i)) + dt * dt * D(i, j) + (i == j ? qa : S(0));
-      P(i, j) = P(j, i) = v;
+      P_new(i, j) = P_new(j, i) = v;
     }
-  P.template topRightCorner<3, 3>() = U;
-  P.template bottomLeftCorner<3, 3>() = U.transpose();
-  P.template bottomRightCorner<3, 3>().diagonal().array() += qb;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) P_new(i, 3 + j) = P_new(3 + j, i) = FC(i, j) - dt * D(i, j);  // top-right block
+  P_new.template bottomRightCorner<3, 3>() = D;
+  P_new.template bottomRightCorner<3, 3>().diagonal().array() += qb;
 }
 
-/// The direction model h = C_bn(q) r_n and its error-state Jacobian [[h x], 0] (3 x 6).
-template <class S> void eskf_direction_model(const Quat<S>& q, const Vec3<S>& r_n, Vec3<S>& h, Mat<S, 3, 6>& H) {
+/// In place: the same update through a copy.
+template <class S> void eskf_predict_covariance(Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb) {
+  const Mat<S, 6, 6> P0 = P;
+  eskf_predict_covariance<S>(P0, F, dt, qa, qb, P);
+}
+
+/// The direction model h = C_bn(q) r_n and its error-state Jacobian [[h x], 0] (3 x 6): Ha is
+/// the attitude block [h x]; the bias block is zero.
+template <class S> void eskf_direction_model(const Quat<S>& q, const Vec3<S>& r_n, Vec3<S>& h, Mat3<S>& Ha) {
   h = quat::rotate_inv(q, r_n);
-  H.setZero();
-  H.template leftCols<3>() = quat::skew(h);
+  Ha = quat::skew(h);
 }
 
 /// Heading model in the error state: with m_n = C_nb m, h = atan2(m_n,y, m_n,x). A body-frame
@@ -192,9 +200,9 @@ template <class S> class QuaternionESKF {
     Quat<S> q_new;
     Mat3<S> F;
     const Quat<S> dq = detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
-    Mat6 P_new = st_.P;
-    detail::eskf_predict_covariance<S>(P_new, F, dt, dt * params_.gyro_noise * params_.gyro_noise,
-                                       dt * params_.gyro_bias_noise * params_.gyro_bias_noise);
+    Mat6 P_new;
+    detail::eskf_predict_covariance<S>(st_.P, F, dt, dt * params_.gyro_noise * params_.gyro_noise,
+                                       dt * params_.gyro_bias_noise * params_.gyro_bias_noise, P_new);
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
     st_.q_nb = q_new / q_new.norm();
     if (params_.cov_floor > S(0)) floor_covariance<S, 6>(P_new, params_.cov_floor);
@@ -210,12 +218,11 @@ template <class S> class QuaternionESKF {
   /// the low-pass time constant following the gyro-bias variance (acc_lp_bias_sigma); then 3
   /// scalar rows.
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
-    UpdateResult<S, 3> res;
-    if (!st_.initialized) return res;
-    if (detail::saturated(acc, params_.acc_range)) return saturated_result<3>();
+    if (!st_.initialized) return status_result<3>(Status::NotInitialized);
+    if (detail::saturated(acc, params_.acc_range)) return status_result<3>(Status::Saturated);
     Vec3<S> a;
-    res.status = detail::unit_vector(acc, a);
-    if (res.status != Status::Ok) return res;
+    const Status ua = detail::unit_vector(acc, a);
+    if (ua != Status::Ok) return status_result<3>(ua);
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
     return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
@@ -226,11 +233,10 @@ template <class S> class QuaternionESKF {
   /// Magnetometer update: the magnetometer part as in QuaternionEKF::update_mag, then the
   /// heading-only or the 3-row update.
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
-    UpdateResult<S, 3> res;
-    if (!st_.initialized) return res;
+    if (!st_.initialized) return status_result<3>(Status::NotInitialized);
     Vec3<S> m;
-    res.status = detail::unit_vector(mag, m);
-    if (res.status != Status::Ok) return res;
+    const Status um = detail::unit_vector(mag, m);
+    if (um != Status::Ok) return status_result<3>(um);
     const S gt = gate > S(0) ? gate : params_.mag_gate;
     const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
     return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
@@ -242,7 +248,7 @@ template <class S> class QuaternionESKF {
   UpdateResult<S, 6> update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 6> res;
     if (!st_.initialized) return res;
-    if (detail::saturated(acc, params_.acc_range)) return saturated_result<6>();
+    if (detail::saturated(acc, params_.acc_range)) return status_result<6>(Status::Saturated);
     Vec3<S> a, m;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
@@ -251,10 +257,10 @@ template <class S> class QuaternionESKF {
     const MagRef<S> ref_before = st_.mag.ref;
     st_.mag.ref.learn(quat::rotate(st_.q_nb, m), params_.mag.mag_ref_samples);
     Vec3<S> ha, hm;
-    Mat<S, 3, 6> Ha, Hm;
+    Mat3<S> Ha, Hm;
     detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), ha, Ha);
     detail::eskf_direction_model(st_.q_nb, mag_reference(), hm, Hm);
-    Mat<S, 6, 6> H;
+    Mat<S, 6, 3> H;
     H << Ha, Hm;
     Vec<S, 6> y, r;
     y << a - ha, m - hm;
@@ -269,8 +275,7 @@ template <class S> class QuaternionESKF {
   /// At rest (parts/rest.hpp): the zero-rate measurement of the bias, z = w - b = 0 + noise.
   void update_zero_rate() {
     flags_ |= flags::kAtRest;
-    Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
-    H.template rightCols<3>().setIdentity();
+    const Mat3<S> H = Mat3<S>::Identity();
     const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
     apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
@@ -330,7 +335,7 @@ template <class S> class QuaternionESKF {
     res.status = detail::unit_vector(v, u);
     if (res.status != Status::Ok) return res;
     Vec3<S> h;
-    Mat<S, 3, 6> H;
+    Mat3<S> H;
     detail::eskf_direction_model(st_.q_nb, r_n, h, H);
     apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
     return res;
@@ -355,28 +360,29 @@ template <class S> class QuaternionESKF {
     return Status::Ok;
   }
 
-  template <int M> static UpdateResult<S, M> saturated_result() {
+  template <int M> static UpdateResult<S, M> status_result(Status status) {
     UpdateResult<S, M> r;
-    r.status = Status::Saturated;
+    r.status = status;
     return r;
   }
 
-  /// Scalar sequential Joseph updates of the rows of H (nonzero in NC columns from C0 on).
+  /// Scalar sequential Joseph updates of the rows of H, given by its NC nonzero columns from C0
+  /// on, on one working copy of P (tested for finiteness once, in commit()).
   template <int M, int C0, int NC>
-  void apply_correction(const Mat<S, M, 6>& H, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
+  void apply_correction(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
                         S gate) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    kalman_correct_diagonal<S, 6, M, C0, NC>(P, H, r, y, dx, res, gate);
+    kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate);
     commit(res, P, dx);
   }
 
-  /// inject (q * exp(dtheta), b + db) -> check (finite) -> commit (core/commit.hpp).
-  template <int M> void commit(UpdateResult<S, M>& res, const Mat6& P, const Vec<S, 6>& dx) {
-    Mat6 Pc = P;
-    if (res.status == Status::Ok) detail::eskf_reset_covariance<S>(Pc, Vec3<S>(dx.template head<3>()));
+  /// inject (q * exp(dtheta), b + db) -> check (finite) -> commit (core/commit.hpp). P is the
+  /// working copy, reset in place.
+  template <int M> void commit(UpdateResult<S, M>& res, Mat6& P, const Vec<S, 6>& dx) {
+    if (res.status == Status::Ok) detail::eskf_reset_covariance<S>(P, Vec3<S>(dx.template head<3>()));
     inject_and_commit(
-        res, Pc,
+        res, P,
         [&] {
           const Quat<S> q = quat::mul(st_.q_nb, quat::from_rotvec(Vec3<S>(dx.template head<3>())));
           return Quat<S>(q / q.norm());

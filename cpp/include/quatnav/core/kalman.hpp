@@ -261,15 +261,24 @@ template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S
 /// only in the NC columns from C0 on (see kalman_correct).
 template <class S, int N, int M, int C0 = 0, int NC = N>
 Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,
-                               Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0)) {
+                               Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0));
+
+/// kalman_correct_diagonal on a scratch covariance, for a filter that already works on a copy
+/// of its own (it saves two N x N copies and a finiteness test of P per correction).
+/// Hc: the NC nonzero columns of H (from column C0 on). On Ok, Pw holds the corrected covariance
+/// and dx the correction; on any other status Pw is partly updated and must be discarded. The
+/// statuses are those of kalman_correct_diagonal but for one test left to the caller: a
+/// non-finite Pw is not checked here (dx and the NIS are), so the caller must test Pw before
+/// keeping it.
+template <class S, int N, int M, int C0, int NC>
+Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& Hc, const Vec<S, M>& r,
+                                        const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0)) {
   static_assert(C0 >= 0 && NC >= 1 && C0 + NC <= N, "H columns out of range");
   res.innovation = y;
-  const Mat<S, M, NC> Hc = H.template middleCols<NC>(C0);
   if (!all_finite(Hc) || !all_finite(r) || !all_finite(y)) {
     res.status = Status::NumericalFailure;
     return res.status;
   }
-  Mat<S, N, N> Pw = P;
   Vec<S, N> dxw = Vec<S, N>::Zero();
   Vec<S, M> s;
   Mat<S, M, M> L = Mat<S, M, M>::Identity();  // unit lower factor of S
@@ -303,6 +312,22 @@ Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec
     res.status = Status::Rejected;
     return res.status;
   }
+  if (!all_finite(dxw) || !std::isfinite(nis)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  dx = dxw;
+  res.status = Status::Ok;
+  return res.status;
+}
+
+template <class S, int N, int M, int C0, int NC>
+Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,
+                               Vec<S, N>& dx, UpdateResult<S, M>& res, S gate) {
+  Mat<S, N, N> Pw = P;
+  Vec<S, N> dxw;
+  const Mat<S, M, NC> Hc = H.template middleCols<NC>(C0);
+  if (kalman_correct_diagonal_in_place<S, N, M, C0, NC>(Pw, Hc, r, y, dxw, res, gate) != Status::Ok) return res.status;
   return detail::commit_correction(P, dx, Pw, dxw, res);
 }
 

@@ -137,12 +137,9 @@ template <class S> struct AccFilter {
   static auto update(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var, std::uint32_t& sample_flags,
                      Update&& filter_update) {
     const AccSample<S> in = screen(p, s, acc, dt, max_bias_var);
-    decltype(filter_update(in)) res;
-    if (in.rejected) {
-      res.status = Status::Rejected;
-    } else {
-      res = filter_update(in);
-    }
+    using Result = decltype(filter_update(in));
+    Result res = in.rejected ? Result{} : filter_update(in);  // one result, built in place
+    if (in.rejected) res.status = Status::Rejected;
     finish(p, s, res.status, dt);
     if (res.status == Status::Rejected) sample_flags |= flags::kAccRejected;
     return res;

@@ -149,9 +149,9 @@ template <class S> struct MagDisturbance {
   static auto update(const Params& p, State& s, S norm, const Field& field_n, S dt, std::uint32_t& sample_flags,
                      Update&& filter_update) {
     const MagSample<S> c = screen(p, s, norm, field_n(), dt);
-    decltype(filter_update()) res;
+    using Result = decltype(filter_update());
+    Result res = c.use ? filter_update() : Result{};  // one result, built in place
     if (c.use) {
-      res = filter_update();
       finish(p, s, c, res.status, field_n, dt);
     } else {
       res.status = Status::Rejected;
