@@ -454,11 +454,15 @@ def motion_start(t, speed_or_rate, threshold):
 
 def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", accel=None):
     """A warning when the IMU and the GNSS see the start of the motion 1 to 10 s apart (their
-    clocks differ: gps_time_offset), or None. Motion in the IMU (smoothed over 0.2 s, after 1 s
-    still; the onset nearest the GNSS start): |gyro| above 0.3 rad/s or, given ``accel``, the
-    specific force more than 1 m/s^2 from its value at the start (a vehicle pulling away without
-    turning); in the GNSS the speed above 0.5 m/s after being below it. Starts more than 10 s apart are taken for different events
-    (a latency is below a second; a clock offset of seconds or more shows in check_clock)."""
+    clocks differ: gps_time_offset), or None. Motion in the IMU (smoothed over 0.2 s, after at
+    least 1 s still; the onset nearest the GNSS start): |gyro| above 0.3 rad/s or, given
+    ``accel``, the
+    specific force more than 0.5 m/s^2 from its mean over a steady second that ends 0.2 s
+    before (steady: a spread below 0.2 m/s^2 and a magnitude within 0.25 m/s^2 of the log's
+    median, i.e. gravity alone: a vehicle pulling away without turning, whatever its motion at
+    the start of the log or the IMU's mounting); in the GNSS the speed above 0.5 m/s after being
+    below it. Starts more than 10 s apart are taken for different events (a latency is below a
+    second; a clock offset of seconds or more shows in check_clock)."""
     if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
         return None
     dt = float(np.median(np.diff(t)))
@@ -466,17 +470,31 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
     smooth = lambda x: np.convolve(x, np.ones(w) / w, mode="same")  # noqa: E731
     activity = smooth(np.linalg.norm(gyro, axis=1)) / 0.3
     what = "|gyro| > 0.3 rad/s"
-    if accel is not None:
+    steady = None
+    if accel is not None and len(t) > 2 * w + 2:
         fs = np.column_stack([smooth(accel[:, c]) for c in range(3)])
-        k0 = slice(w, min(len(fs), 10 * w))  # the start, past the filter's edge
-        if fs[k0].size:
-            activity = np.maximum(activity, np.linalg.norm(fs - np.median(fs[k0], axis=0), axis=1) / 1.0)
-            what += " or f 1 m/s^2 from its start"
+        n1 = max(2, int(round(1.0 / dt)))  # the steady second, ending w samples before
+        c1 = np.vstack([np.zeros(3), np.cumsum(fs, axis=0)])
+        c2 = np.r_[0.0, np.cumsum(np.einsum("ij,ij->i", fs, fs))]
+        hi = np.arange(len(fs)) - w + 1
+        lo = hi - n1
+        ok = lo >= w  # past the smoothing's edge
+        mean = np.zeros_like(fs)
+        mean[ok] = (c1[hi[ok]] - c1[lo[ok]]) / n1
+        spread2 = np.zeros(len(fs))
+        spread2[ok] = (c2[hi[ok]] - c2[lo[ok]]) / n1 - np.einsum("ij,ij->i", mean[ok], mean[ok])
+        g = float(np.median(np.linalg.norm(fs[w:-w], axis=1)))
+        steady = ok & (spread2 < 0.2 ** 2) & (np.abs(np.linalg.norm(mean, axis=1) - g) < 0.25)
+        dev = np.where(steady, np.linalg.norm(fs - mean, axis=1), 0.0)
+        activity = np.maximum(activity, dev / 0.5)
+        what += " or f 0.5 m/s^2 from a steady second before"
     tg = motion_start(np.asarray(gnss_t), gnss_speed, 0.5)
-    # the IMU onsets (above the threshold after 1 s below it); the one nearest the GNSS start
+    # the IMU onsets: above the threshold after at least 1 s still (below it, and steady)
     above = activity > 1.0
-    quiet = np.convolve((~above).astype(float), np.ones(max(1, int(round(1.0 / dt)))), mode="full")[:len(t)]
-    onsets = np.flatnonzero(above[1:] & (quiet[:-1] >= round(1.0 / dt))) + 1
+    still = ~above if steady is None else ~above & steady
+    idx = np.arange(len(t))
+    run = idx - np.maximum.accumulate(np.where(still, -1, idx))  # still samples up to each one
+    onsets = np.flatnonzero(above[1:] & (run[:-1] >= round(1.0 / dt))) + 1
     if tg is None or not onsets.size:
         return None
     ti = float(t[onsets[np.argmin(np.abs(t[onsets] - tg))]])
