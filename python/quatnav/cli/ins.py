@@ -753,15 +753,15 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     imu_input = "increment" if increments else "rate"
     estimate = None
     if time_offset is not None:
+        import contextlib
+        import os
+        from concurrent.futures import ThreadPoolExecutor
         from ..calibration.time_offset import gps_time_offset
-        if executor is None:  # the runs release the GIL: threads keep every core busy
-            import os
-            from concurrent.futures import ThreadPoolExecutor
-            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as ex:
-                estimate = gps_time_offset(f, gg, aa, t=tt, imu_input=imu_input, bounds=time_offset, executor=ex, **kw)
-        else:
-            estimate = gps_time_offset(f, gg, aa, t=tt, imu_input=imu_input, bounds=time_offset, executor=executor,
-                                       **kw)
+        # the runs release the GIL: without a given executor, threads keep every core busy
+        pool = (contextlib.nullcontext(executor) if executor is not None
+                else ThreadPoolExecutor(max_workers=os.cpu_count() or 1))
+        with pool as ex:
+            estimate = gps_time_offset(f, gg, aa, t=tt, imu_input=imu_input, bounds=time_offset, executor=ex, **kw)
         if "gps_time_offset" in params:
             note(f"the estimated gps_time_offset ({estimate.offset:+.4f} s) replaces the configured one "
                  f"({params['gps_time_offset']:+g} s)")

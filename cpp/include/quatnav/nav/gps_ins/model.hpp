@@ -160,7 +160,7 @@ template <class S> struct GpsInsPhi {
 
   /// The dense 16 x 16 matrix.
   Mat16<S> dense() const {
-      Mat16<S> Phi = Mat16<S>::Zero();
+    Mat16<S> Phi = Mat16<S>::Zero();
     Phi.template topLeftCorner<9, 9>() = N;
     Phi.template block<9, 3>(0, gpsins::kBa) = Ba;
     Phi.template block<6, 3>(gpsins::kVel, gpsins::kBg) = Bg;
@@ -218,8 +218,9 @@ Mat16<S> gpsins_Phi(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, cons
 ///   P_nn   = T_n N^T + T_ba Ba^T + T_bg [0; Bg]^T,  P_nb = T_b diag(da, dg, 1),  P_bn = P_nb^T,
 ///   P_bb   = diag(da, dg, 1) P'_bb diag(da, dg, 1).
 /// 3,150 multiply-adds (T 2,016, P_nn 1,134; and 152 products by da, dg) instead of the 12,288
-/// of the dense Phi P Phi^T and Phi Qc Phi^T (three 16 x 16 products). The result is symmetric but for the rounding of P_nn (the caller
-/// symmetrizes). P must be symmetric (P_bn is taken as P_nb^T).
+/// of the dense Phi P Phi^T and Phi Qc Phi^T (three 16 x 16 products). The result is symmetric
+/// but for the rounding of P_nn (the caller symmetrizes). P must be symmetric (P_bn is taken as
+/// P_nb^T).
 template <class S>
 Mat16<S> gpsins_propagate(const GpsInsPhi<S>& Phi, const Mat16<S>& P, const Vec<S, gpsins::kN>& qc, S dt) {
   const Vec<S, gpsins::kN> q2 = (S(0.5) * dt) * qc;
