@@ -302,12 +302,10 @@ template <class S> class EulerEKF {
   /// At rest (parts/rest.hpp): the zero-rate measurement of the bias, z = w - b = 0 + noise.
   void update_zero_rate() {
     flags_ |= flags::kAtRest;
-    Mat<S, 3, 6> H = Mat<S, 3, 6>::Zero();
-    H.template rightCols<3>().setIdentity();
     const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
-    correct<3, 3, 3>(H, Mat3<S>(Mat3<S>::Identity() * r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res,
-                     S(0));
+    correct<3, 3, 3>(Mat3<S>::Identity(), Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias),
+                     res, S(0));
   }
 
   Status init_impl(const Vec3<S>& acc, const Vec3<S>* mag) {
@@ -338,16 +336,23 @@ template <class S> class EulerEKF {
     Vec3<S> h;
     Mat<S, 3, 6> H;
     detail::euler_measurement(st_.euler, rx, rz, h, H);
-    correct<3, 0, 3>(H, Mat3<S>(Mat3<S>::Identity() * (sigma * sigma)), Vec3<S>(u - h), res, gate);
+    correct<3, 0, 3>(Mat3<S>(H.template leftCols<3>()), Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
     return res;
   }
 
-  /// kalman_correct on the rows of H (nonzero in NC columns from C0 on), then the state.
+  /// The correction by the rows of H, given by its NC nonzero columns from C0 on, with R =
+  /// diag(r): every measurement of this filter has uncorrelated components, so the rows are
+  /// scalar sequential Joseph updates (kalman_correct_diagonal: the joint update of
+  /// kalman_correct up to rounding, the same NIS), on one working copy of P; then the state.
   template <int M, int C0, int NC>
-  void correct(const Mat<S, M, 6>& H, const Mat<S, M, M>& R, const Vec<S, M>& y, UpdateResult<S, M>& res, S gate) {
+  void correct(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res, S gate) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    if (kalman_correct<S, 6, M, C0, NC>(P, H, R, y, dx, res, gate) != Status::Ok) return;
+    if (kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate) != Status::Ok) return;
+    if (!all_finite(P)) {
+      res.status = Status::NumericalFailure;
+      return;
+    }
     floor_covariance<S, 6>(P, params_.cov_floor);
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);
