@@ -175,6 +175,38 @@ TEST(Kalman, DiagonalInPlaceMatchesCopying) {
   EXPECT_EQ(dx[0], 42.0);
 }
 
+// symmetrize works over one triangle in place; it must give the bits of (P + P^T) / 2, in float
+// and double, on a matrix and on a block of one, with non-finite coefficients carried as the
+// expression carries them.
+template <class S, int N> void check_symmetrize(unsigned seed) {
+  Randn rnd(seed);
+  Mat<S, N, N> P = rnd.matrix<Mat<double, N, N>>().template cast<S>();
+  P(0, N - 1) = std::numeric_limits<S>::max();
+  P(N - 1, 0) = std::numeric_limits<S>::max();
+  P(1, 1) = std::numeric_limits<S>::max();
+  P(2, 0) = std::numeric_limits<S>::quiet_NaN();
+  const Mat<S, N, N> expected = (P + P.transpose()) * S(0.5);
+  Mat<S, N, N> got = P;
+  symmetrize(got);
+  EXPECT_EQ(std::memcmp(got.data(), expected.data(), sizeof got), 0);
+  Mat<S, N + 2, N + 2> big = Mat<S, N + 2, N + 2>::Constant(S(3));
+  big.template block<N, N>(1, 1) = P;
+  auto blk = big.template block<N, N>(1, 1);
+  symmetrize(blk);
+  const Mat<S, N, N> inner = big.template block<N, N>(1, 1);
+  EXPECT_EQ(std::memcmp(inner.data(), expected.data(), sizeof inner), 0);
+  EXPECT_EQ(big.row(0), (Vec<S, N + 2>::Constant(S(3)).transpose()));
+}
+
+TEST(Kalman, SymmetrizeGivesTheBitsOfTheExpression) {
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    check_symmetrize<double, 16>(seed);
+    check_symmetrize<float, 16>(seed + 10);
+    check_symmetrize<double, 6>(seed + 20);
+    check_symmetrize<float, 3>(seed + 30);
+  }
+}
+
 TEST(Kalman, DiagonalSequentialMatchesJoint) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     check_diagonal_matches_joint<7, 3, 0, 4>(seed);
