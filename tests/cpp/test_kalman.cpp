@@ -93,20 +93,34 @@ TEST(Kalman, FixedMulIsTheProduct) {
   EXPECT_EQ(std::memcmp(ref.data(), got.data(), sizeof ref), 0);
 }
 
+// A random correction for the diagonal-R forms: P0 (N x N, SPD), H nonzero in its NC columns from
+// C0 on, R = diag(r), innovation y.
+template <int N, int M, int C0, int NC> struct DiagonalProblem {
+  explicit DiagonalProblem(unsigned seed) {
+    Randn rnd(seed);
+    P0 = rnd.spd<Mat<double, N, N>>(0.1);
+    H.setZero();
+    for (int i = 0; i < M; ++i)
+      for (int j = C0; j < C0 + NC; ++j) H(i, j) = rnd();
+    for (int i = 0; i < M; ++i) {
+      r[i] = 0.05 + std::abs(rnd());
+      y[i] = rnd();
+    }
+  }
+  Mat<double, N, N> P0;
+  Mat<double, M, N> H;
+  Vec<double, M> r, y;
+};
+
 // Sequential scalar processing with a diagonal R gives the joint update (kalman_correct): the
 // same dx, P, NIS and innovation covariance up to rounding, also when H is nonzero only in some
 // columns (the C0/NC narrowing).
 template <int N, int M, int C0, int NC> void check_diagonal_matches_joint(unsigned seed) {
-  Randn rnd(seed);
-  const Mat<double, N, N> P0 = rnd.spd<Mat<double, N, N>>(0.1);
-  Mat<double, M, N> H = Mat<double, M, N>::Zero();
-  for (int i = 0; i < M; ++i)
-    for (int j = C0; j < C0 + NC; ++j) H(i, j) = rnd();
-  Vec<double, M> r, y;
-  for (int i = 0; i < M; ++i) {
-    r[i] = 0.05 + std::abs(rnd());
-    y[i] = rnd();
-  }
+  const DiagonalProblem<N, M, C0, NC> pb(seed);
+  const Mat<double, N, N>& P0 = pb.P0;
+  const Mat<double, M, N>& H = pb.H;
+  const Vec<double, M>& r = pb.r;
+  const Vec<double, M>& y = pb.y;
   const Mat<double, M, M> R = r.asDiagonal();
   Mat<double, N, N> Pj = P0, Ps = P0;
   Vec<double, N> dxj, dxs;
@@ -127,16 +141,11 @@ template <int N, int M, int C0, int NC> void check_diagonal_matches_joint(unsign
 
 // The in-place form on a scratch copy gives the same bits as kalman_correct_diagonal.
 template <int N, int M, int C0, int NC> void check_diagonal_in_place(unsigned seed) {
-  Randn rnd(seed);
-  const Mat<double, N, N> P0 = rnd.spd<Mat<double, N, N>>(0.1);
-  Mat<double, M, N> H = Mat<double, M, N>::Zero();
-  for (int i = 0; i < M; ++i)
-    for (int j = C0; j < C0 + NC; ++j) H(i, j) = rnd();
-  Vec<double, M> r, y;
-  for (int i = 0; i < M; ++i) {
-    r[i] = 0.05 + std::abs(rnd());
-    y[i] = rnd();
-  }
+  const DiagonalProblem<N, M, C0, NC> pb(seed);
+  const Mat<double, N, N>& P0 = pb.P0;
+  const Mat<double, M, N>& H = pb.H;
+  const Vec<double, M>& r = pb.r;
+  const Vec<double, M>& y = pb.y;
   Mat<double, N, N> Pa = P0, Pb = P0;
   Vec<double, N> dxa, dxb;
   UpdateResult<double, M> ra, rb;
