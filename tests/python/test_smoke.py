@@ -1,4 +1,5 @@
 import numpy as np
+import pytest
 
 import quatnav
 
@@ -9,3 +10,18 @@ def test_version_and_filters_exist():
         for dtype in (np.float64, np.float32):
             f = cls(dtype=dtype)
             assert not f.initialized
+
+
+def test_command_line_turns_numpy_huge_pages_off_unless_told(monkeypatch, capsys):
+    mm = pytest.importorskip("numpy._core.multiarray")
+    from quatnav.cli import main
+    before = mm._set_madvise_hugepage(True)  # returns the previous setting
+    try:
+        monkeypatch.delenv("NUMPY_MADVISE_HUGEPAGE", raising=False)
+        assert main(["--version"]) == 0
+        assert mm._set_madvise_hugepage(True) is False
+        monkeypatch.setenv("NUMPY_MADVISE_HUGEPAGE", "1")
+        assert main(["--version"]) == 0
+        assert mm._set_madvise_hugepage(True) is True
+    finally:
+        mm._set_madvise_hugepage(before)

@@ -26,6 +26,9 @@ environment:
                  used by 'eval broad' and the experiments on real data when no DIR / --data is
                  given; default: ../shared/data next to the source tree
   QUATNAV_TRACEBACK=1  show the Python traceback of a user error as well
+  NUMPY_MADVISE_HUGEPAGE=1  let numpy ask for transparent huge pages (the commands turn them off
+                 unless this is set: faulting in the huge pages of their large temporary arrays
+                 cost a 1-hour 'ins run' 2.5 s of system time)
 
 exit status: 0 success, 1 ran but produced nothing useful (e.g. 'ins run': navigation never
 started), 2 a user error (one line on stderr)"""
@@ -125,7 +128,28 @@ def _preflight(args) -> None:
             raise ModuleNotFoundError("No module named 'matplotlib'", name="matplotlib")
 
 
+def _small_pages() -> None:
+    """Numpy's large arrays without ``madvise(MADV_HUGEPAGE)``, unless NUMPY_MADVISE_HUGEPAGE says.
+
+    Where transparent huge pages are on ``madvise``, numpy asks for them for every array of 4 MB
+    or more. A command makes and drops many such temporaries, each faulted in and zeroed 2 MB at
+    a time: on the 1-hour 200 Hz log of ``bench/make_long_log.py``, ``ins run`` spent 3.4 s in
+    the kernel with them and 0.9 s without (wall 8.6 s against 5.9 s). Only the command line
+    does this; ``import quatnav`` leaves numpy's setting alone."""
+    if "NUMPY_MADVISE_HUGEPAGE" in os.environ:
+        return
+    try:
+        from numpy._core.multiarray import _set_madvise_hugepage
+    except ImportError:  # numpy 1.x
+        try:
+            from numpy.core.multiarray import _set_madvise_hugepage
+        except ImportError:
+            return
+    _set_madvise_hugepage(False)
+
+
 def main(argv=None) -> int:
+    _small_pages()
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:
