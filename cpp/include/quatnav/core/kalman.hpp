@@ -33,15 +33,15 @@ template <class Derived> void symmetrize(Eigen::MatrixBase<Derived>& P) {
   constexpr int kRows = Derived::RowsAtCompileTime;
   if constexpr (kRows != Eigen::Dynamic && kRows <= 8) {
     P = (P + P.transpose()).eval() * S(0.5);
-    return;
-  }
-  const Eigen::Index n = P.rows();
-  for (Eigen::Index j = 0; j < n; ++j) {
-    P(j, j) = (P(j, j) + P(j, j)) * S(0.5);
-    for (Eigen::Index i = j + 1; i < n; ++i) {
-      const S s = (P(i, j) + P(j, i)) * S(0.5);
-      P(i, j) = s;
-      P(j, i) = s;
+  } else {
+    const Eigen::Index n = P.rows();
+    for (Eigen::Index j = 0; j < n; ++j) {
+      P(j, j) = (P(j, j) + P(j, j)) * S(0.5);
+      for (Eigen::Index i = j + 1; i < n; ++i) {
+        const S s = (P(i, j) + P(j, i)) * S(0.5);
+        P(i, j) = s;
+        P(j, i) = s;
+      }
     }
   }
 }
