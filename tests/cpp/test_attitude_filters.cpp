@@ -110,14 +110,14 @@ TEST(EulerEKF, JacobiansMatchFiniteDifferences) {
     EXPECT_LT((F.col(j).head<3>() - (ep - em) / (2 * h)).norm(), 1e-8) << "column " << j;
   }
   Vec3<double> hv;
-  Mat<double, 3, 6> H;
+  Mat3<double> H;
   detail::euler_measurement(e, 0.45, 0.89, hv, H);
   EXPECT_LT((hv - quat::rotate_inv(quat::from_euler(e), Vec3<double>(0.45, 0, 0.89))).norm(), 1e-14);
   for (int j = 0; j < 3; ++j) {
     Vec3<double> ep = e, em = e, hp, hm;
     ep[j] += h;
     em[j] -= h;
-    Mat<double, 3, 6> d;
+    Mat3<double> d;
     detail::euler_measurement(ep, 0.45, 0.89, hp, d);
     detail::euler_measurement(em, 0.45, 0.89, hm, d);
     EXPECT_LT((H.col(j) - (hp - hm) / (2 * h)).norm(), 1e-8);

@@ -159,13 +159,13 @@ void euler_propagate(const Vec3<S>& e, const Vec3<S>& bias, const Vec3<S>& gyr, 
   F.template topRightCorner<3, 3>() = -dt * E;
 }
 
-/// Measurement h(e) = C_bn(e) r for r = [r_x, 0, r_z] and its Jacobian (3x6; zero bias columns).
-template <class S> void euler_measurement(const Vec3<S>& e, S rx, S rz, Vec3<S>& h, Mat<S, 3, 6>& H) {
+/// Measurement h(e) = C_bn(e) r for r = [r_x, 0, r_z] and its Jacobian in the Euler angles
+/// (3x3: the gyro-bias columns of the 3x6 Jacobian are zero).
+template <class S> void euler_measurement(const Vec3<S>& e, S rx, S rz, Vec3<S>& h, Mat3<S>& H) {
   Mat3<S> C, dC[3];
   euler_cbn(e, C, dC);
   const Vec3<S> r(rx, S(0), rz);
   h = C * r;
-  H.setZero();
   for (int i = 0; i < 3; ++i) H.col(i) = dC[i] * r;
 }
 
@@ -334,9 +334,9 @@ template <class S> class EulerEKF {
     res.status = detail::unit_vector(v, u);
     if (res.status != Status::Ok) return res;
     Vec3<S> h;
-    Mat<S, 3, 6> H;
+    Mat3<S> H;
     detail::euler_measurement(st_.euler, rx, rz, h, H);
-    correct<3, 0, 3>(Mat3<S>(H.template leftCols<3>()), Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
+    correct<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
     return res;
   }
 
