@@ -558,3 +558,17 @@ def test_motion_start_check_is_quiet_after_a_moving_start_with_a_rotated_imu():
     import re
     offset = float(re.search(r"gps_time_offset = (\S+)", msg).group(1))
     assert -3.5 < offset < -2.5, msg
+
+
+@pytest.mark.parametrize("n, w", [(1000, 40), (1000, 41), (30, 1), (30, 7), (5, 9)])
+def test_box_mean_is_numpys_centred_convolution(n, w):
+    """The smoothing of the motion-start check (cumulative sums) against ``np.convolve(...,
+    mode="same")`` of a box, column by column, at both edges and for a window longer than the
+    record."""
+    from quatnav.cli.ins import _box_mean
+    x = np.random.default_rng(n + w).normal(9.8, 1.0, (n, 3))
+    ref = np.column_stack([np.convolve(x[:, c], np.ones(w) / w, mode="same")[:n] for c in range(3)])
+    if w > n:  # numpy's "same" output then has w rows, centred on the record
+        ref = np.column_stack([np.convolve(x[:, c], np.ones(w) / w, mode="full")[(w - 1) // 2:][:n] for c in range(3)])
+    np.testing.assert_allclose(_box_mean(x, w), ref, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(_box_mean(x[:, 0], w), ref[:, 0], rtol=0, atol=1e-12)

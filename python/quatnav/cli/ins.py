@@ -452,6 +452,16 @@ def motion_start(t, speed_or_rate, threshold):
     return float(t[above[0]]) if above.size else None
 
 
+def _box_mean(x, w):
+    """The mean over ``w`` samples centred on each row, zeros outside (``np.convolve(x,
+    np.ones(w) / w, mode="same")`` column by column), from cumulative sums: O(N) whatever ``w``."""
+    x = np.asarray(x, float)
+    n = len(x)
+    c = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)])
+    end = np.arange(n) + (w - 1) // 2 + 1  # one past each window
+    return (c[np.minimum(end, n)] - c[np.clip(end - w, 0, n)]) / w
+
+
 def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", accel=None):
     """A warning when the IMU and the GNSS see the start of the motion 1 to 10 s apart (their
     clocks differ: gps_time_offset), or None. Motion in the IMU (smoothed over 0.2 s, after at
@@ -467,12 +477,11 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
         return None
     dt = float(np.median(np.diff(t)))
     w = max(1, int(round(0.2 / dt)))
-    smooth = lambda x: np.convolve(x, np.ones(w) / w, mode="same")  # noqa: E731
-    activity = smooth(np.linalg.norm(gyro, axis=1)) / 0.3
+    activity = _box_mean(np.linalg.norm(gyro, axis=1), w) / 0.3
     what = "|gyro| > 0.3 rad/s"
     steady = None
     if accel is not None and len(t) > 2 * w + 2:
-        fs = np.column_stack([smooth(accel[:, c]) for c in range(3)])
+        fs = _box_mean(np.asarray(accel, float), w)
         n1 = max(2, int(round(1.0 / dt)))  # the steady second, ending w samples before
         c1 = np.vstack([np.zeros(3), np.cumsum(fs, axis=0)])
         c2 = np.r_[0.0, np.cumsum(np.einsum("ij,ij->i", fs, fs))]
@@ -739,7 +748,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     rot = np.asarray(f.params["imu_rotation"], float)
     rates = np.vstack([gyro[:1] * 0, gyro[1:] / step]) if increments else gyro
     forces = np.vstack([accel[:1] * 0, accel[1:] / step]) if increments else accel
-    for w in plausibility_warnings(t, rates @ rot.T, forces @ rot.T, d_g["time"], d_g["lat"], d_g["lon"], align_time,
+    if not np.array_equal(rot, np.eye(3)):  # the checks look at the body axes
+        rates, forces = rates @ rot.T, forces @ rot.T
+    for w in plausibility_warnings(t, rates, forces, d_g["time"], d_g["lat"], d_g["lon"], align_time,
                                    imu=f"IMU {imu}", gnss=f"GNSS {gnss}", gnss_speed=_gnss_speed(d_g)):
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
