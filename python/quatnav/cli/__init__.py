@@ -29,6 +29,8 @@ environment:
   NUMPY_MADVISE_HUGEPAGE=1  let numpy ask for transparent huge pages (the commands turn them off
                  unless this is set: faulting in the huge pages of their large temporary arrays
                  cost a 1-hour 'ins run' 2.5 s of system time)
+  ARROW_DEFAULT_MEMORY_POOL  pyarrow's allocator; the commands use 'system' unless this is set
+                 (mimalloc's huge pages cost a 1-hour 'ins run --out X.parquet' 1 s)
 
 exit status: 0 success, 1 ran but produced nothing useful (e.g. 'ins run': navigation never
 started), 2 a user error (one line on stderr)"""
@@ -129,13 +131,18 @@ def _preflight(args) -> None:
 
 
 def _small_pages() -> None:
-    """Numpy's large arrays without ``madvise(MADV_HUGEPAGE)``, unless NUMPY_MADVISE_HUGEPAGE says.
+    """Numpy's large arrays without ``madvise(MADV_HUGEPAGE)``, unless NUMPY_MADVISE_HUGEPAGE says;
+    pyarrow's ``system`` allocator, unless ARROW_DEFAULT_MEMORY_POOL says.
 
     Where transparent huge pages are on ``madvise``, numpy asks for them for every array of 4 MB
-    or more. A command makes and drops many such temporaries, each faulted in and zeroed 2 MB at
-    a time: on the 1-hour 200 Hz log of ``bench/make_long_log.py``, ``ins run`` spent 3.4 s in
-    the kernel with them and 0.9 s without (wall 8.6 s against 5.9 s). Only the command line
-    does this; ``import quatnav`` leaves numpy's setting alone."""
+    or more, and pyarrow's default allocator (mimalloc) uses them too. A command makes and drops
+    many large temporaries, each faulted in and zeroed 2 MB at a time: on the 1-hour 200 Hz log
+    of ``bench/make_long_log.py``, ``ins run`` spent 3.1-4.0 s in the kernel with numpy's huge
+    pages and 1.0 s without (wall 8.9-10.2 s against 6.8 s); with Parquet output, mimalloc's
+    cost another second of system time. Only the command line does this (pyarrow is not yet
+    imported when it starts, and reads the variable on its first allocation); ``import quatnav``
+    leaves both settings alone."""
+    os.environ.setdefault("ARROW_DEFAULT_MEMORY_POOL", "system")
     if "NUMPY_MADVISE_HUGEPAGE" in os.environ:
         return
     try:
