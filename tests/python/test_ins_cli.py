@@ -560,6 +560,48 @@ def test_motion_start_check_is_quiet_after_a_moving_start_with_a_rotated_imu():
     assert -3.5 < offset < -2.5, msg
 
 
+def _offset_named(msg):
+    import re
+    return float(re.search(r"gps_time_offset = (\S+)", msg).group(1))
+
+
+@pytest.mark.parametrize("shift", [0.0, -8.0, -3.0, 5.0])
+def test_motion_start_check_cancels_the_speed_thresholds_lag(shift):
+    """A walker: the gyro active from the first step at 10 s to the last at 110 s, the GNSS speed
+    ramping over 4 s to 1.2 m/s and back, so it crosses 0.5 m/s 1.67 s after the start and 1.67 s
+    before the stop. The start alone suggested a 1.67 s offset on one clock; start and stop
+    together find none, and the GNSS shifted by ``shift`` s is named to within the sampling."""
+    from quatnav.cli.ins import check_motion_start
+    t = np.arange(0.0, 130.0, 0.01)
+    gyro = np.zeros((len(t), 3))
+    walking = (t > 10.0) & (t < 110.0)
+    gyro[walking, 1] = 0.8 * np.sin(2 * np.pi * 1.8 * t[walking])  # the gait
+    tg = np.arange(0.0, 130.0, 0.25)
+    speed = np.clip(np.minimum(tg - 10.0, 110.0 - tg) / 4.0, 0.0, 1.0) * 1.2
+    msg = check_motion_start(t, gyro, tg + shift, speed)
+    if shift == 0.0:
+        assert msg is None
+    else:
+        assert "stops at" in msg and abs(_offset_named(msg) + shift) < 0.3, msg
+
+
+def test_motion_start_check_on_the_real_walk(data_dir):
+    """The real walk (RTK, one clock): the GNSS speed passes 0.5 m/s 1.3 s after the first step;
+    no offset is suggested, and GNSS times shifted by -8 s (the case that was misread as 6.7 s)
+    or +5 s are named to within 0.5 s."""
+    from quatnav.cli.ins import check_motion_start
+    from quatnav.datasets import gnss_imu_walk as W
+    if not (data_dir / "gnss_imu_walk").is_dir():
+        pytest.skip("gnss_imu_walk not in the data folder")
+    w = W.load(data_dir / "gnss_imu_walk")
+    gyro, accel = W.to_body(w.gyro_s), W.to_body(w.accel_s)
+    speed = np.hypot(w.vel_n[:, 0], w.vel_n[:, 1])
+    assert check_motion_start(w.imu_t, gyro, w.gnss_t, speed, accel=accel) is None
+    for shift in (-8.0, 5.0):
+        msg = check_motion_start(w.imu_t, gyro, w.gnss_t + shift, speed, accel=accel)
+        assert abs(_offset_named(msg) + shift) < 0.5, msg
+
+
 @pytest.mark.parametrize("n, w", [(1000, 40), (1000, 41), (30, 1), (30, 7), (5, 9)])
 def test_box_mean_is_numpys_centred_convolution(n, w):
     """The smoothing of the motion-start check (cumulative sums) against ``np.convolve(...,

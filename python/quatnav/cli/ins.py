@@ -472,7 +472,13 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
     median, i.e. gravity alone: a vehicle pulling away without turning, whatever its motion at
     the start of the log or the IMU's mounting); in the GNSS the speed above 0.5 m/s after being
     below it. Starts more than 10 s apart are taken for different events (a latency is below a
-    second; a clock offset of seconds or more shows in check_clock)."""
+    second; a clock offset of seconds or more shows in check_clock).
+
+    A threshold on the speed sees a start late and a stop early (a walker reaches 0.5 m/s about
+    a second after the first step), the IMU's activity sees both when they happen. Where the
+    motion that starts also stops (the GNSS speed below 0.5 m/s for a second, the IMU still for a
+    second, the two within 10 s), the offset is the mean of the two differences, in which the
+    threshold's lag cancels."""
     if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
         return None
     dt = float(np.median(np.diff(t)))
@@ -497,20 +503,48 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
         dev = np.where(steady, np.linalg.norm(fs - mean, axis=1), 0.0)
         activity = np.maximum(activity, dev / 0.5)
         what += " or f 0.5 m/s^2 from a steady second before"
-    tg = motion_start(np.asarray(gnss_t), gnss_speed, 0.5)
-    # the IMU onsets: above the threshold after at least 1 s still (below it, and steady)
+    gnss_t = np.asarray(gnss_t, float)
+    tg = motion_start(gnss_t, gnss_speed, 0.5)
+    # the IMU onsets: above the threshold after at least 1 s still (below it, and steady); the
+    # stops: above it before at least 1 s still
     above = activity > 1.0
     still = ~above if steady is None else ~above & steady
-    idx = np.arange(len(t))
-    run = idx - np.maximum.accumulate(np.where(still, -1, idx))  # still samples up to each one
-    onsets = np.flatnonzero(above[1:] & (run[:-1] >= round(1.0 / dt))) + 1
+    n1 = round(1.0 / dt)
+    onsets = np.flatnonzero(above[1:] & (_still_run(still)[:-1] >= n1)) + 1
+    stops = np.flatnonzero(above[:-1] & (_still_run(~above[::-1])[::-1][1:] >= n1))  # steady only later
     if tg is None or not onsets.size:
         return None
     ti = float(t[onsets[np.argmin(np.abs(t[onsets] - tg))]])
-    if not 1.0 < abs(tg - ti) <= 10.0:
+    if abs(tg - ti) > 10.0:
         return None
-    return (f"{where}: the motion starts at {tg:.3f} s in the GNSS and at {ti:.3f} s in the {imu} ({what}): "
-            f"the clocks may differ by {tg - ti:+.2f} s; if so give gps_time_offset = {ti - tg:.2f} in [filter]")
+    d, seen = tg - ti, f"starts at {tg:.3f} s in the GNSS and at {ti:.3f} s in the {imu}"
+    sg = _gnss_stop(gnss_t, np.asarray(gnss_speed, float), tg, 0.5, 1.0)
+    if sg is not None and stops.size:
+        si = float(t[stops[np.argmin(np.abs(t[stops] - sg))]])
+        if abs(sg - si) <= 10.0:
+            d = 0.5 * (tg - ti + sg - si)
+            seen += f" and stops at {sg:.3f} s and {si:.3f} s"
+    if not 1.0 < abs(d) <= 10.0:
+        return None
+    return (f"{where}: the motion {seen} ({what}): "
+            f"the clocks may differ by {d:+.2f} s; if so give gps_time_offset = {-d:.2f} in [filter]")
+
+
+def _still_run(still):
+    """The number of consecutive True values ending at each element (0 where it is False)."""
+    idx = np.arange(len(still))
+    return idx - np.maximum.accumulate(np.where(still, -1, idx))
+
+
+def _gnss_stop(t, speed, after, threshold, hold):
+    """The first time after ``after`` that the speed falls below ``threshold`` and stays below
+    it for ``hold`` seconds (or None)."""
+    below = speed < threshold
+    for k in np.flatnonzero(below[1:] & ~below[:-1] & (t[1:] > after)) + 1:
+        end = np.searchsorted(t, t[k] + hold)
+        if end < len(t) and below[k:end + 1].all():
+            return float(t[k])
+    return None
 
 
 def _gnss_speed(d_g):
