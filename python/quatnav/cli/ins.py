@@ -1,4 +1,5 @@
-"""``quatnav ins run``: the GPS/INS filter of paper 004 (:class:`quatnav.GpsInsFilter`) on CSV logs.
+"""``quatnav ins run``: the GPS/INS filter of paper 004 (:class:`quatnav.GpsInsFilter`) on a user's logs:
+CSV files, or a PX4 ULog, ROS bag, RTKLIB ``.pos`` or NMEA file read by :mod:`quatnav.io`.
 
 ::
 
@@ -938,12 +939,16 @@ def _offset_bounds(text: str) -> tuple:
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``quatnav ins run`` on an argparse subparsers object."""
-    p = subparsers.add_parser("ins", help="GPS/INS navigation on CSV logs (see 'quatnav ins run -h')",
-                              description="GPS/INS navigation (paper 004 filter) on CSV logs.")
+    p = subparsers.add_parser("ins", help="GPS/INS navigation on your logs: CSV, ULog, ROS bag, .pos, NMEA "
+                                   "(see 'quatnav ins run -h')",
+                              description="GPS/INS navigation (paper 004 filter) on CSV files or a PX4 ULog, "
+                                          "ROS bag, RTKLIB .pos or NMEA log.")
     sub = p.add_subparsers(dest="ins_command", metavar="COMMAND")
-    r = sub.add_parser("run", help="run the GPS/INS filter on IMU and GNSS (and altimeter, compass) CSV files",
-                       description="Run quatnav.GpsInsFilter (15-state loosely coupled GPS/INS with altimeter "
-                                   "and compass, paper 004) on CSV logs and write the navigation solution.",
+    r = sub.add_parser("run", help="run the GPS/INS filter on a log, or on IMU and GNSS (and altimeter, compass, "
+                            "magnetometer, odometer) files",
+                       description="Run quatnav.GpsInsFilter (16-state loosely coupled GPS/INS with altimeter, "
+                                   "compass, magnetometer and motion constraints, paper 004) on a log or on "
+                                   "CSV files and write the navigation solution.",
                        epilog=EPILOG + "\n" + config_keys_text(), formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("--log", metavar="FILE", help="one log with IMU and GNSS (ULog, ROS bag, CSV, ...); "
                    "--imu/--gnss/--baro then replace its streams")
