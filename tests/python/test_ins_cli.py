@@ -583,6 +583,12 @@ def test_motion_start_check_cancels_the_speed_thresholds_lag(shift):
         assert msg is None
     else:
         assert "stops at" in msg and abs(_offset_named(msg) + shift) < 0.3, msg
+    # the IMU still for a second at 116 s and the GNSS stop 8 s before that: not the same event
+    # (the differences 8 s apart), so the start alone decides: 1.67 s late
+    g2 = gyro.copy()
+    g2[(t > 110.0) & (t < 116.0), 1] = 0.8 * np.sin(2 * np.pi * 1.8 * t[(t > 110.0) & (t < 116.0)])
+    msg = check_motion_start(t, g2, tg + shift, speed)
+    assert "stops at" not in msg and abs(_offset_named(msg) + shift + 1.67) < 0.3, msg
 
 
 def test_motion_start_check_on_the_real_walk(data_dir):

@@ -478,8 +478,8 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
     A threshold on the speed sees a start late and a stop early (a walker reaches 0.5 m/s about
     a second after the first step), the IMU's activity sees both when they happen. Where the
     motion that starts also stops (the GNSS speed below 0.5 m/s for a second, the IMU still for a
-    second, the two within 10 s), the offset is the mean of the two differences, in which the
-    threshold's lag cancels."""
+    second, the two within 10 s, their differences within 4 s of each other), the offset is the
+    mean of the two differences, in which the threshold's lag cancels."""
     if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
         return None
     dt = float(np.median(np.diff(t)))
@@ -522,7 +522,9 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
     sg = _gnss_stop(gnss_t, np.asarray(gnss_speed, float), tg, 0.5, 1.0)
     if sg is not None and stops.size:
         si = float(t[stops[np.argmin(np.abs(t[stops] - sg))]])
-        if abs(sg - si) <= 10.0:
+        # the same offset seen with the threshold's lag added at the start and taken off at the
+        # stop: differences more than 4 s apart (a lag over 2 s) are different events
+        if abs(sg - si) <= 10.0 and abs((tg - ti) - (sg - si)) <= 4.0:
             d = 0.5 * (tg - ti + sg - si)
             seen += f" and stops at {sg:.3f} s and {si:.3f} s"
     if not 1.0 < abs(d) <= 10.0:
