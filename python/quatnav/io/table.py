@@ -411,15 +411,11 @@ def progress_bar(total: int, desc: str = "", unit: str = "row", min_total: int =
 
 
 def _arrow_table(pa, names, cols):
-    """A pyarrow table of numpy columns, over their memory: the same as ``pa.table`` (NaN stays a
-    number, not a null), without the pandas import that ``pa.table`` and ``pa.array`` make."""
-    arrays = []
-    for c in cols:
-        c = np.ascontiguousarray(c)
-        if c.dtype.kind not in "fiu" or c.dtype.byteorder not in "=|":
-            return pa.table(dict(zip(names, cols)))
-        arrays.append(pa.Array.from_buffers(pa.from_numpy_dtype(c.dtype), len(c), [None, pa.py_buffer(c)]))
-    return pa.Table.from_arrays(arrays, names=list(names))
+    """A pyarrow table of float64 columns, over their memory: the same as ``pa.table`` (NaN stays
+    a number, not a null), without the pandas import that ``pa.table`` and ``pa.array`` make."""
+    bufs = [np.ascontiguousarray(c, dtype=np.float64) for c in cols]
+    return pa.Table.from_arrays([pa.Array.from_buffers(pa.float64(), len(c), [None, pa.py_buffer(c)]) for c in bufs],
+                                names=list(names))
 
 
 def write_table(path, names, columns, fmt, *, chunk_rows: int = 32768, progress=None) -> None:
