@@ -186,35 +186,41 @@ TYPED_TEST(GpsInsSmootherTest, SmoothedRunBeatsForwardInsideAnOutage) {
 
 TYPED_TEST(GpsInsSmootherTest, TransitionIsTheTimeUpdates) {
   // The smoother's Phi against central finite differences of the filter's own time update in its
-  // error chart (a coasted sample: two steps).
+  // error chart: a sample of one step (its Phi taken at the posterior alone) and a coasted sample
+  // of two steps (the product of the steps' Phi).
   using S = TypeParam;
   if (!std::is_same<S, double>::value) GTEST_SKIP() << "finite differences in double";
-  GpsInsCase<double> c;
-  GpsInsFilter<double> f = c.filter;
-  GpsInsParams<double> p = f.params();
-  p.max_dt = 0.01;
-  f.set_params(p);
-  std::vector<double> t = {0.0, 0.02};  // max_dt 0.01: coasted in two steps
-  const std::vector<double> gyro = {0, 0, 0, 0.01, -0.02, 0.03}, accel = {0, 0, 0, 0.3, -0.2, -9.7};
-  GpsInsRtsModel<double> m(f, t.data(), gyro.data(), accel.data(), false);
-  typename GpsInsRtsModel<double>::Record x0{}, x1{}, xp{}, xm{};
-  ASSERT_TRUE(m.capture(f, x0));
-  ASSERT_EQ(m.predict(1, x0, x1), RtsLink::Predict);
-  Mat<double, 16, 16> Phi;
-  ASSERT_EQ(m.transition(1, x0, x1, Phi), RtsLink::Predict);
-  const Mat<double, 16, 16> P0 = m.error_covariance(x0);
-  for (int j = 0; j < 16; ++j) {
-    const double h = 1e-3;  // the position is kept in radians: smaller steps drown in its rounding
-    Vec<double, 16> e = Vec<double, 16>::Zero();
-    e[j] = h;
-    typename GpsInsRtsModel<double>::Record a{}, b{};
-    m.retract(x0, e, P0, a);
-    m.retract(x0, Vec<double, 16>(-e), P0, b);
-    ASSERT_EQ(m.predict(1, a, xp), RtsLink::Predict);
-    ASSERT_EQ(m.predict(1, b, xm), RtsLink::Predict);
-    const Vec<double, 16> col = (m.local(xm, x1) - m.local(xp, x1)) / (2 * h);
-    // retract(x0, e) has the error -e against x0; local(x, x1) is the error of x against x1.
-    for (int i = 0; i < 16; ++i) EXPECT_NEAR(col[i], Phi(i, j), 1e-4 * (1.0 + std::abs(Phi(i, j)))) << i << "," << j;
+  for (const double step : {0.005, 0.02}) {  // max_dt 0.01: one step, then coasted in two
+    SCOPED_TRACE(step);
+    GpsInsCase<double> c;
+    GpsInsFilter<double> f = c.filter;
+    GpsInsParams<double> p = f.params();
+    p.max_dt = 0.01;
+    f.set_params(p);
+    std::vector<double> t = {0.0, step};
+    const std::vector<double> gyro = {0, 0, 0, 0.01, -0.02, 0.03}, accel = {0, 0, 0, 0.3, -0.2, -9.7};
+    GpsInsRtsModel<double> m(f, t.data(), gyro.data(), accel.data(), false);
+    typename GpsInsRtsModel<double>::Record x0{}, x1{}, xp{}, xm{};
+    ASSERT_TRUE(m.capture(f, x0));
+    ASSERT_EQ(m.predict(1, x0, x1), RtsLink::Predict);
+    Mat<double, 16, 16> Phi;
+    ASSERT_EQ(m.transition(1, x0, x1, Phi), RtsLink::Predict);
+    EXPECT_GT((Phi - Mat<double, 16, 16>::Identity()).cwiseAbs().maxCoeff(), 1e-3);  // the step moved it
+    const Mat<double, 16, 16> P0 = m.error_covariance(x0);
+    for (int j = 0; j < 16; ++j) {
+      const double h = 1e-3;  // the position is kept in radians: smaller steps drown in its rounding
+      Vec<double, 16> e = Vec<double, 16>::Zero();
+      e[j] = h;
+      typename GpsInsRtsModel<double>::Record a{}, b{};
+      m.retract(x0, e, P0, a);
+      m.retract(x0, Vec<double, 16>(-e), P0, b);
+      ASSERT_EQ(m.predict(1, a, xp), RtsLink::Predict);
+      ASSERT_EQ(m.predict(1, b, xm), RtsLink::Predict);
+      const Vec<double, 16> col = (m.local(xm, x1) - m.local(xp, x1)) / (2 * h);
+      // retract(x0, e) has the error -e against x0; local(x, x1) is the error of x against x1.
+      for (int i = 0; i < 16; ++i)
+        EXPECT_NEAR(col[i], Phi(i, j), 1e-4 * (1.0 + std::abs(Phi(i, j)))) << i << "," << j;
+    }
   }
 }
 

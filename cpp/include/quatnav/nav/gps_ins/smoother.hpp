@@ -125,6 +125,13 @@ template <class S_> struct GpsInsRtsModel {
   RtsLink transition(std::size_t k, const Record& post, const Record&, Mat16& Phi) {
     if (!load(post)) return RtsLink::Restart;
     const detail::GpsInsSampleStep<S> u = detail::gpsins_sample_step(g_.params(), t_, w_, a_, inc_, k);
+    if (u.m == 1) {
+      // One step (the usual sample: no gap to coast over): its Phi is taken at `post` itself, so
+      // neither the step nor a product is needed. predict() already made that step (it is Predict,
+      // not Same, only when the step was applied).
+      Phi = g_.transition(u.a, u.dt);
+      return RtsLink::Predict;
+    }
     Phi.setIdentity();
     for (long j = 0; j < u.m; ++j) {
       const Mat16 Phi_j = g_.transition(u.a, u.dt);
