@@ -4,7 +4,12 @@
 #   apt_install PKG...        install Debian packages that are missing (root or sudo)
 #   pip_quiet ARGS...         pip install, printing one line per package set
 #   pip_build ARGS...         pip install that builds quatnav: prints the compiler's progress
-#                             lines ([n/N] Building ...) and a status line every 15 s
+#                             lines ([n/N] Building ...) and a status line every 15 s. The build
+#                             requirements go into the environment and the build runs there
+#                             (--no-build-isolation): its CMake cache in build/ then names the
+#                             same Eigen and pybind11 every time, so a second pip_build (tools/test.sh
+#                             after tools/demo.sh) recompiles nothing. An isolated build would
+#                             name a new temporary prefix each time and recompile every file.
 # Environment: PYTHON (use this interpreter as it is, no virtual environment),
 #              QUATNAV_VENV (default .venv in the repository).
 set -euo pipefail
@@ -80,11 +85,13 @@ pip_build() {
   local log start rc hb
   log=$(mktemp "${TMPDIR:-/tmp}/quatnav-build.XXXXXX.log")
   start=$SECONDS
+  # build-system.requires of pyproject.toml, with cmake and ninja
+  pip_quiet "scikit-build-core>=0.10" "pybind11>=2.12" "cmeel-eigen>=3.4" cmake ninja
   echo "== pip install $* (compiles the C++ extension: about 2 minutes on 2 cores the first time; log $log)"
   ( while sleep 15; do echo "   ... still building ($((SECONDS - start)) s)"; done ) &
   hb=$!
   set +e
-  "$PY" -m pip install -v "$@" 2>&1 | tee "$log" \
+  "$PY" -m pip install -v --no-build-isolation "$@" 2>&1 | tee "$log" \
     | sed -u -n -E -e 's/^ *(\[[0-9]+\/[0-9]+\] )/   \1/p' \
                    -e '/^ *(ERROR|error):|: error:|Successfully installed/ s/^/   /p'
   rc=${PIPESTATUS[0]}
