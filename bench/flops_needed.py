@@ -73,8 +73,11 @@ QUAT_TO_ROTMAT = 4 + 10 + 12      # 2q, 10 pair products, 12 sums/differences: 2
 ROTVEC_TO_QUAT = DOT3 + 1 + 1 + 1 + 3  # |v|^2, sqrt, half angle, sin/|v|, 3 products (+ sin, cos): 11
 ROTVEC_TO_QUAT_LIBM = 2
 QUAT_TO_ROTVEC = dot(3) + 1 + 1 + 3   # |v|, angle / |v|, 3 products (+ atan2): 10
-LOWPASS3 = 1 + 1 + 3 + 3 + 3      # dt/tau, 1 - e, v - x, w (v - x), x + ...: 11 (+ exp)
-LOWPASS1 = 1 + 1 + 3              # scalar: 5 (+ exp)
+# A low-pass step: its weight, then x + w (v - x). The parts (attitude/parts/*.hpp, detail::lowpass)
+# weigh by dt / (tau + dt): an addition and a division, no libm call; MargFilter's own low-passes
+# and GpsInsFilter's rest detector by 1 - exp(-dt / tau): a division, exp, a subtraction.
+LOWPASS3 = 1 + 1 + 3 + 3 + 3      # weight (2), v - x, w (v - x), x + ...: 11 (+ exp where the weight has one)
+LOWPASS1 = 1 + 1 + 3              # scalar: 5 (+ exp where the weight has one)
 
 
 def mat_dense(m: int, k: int, n: int) -> int:
@@ -191,8 +194,8 @@ SKEW3 = ~np.eye(3, dtype=bool)
 
 def parts_rest() -> Count:
     c = Count("rest")
-    c.add("predict: gyro low-pass", LOWPASS3, libm=1)
-    c.add("update: acc low-pass", LOWPASS3, libm=1)
+    c.add("predict: gyro low-pass", LOWPASS3)
+    c.add("update: acc low-pass", LOWPASS3)
     c.add("update: three |difference| tests", 3 * (3 + NORM3))
     c.add("update: rest time", 1)
     return c
@@ -205,7 +208,7 @@ def parts_acc(rotation_from_rate: bool) -> Count:
         c.add("predict: dq from the rate", 3 + ROTVEC_TO_QUAT, libm=ROTVEC_TO_QUAT_LIBM)
     c.add("predict: q_i dq, normalized", QMUL + QNORMALIZE)
     c.add("screen: rotate acc into the carried frame", ROTATE)
-    c.add("screen: low-pass", LOWPASS3, libm=1)
+    c.add("screen: low-pass", LOWPASS3)
     c.add("screen: rotate back", ROTATE)
     c.add("screen: |acc| - g, sigma_add", NORM3 + 1 + 2)
     return c
@@ -220,8 +223,8 @@ def parts_mag() -> Count:
     c.add("screen: dip asin, difference", 1, libm=1)
     c.add("screen: settle time", 1)
     c.add("finish: field after the update, dip asin", ROTATE, libm=1)
-    c.add("finish: dip low-pass, reference cos/sin", LOWPASS1, libm=1 + 2)
-    c.add("finish: norm low-pass", LOWPASS1, libm=1)
+    c.add("finish: dip low-pass, reference cos/sin", LOWPASS1, libm=2)
+    c.add("finish: norm low-pass", LOWPASS1)
     return c
 
 
@@ -485,7 +488,7 @@ def gpsins_time_update() -> Count:
     n = 16
     c = Count("GpsInsFilter time update")
     c.add("inputs: bias-corrected w, f", 6)
-    c.add("rest detector (low-passes, norms)", 2 * LOWPASS3 + 2 * (3 + NORM3) + NORM3 + 4, libm=2)
+    c.add("rest detector (low-passes with one weight, norms)", 2 * LOWPASS3 - 2 + 2 * (3 + NORM3) + NORM3 + 4, libm=1)
     c.add("speed test: sigma_v, |v|", 3 + 1 + NORM3 + 3)
     c.add("gravity at (lat, h)", 12, libm=1)
     # strapdown_step: coning/sculling, rotate dv, two velocity evaluations, position, attitude
