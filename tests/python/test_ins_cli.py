@@ -608,7 +608,7 @@ def test_motion_start_check_on_the_real_walk(data_dir):
         assert abs(_offset_named(msg) + shift) < 0.5, msg
 
 
-@pytest.mark.parametrize("n, w", [(1000, 40), (1000, 41), (30, 1), (30, 7), (5, 9)])
+@pytest.mark.parametrize("n, w", [(1000, 40), (1000, 41), (30, 1), (30, 7), (5, 9), (2, 4), (4, 2), (1, 1)])
 def test_box_mean_is_numpys_centred_convolution(n, w):
     """The smoothing of the motion-start check (cumulative sums) against ``np.convolve(...,
     mode="same")`` of a box, column by column, at both edges and for a window longer than the

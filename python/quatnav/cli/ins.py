@@ -335,7 +335,7 @@ def _window(t, align_time):
 
 def check_gyro(gyro, t, align_time, where="IMU"):
     """A warning when the rates look like deg/s (or None)."""
-    w = np.linalg.norm(gyro, axis=1)
+    w = _row_norms(np.asarray(gyro, float))
     mx = float(np.max(np.abs(gyro)))
     rest = float(np.median(w[_window(t, align_time)]))
     med = float(np.median(w))
@@ -351,7 +351,7 @@ def check_gyro(gyro, t, align_time, where="IMU"):
 
 def check_accel(accel, where="IMU"):
     """A warning when the specific force looks like g or mg, or is far from gravity (or None)."""
-    m = float(np.median(np.linalg.norm(accel, axis=1)))
+    m = float(np.median(_row_norms(np.asarray(accel, float))))
     if 0.5 <= m <= 2.0:
         return (f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
                 "multiply by 9.80665")
@@ -453,14 +453,32 @@ def motion_start(t, speed_or_rate, threshold):
     return float(t[above[0]]) if above.size else None
 
 
+def _row_dots(a, b):
+    """The dot product of each row of two (n, 3) arrays."""
+    return np.einsum("ij,ij->i", a, b)
+
+
+def _row_norms(x):
+    """The norm of each row of an (n, 3) array: ``np.linalg.norm(x, axis=1)`` without its
+    temporaries (the motion-start check runs over every IMU row)."""
+    return np.sqrt(_row_dots(x, x))
+
+
 def _box_mean(x, w):
     """The mean over ``w`` samples centred on each row, zeros outside (``np.convolve(x,
     np.ones(w) / w, mode="same")`` column by column), from cumulative sums: O(N) whatever ``w``."""
     x = np.asarray(x, float)
     n = len(x)
     c = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)])
-    end = np.arange(n) + (w - 1) // 2 + 1  # one past each window
-    return (c[np.minimum(end, n)] - c[np.clip(end - w, 0, n)]) / w
+    h = (w - 1) // 2 + 1  # row i's window ends before row i + h
+    # rows a..b-1 have their whole window inside: slices; the edges clipped, by index
+    a, b = min(n, max(0, w - h)), max(0, n - h + 1)
+    a = min(a, b)
+    out = np.empty_like(c[1:])
+    out[a:b] = c[a + h:b + h] - c[a + h - w:b + h - w]
+    edge = np.r_[0:a, b:n]
+    out[edge] = c[np.minimum(edge + h, n)] - c[np.clip(edge + h - w, 0, n)]
+    return out / w
 
 
 def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", accel=None):
@@ -484,24 +502,26 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
         return None
     dt = float(np.median(np.diff(t)))
     w = max(1, int(round(0.2 / dt)))
-    activity = _box_mean(np.linalg.norm(gyro, axis=1), w) / 0.3
+    activity = _box_mean(_row_norms(np.asarray(gyro, float)), w) / 0.3
     what = "|gyro| > 0.3 rad/s"
     steady = None
     if accel is not None and len(t) > 2 * w + 2:
         fs = _box_mean(np.asarray(accel, float), w)
+        n = len(fs)
         n1 = max(2, int(round(1.0 / dt)))  # the steady second, ending w samples before
         c1 = np.vstack([np.zeros(3), np.cumsum(fs, axis=0)])
-        c2 = np.r_[0.0, np.cumsum(np.einsum("ij,ij->i", fs, fs))]
-        hi = np.arange(len(fs)) - w + 1
-        lo = hi - n1
-        ok = lo >= w  # past the smoothing's edge
+        c2 = np.r_[0.0, np.cumsum(_row_dots(fs, fs))]
+        # row i: the second [i - w + 1 - n1, i - w + 1), past the smoothing's edge (from row w):
+        # rows i0 = 2 w - 1 + n1 on, as slices of the cumulative sums
+        i0 = min(n, 2 * w - 1 + n1)
+        hi, lo = slice(i0 - w + 1, n - w + 1), slice(i0 - w + 1 - n1, n - w + 1 - n1)
         mean = np.zeros_like(fs)
-        mean[ok] = (c1[hi[ok]] - c1[lo[ok]]) / n1
-        spread2 = np.zeros(len(fs))
-        spread2[ok] = (c2[hi[ok]] - c2[lo[ok]]) / n1 - np.einsum("ij,ij->i", mean[ok], mean[ok])
-        g = float(np.median(np.linalg.norm(fs[w:-w], axis=1)))
-        steady = ok & (spread2 < 0.2 ** 2) & (np.abs(np.linalg.norm(mean, axis=1) - g) < 0.25)
-        dev = np.where(steady, np.linalg.norm(fs - mean, axis=1), 0.0)
+        mean[i0:] = (c1[hi] - c1[lo]) / n1
+        spread2 = np.zeros(n)
+        spread2[i0:] = (c2[hi] - c2[lo]) / n1 - _row_dots(mean[i0:], mean[i0:])
+        g = float(np.median(_row_norms(fs[w:-w])))
+        steady = (np.arange(n) >= i0) & (spread2 < 0.2 ** 2) & (np.abs(_row_norms(mean) - g) < 0.25)
+        dev = np.where(steady, _row_norms(fs - mean), 0.0)
         activity = np.maximum(activity, dev / 0.5)
         what += " or f 0.5 m/s^2 from a steady second before"
     gnss_t = np.asarray(gnss_t, float)
