@@ -223,13 +223,13 @@ template <class S> struct MargCase {
 // (position and velocity, 3 + 3 rows). The fixes are the filter's own position and velocity (the
 // rows' cost does not depend on the innovation). The flop count leaves out what the filter computes
 // in double whatever S is (the geodetic position, the Earth terms of F).
-template <class S> struct GpsInsCase {
-  static constexpr const char* name = "GpsInsFilter";
+template <class S, bool SF = false> struct GpsInsCaseT {
+  static constexpr const char* name = SF ? "GpsInsFilter [scale factors]" : "GpsInsFilter";
   static constexpr bool countable = true;
   static constexpr const char* policy = "time update, gnss 1/200";
   static constexpr const char* step_desc = "predict";
   static constexpr int kGnssEvery = 200;
-  quatnav::GpsInsFilter<S> f;
+  quatnav::GpsInsFilter<S, SF> f;
   int n = 0;
   void init(const Sample<S>&) {
     const Quat<S> q = quatnav::quat::from_euler<S>(S(0.1), S(-0.2), S(0.5));
@@ -248,7 +248,10 @@ template <class S> struct GpsInsCase {
     }
   }
 };
-template <class S> struct GpsInsGnssCase : GpsInsCase<S> {
+template <class S> using GpsInsCase = GpsInsCaseT<S, false>;
+/// With the gyro and accelerometer scale-factor states (22 error states).
+template <class S> using GpsInsScaleCase = GpsInsCaseT<S, true>;
+template <class S, bool SF = false> struct GpsInsGnssCaseT : GpsInsCaseT<S, SF> {
   static constexpr const char* policy = "time update + gnss pos+vel";
   static constexpr const char* step_desc = "predict+gnss";
   void step(const Sample<S>& s) {
@@ -256,6 +259,8 @@ template <class S> struct GpsInsGnssCase : GpsInsCase<S> {
     this->gnss();
   }
 };
+template <class S> using GpsInsGnssCase = GpsInsGnssCaseT<S, false>;
+template <class S> using GpsInsScaleGnssCase = GpsInsGnssCaseT<S, true>;
 
 // The 13-state GPS-aided navigation filter (nav_filter13.hpp): its time update alone, one row per
 // policy (EKF, second order, UKF), from a representative state and covariance. The measurement

@@ -5,5 +5,7 @@ namespace qb {
 void run_gpsins_cases(const Options& opt) {
   run_case<GpsInsCase>(opt);
   run_case<GpsInsGnssCase>(opt);
+  run_case<GpsInsScaleCase>(opt);
+  run_case<GpsInsScaleGnssCase>(opt);
 }
 }  // namespace qb

@@ -78,18 +78,17 @@ template <class S> struct AidOutArrays {
 };
 }  // namespace
 
-template <class S> void bind_gpsins_scalar(py::module_& m) {
+/// The filter class GpsInsFilter_<dtype> (16 error states) or, with SF, GpsInsFilterScale_<dtype>
+/// (22: the gyro and accelerometer scale factors); the update and parameter types are bound once
+/// per dtype by bind_gpsins_scalar.
+template <class S, bool SF> void bind_gpsins_filter(py::module_& m) {
   using namespace quatnav;
-  using F = GpsInsFilter<S>;
+  using F = GpsInsFilter<S, SF>;
   using P = GpsInsParams<S>;
   using V3 = Vec3<S>;
   constexpr int N = F::kStates;
-  bind_gpsins_update<S, 1>(m);
-  bind_gpsins_update<S, 2>(m);
-  bind_gpsins_update<S, 3>(m);
-  bind_fields_struct<P>(m, cls_name<S>("GpsInsParams"), "Parameters of GpsInsFilter (nav/gps_ins/params.hpp).");
 
-  py::class_<F> cls(m, cls_name<S>("GpsInsFilter").c_str());
+  py::class_<F> cls(m, cls_name<S>(SF ? "GpsInsFilterScale" : "GpsInsFilter").c_str());
   cls.def(py::init<const P&>(), py::arg("params"))
       .def_property_readonly("params", &F::params)
       .def("set_params", &F::set_params, py::arg("params"))
@@ -100,6 +99,9 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
       .def_property_readonly("llh", &F::llh)
       .def_property_readonly("acc_bias", [](const F& f) { return V3(f.acc_bias()); })
       .def_property_readonly("gyro_bias", [](const F& f) { return V3(f.gyro_bias()); })
+      .def_property_readonly("acc_scale", [](const F& f) { return V3(f.acc_scale()); })
+      .def_property_readonly("gyro_scale", [](const F& f) { return V3(f.gyro_scale()); })
+      .def_property_readonly("n_states", [](const F&) { return N; })
       .def_property_readonly("baro_offset", &F::baro_offset)
       .def_property_readonly("at_rest", &F::at_rest)
       .def_property_readonly("align_method", [](const F& f) { return std::string(to_string(f.align_method())); })
@@ -208,6 +210,11 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             io.q_nb = q.mutable_data();
             io.acc_bias = ba.mutable_data();
             io.gyro_bias = bg.mutable_data();
+            auto sa = empty<S>(SF ? n : 0, 3), sg = empty<S>(SF ? n : 0, 3);
+            if (SF) {
+              io.acc_scale = sa.mutable_data();
+              io.gyro_scale = sg.mutable_data();
+            }
             io.sigma = sig.mutable_data();
             io.baro_offset = bo.mutable_data();
             io.q_scale = qs.mutable_data();
@@ -226,16 +233,20 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
               // loop): the samples the backward pass does not visit (before navigation) keep them.
               py::array_t<double> sllh({n, py::ssize_t(3)}), sbo({n});
               auto sv = empty<S>(n, 3), sq = empty<S>(n, 4), sba = empty<S>(n, 3), sbg = empty<S>(n, 3),
-                   ssig = empty<S>(n, N);
-              GpsInsSmoothedOutput<S> out;
+                   ssig = empty<S>(n, N), ssa = empty<S>(SF ? n : 0, 3), ssg = empty<S>(SF ? n : 0, 3);
+              GpsInsSmoothedOutput<S, SF> out;
               out.out.llh = sllh.mutable_data();
               out.out.v_n = sv.mutable_data();
               out.out.q_nb = sq.mutable_data();
               out.out.acc_bias = sba.mutable_data();
               out.out.gyro_bias = sbg.mutable_data();
+              if (SF) {
+                out.out.acc_scale = ssa.mutable_data();
+                out.out.gyro_scale = ssg.mutable_data();
+              }
               out.out.sigma = ssig.mutable_data();
               out.out.baro_offset = sbo.mutable_data();
-              GpsInsRtsModel<S> model(f, io.t, io.gyro, io.accel, io.increments);
+              GpsInsRtsModel<S, SF> model(f, io.t, io.gyro, io.accel, io.increments);
               auto forward = [&](auto&& obs) {
                 gpsins_batch(f, io, obs);
                 const GpsInsBatchIo<S>& o = out.out;
@@ -244,6 +255,10 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
                 std::copy(io.q_nb, io.q_nb + 4 * n, o.q_nb);
                 std::copy(io.acc_bias, io.acc_bias + 3 * n, o.acc_bias);
                 std::copy(io.gyro_bias, io.gyro_bias + 3 * n, o.gyro_bias);
+                if (SF) {
+                  std::copy(io.acc_scale, io.acc_scale + 3 * n, o.acc_scale);
+                  std::copy(io.gyro_scale, io.gyro_scale + 3 * n, o.gyro_scale);
+                }
                 std::copy(io.sigma, io.sigma + N * n, o.sigma);
                 std::copy(io.baro_offset, io.baro_offset + n, o.baro_offset);
               };
@@ -255,6 +270,10 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
               sd["q_nb"] = sq;
               sd["acc_bias"] = sba;
               sd["gyro_bias"] = sbg;
+              if (SF) {
+                sd["acc_scale"] = ssa;
+                sd["gyro_scale"] = ssg;
+              }
               sd["sigma"] = ssig;
               sd["baro_offset"] = sbo;
               sd["info"] = info;
@@ -268,6 +287,10 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
             d["q_nb"] = q;
             d["acc_bias"] = ba;
             d["gyro_bias"] = bg;
+            if (SF) {
+              d["acc_scale"] = sa;
+              d["gyro_scale"] = sg;
+            }
             d["sigma"] = sig;
             d["baro_offset"] = bo;
             d["q_scale"] = qs;
@@ -291,8 +314,19 @@ template <class S> void bind_gpsins_scalar(py::module_& m) {
           "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; "
           "each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also "
           "'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, "
-          "baro_offset) and the smoother's 'info' (nav/gps_ins/smoother.hpp).");
+          "baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' "
+          "(nav/gps_ins/smoother.hpp).");
   def_state_dict<F>(cls);
+}
+
+/// GpsInsParams_<dtype>, the update results and GpsInsFilter_<dtype> (16 states).
+template <class S> void bind_gpsins_scalar(py::module_& m) {
+  bind_gpsins_update<S, 1>(m);
+  bind_gpsins_update<S, 2>(m);
+  bind_gpsins_update<S, 3>(m);
+  bind_fields_struct<quatnav::GpsInsParams<S>>(m, cls_name<S>("GpsInsParams"),
+                                               "Parameters of GpsInsFilter (nav/gps_ins/params.hpp).");
+  bind_gpsins_filter<S, false>(m);
 }
 
 }  // namespace quatnav_py

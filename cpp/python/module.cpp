@@ -15,6 +15,7 @@ void bind_nav13_f32(py::module_& m);
 void bind_nav13_timing(py::module_& m);
 void bind_gpsins_f64(py::module_& m);
 void bind_gpsins_f32(py::module_& m);
+void bind_gpsins_scale(py::module_& m);
 }  // namespace quatnav_py
 
 PYBIND11_MODULE(_core, m) {
@@ -47,4 +48,5 @@ PYBIND11_MODULE(_core, m) {
   quatnav_py::bind_nav13_timing(m);
   quatnav_py::bind_gpsins_f64(m);
   quatnav_py::bind_gpsins_f32(m);
+  quatnav_py::bind_gpsins_scale(m);
 }

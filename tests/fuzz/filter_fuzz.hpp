@@ -449,11 +449,11 @@ template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
   }
 };
 
-// --- GpsInsFilter ----------------------------------------------------------------------------
-template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
-  using F = GpsInsFilter<S>;
+// --- GpsInsFilter (16 states, and 22 with the scale-factor states) -----------------------------
+template <class S, bool SF> struct FuzzAdapter<GpsInsFilter<S, SF>> {
+  using F = GpsInsFilter<S, SF>;
   using State = typename F::State;
-  static constexpr const char* name = "GpsInsFilter";
+  static constexpr const char* name = SF ? "GpsInsFilter (scale factors)" : "GpsInsFilter";
   static typename F::Params params(Reader& r) {
     typename F::Params p;
     p.gyro_noise = r.positive<S>(p.gyro_noise);
@@ -482,6 +482,11 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
     p.gyro_range = (r.byte() & 1) ? r.positive<S>(S(35)) : S(0);
     p.acc_range = (r.byte() & 1) ? r.positive<S>(S(160)) : S(0);
     p.cov_floor = (r.byte() & 1) ? r.positive<S>(S(1e-12)) : S(0);
+    if (SF) {
+      p.gyro_scale_noise = r.positive<S>(p.gyro_scale_noise);
+      p.acc_scale_noise = r.positive<S>(p.acc_scale_noise);
+      p.init_gyro_scale_sigma = r.positive<S>(p.init_gyro_scale_sigma);
+    }
     return p;
   }
   /// Everything but the counters (diagnostics that count refused samples too), every field of
@@ -493,8 +498,10 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
         !std::isfinite(s.nav.lon) || !std::isfinite(s.nav.h) || !s.acc_bias.allFinite() || !s.gyro_bias.allFinite() ||
         !s.P.allFinite() || !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() ||
         !s.align_sum.allFinite() || !std::isfinite(s.baro_offset) || !std::isfinite(s.baro_last) ||
-        !std::isfinite(s.baro_ref_h))
+        !std::isfinite(s.baro_ref_h) || !s.acc_scale.allFinite() || !s.gyro_scale.allFinite())
       return why = "non-finite state", false;
+    if (!((s.acc_scale.array().abs() < S(0.5)).all() && (s.gyro_scale.array().abs() < S(0.5)).all()))
+      return why = "scale factor out of (-0.5, 0.5)", false;
     if (std::abs(s.nav.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
     if (!symmetric<S, F::kStates>(s.P)) return why = "P not symmetric", false;
     if (s.phase == GpsInsPhase::Navigating && !(std::abs(s.nav.lat) < 1.5707)) return why = "latitude at a pole", false;
@@ -579,7 +586,12 @@ template <class S> struct FuzzAdapter<GpsInsFilter<S>> {
         State s = f.state();
         switch (r.byte() % 4) {
           case 0: for (int i = 0; i < 4; ++i) s.nav.q_nb[i] = r.scalar<S>(); break;
-          case 1: s.nav.v_n = r.vec3<S>(); s.acc_bias = r.vec3<S>(); s.gyro_bias = r.vec3<S>(); break;
+          case 1:
+            s.nav.v_n = r.vec3<S>();
+            s.acc_bias = r.vec3<S>();
+            s.gyro_bias = r.vec3<S>();
+            if (r.byte() & 1) s.gyro_scale = r.vec3<S>() * S(1e-3);  // refused without the states
+            break;
           case 2:
             for (int i = 0; i < F::kStates; ++i)
               for (int j = 0; j <= i; ++j)
@@ -621,7 +633,7 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
 /// double; NavFilter13 with each of its three time updates).
 template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
   Reader r(data, size);
-  switch (r.byte() % 14) {
+  switch (r.byte() % 16) {
     case 0: return run_one<QuaternionEKF<double>>(r, fail);
     case 1: return run_one<QuaternionEKF<float>>(r, fail);
     case 2: return run_one<EulerEKF<double>>(r, fail);
@@ -635,7 +647,9 @@ template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, 
     case 10: return run_one<NavFilter13<double, TimeUpdate::Ukf>>(r, fail);
     case 11: return run_one<NavFilter13<float, TimeUpdate::Ukf>>(r, fail);
     case 12: return run_one<GpsInsFilter<double>>(r, fail);
-    default: return run_one<GpsInsFilter<float>>(r, fail);
+    case 13: return run_one<GpsInsFilter<float>>(r, fail);
+    case 14: return run_one<GpsInsFilter<double, true>>(r, fail);
+    default: return run_one<GpsInsFilter<float, true>>(r, fail);
   }
 }
 

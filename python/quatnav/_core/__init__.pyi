@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'flag_table', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -3455,6 +3455,14 @@ class GpsInsParams_f64:
     def acc_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_scale_noise(self) -> float:
+        """
+        accelerometer scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
+        """
+    @acc_scale_noise.setter
+    def acc_scale_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def adapt_gain(self) -> float:
         """
         step of the adaptation per GNSS update (natural log of the scale) [1]
@@ -3727,6 +3735,14 @@ class GpsInsParams_f64:
     def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gyro_scale_noise(self) -> float:
+        """
+        gyro scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
+        """
+    @gyro_scale_noise.setter
+    def gyro_scale_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def heading_from_gps(self) -> bool:
         """
         initialize the heading from the GPS track (without compass) [-]
@@ -3767,12 +3783,28 @@ class GpsInsParams_f64:
     def init_acc_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def init_acc_scale_sigma(self) -> float:
+        """
+        accelerometer scale-factor one-sigma at the start of navigation (scale-factor states only) [1]
+        """
+    @init_acc_scale_sigma.setter
+    def init_acc_scale_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def init_gyro_bias_sigma(self) -> float:
         """
         gyro-bias one-sigma at the start of navigation [rad/s]
         """
     @init_gyro_bias_sigma.setter
     def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def init_gyro_scale_sigma(self) -> float:
+        """
+        gyro scale-factor one-sigma at the start of navigation (scale-factor states only) [1]
+        """
+    @init_gyro_scale_sigma.setter
+    def init_gyro_scale_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_level_sigma(self) -> float:
@@ -3996,7 +4028,7 @@ class GpsInsFilter_f64:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
+        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
         """
     def set_initial(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], v_valid: bool, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> str:
         ...
@@ -4026,6 +4058,9 @@ class GpsInsFilter_f64:
     def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...
     @property
+    def acc_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
     def align_method(self) -> str:
         ...
     @property
@@ -4044,10 +4079,16 @@ class GpsInsFilter_f64:
     def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...
     @property
+    def gyro_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
     def heading_source(self) -> str:
         ...
     @property
     def llh(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def n_states(self) -> int:
         ...
     @property
     def navigating(self) -> bool:
@@ -4202,6 +4243,14 @@ class GpsInsParams_f32:
         """
     @acc_range.setter
     def acc_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_scale_noise(self) -> float:
+        """
+        accelerometer scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
+        """
+    @acc_scale_noise.setter
+    def acc_scale_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def adapt_gain(self) -> float:
@@ -4476,6 +4525,14 @@ class GpsInsParams_f32:
     def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gyro_scale_noise(self) -> float:
+        """
+        gyro scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
+        """
+    @gyro_scale_noise.setter
+    def gyro_scale_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def heading_from_gps(self) -> bool:
         """
         initialize the heading from the GPS track (without compass) [-]
@@ -4516,12 +4573,28 @@ class GpsInsParams_f32:
     def init_acc_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def init_acc_scale_sigma(self) -> float:
+        """
+        accelerometer scale-factor one-sigma at the start of navigation (scale-factor states only) [1]
+        """
+    @init_acc_scale_sigma.setter
+    def init_acc_scale_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def init_gyro_bias_sigma(self) -> float:
         """
         gyro-bias one-sigma at the start of navigation [rad/s]
         """
     @init_gyro_bias_sigma.setter
     def init_gyro_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def init_gyro_scale_sigma(self) -> float:
+        """
+        gyro scale-factor one-sigma at the start of navigation (scale-factor states only) [1]
+        """
+    @init_gyro_scale_sigma.setter
+    def init_gyro_scale_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_level_sigma(self) -> float:
@@ -4745,7 +4818,7 @@ class GpsInsFilter_f32:
         ...
     def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
         """
-        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
+        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
         """
     def set_initial(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], v_valid: bool, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> str:
         ...
@@ -4775,6 +4848,9 @@ class GpsInsFilter_f32:
     def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property
+    def acc_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
     def align_method(self) -> str:
         ...
     @property
@@ -4793,10 +4869,226 @@ class GpsInsFilter_f32:
     def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property
+    def gyro_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
     def heading_source(self) -> str:
         ...
     @property
     def llh(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def n_states(self) -> int:
+        ...
+    @property
+    def navigating(self) -> bool:
+        ...
+    @property
+    def params(self) -> GpsInsParams_f32:
+        ...
+    @property
+    def phase(self) -> int:
+        ...
+    @property
+    def q_nb(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[4, 1]"]:
+        ...
+    @property
+    def q_scale(self) -> float:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+    @property
+    def v_n(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+class GpsInsFilterScale_f64:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
+    def __init__(self, params: GpsInsParams_f64) -> None:
+        ...
+    def clear(self) -> None:
+        """
+        Back to the start of alignment (parameters kept).
+        """
+    def get_state(self) -> dict:
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[22, 22]"]) -> str:
+        ...
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
+        """
+        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
+        """
+    def set_initial(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], v_valid: bool, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> str:
+        ...
+    def set_params(self, params: GpsInsParams_f64) -> None:
+        ...
+    def set_state(self, state: dict) -> str:
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
+    def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[GpsInsUpdate1_f64, GpsInsUpdate1_f64]:
+        ...
+    def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f64:
+        ...
+    def update_constraints(self) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64, GpsInsUpdate2_f64]:
+        ...
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64]:
+        ...
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
+        ...
+    def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
+        ...
+    def update_mag(self, m: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> GpsInsUpdate1_f64:
+        ...
+    def update_odometer(self, speed: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f64:
+        ...
+    @property
+    def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def acc_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def align_method(self) -> str:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def baro_offset(self) -> float:
+        ...
+    @property
+    def counters(self) -> dict:
+        ...
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[22, 22]"]:
+        ...
+    @property
+    def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def gyro_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def heading_source(self) -> str:
+        ...
+    @property
+    def llh(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def n_states(self) -> int:
+        ...
+    @property
+    def navigating(self) -> bool:
+        ...
+    @property
+    def params(self) -> GpsInsParams_f64:
+        ...
+    @property
+    def phase(self) -> int:
+        ...
+    @property
+    def q_nb(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"]:
+        ...
+    @property
+    def q_scale(self) -> float:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+    @property
+    def v_n(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+class GpsInsFilterScale_f32:
+    @staticmethod
+    def state_fields() -> list:
+        """
+        The state's declaration table: (name, default, unit, doc).
+        """
+    def __init__(self, params: GpsInsParams_f32) -> None:
+        ...
+    def clear(self) -> None:
+        """
+        Back to the start of alignment (parameters kept).
+        """
+    def get_state(self) -> dict:
+        """
+        The complete state as a dict of arrays and numbers (set_state restores it exactly).
+        """
+    def predict(self, omega_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], f_ib_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], dt: typing.SupportsFloat | typing.SupportsIndex) -> str:
+        ...
+    def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[22, 22]"]) -> str:
+        ...
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
+        """
+        Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
+        """
+    def set_initial(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], v_valid: bool, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> str:
+        ...
+    def set_params(self, params: GpsInsParams_f32) -> None:
+        ...
+    def set_state(self, state: dict) -> str:
+        """
+        Restore a state from get_state(); unknown and missing keys are refused.
+        """
+    def update_baro(self, h: typing.SupportsFloat | typing.SupportsIndex) -> tuple[GpsInsUpdate1_f32, GpsInsUpdate1_f32]:
+        ...
+    def update_compass(self, heading: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f32:
+        ...
+    def update_constraints(self) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32, GpsInsUpdate2_f32]:
+        ...
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32]:
+        ...
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
+        ...
+    def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
+        ...
+    def update_mag(self, m: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"]) -> GpsInsUpdate1_f32:
+        ...
+    def update_odometer(self, speed: typing.SupportsFloat | typing.SupportsIndex) -> GpsInsUpdate1_f32:
+        ...
+    @property
+    def acc_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def acc_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def align_method(self) -> str:
+        ...
+    @property
+    def at_rest(self) -> bool:
+        ...
+    @property
+    def baro_offset(self) -> float:
+        ...
+    @property
+    def counters(self) -> dict:
+        ...
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[22, 22]"]:
+        ...
+    @property
+    def gyro_bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def gyro_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
+    def heading_source(self) -> str:
+        ...
+    @property
+    def llh(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def n_states(self) -> int:
         ...
     @property
     def navigating(self) -> bool:

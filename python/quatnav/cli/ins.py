@@ -97,6 +97,10 @@ OUTPUT_COLUMNS = (
     + ("sigma_n", "sigma_e", "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd",
        "sigma_psi_n_deg", "sigma_psi_e_deg", "sigma_psi_d_deg")
     + tuple(f"sigma_accel_bias_{a}_m_s2" for a in "xyz") + tuple(f"sigma_gyro_bias_{a}_deg_h" for a in "xyz"))
+#: Appended to OUTPUT_COLUMNS with scale_factors = true: the scale-factor estimates and one-sigmas, ppm.
+SCALE_COLUMNS = (tuple(f"accel_scale_{a}_ppm" for a in "xyz") + tuple(f"gyro_scale_{a}_ppm" for a in "xyz")
+                 + tuple(f"sigma_accel_scale_{a}_ppm" for a in "xyz")
+                 + tuple(f"sigma_gyro_scale_{a}_ppm" for a in "xyz"))
 
 EPILOG = """\
 input files: CSV, a header row of named columns in any order (case and surrounding spaces do
@@ -120,7 +124,9 @@ output (CSV), one row per IMU sample once navigating:
   time, lat, lon (deg), h (m), v_n, v_e, v_d (m/s), roll, pitch, yaw (deg),
   accel_bias_{x,y,z}_m_s2, gyro_bias_{x,y,z}_deg_h, sigma_n, sigma_e, sigma_d (m),
   sigma_vn, sigma_ve, sigma_vd (m/s), sigma_psi_{n,e,d}_deg,
-  sigma_accel_bias_{x,y,z}_m_s2, sigma_gyro_bias_{x,y,z}_deg_h
+  sigma_accel_bias_{x,y,z}_m_s2, sigma_gyro_bias_{x,y,z}_deg_h; with scale_factors = true also
+  accel_scale_{x,y,z}_ppm, gyro_scale_{x,y,z}_ppm and their sigma_..._ppm (the sensor reads
+  (1 + scale) * x + bias per axis)
 gaps: an IMU gap longer than max_dt is coasted (propagated in steps of at most max_dt with the
   sample that ends it) and reported as a warning with the file lines; IMU times whose median
   step exceeds max_dt are refused as a wrong unit (ms, us, ns)
@@ -849,9 +855,13 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     cols = [r.t[nav], np.degrees(r.lat[nav]), np.degrees(r.lon[nav]), r.h[nav], *r.velocity[nav].T,
             *np.degrees(r.euler[nav]).T, *r.acc_bias[nav].T, *(r.bias[nav] / _DEG_H).T,
             *s[:, 0:6].T, *np.degrees(s[:, 6:9]).T, *s[:, 9:12].T, *(s[:, 12:15] / _DEG_H).T]
-    fmt = ["%.6f", "%.10f", "%.10f"] + ["%.6g"] * (len(OUTPUT_COLUMNS) - 3)
+    names = OUTPUT_COLUMNS
+    if r.acc_scale is not None:
+        cols += [*(1e6 * r.acc_scale[nav]).T, *(1e6 * r.gyro_scale[nav]).T, *(1e6 * s[:, 16:22]).T]
+        names = OUTPUT_COLUMNS + SCALE_COLUMNS
+    fmt = ["%.6f", "%.10f", "%.10f"] + ["%.6g"] * (len(names) - 3)
     try:
-        write_table(out, OUTPUT_COLUMNS, cols, fmt, progress=bar)
+        write_table(out, names, cols, fmt, progress=bar)
     except OSError as e:
         raise InputError(f"output {out}: cannot write ({e.strerror})") from None
     finally:

@@ -1,9 +1,11 @@
 """Loosely coupled GPS/INS feedback Kalman filter with altimeter and compass (paper 004).
 
-:class:`GpsInsFilter` wraps ``quatnav._core.GpsInsFilter_f64`` / ``_f32`` (chosen by ``dtype``);
+:class:`GpsInsFilter` wraps ``quatnav._core.GpsInsFilter_f64`` / ``_f32`` (chosen by ``dtype``;
+``GpsInsFilterScale_f64`` / ``_f32`` with ``scale_factors=True``);
 :meth:`GpsInsFilter.run` executes the whole record in C++ with the GIL released. The numpy twin
 is :class:`quatnav.reference.GpsInsFilter`. The model (16 error states: NED position, velocity,
-phi-angle attitude error, accelerometer and gyro biases, altimeter offset; feedback of the
+phi-angle attitude error, accelerometer and gyro biases, altimeter offset; with
+``scale_factors=True`` also the accelerometer and gyro scale factors, 22 states; feedback of the
 estimate into the strapdown mechanization after every correction; one gated correction path
 for every aid with outlier isolation, covariance inflation and process-noise adaptation) is
 described in ``cpp/include/quatnav/nav/gps_ins.hpp``.
@@ -22,11 +24,13 @@ from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_im
 from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "GPSINS_FLAGS", "GPSINS_DECISIONS", "STATE_NAMES",
-           "PARAM_NAMES"]
+           "SCALE_STATE_NAMES", "PARAM_NAMES"]
 
 #: Names of the 16 error states, in order (units: m, m/s, rad, m/s^2, rad/s, m).
 STATE_NAMES = ("dp_n", "dp_e", "dp_d", "dv_n", "dv_e", "dv_d", "psi_n", "psi_e", "psi_d",
                "ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z", "baro_offset")
+#: With ``scale_factors=True``: the 16 and the accelerometer and gyro scale factors (1), 22.
+SCALE_STATE_NAMES = STATE_NAMES + ("sa_x", "sa_y", "sa_z", "sg_x", "sg_y", "sg_z")
 
 #: Parameter names (the table ``quatnav.filters.tables.GPSINS_PARAMS``: units and defaults).
 PARAM_NAMES = tuple(p.name for p in GPSINS_PARAMS)
@@ -97,6 +101,9 @@ class GpsInsResult(NavResult):
         the first altimeter sample in navigation.
     q_scale : (N,) ndarray
         The process-noise scale of the innovation-based adaptation (1: the configured noise).
+    acc_scale, gyro_scale : (N, 3) ndarray or None
+        The scale-factor estimates (``scale_factors=True``; else None): the sensor reads
+        ``(1 + s) * x + b`` per axis. Their one-sigmas are the last six columns of ``sigma``.
     alignment : dict
         How the filter was aligned: ``method`` (``"static"``: levelled at rest from the
         accelerometer; ``"gnss_velocity"``: in motion, the GNSS velocity change against the
@@ -111,7 +118,18 @@ class GpsInsResult(NavResult):
     counters: dict | None = None
     baro_offset: np.ndarray | None = None
     q_scale: np.ndarray | None = None
+    acc_scale: np.ndarray | None = None
+    gyro_scale: np.ndarray | None = None
     alignment: dict | None = None
+
+    def _columns(self) -> dict:
+        cols = super()._columns()
+        if self.acc_scale is not None:
+            for i, c in enumerate("xyz"):
+                cols[f"acc_scale_{c}"] = self.acc_scale[:, i]
+            for i, c in enumerate("xyz"):
+                cols[f"gyro_scale_{c}"] = self.gyro_scale[:, i]
+        return cols
 
     @property
     def navigating(self) -> np.ndarray:
@@ -205,7 +223,14 @@ class GpsInsFilter(Filter):
     _core_params = "GpsInsParams"
 
     def _make(self, p):
-        return getattr(core(), "GpsInsFilter" + self._suffix)(p)
+        name = "GpsInsFilterScale" if self._opts["scale_factors"] else "GpsInsFilter"
+        return getattr(core(), name + self._suffix)(p)
+
+    @property
+    def state_names(self) -> tuple:
+        """Names of the error states (:data:`STATE_NAMES`, or :data:`SCALE_STATE_NAMES` with
+        ``scale_factors=True``)."""
+        return SCALE_STATE_NAMES if self._opts["scale_factors"] else STATE_NAMES
 
     # --- state --------------------------------------------------------------------------------
     @property
@@ -236,6 +261,16 @@ class GpsInsFilter(Filter):
         return np.array(self._f.gyro_bias)
 
     @property
+    def acc_scale(self) -> np.ndarray:
+        """Accelerometer scale-factor estimate (1; zero without ``scale_factors``)."""
+        return np.array(self._f.acc_scale)
+
+    @property
+    def gyro_scale(self) -> np.ndarray:
+        """Gyro scale-factor estimate (1; zero without ``scale_factors``)."""
+        return np.array(self._f.gyro_scale)
+
+    @property
     def baro_offset(self) -> float:
         """Altimeter offset estimate (its reading minus the ellipsoidal height), m."""
         return float(self._f.baro_offset)
@@ -247,7 +282,7 @@ class GpsInsFilter(Filter):
 
     @property
     def covariance(self) -> np.ndarray:
-        """(16, 16) error-state covariance (:data:`STATE_NAMES`)."""
+        """(16, 16) error-state covariance (:attr:`state_names`; (22, 22) with ``scale_factors``)."""
         return np.array(self._f.covariance)
 
     @property
@@ -276,9 +311,10 @@ class GpsInsFilter(Filter):
         acc_bias, gyro_bias : (3,) array_like
             Initial bias estimates, m/s^2 and rad/s.
         P : (16, 16) array_like, optional
-            Error-state covariance (:data:`STATE_NAMES`); default: the parameters' initial sigmas
-            with GPS position sigmas ``gps_pos_sigma_h``/``_v`` and ``init_vel_sigma`` (the
-            altimeter offset is initialized by the first altimeter sample).
+            Error-state covariance (:attr:`state_names`; (22, 22) with ``scale_factors``);
+            default: the parameters' initial sigmas with GPS position sigmas
+            ``gps_pos_sigma_h``/``_v`` and ``init_vel_sigma`` (the altimeter offset is
+            initialized by the first altimeter sample). The scale-factor estimates start at zero.
         """
         q = V.vector(q_nb, "q_nb", 4, self.dtype)
         v = V.vector(v_n, "v_n", 3, self.dtype)
@@ -290,10 +326,13 @@ class GpsInsFilter(Filter):
             d = np.array([p.gps_pos_sigma_h, p.gps_pos_sigma_h, p.gps_pos_sigma_v] + [p.init_vel_sigma] * 3
                          + [p.init_level_sigma] * 2 + [p.init_yaw_sigma] + [p.init_acc_bias_sigma] * 3
                          + [p.init_gyro_bias_sigma] * 3 + [0.0])
+            if self._opts["scale_factors"]:
+                d = np.concatenate([d, [p.init_acc_scale_sigma] * 3 + [p.init_gyro_scale_sigma] * 3])
             P = np.diag(d ** 2)
         P = np.asarray(V._numeric(P, "P"), dtype=self.dtype)
-        if P.shape != (16, 16):
-            raise ValueError(f"P: expected shape (16, 16), got {P.shape}")
+        n = len(self.state_names)
+        if P.shape != (n, n):
+            raise ValueError(f"P: expected shape ({n}, {n}), got {P.shape}")
         s = self._f.reset(q, v, float(llh[0]), float(llh[1]), float(llh[2]), ba, bg, P)
         if s != "ok":
             raise ValueError(f"q_nb, v_n, llh, P: rejected by the filter ({s})")
@@ -558,9 +597,10 @@ class GpsInsFilter(Filter):
 
         def result(o, **kw):
             return GpsInsResult("GpsInsFilter", t, o["q_nb"], o["gyro_bias"], o["sigma"], flags, aids=aids,
-                                skipped_rows=skipped, sigma_names=STATE_NAMES, velocity=o["v_n"],
+                                skipped_rows=skipped, sigma_names=self.state_names, velocity=o["v_n"],
                                 acc_bias=o["acc_bias"], position=o["llh"], counters=counters,
-                                baro_offset=o["baro_offset"], q_scale=d["q_scale"], alignment=alignment, **kw)
+                                baro_offset=o["baro_offset"], q_scale=d["q_scale"], acc_scale=o.get("acc_scale"),
+                                gyro_scale=o.get("gyro_scale"), alignment=alignment, **kw)
 
         fwd = result(d)
         if not smooth:

@@ -323,7 +323,8 @@ def _car_segments():
 
 
 def car_city(seed=0, rate_hz=200.0, mounting_rpy_deg=CAR_MOUNTING_RPY_DEG, latency_s=0.125,
-             lever_arm_b_m=(-0.4, 0.2, -1.4), outage_s=30.0, imu_errors=True, name="car_city"):
+             lever_arm_b_m=(-0.4, 0.2, -1.4), outage_s=30.0, imu_errors=True, gyro_scale_ppm=0.0,
+             accel_scale_ppm=0.0, name="car_city"):
     """A car in town: a moving start, turns, a hill, three stops and a GNSS outage, with the IMU
     mounted rotated, a late-stamped GNSS and a lever arm; wheel odometer and magnetometer.
 
@@ -339,7 +340,8 @@ def car_city(seed=0, rate_hz=200.0, mounting_rpy_deg=CAR_MOUNTING_RPY_DEG, laten
     * IMU (200 Hz, automotive MEMS: 0.1 deg/s-class gyro bias, 0.005 deg/s/sqrt(Hz), mg-class
       accelerometer bias, 60 ug/sqrt(Hz)) mounted at ``mounting_rpy_deg`` (ZYX, deg) relative to
       the body: its samples are in the IMU frame. ``imu_errors=False`` gives an ideal IMU (no
-      noise, bias or quantization) for round-trip tests.
+      noise, bias or quantization) for round-trip tests. ``gyro_scale_ppm``, ``accel_scale_ppm``
+      (a scalar or 3 values, IMU axes): scale-factor errors (the sensor reads (1 + s) x + b).
     * Magnetometer (50 Hz, in the IMU's package: the same mounting; 8/-5/3 uT hard iron of the
       car body) and a wheel odometer (20 Hz forward speed, 0.3 % scale error, 0.03 m/s noise,
       0.01 m/s steps).
@@ -354,9 +356,10 @@ def car_city(seed=0, rate_hz=200.0, mounting_rpy_deg=CAR_MOUNTING_RPY_DEG, laten
     if imu_errors:
         imu = ImuSpec(gyro=GyroSpec(bias_deg_per_h=(300.0, -250.0, 400.0), bias_instability_deg_per_h=10.0,
                                     noise_density_dps_per_sqrt_hz=0.005, range_deg_per_s=300.0,
-                                    quantization_deg_per_s=0.004),
+                                    quantization_deg_per_s=0.004, scale_factor_ppm=gyro_scale_ppm),
                       accel=AccelSpec(bias_ug=(3000.0, -2000.0, 4000.0), bias_instability_ug=100.0,
-                                      noise_density_ug_per_sqrt_hz=60.0, range_g=8.0, quantization_mg=0.25),
+                                      noise_density_ug_per_sqrt_hz=60.0, range_g=8.0, quantization_mg=0.25,
+                                      scale_factor_ppm=accel_scale_ppm),
                       mounting_rpy_deg=tuple(float(x) for x in mounting_rpy_deg))
     else:
         imu = ImuSpec(mounting_rpy_deg=tuple(float(x) for x in mounting_rpy_deg))
@@ -383,6 +386,7 @@ def car_city(seed=0, rate_hz=200.0, mounting_rpy_deg=CAR_MOUNTING_RPY_DEG, laten
               "moving_start": {"speed_m_s": 2.0, "accel_m_s2": a0},
               "segments": [[n, float(starts[i]), float(starts[i + 1])] for i, n in enumerate(labels)]}
     choices = {"imu": "automotive MEMS, typical datasheet values", "imu_errors": bool(imu_errors),
+               "gyro_scale_ppm": gyro_scale_ppm, "accel_scale_ppm": accel_scale_ppm,
                "rate_hz": rate_hz, "gnss": "10 Hz, 0.3 m / 0.6 m, stamped on delivery"}
     return _assemble(name, seed, "car in town: moving start, stops, turns, GNSS outage; IMU mounted "
                      "rotated, late GNSS stamps, lever arm", traj, imu=imu, gps=gps, mag=mag, odometer=odo,

@@ -68,6 +68,11 @@ TEST(FaultSequences, GpsInsFilter) {
   random_fault_sequences<GpsInsFilter<float>>(18, 300);
 }
 
+TEST(FaultSequences, GpsInsFilterScaleFactors) {
+  random_fault_sequences<GpsInsFilter<double, true>>(19, 300);
+  random_fault_sequences<GpsInsFilter<float, true>>(20, 300);
+}
+
 template <class S> void gpsins_bad_input() {
   GpsInsParams<S> p;
   p.gyro_range = S(35);

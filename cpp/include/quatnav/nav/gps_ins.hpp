@@ -16,6 +16,14 @@
 // paper, which zeroes the altimeter on the ground: a random walk (baro_offset_noise),
 // initialized from the INS height by the first altimeter sample in navigation.
 //
+// Scale factors (optional, GpsInsFilter<S, true>: 22 error states): [ds_a, ds_g] after the 16,
+// the sensor reading (1 + s) x + b per body axis, the inputs corrected as (m - b) / (1 + s); their
+// columns of F are -C D diag(f) on dv and -C D_g diag(w) on psi, and the bias columns become
+// -C D, -C D_g (D = diag(1 / (1 + s)); detail::gpsins_F_scale in gps_ins/model.hpp). Random walks.
+// No aid's H has scale-factor columns: the aids that use the corrected IMU (the zero-rate update,
+// the lever-arm and age terms of the GNSS aids) take it as given, an error of order s times terms
+// that are themselves small (the Earth rate at rest, a lever arm's rotation).
+//
 // Continuous error dynamics (detail::gpsins_F; checked against finite differences of the
 // mechanization in tests/python/test_gpsins_jacobian.py; radii taken constant in latitude):
 //   dp' = F_pp dp + dv                                           (eq. 9: in metres, the exact
@@ -125,13 +133,15 @@ template <class S> struct ConstraintResult {
 };
 
 /// The 16-state feedback GPS/INS filter.
-template <class S_> class GpsInsFilter {
+template <class S_, bool SF_ = false> class GpsInsFilter {
  public:
   using Scalar = S_;
   using S = S_;
   using Params = GpsInsParams<S>;
-  using State = GpsInsState<S>;
-  static constexpr int kStates = gpsins::kN;
+  using State = GpsInsState<S, SF_>;
+  /// With the gyro and accelerometer scale-factor states (22 error states instead of 16).
+  static constexpr bool kScaleFactors = SF_;
+  static constexpr int kStates = gpsins::kStates<SF_>;
   using Mat16 = Mat<S, kStates, kStates>;
   using Vec16 = Vec<S, kStates>;
 
@@ -172,6 +182,9 @@ template <class S_> class GpsInsFilter {
   Vec3<double> llh() const { return Vec3<double>(s_.nav.lat, s_.nav.lon, s_.nav.h); }
   const Vec3<S>& acc_bias() const { return s_.acc_bias; }
   const Vec3<S>& gyro_bias() const { return s_.gyro_bias; }
+  /// The scale-factor estimates (zero without the scale-factor states).
+  const Vec3<S>& acc_scale() const { return s_.acc_scale; }
+  const Vec3<S>& gyro_scale() const { return s_.gyro_scale; }
   double baro_offset() const { return s_.baro_offset; }
   /// At rest: the IMU has been still for rest_time (gps_ins/alignment.hpp).
   bool at_rest() const { return p_.rest_time > S(0) && s_.rest_t >= double(p_.rest_time); }
@@ -184,7 +197,8 @@ template <class S_> class GpsInsFilter {
   /// Start navigation from a given state (skipping alignment): attitude, velocity, position,
   /// biases and the covariance; as reset() of every filter (initialize() starts a filter from
   /// sensor readings, reset() from a state). InvalidArgument when anything is non-finite or P is
-  /// not symmetric. The altimeter offset is initialized by the next altimeter sample.
+  /// not symmetric. The altimeter offset is initialized by the next altimeter sample; the
+  /// scale-factor estimates start at zero (set_state() restores them).
   Status reset(const Quat<S>& q_nb, const Vec3<S>& v_n, double lat, double lon, double h,
                const Vec3<S>& acc_bias, const Vec3<S>& gyro_bias, const Mat16& P) {
     if (!q_nb.allFinite() || !v_n.allFinite() || !std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) ||
@@ -206,6 +220,8 @@ template <class S_> class GpsInsFilter {
     s.nav.h = h;
     s.acc_bias = acc_bias;
     s.gyro_bias = gyro_bias;
+    s.acc_scale.setZero();
+    s.gyro_scale.setZero();
     s.P = Ps;
     s.phase = GpsInsPhase::Navigating;
     s.heading_known = true;
@@ -249,10 +265,7 @@ template <class S_> class GpsInsFilter {
   /// The covariance that initialization uses for a fix with NED position sigmas pos_sigma (m)
   /// (the altimeter offset's block stays zero until its first sample).
   Mat16 initial_covariance(const Vec3<S>& pos_sigma, S vel_sigma) const {
-    Vec16 d;
-    d << pos_sigma, Vec3<S>::Constant(vel_sigma), p_.init_level_sigma, p_.init_level_sigma, p_.init_yaw_sigma,
-        Vec3<S>::Constant(p_.init_acc_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma), S(0);
-    return d.cwiseAbs2().asDiagonal();
+    return initial_sigmas(pos_sigma, vel_sigma, p_.init_level_sigma, p_.init_yaw_sigma).cwiseAbs2().asDiagonal();
   }
 
   /// Time update over one IMU interval: mean rate omega_ib_b (rad/s) and specific force f_ib_b
@@ -268,8 +281,8 @@ template <class S_> class GpsInsFilter {
     State s = s_;
     const Vec3<S> w_m = imu_to_body(omega_ib_b);
     const Vec3<S> f_m = imu_to_body(f_ib_b);
-    const Vec3<S> w = w_m - s.gyro_bias;
-    const Vec3<S> f = f_m - s.acc_bias;
+    const Vec3<S> w = detail::gpsins_correct<S, SF_>(w_m, s.gyro_bias, s.gyro_scale);
+    const Vec3<S> f = detail::gpsins_correct<S, SF_>(f_m, s.acc_bias, s.acc_scale);
     const S g = s.phase == GpsInsPhase::Navigating ? S(earth::gravity<double>(s.nav.lat, s.nav.h))
                                                    : S(earth::kStandardGravity);
     bool slow;
@@ -318,10 +331,10 @@ template <class S_> class GpsInsFilter {
     } else {
       StrapdownParams sp;
       sp.earth_rotation = p_.earth_rotation;
-      const detail::GpsInsPhi<S> Phi = detail::gpsins_Phi_blocks<S>(s.nav, f, dt, p_);
+      const detail::GpsInsPhi<S, SF_> Phi = detail::gpsins_Phi_state<S, SF_>(s, f, w, dt, p_);
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
-      Mat16 P = detail::gpsins_propagate<S>(Phi, s.P, detail::gpsins_Qc_diag(p_, s.q_scale), dt);
+      Mat16 P = detail::gpsins_propagate<S, SF_>(Phi, s.P, detail::gpsins_Qc_diag<S, SF_>(p_, s.q_scale), dt);
       symmetrize(P);
       if (p_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / p_.acc_bias_tau);
       if (p_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / p_.gyro_bias_tau);
@@ -552,10 +565,13 @@ template <class S_> class GpsInsFilter {
     return apply(gpsins_aid::CompassHeading<S>{yaw_meas});
   }
 
-  /// The error-state transition Phi that a navigating time update with specific force f_ib_b
-  /// (IMU axes) over dt makes from the current state (the smoother's, nav/gps_ins/smoother.hpp).
-  Mat16 transition(const Vec3<S>& f_ib_b, S dt) const {
-    return detail::gpsins_Phi<S>(s_.nav, Vec3<S>(imu_to_body(f_ib_b) - s_.acc_bias), dt, p_);
+  /// The error-state transition Phi that a navigating time update with rate omega_ib_b and
+  /// specific force f_ib_b (IMU axes) over dt makes from the current state (the smoother's,
+  /// nav/gps_ins/smoother.hpp; the rate enters only the scale-factor columns).
+  Mat16 transition(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) const {
+    const Vec3<S> w = detail::gpsins_correct<S, SF_>(imu_to_body(omega_ib_b), s_.gyro_bias, s_.gyro_scale);
+    const Vec3<S> f = detail::gpsins_correct<S, SF_>(imu_to_body(f_ib_b), s_.acc_bias, s_.acc_scale);
+    return detail::gpsins_Phi_state<S, SF_>(s_, f, w, dt, p_).dense();
   }
 
  private:
@@ -756,10 +772,7 @@ template <class S_> class GpsInsFilter {
     s.nav.lat = lat;
     s.nav.lon = lon;
     s.nav.h = h;
-    Vec16 d;
-    d << sig, Vec3<S>::Constant(vel_sigma), level_sigma, level_sigma, yaw_sigma,
-        Vec3<S>::Constant(p_.init_acc_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma), S(0);
-    s.P = d.cwiseAbs2().asDiagonal();
+    s.P = initial_sigmas(sig, vel_sigma, level_sigma, yaw_sigma).cwiseAbs2().asDiagonal();
     // A huge sigma (float) or a lever arm that moves the fix past the pole is refused.
     if (!s.P.allFinite() || !v0.allFinite() || !detail::gpsins_nav_ok(s)) return Status::NumericalFailure;
     s.phase = GpsInsPhase::Navigating;
@@ -772,6 +785,17 @@ template <class S_> class GpsInsFilter {
     if (s.baro_last_valid) init_baro_offset(s, s.baro_last);
     s_ = s;
     return Status::Ok;
+  }
+
+  // The one-sigmas of the covariance at the start of navigation (the altimeter offset's 0 until
+  // its first sample).
+  Vec16 initial_sigmas(const Vec3<S>& pos_sigma, S vel_sigma, S level_sigma, S yaw_sigma) const {
+    Vec16 d;
+    d.template head<gpsins::kN>() << pos_sigma, Vec3<S>::Constant(vel_sigma), level_sigma, level_sigma, yaw_sigma,
+        Vec3<S>::Constant(p_.init_acc_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma), S(0);
+    if constexpr (SF_)
+      d.template tail<6>() << Vec3<S>::Constant(p_.init_acc_scale_sigma), Vec3<S>::Constant(p_.init_gyro_scale_sigma);
+    return d;
   }
 
   template <class R> R count(GpsInsAid kind, R r) {
@@ -794,7 +818,8 @@ template <class S_> class GpsInsFilter {
   /// The Kalman correction of an aid with the covariance P (its H nonzero only in the piece's
   /// columns), injected into the nominal state and committed; the status says what happened.
   template <class Aid>
-  Status correct_and_commit(const Mat16& P0, const AidMeasurement<S, Aid::M>& m, S gate, UpdateResult<S, Aid::M>& res) {
+  Status correct_and_commit(const Mat16& P0, const AidMeasurement<S, Aid::M, kStates>& m, S gate,
+                            UpdateResult<S, Aid::M>& res) {
     Mat16 P = P0;
     Vec16 dx = Vec16::Zero();
     // kalman_correct refuses an infinite NIS (a finite reading near the float maximum, a height
@@ -829,7 +854,7 @@ template <class S_> class GpsInsFilter {
   /// noise; then the Kalman correction, the injection into the nominal state and the counters.
   template <class Aid> GpsInsUpdate<S, Aid::M> apply(const Aid& aid) {
     constexpr int M = Aid::M;
-    AidMeasurement<S, M> m;
+    AidMeasurement<S, M, kStates> m;
     aid.measure(s_, p_, m);
     GpsInsUpdate<S, M> res;
     std::uint32_t& run = s_.reject_run[std::size_t(Aid::kind)];
@@ -879,7 +904,7 @@ template <class S_> class GpsInsFilter {
   /// The smallest a in [1, inflate_max] with y^T (S + (a - 1) H_n P_nn H_n^T)^-1 y <= M (H_n, P_nn:
   /// the position, velocity and attitude columns and block), by bisection on log a; a value above
   /// inflate_max when even that is not enough.
-  template <int M> S inflation(const AidMeasurement<S, M>& m, const UpdateResult<S, M>& gated) const {
+  template <int M> S inflation(const AidMeasurement<S, M, kStates>& m, const UpdateResult<S, M>& gated) const {
     const Mat<S, M, 9> Hn = m.H.template leftCols<9>();
     const Mat<S, 9, 9> Pn = s_.P.template topLeftCorner<9, 9>();
     const Mat<S, M, M> B = fixed_mul(fixed_mul(Hn, Pn), Hn.transpose());
@@ -959,7 +984,8 @@ template <class S> struct GpsInsAidOut {
 ///   gps_pos_sigma (ng x 3, m, NaN: parameters), gps_vel_sigma (ng x 3, m/s, NaN: parameters);
 ///   baro_t (nb), baro_h (nb, m); compass_t (nc), compass_yaw (nc, rad); odo_t (no), odo_speed (no, m/s).
 /// Outputs (any may be null): llh (n x 3, double), v_n (n x 3), q_nb (n x 4), acc_bias,
-///   gyro_bias (n x 3), sigma (n x 16), baro_offset (n), q_scale (n), flags (n); the reports of
+///   gyro_bias (n x 3), acc_scale, gyro_scale (n x 3; scale-factor states only), sigma (n x 16, or
+///   n x 22 with the scale-factor states), baro_offset (n), q_scale (n), flags (n); the reports of
 ///   the aids: gps (2 updates of 3 rows: position, velocity), baro (2 of 1: height, vertical
 ///   velocity), compass, odometer (1 of 1), and per IMU sample mag (1 of 1), zupt, zaru (1 of 3),
 ///   nhc (1 of 2). Statuses are quatnav::Status as uint8.
@@ -990,6 +1016,8 @@ template <class S> struct GpsInsBatchIo {
   S* q_nb = nullptr;
   S* acc_bias = nullptr;
   S* gyro_bias = nullptr;
+  S* acc_scale = nullptr;
+  S* gyro_scale = nullptr;
   S* sigma = nullptr;
   double* baro_offset = nullptr;
   S* q_scale = nullptr;
@@ -1075,8 +1103,8 @@ void gpsins_out_write(const GpsInsAidOut<S>& o, std::size_t row, int cols, int c
 /// Run the filter over the records of `io` (see GpsInsBatchIo). Allocates nothing. Every sample
 /// is reported to `obs` (core/checks.hpp's NoBatchObserver; the smoother's record): after the
 /// time update of sample k (all its coasting steps), and after all its steps.
-template <class S, class Observer = NoBatchObserver>
-void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>& io, Observer&& obs = Observer{}) {
+template <class S, bool SF, class Observer = NoBatchObserver>
+void gpsins_batch(GpsInsFilter<S, SF>& f, const GpsInsBatchIo<S>& io, Observer&& obs = Observer{}) {
   namespace gf = flags;
   const S nan = std::numeric_limits<S>::quiet_NaN();
   detail::gpsins_out_init(io.report.gps, io.ng, 2, 3);
@@ -1180,7 +1208,9 @@ void gpsins_batch(GpsInsFilter<S>& f, const GpsInsBatchIo<S>& io, Observer&& obs
       Eigen::Map<Vec4<S>>(io.q_nb + 4 * k) = f.levelled() ? f.q_nb() : Vec4<S>(Vec4<S>::Constant(nan));
     if (io.acc_bias) Eigen::Map<Vec3<S>>(io.acc_bias + 3 * k) = f.acc_bias();
     if (io.gyro_bias) Eigen::Map<Vec3<S>>(io.gyro_bias + 3 * k) = f.gyro_bias();
-    constexpr int N = GpsInsFilter<S>::kStates;
+    if (io.acc_scale) Eigen::Map<Vec3<S>>(io.acc_scale + 3 * k) = f.acc_scale();
+    if (io.gyro_scale) Eigen::Map<Vec3<S>>(io.gyro_scale + 3 * k) = f.gyro_scale();
+    constexpr int N = GpsInsFilter<S, SF>::kStates;
     if (io.sigma)
       Eigen::Map<Vec<S, N>>(io.sigma + N * k) =
           nav ? Vec<S, N>(f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt()) : Vec<S, N>::Constant(nan);

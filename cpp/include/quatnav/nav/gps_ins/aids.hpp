@@ -24,10 +24,11 @@
 
 namespace quatnav {
 
-/// One aid sample linearized at a state: y = INS minus aid (M), H (M x 16), R (M x M).
-template <class S, int M> struct AidMeasurement {
+/// One aid sample linearized at a state: y = INS minus aid (M), H (M x N: 16, or 22 with the
+/// scale-factor states, whose columns no aid sees), R (M x M).
+template <class S, int M, int N = gpsins::kN> struct AidMeasurement {
   Vec<S, M> y = Vec<S, M>::Zero();
-  Mat<S, M, gpsins::kN> H = Mat<S, M, gpsins::kN>::Zero();
+  Mat<S, M, N> H = Mat<S, M, N>::Zero();
   Mat<S, M, M> R = Mat<S, M, M>::Zero();
 };
 
@@ -47,18 +48,18 @@ template <class S> Vec3<S> compass_row(const Quat<S>& q_nb) {
 }
 
 /// The antenna's NED velocity v + C_nb (w_ib_b x l_b) (Earth rate in the lever-arm term neglected).
-template <class S> Vec3<S> antenna_velocity(const GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat3<S>& C) {
+template <class S, bool SF> Vec3<S> antenna_velocity(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Mat3<S>& C) {
   return s.nav.v_n + C * s.omega_b.cross(p.lever_arm_b);
 }
 
 /// Kinematic acceleration in NED from the last specific force, C_nb f_b + g_n (Coriolis left out).
-template <class S> Vec3<S> nav_acceleration(const GpsInsState<S>& s, const Mat3<S>& C) {
+template <class S, bool SF> Vec3<S> nav_acceleration(const GpsInsState<S, SF>& s, const Mat3<S>& C) {
   return C * s.f_b + Vec3<S>(S(0), S(0), S(earth::gravity<double>(s.nav.lat, s.nav.h)));
 }
 
 /// After a reset of the 3 states from K0 to a fix: their covariance block is the fix's R and their
 /// cross terms with every other state are zero.
-template <int K0, class S> void reset_block(GpsInsState<S>& s, const Mat3<S>& R) {
+template <int K0, class S, bool SF> void reset_block(GpsInsState<S, SF>& s, const Mat3<S>& R) {
   s.P.template middleRows<3>(K0).setZero();
   s.P.template middleCols<3>(K0).setZero();
   s.P.template block<3, 3>(K0, K0) = R;
@@ -83,7 +84,8 @@ template <class S> struct GpsPosition {
   Vec3<S> sigma;
   S age;
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_pos; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     const Mat3<S> C = quat::to_rotmat(s.nav.q_nb);
     const Vec3<S> l_n = C * p.lever_arm_b;
     const Vec3<S> v_ant = detail::antenna_velocity(s, p, C);
@@ -99,7 +101,7 @@ template <class S> struct GpsPosition {
     m.R.diagonal().array() += p.lever_arm_sigma * p.lever_arm_sigma;  // C diag(s^2) C^T = s^2 I
   }
   /// The IMU position from the fix (less the lever arm), its covariance block R, cross terms 0.
-  bool reset(GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
+  template <bool SF> bool reset(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
     const Vec3<S> l_n = quat::to_rotmat(s.nav.q_nb) * p.lever_arm_b;
     double la = lat, lo = lon, hh = h;
     earth::geodetic_add(la, lo, hh, Vec3<double>(-l_n.template cast<double>()));
@@ -123,7 +125,8 @@ template <class S> struct GpsVelocity {
   Vec3<S> sigma;
   S age;
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_vel; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     const Mat3<S> C = quat::to_rotmat(s.nav.q_nb);
     const Mat3<S> CW = C * quat::skew<S>(s.omega_b);
     const Vec3<S> wl = C * s.omega_b.cross(p.lever_arm_b);
@@ -138,7 +141,7 @@ template <class S> struct GpsVelocity {
     m.R += (p.lever_arm_sigma * p.lever_arm_sigma) * CW * CW.transpose();
   }
   /// The IMU velocity from the fix (less the lever-arm term), its covariance block R, cross terms 0.
-  bool reset(GpsInsState<S>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
+  template <bool SF> bool reset(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Mat<S, M, M>& R) const {
     s.nav.v_n = v_n - quat::to_rotmat(s.nav.q_nb) * s.omega_b.cross(p.lever_arm_b);
     detail::reset_block<gpsins::kVel>(s, R);
     return true;
@@ -153,7 +156,8 @@ template <class S> struct BaroHeight {
   static constexpr bool kAdaptive = false;
   double h;
   static S gate(const GpsInsParams<S>& p) { return p.gate_baro; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     m.y[0] = S(s.nav.h + s.baro_offset - h);
     m.H(0, gpsins::kPos + 2) = S(-1);
     m.H(0, gpsins::kBo) = S(1);
@@ -171,7 +175,8 @@ template <class S> struct BaroVerticalVelocity {
   static constexpr bool kAdaptive = false;
   double h, h_ref, T;
   static S gate(const GpsInsParams<S>& p) { return p.gate_baro; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     const S vd_baro = S(-(h - h_ref) / T);
     m.y[0] = s.nav.v_n[2] - vd_baro;
     m.H(0, gpsins::kVel + 2) = S(1);
@@ -187,7 +192,8 @@ template <class S> struct CompassHeading {
   static constexpr bool kAdaptive = false;
   S yaw;
   static S gate(const GpsInsParams<S>& p) { return p.gate_compass; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     const Vec3<S> e = quat::to_euler(s.nav.q_nb);
     m.y[0] = quat::wrap_pi(e[2] - yaw);
     m.H.template block<1, 3>(0, gpsins::kAtt) = detail::compass_row(s.nav.q_nb).transpose();
@@ -210,7 +216,8 @@ template <class S> struct MagHeading {
   static constexpr bool kAdaptive = false;
   Vec3<S> m_b;
   static S gate(const GpsInsParams<S>& p) { return p.gate_mag; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     const Vec3<S> m_n = quat::rotate(s.nav.q_nb, m_b);
     const S mh2 = m_n[0] * m_n[0] + m_n[1] * m_n[1];
     m.y[0] = quat::wrap_pi(std::atan2(m_n[1], m_n[0]) - p.declination);
@@ -229,8 +236,8 @@ template <class S> struct MagHeading {
 namespace detail_body {
 /// The body-frame velocity at the IMU, C_nb^T v_n, and its rows of H: C_nb^T on dv and
 /// C_nb^T [v_n x] on psi (from C_nb <- (I + [psi x]) C_nb).
-template <class S, int M>
-void body_velocity_rows(const GpsInsState<S>& s, const int (&rows)[M], Vec<S, M>& v, Mat<S, M, gpsins::kN>& H) {
+template <class S, int M, bool SF, int N>
+void body_velocity_rows(const GpsInsState<S, SF>& s, const int (&rows)[M], Vec<S, M>& v, Mat<S, M, N>& H) {
   const Mat3<S> Ct = quat::to_rotmat(s.nav.q_nb).transpose();
   const Vec3<S> v_b = Ct * s.nav.v_n;
   const Mat3<S> Hpsi = Ct * quat::skew<S>(s.nav.v_n);
@@ -248,7 +255,8 @@ template <class S> struct ZeroVelocity {
   static constexpr int M = 3, C0 = 3, NC = 3;
   static constexpr bool kAdaptive = false;
   static S gate(const GpsInsParams<S>& p) { return p.gate_zupt; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     m.y = s.nav.v_n;
     m.H.template block<3, 3>(0, gpsins::kVel).setIdentity();
     m.R.diagonal().setConstant(p.zupt_sigma * p.zupt_sigma);
@@ -262,7 +270,8 @@ template <class S> struct ZeroRate {
   static constexpr int M = 3, C0 = 6, NC = 9;
   static constexpr bool kAdaptive = false;
   static S gate(const GpsInsParams<S>& p) { return p.gate_zupt; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     const Vec3<S> w_ie = p.earth_rotation ? Vec3<S>(earth::earth_rate_n<double>(s.nav.lat).template cast<S>())
                                           : Vec3<S>::Zero();
     const Mat3<S> Ct = quat::to_rotmat(s.nav.q_nb).transpose();
@@ -283,7 +292,8 @@ template <class S> struct NonHolonomic {
   static constexpr int M = 2, C0 = 3, NC = 6;
   static constexpr bool kAdaptive = false;
   static S gate(const GpsInsParams<S>& p) { return p.gate_nhc; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     static constexpr int rows[2] = {1, 2};
     detail_body::body_velocity_rows<S, 2>(s, rows, m.y, m.H);
     m.R.diagonal().setConstant(p.nhc_sigma * p.nhc_sigma);
@@ -297,7 +307,8 @@ template <class S> struct OdometerSpeed {
   static constexpr bool kAdaptive = false;
   S speed;
   static S gate(const GpsInsParams<S>& p) { return p.gate_odometer; }
-  void measure(const GpsInsState<S>& s, const GpsInsParams<S>& p, AidMeasurement<S, M>& m) const {
+  template <bool SF, int N>
+  void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     static constexpr int rows[1] = {0};
     detail_body::body_velocity_rows<S, 1>(s, rows, m.y, m.H);
     m.y[0] -= speed;

@@ -37,8 +37,8 @@ namespace detail {
 /// with gravity g (m/s^2); `slow`: the speed allows rest (an IMU alone cannot tell a smooth
 /// constant-velocity motion from rest). Returns whether the sample is still; updates the
 /// low-passes and the time the IMU has been still (s.rest_t).
-template <class S>
-bool gpsins_rest_step(GpsInsState<S>& s, const GpsInsParams<S>& p, const Vec3<S>& w, const Vec3<S>& f, S dt, S g,
+template <class S, bool SF>
+bool gpsins_rest_step(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Vec3<S>& w, const Vec3<S>& f, S dt, S g,
                       bool slow) {
   if (!s.rest_init) {
     s.rest_gyr_lp = w;
@@ -76,8 +76,8 @@ bool triad(const Vec3<S>& a_b, const Vec3<S>& b_b, const Vec3<S>& a_n, const Vec
 }
 
 /// Restart the motion window at a fix (lat, lon, h; velocity v when has_v).
-template <class S>
-void gpsins_window_start(GpsInsState<S>& s, double lat, double lon, double h, const Vec3<S>& v, bool has_v) {
+template <class S, bool SF>
+void gpsins_window_start(GpsInsState<S, SF>& s, double lat, double lon, double h, const Vec3<S>& v, bool has_v) {
   s.mot_valid = true;
   s.mot_lat = lat;
   s.mot_lon = lon;
@@ -91,7 +91,7 @@ void gpsins_window_start(GpsInsState<S>& s, double lat, double lon, double h, co
 
 /// One IMU step of the motion window: the rotation from the window's first body frame and the
 /// specific-force velocity increment in that frame (midpoint rotation).
-template <class S> void gpsins_window_step(GpsInsState<S>& s, const Vec3<S>& w, const Vec3<S>& f, S dt) {
+template <class S, bool SF> void gpsins_window_step(GpsInsState<S, SF>& s, const Vec3<S>& w, const Vec3<S>& f, S dt) {
   const Quat<S> half = quat::mul(s.mot_q, quat::from_rotvec(Vec3<S>(w * (dt * S(0.5)))));
   s.mot_dv += (quat::rotate(half, f) * dt).template cast<double>();
   Quat<S> q = quat::mul(s.mot_q, quat::from_rotvec(Vec3<S>(w * dt)));

@@ -14,15 +14,21 @@
 namespace quatnav {
 
 /// The error state: [dp (N, E, D, m), dv (m/s), psi (rad), db_a (m/s^2), db_g (rad/s),
-/// d_baro_offset (m)]; the index of the first component of each block.
+/// d_baro_offset (m)] and, with the scale-factor states, [ds_a, ds_g] (1); the index of the first
+/// component of each block.
 namespace gpsins {
 constexpr int kN = 16;
-constexpr int kPos = 0, kVel = 3, kAtt = 6, kBa = 9, kBg = 12, kBo = 15;
+constexpr int kNScale = 22;
+constexpr int kPos = 0, kVel = 3, kAtt = 6, kBa = 9, kBg = 12, kBo = 15, kSa = 16, kSg = 19;
+/// The number of error states without (16) and with (22) the scale-factor states.
+template <bool SF> constexpr int kStates = SF ? kNScale : kN;
 }  // namespace gpsins
 
 namespace detail {
 
 template <class S> using Mat16 = Mat<S, gpsins::kN, gpsins::kN>;
+template <class S, bool SF> using MatN = Mat<S, gpsins::kStates<SF>, gpsins::kStates<SF>>;
+template <class S, bool SF> using VecN = Vec<S, gpsins::kStates<SF>>;
 
 /// Largest |latitude| (rad) the filter navigates at: the Earth model divides by cos(lat) (about
 /// 10 m from the pole). A state, fix or correction beyond it is refused.
@@ -31,10 +37,25 @@ constexpr double kGpsInsMaxAbsLat = 1.5707;
 /// The nominal navigation state and the biases as the filter keeps them: finite, |q| = 1 to
 /// rounding (a quaternion whose norm overflowed normalizes to zero, which this refuses) and the
 /// latitude off the poles. Checked on every candidate state before it is committed.
-template <class S> bool gpsins_nav_ok(const GpsInsState<S>& s) {
+/// The scale factors: finite and within (-0.5, 0.5) (the correction divides by 1 + s); exactly
+/// zero without the scale-factor states.
+template <class S, bool SF> bool gpsins_nav_ok(const GpsInsState<S, SF>& s) {
+  // (Eigen's maxCoeff may skip a NaN: compared element by element, a NaN fails.)
+  const bool scale_ok = SF ? ((s.acc_scale.array().abs() < S(0.5)).all() && (s.gyro_scale.array().abs() < S(0.5)).all())
+                           : ((s.acc_scale.array() == S(0)).all() && (s.gyro_scale.array() == S(0)).all());
   return s.nav.q_nb.allFinite() && s.nav.v_n.allFinite() && std::isfinite(s.nav.lat) && std::isfinite(s.nav.lon) &&
          std::isfinite(s.nav.h) && std::abs(s.nav.lat) < kGpsInsMaxAbsLat && s.acc_bias.allFinite() &&
-         s.gyro_bias.allFinite() && std::isfinite(s.baro_offset) && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3);
+         s.gyro_bias.allFinite() && std::isfinite(s.baro_offset) && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3) &&
+         scale_ok;
+}
+
+/// The IMU corrected by the bias (and scale-factor) estimates, in the body axes: the rate or
+/// specific force m_b = (1 + s) * m + b (per axis) gives m = (m_b - b) / (1 + s).
+template <class S, bool SF> Vec3<S> gpsins_correct(const Vec3<S>& m_b, const Vec3<S>& b, const Vec3<S>& s) {
+  if constexpr (SF)
+    return (m_b - b).cwiseQuotient(Vec3<S>::Ones() + s);
+  else
+    return m_b - b;
 }
 
 /// The nonzero 3 x 3 blocks of the continuous error dynamics F (16 x 16) at a nominal state, for
@@ -45,7 +66,25 @@ template <class S> bool gpsins_nav_ok(const GpsInsState<S>& s) {
 template <class S> struct GpsInsFBlocks {
   Mat3<S> pp, vp, vv, va, vba, ap, av, aa, abg;
   S ba = S(0), bg = S(0);
+  /// With the scale-factor states: F_v,sa and F_psi,sg (else unset).
+  Mat3<S> vsa, asg;
 };
+
+/// The columns of the scale-factor states. With m = (m_b - b) / (1 + s) per axis (gpsins_correct),
+/// (1 + s_e) m_e - (1 + s_t) m_t = -(b_e - b_t), so to first order the error of the corrected input
+/// is dm = -D (db + diag(m) ds) with D = diag(1 / (1 + s)): F_v,ba = -C D, F_v,sa = -C D diag(f),
+/// F_psi,bg = -C D_g, F_psi,sg = -C D_g diag(w) (f, w the corrected specific force and rate).
+/// The scale factors are random walks (their F rows are zero).
+template <class S>
+void gpsins_F_scale(GpsInsFBlocks<S>& F, const Vec3<S>& f_b, const Vec3<S>& w_b, const Vec3<S>& s_a,
+                    const Vec3<S>& s_g) {
+  const Vec3<S> da = (Vec3<S>::Ones() + s_a).cwiseInverse();
+  const Vec3<S> dg = (Vec3<S>::Ones() + s_g).cwiseInverse();
+  F.vba = F.vba * da.asDiagonal();
+  F.abg = F.abg * dg.asDiagonal();
+  F.vsa = F.vba * f_b.asDiagonal();
+  F.asg = F.abg * w_b.asDiagonal();
+}
 
 template <class S>
 GpsInsFBlocks<S> gpsins_F_blocks(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
@@ -123,10 +162,9 @@ GpsInsFBlocks<S> gpsins_F_blocks(const StrapdownState<S>& nav, const Vec3<S>& f_
 
 /// Continuous-time error dynamics matrix F (16 x 16) at a nominal state, for the bias-corrected
 /// specific force f_b (m/s^2): the blocks of gpsins_F_blocks in place.
-template <class S>
-Mat16<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
-  const GpsInsFBlocks<S> B = gpsins_F_blocks<S>(nav, f_b, p);
-  Mat16<S> F = Mat16<S>::Zero();
+template <class S, bool SF = false>
+MatN<S, SF> gpsins_F_dense(const GpsInsFBlocks<S>& B) {
+  MatN<S, SF> F = MatN<S, SF>::Zero();
   F.template block<3, 3>(gpsins::kPos, gpsins::kPos) = B.pp;
   F.template block<3, 3>(gpsins::kPos, gpsins::kVel).setIdentity();
   F.template block<3, 3>(gpsins::kVel, gpsins::kPos) = B.vp;
@@ -139,7 +177,26 @@ Mat16<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsIns
   F.template block<3, 3>(gpsins::kAtt, gpsins::kBg) = B.abg;
   F.template block<3, 3>(gpsins::kBa, gpsins::kBa).diagonal().setConstant(B.ba);
   F.template block<3, 3>(gpsins::kBg, gpsins::kBg).diagonal().setConstant(B.bg);
+  if constexpr (SF) {
+    F.template block<3, 3>(gpsins::kVel, gpsins::kSa) = B.vsa;
+    F.template block<3, 3>(gpsins::kAtt, gpsins::kSg) = B.asg;
+  }
   return F;
+}
+
+template <class S>
+Mat16<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsInsParams<S>& p) {
+  return gpsins_F_dense<S, false>(gpsins_F_blocks<S>(nav, f_b, p));
+}
+
+/// F (22 x 22) with the scale-factor states, for the corrected specific force f_b and rate w_b and
+/// the scale-factor estimates s_a, s_g (gpsins_F_scale).
+template <class S>
+MatN<S, true> gpsins_F_scaled(const StrapdownState<S>& nav, const Vec3<S>& f_b, const Vec3<S>& w_b,
+                              const Vec3<S>& s_a, const Vec3<S>& s_g, const GpsInsParams<S>& p) {
+  GpsInsFBlocks<S> B = gpsins_F_blocks<S>(nav, f_b, p);
+  gpsins_F_scale<S>(B, f_b, w_b, s_a, s_g);
+  return gpsins_F_dense<S, true>(B);
 }
 
 /// The discrete error-state transition over one IMU interval dt, with F at the nominal state
@@ -152,35 +209,40 @@ Mat16<S> gpsins_F(const StrapdownState<S>& nav, const Vec3<S>& f_b, const GpsIns
 /// (the position rows of the gyro bias columns are zero: F_pp, F_pv reach the gyro bias only in
 /// F^3). Each block of (F dt)^2 is the sum of the products of its nonzero blocks: 19 products of
 /// 3 x 3 matrices (513 multiply-adds) instead of the 16 x 16 product (4,096).
-template <class S> struct GpsInsPhi {
+/// With the scale-factor states, their columns Sa (rows p, v, psi) and Sg (rows v, psi) follow the
+/// same pattern as the bias columns (the scale factors are random walks: their diagonal is 1).
+template <class S, bool SF = false> struct GpsInsPhi {
   Mat<S, 9, 9> N;
   Mat<S, 9, 3> Ba;
   Mat<S, 6, 3> Bg;
   S da = S(1), dg = S(1);
+  Mat<S, 9, 3> Sa;  ///< scale-factor states only
+  Mat<S, 6, 3> Sg;  ///< scale-factor states only
 
-  /// The dense 16 x 16 matrix.
-  Mat16<S> dense() const {
-    Mat16<S> Phi = Mat16<S>::Zero();
+  /// The dense matrix.
+  MatN<S, SF> dense() const {
+    MatN<S, SF> Phi = MatN<S, SF>::Identity();
     Phi.template topLeftCorner<9, 9>() = N;
     Phi.template block<9, 3>(0, gpsins::kBa) = Ba;
     Phi.template block<6, 3>(gpsins::kVel, gpsins::kBg) = Bg;
     Phi.template block<3, 3>(gpsins::kBa, gpsins::kBa).diagonal().setConstant(da);
     Phi.template block<3, 3>(gpsins::kBg, gpsins::kBg).diagonal().setConstant(dg);
-    Phi(gpsins::kBo, gpsins::kBo) = S(1);
+    if constexpr (SF) {
+      Phi.template block<9, 3>(0, gpsins::kSa) = Sa;
+      Phi.template block<6, 3>(gpsins::kVel, gpsins::kSg) = Sg;
+    }
     return Phi;
   }
 };
 
-template <class S>
-GpsInsPhi<S> gpsins_Phi_blocks(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, const GpsInsParams<S>& p) {
-  const GpsInsFBlocks<S> F = gpsins_F_blocks<S>(nav, f_b, p);
+template <class S, bool SF = false> GpsInsPhi<S, SF> gpsins_Phi_of(const GpsInsFBlocks<S>& F, S dt) {
   // A = F dt, block by block (A_pv = dt I).
   const Mat3<S> pp = F.pp * dt, vp = F.vp * dt, vv = F.vv * dt, va = F.va * dt, vba = F.vba * dt;
   const Mat3<S> ap = F.ap * dt, av = F.av * dt, aa = F.aa * dt, abg = F.abg * dt;
   const S ba = F.ba * dt, bg = F.bg * dt;
   const Mat3<S> I = Mat3<S>::Identity();
   const S h = S(0.5);
-  GpsInsPhi<S> Phi;
+  GpsInsPhi<S, SF> Phi;
   // Row p: A_pp, A_pv.
   Phi.N.template block<3, 3>(0, 0) = I + pp + h * (pp * pp + dt * vp);
   Phi.N.template block<3, 3>(0, 3) = dt * I + h * (dt * pp + dt * vv);
@@ -201,7 +263,31 @@ GpsInsPhi<S> gpsins_Phi_blocks(const StrapdownState<S>& nav, const Vec3<S>& f_b,
   // The biases: (1 + a + a^2 / 2) I.
   Phi.da = S(1) + ba + h * (ba * ba);
   Phi.dg = S(1) + bg + h * (bg * bg);
+  if constexpr (SF) {
+    // The scale-factor columns: as the bias columns with A_sa,sa = A_sg,sg = 0.
+    const Mat3<S> vsa = F.vsa * dt, asg = F.asg * dt;
+    Phi.Sa.template block<3, 3>(0, 0) = h * (dt * vsa);
+    Phi.Sa.template block<3, 3>(3, 0) = vsa + h * (vv * vsa);
+    Phi.Sa.template block<3, 3>(6, 0) = h * (av * vsa);
+    Phi.Sg.template block<3, 3>(0, 0) = h * (va * asg);
+    Phi.Sg.template block<3, 3>(3, 0) = asg + h * (aa * asg);
+  }
   return Phi;
+}
+
+template <class S>
+GpsInsPhi<S> gpsins_Phi_blocks(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, const GpsInsParams<S>& p) {
+  return gpsins_Phi_of<S, false>(gpsins_F_blocks<S>(nav, f_b, p), dt);
+}
+
+/// Phi by blocks at a state of either size: f_b, w_b the corrected specific force and rate (w_b
+/// and the scale factors enter only with the scale-factor states).
+template <class S, bool SF>
+GpsInsPhi<S, SF> gpsins_Phi_state(const GpsInsState<S, SF>& s, const Vec3<S>& f_b, const Vec3<S>& w_b, S dt,
+                                  const GpsInsParams<S>& p) {
+  GpsInsFBlocks<S> F = gpsins_F_blocks<S>(s.nav, f_b, p);
+  if constexpr (SF) gpsins_F_scale<S>(F, f_b, w_b, s.acc_scale, s.gyro_scale);
+  return gpsins_Phi_of<S, SF>(F, dt);
 }
 
 /// The discrete error-state transition over one IMU interval dt, with F at the nominal state
@@ -221,44 +307,61 @@ Mat16<S> gpsins_Phi(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, cons
 /// of the dense Phi P Phi^T and Phi Qc Phi^T (three 16 x 16 products). The result is symmetric
 /// but for the rounding of P_nn (the caller symmetrizes). P must be symmetric (P_bn is taken as
 /// P_nb^T).
-template <class S>
-Mat16<S> gpsins_propagate(const GpsInsPhi<S>& Phi, const Mat16<S>& P, const Vec<S, gpsins::kN>& qc, S dt) {
-  const Vec<S, gpsins::kN> q2 = (S(0.5) * dt) * qc;
-  Mat16<S> P1 = P;
+/// With the scale-factor states the navigation rows gain Sa P'_sa + [0; Sg] P'_sg in T and
+/// T_sa Sa^T + T_sg [0; Sg]^T in P_nn; their own block of diag(...) has 1 for each scale factor.
+template <class S, bool SF>
+MatN<S, SF> gpsins_propagate(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, const VecN<S, SF>& qc, S dt) {
+  constexpr int N = gpsins::kStates<SF>, NB = N - 9;
+  const VecN<S, SF> q2 = (S(0.5) * dt) * qc;
+  MatN<S, SF> P1 = P;
   P1.diagonal() += q2;
-  Mat<S, 9, 16> T = fixed_mul(Phi.N, P1.template topRows<9>());
+  Mat<S, 9, N> T = fixed_mul(Phi.N, P1.template topRows<9>());
   T += fixed_mul(Phi.Ba, P1.template middleRows<3>(gpsins::kBa));
   T.template bottomRows<6>() += fixed_mul(Phi.Bg, P1.template middleRows<3>(gpsins::kBg));
-  Mat16<S> Pn;
+  if constexpr (SF) {
+    T += fixed_mul(Phi.Sa, P1.template middleRows<3>(gpsins::kSa));
+    T.template bottomRows<6>() += fixed_mul(Phi.Sg, P1.template middleRows<3>(gpsins::kSg));
+  }
+  MatN<S, SF> Pn;
   Mat<S, 9, 9> Pnn = fixed_mul(T.template leftCols<9>(), Phi.N.transpose());
   Pnn += fixed_mul(T.template middleCols<3>(gpsins::kBa), Phi.Ba.transpose());
   Pnn.template rightCols<6>() += fixed_mul(T.template middleCols<3>(gpsins::kBg), Phi.Bg.transpose());
+  if constexpr (SF) {
+    Pnn += fixed_mul(T.template middleCols<3>(gpsins::kSa), Phi.Sa.transpose());
+    Pnn.template rightCols<6>() += fixed_mul(T.template middleCols<3>(gpsins::kSg), Phi.Sg.transpose());
+    Pn.template block<9, 6>(0, gpsins::kSa) = T.template middleCols<6>(gpsins::kSa);
+  }
   Pn.template topLeftCorner<9, 9>() = Pnn;
   Pn.template block<9, 3>(0, gpsins::kBa) = Phi.da * T.template middleCols<3>(gpsins::kBa);
   Pn.template block<9, 3>(0, gpsins::kBg) = Phi.dg * T.template middleCols<3>(gpsins::kBg);
   Pn.template block<9, 1>(0, gpsins::kBo) = T.col(gpsins::kBo);
-  Pn.template bottomLeftCorner<7, 9>() = Pn.template topRightCorner<9, 7>().transpose();
-  Vec<S, 7> d;
-  d << Phi.da, Phi.da, Phi.da, Phi.dg, Phi.dg, Phi.dg, S(1);
-  Pn.template bottomRightCorner<7, 7>() = d.asDiagonal() * P1.template bottomRightCorner<7, 7>() * d.asDiagonal();
+  Pn.template bottomLeftCorner<NB, 9>() = Pn.template topRightCorner<9, NB>().transpose();
+  Vec<S, NB> d = Vec<S, NB>::Ones();
+  d.template head<7>() << Phi.da, Phi.da, Phi.da, Phi.dg, Phi.dg, Phi.dg, S(1);
+  Pn.template bottomRightCorner<NB, NB>() =
+      d.asDiagonal() * P1.template bottomRightCorner<NB, NB>() * d.asDiagonal();
   Pn.diagonal() += q2;
   return Pn;
 }
 
 /// Continuous process noise spectral density Qc (diagonal, 16 x 16); the IMU terms scaled by the
 /// adaptation's q_scale.
-template <class S> Vec<S, gpsins::kN> gpsins_Qc_diag(const GpsInsParams<S>& p, S q_scale) {
-  Vec<S, gpsins::kN> q = Vec<S, gpsins::kN>::Zero();
+template <class S, bool SF = false> VecN<S, SF> gpsins_Qc_diag(const GpsInsParams<S>& p, S q_scale) {
+  VecN<S, SF> q = VecN<S, SF>::Zero();
   q.template segment<3>(3).setConstant(q_scale * p.acc_noise * p.acc_noise);
   q.template segment<3>(6).setConstant(q_scale * p.gyro_noise * p.gyro_noise);
   q.template segment<3>(9).setConstant(q_scale * p.acc_bias_noise * p.acc_bias_noise);
   q.template segment<3>(12).setConstant(q_scale * p.gyro_bias_noise * p.gyro_bias_noise);
   q[gpsins::kBo] = p.baro_offset_noise * p.baro_offset_noise;
+  if constexpr (SF) {
+    q.template segment<3>(gpsins::kSa).setConstant(q_scale * p.acc_scale_noise * p.acc_scale_noise);
+    q.template segment<3>(gpsins::kSg).setConstant(q_scale * p.gyro_scale_noise * p.gyro_scale_noise);
+  }
   return q;
 }
 
 /// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).
-template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, gpsins::kN>& dx) {
+template <class S, bool SF> void gpsins_inject(GpsInsState<S, SF>& s, const VecN<S, SF>& dx) {
   const Vec3<double> dp = dx.template segment<3>(0).template cast<double>();
   earth::geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, Vec3<double>(-dp));
   s.nav.v_n -= dx.template segment<3>(3);
@@ -267,6 +370,10 @@ template <class S> void gpsins_inject(GpsInsState<S>& s, const Vec<S, gpsins::kN
   s.acc_bias -= dx.template segment<3>(9);
   s.gyro_bias -= dx.template segment<3>(12);
   s.baro_offset -= double(dx[gpsins::kBo]);
+  if constexpr (SF) {
+    s.acc_scale -= dx.template segment<3>(gpsins::kSa);
+    s.gyro_scale -= dx.template segment<3>(gpsins::kSg);
+  }
 }
 
 }  // namespace detail

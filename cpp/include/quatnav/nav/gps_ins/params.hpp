@@ -22,6 +22,11 @@ namespace quatnav {
   X(S, gyro_bias_tau, S(0), "s", "Gauss-Markov time constant of the gyro bias (0: random walk)")        \
   X(S, acc_bias_tau, S(0), "s", "Gauss-Markov time constant of the accelerometer bias (0: random walk)") \
   X(S, init_gyro_bias_sigma, S(5.0e-3), "rad/s", "gyro-bias one-sigma at the start of navigation")      \
+  /* Scale-factor states (GpsInsFilter<S, true>, Python scale_factors=True; unused otherwise) */      \
+  X(S, gyro_scale_noise, S(1.0e-5), "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)") \
+  X(S, acc_scale_noise, S(1.0e-5), "1/sqrt(s)", "accelerometer scale-factor random-walk density (scale-factor states only)") \
+  X(S, init_gyro_scale_sigma, S(5.0e-3), "1", "gyro scale-factor one-sigma at the start of navigation (scale-factor states only)") \
+  X(S, init_acc_scale_sigma, S(3.0e-3), "1", "accelerometer scale-factor one-sigma at the start of navigation (scale-factor states only)") \
   X(S, init_acc_bias_sigma, S(0.1), "m/s^2", "accelerometer-bias one-sigma at the start of navigation")  \
   X(S, init_level_sigma, S(0.035), "rad", "roll/pitch one-sigma after the alignment")                    \
   X(S, init_yaw_sigma, S(0.175), "rad", "yaw one-sigma after the alignment")                            \
@@ -207,7 +212,10 @@ struct GpsInsCounters {
   X(StrapdownState<S>, nav, StrapdownState<S>(), "-", "nominal navigation state")                      \
   X(Vec3<S>, acc_bias, Vec3<S>::Zero(), "m/s^2", "accelerometer bias estimate")                         \
   X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias estimate")                                 \
-  X(Mat16, P, Mat16::Zero(), "state units^2", "error-state covariance [dp, dv, psi, db_a, db_g, d_baro_offset]") \
+  X(Vec3<S>, acc_scale, Vec3<S>::Zero(), "1", "accelerometer scale-factor estimate (scale-factor states only; else 0)") \
+  X(Vec3<S>, gyro_scale, Vec3<S>::Zero(), "1", "gyro scale-factor estimate (scale-factor states only; else 0)") \
+  X(Mat16, P, Mat16::Zero(), "state units^2",                                                           \
+    "error-state covariance [dp, dv, psi, db_a, db_g, d_baro_offset] (and ds_a, ds_g with scale-factor states)") \
   X(double, t, 0.0, "s", "filter time: sum of the accepted IMU intervals")                              \
   X(Vec3<S>, omega_b, Vec3<S>::Zero(), "rad/s", "last bias-corrected body rate")                         \
   X(Vec3<S>, f_b, Vec3<S>::Zero(), "m/s^2", "last bias-corrected specific force")                        \
@@ -252,8 +260,10 @@ struct GpsInsCounters {
   X(GpsInsCounts, reject_run, GpsInsCounts{}, "-", "consecutive gate rejections, per aid kind")          \
   X(GpsInsCounters, counters, GpsInsCounters(), "-", "outcomes per aid kind")
 
-template <class S> struct GpsInsState {
-  using Mat16 = Mat<S, 16, 16>;
+/// SF: with the scale-factor states (22 error states instead of 16; gps_ins/model.hpp).
+template <class S, bool SF = false> struct GpsInsState {
+  static constexpr int kStates = SF ? 22 : 16;
+  using Mat16 = Mat<S, kStates, kStates>;
   QUATNAV_FIELDS(GpsInsState, QUATNAV_GPSINS_STATE)
 };
 

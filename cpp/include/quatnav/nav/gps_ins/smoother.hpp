@@ -35,14 +35,15 @@
 // being applied and the forward error was 0.3 m. As a restart, the data before the inflation
 // are smoothed with the data up to it.
 //
-// Record (compact posterior): lat, lon, h, baro_offset (double), v_n, q_nb, biases, q_scale (the
+// Record (compact posterior): lat, lon, h, baro_offset (double), v_n, q_nb, biases, scale factors
+// (zero without the scale-factor states), q_scale (the
 // process-noise scale the time update uses) and the strapdown's previous increments (its coning
 // and sculling terms: inputs of the next time update) in S, the upper triangle of P (136), the
-// count of resets and inflations and the offset's validity: 1296 bytes in double, 672 in float,
-// plus 16 per record. The reservation (gpsins_max_epochs): every aiding and magnetometer sample,
+// count of resets and inflations and the offset's validity: 1344 bytes in double, 696 in float,
+// plus 16 per record (with the scale-factor states P has 253 entries: 2280 and 1164 bytes). The reservation (gpsins_max_epochs): every aiding and magnetometer sample,
 // a pseudo-measurement every pseudo_interval, a checkpoint every segment samples; a 1-hour 200 Hz
 // log with 5 Hz GNSS, 10 Hz altimeter and compass and the 0.1 s pseudo-measurements: 1.3e5
-// records, 169 MB in double.
+// records, 175 MB in double.
 #pragma once
 
 #include <cstddef>
@@ -54,19 +55,20 @@
 
 namespace quatnav {
 
-/// The smoother model of GpsInsFilter<S> (core/smoother.hpp).
-template <class S_> struct GpsInsRtsModel {
+/// The smoother model of GpsInsFilter<S, SF> (core/smoother.hpp).
+template <class S_, bool SF = false> struct GpsInsRtsModel {
   using Scalar = S_;
   using S = S_;
-  using Filter = GpsInsFilter<S>;
-  static constexpr int kErr = gpsins::kN;
+  using Filter = GpsInsFilter<S, SF>;
+  using State = GpsInsState<S, SF>;
+  static constexpr int kErr = gpsins::kStates<SF>;
   using Mat16 = Mat<S, kErr, kErr>;
   using Vec16 = Vec<S, kErr>;
 
   struct Record {
     double lat, lon, h, baro_offset;
     Quat<S> q_nb;
-    Vec3<S> v_n, acc_bias, gyro_bias;
+    Vec3<S> v_n, acc_bias, gyro_bias, acc_scale, gyro_scale;
     S q_scale;
     Vec3<S> dtheta_prev, dv_prev;  ///< the strapdown's previous increments (coning, sculling)
     PackedSym<S, kErr> P;
@@ -82,7 +84,7 @@ template <class S_> struct GpsInsRtsModel {
 
   bool capture(const Filter& f, Record& r) const {
     if (!f.navigating()) return false;
-    const GpsInsState<S>& s = f.state();
+    const State& s = f.state();
     nominal_from(s, r);
     r.q_scale = s.q_scale;
     r.dtheta_prev = s.nav.dtheta_prev;
@@ -97,7 +99,8 @@ template <class S_> struct GpsInsRtsModel {
 
   bool same(const Record& a, const Record& b) const {
     return a.lat == b.lat && a.lon == b.lon && a.h == b.h && a.baro_offset == b.baro_offset && a.q_nb == b.q_nb &&
-           a.v_n == b.v_n && a.acc_bias == b.acc_bias && a.gyro_bias == b.gyro_bias && a.q_scale == b.q_scale &&
+           a.v_n == b.v_n && a.acc_bias == b.acc_bias && a.gyro_bias == b.gyro_bias && a.acc_scale == b.acc_scale &&
+           a.gyro_scale == b.gyro_scale && a.q_scale == b.q_scale &&
            a.dtheta_prev == b.dtheta_prev && a.dv_prev == b.dv_prev && a.has_prev == b.has_prev && a.P == b.P &&
            a.breaks == b.breaks && a.baro_valid == b.baro_valid;
   }
@@ -129,12 +132,12 @@ template <class S_> struct GpsInsRtsModel {
       // One step (the usual sample: no gap to coast over): its Phi is taken at `post` itself, so
       // neither the step nor a product is needed. predict() already made that step (it is Predict,
       // not Same, only when the step was applied).
-      Phi = g_.transition(u.a, u.dt);
+      Phi = g_.transition(u.w, u.a, u.dt);
       return RtsLink::Predict;
     }
     Phi.setIdentity();
     for (long j = 0; j < u.m; ++j) {
-      const Mat16 Phi_j = g_.transition(u.a, u.dt);
+      const Mat16 Phi_j = g_.transition(u.w, u.a, u.dt);
       if (g_.predict(u.w, u.a, u.dt) != Status::Ok) break;
       Phi = fixed_mul(Phi_j, Phi).eval();
     }
@@ -153,12 +156,16 @@ template <class S_> struct GpsInsRtsModel {
     d.template segment<3>(gpsins::kBa) = base.acc_bias - x.acc_bias;
     d.template segment<3>(gpsins::kBg) = base.gyro_bias - x.gyro_bias;
     d[gpsins::kBo] = S(base.baro_offset - x.baro_offset);
+    if constexpr (SF) {
+      d.template segment<3>(gpsins::kSa) = base.acc_scale - x.acc_scale;
+      d.template segment<3>(gpsins::kSg) = base.gyro_scale - x.gyro_scale;
+    }
     return d;
   }
 
   /// out = the filter's injection of the error d into base, with the error covariance Ps.
   void retract(const Record& base, const Vec16& d, const Mat16& Ps, Record& out) const {
-    GpsInsState<S> s;
+    State s;
     nominal_to(base, s);
     detail::gpsins_inject(s, d);
     out = base;
@@ -169,7 +176,7 @@ template <class S_> struct GpsInsRtsModel {
  private:
   /// The nominal state (position, attitude, velocity, biases, altimeter offset) between a record
   /// and a filter state.
-  static void nominal_from(const GpsInsState<S>& s, Record& r) {
+  static void nominal_from(const State& s, Record& r) {
     r.lat = s.nav.lat;
     r.lon = s.nav.lon;
     r.h = s.nav.h;
@@ -177,9 +184,11 @@ template <class S_> struct GpsInsRtsModel {
     r.v_n = s.nav.v_n;
     r.acc_bias = s.acc_bias;
     r.gyro_bias = s.gyro_bias;
+    r.acc_scale = s.acc_scale;
+    r.gyro_scale = s.gyro_scale;
     r.baro_offset = s.baro_offset;
   }
-  static void nominal_to(const Record& r, GpsInsState<S>& s) {
+  static void nominal_to(const Record& r, State& s) {
     s.nav.lat = r.lat;
     s.nav.lon = r.lon;
     s.nav.h = r.h;
@@ -187,6 +196,8 @@ template <class S_> struct GpsInsRtsModel {
     s.nav.v_n = r.v_n;
     s.acc_bias = r.acc_bias;
     s.gyro_bias = r.gyro_bias;
+    s.acc_scale = r.acc_scale;
+    s.gyro_scale = r.gyro_scale;
     s.baro_offset = r.baro_offset;
   }
 
@@ -204,7 +215,7 @@ template <class S_> struct GpsInsRtsModel {
   }
 
   Filter g_;
-  GpsInsState<S> st_;
+  State st_;
   const double* t_;
   const S* w_;
   const S* a_;
@@ -212,12 +223,13 @@ template <class S_> struct GpsInsRtsModel {
 };
 
 /// Writes the smoothed estimates where the output pointers of `out` say, in the layout of
-/// gpsins_batch's outputs (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; any may be
-/// null; the other fields of `out` are not used).
-template <class S> struct GpsInsSmoothedOutput {
+/// gpsins_batch's outputs (llh, v_n, q_nb, acc_bias, gyro_bias, acc_scale, gyro_scale, sigma,
+/// baro_offset; any may be null; the other fields of `out` are not used).
+template <class S, bool SF = false> struct GpsInsSmoothedOutput {
   GpsInsBatchIo<S> out;
+  static constexpr int N = gpsins::kStates<SF>;
 
-  void operator()(std::size_t k, const typename GpsInsRtsModel<S>::Record& r, const Mat<S, 16, 16>& Ps) const {
+  void operator()(std::size_t k, const typename GpsInsRtsModel<S, SF>::Record& r, const Mat<S, N, N>& Ps) const {
     if (out.llh) {
       out.llh[3 * k] = r.lat;
       out.llh[3 * k + 1] = r.lon;
@@ -227,7 +239,9 @@ template <class S> struct GpsInsSmoothedOutput {
     if (out.q_nb) Eigen::Map<Vec4<S>>(out.q_nb + 4 * k) = r.q_nb;
     if (out.acc_bias) Eigen::Map<Vec3<S>>(out.acc_bias + 3 * k) = r.acc_bias;
     if (out.gyro_bias) Eigen::Map<Vec3<S>>(out.gyro_bias + 3 * k) = r.gyro_bias;
-    if (out.sigma) Eigen::Map<Vec<S, 16>>(out.sigma + 16 * k) = Ps.diagonal().cwiseMax(S(0)).cwiseSqrt();
+    if (out.acc_scale) Eigen::Map<Vec3<S>>(out.acc_scale + 3 * k) = r.acc_scale;
+    if (out.gyro_scale) Eigen::Map<Vec3<S>>(out.gyro_scale + 3 * k) = r.gyro_scale;
+    if (out.sigma) Eigen::Map<Vec<S, N>>(out.sigma + N * k) = Ps.diagonal().cwiseMax(S(0)).cwiseSqrt();
     if (out.baro_offset)
       out.baro_offset[k] = r.baro_valid ? r.baro_offset : std::numeric_limits<double>::quiet_NaN();
   }
