@@ -1,5 +1,7 @@
 """Plain numpy twin of ``cpp/include/quatnav/nav/gps_ins.hpp``: the 16-state feedback GPS/INS
-filter of paper 004 with altimeter (and its offset as a state) and compass.
+filter of paper 004 with altimeter (and its offset as a state) and compass, optionally with the
+accelerometer and gyro scale factors as six more states (``GpsInsFilter(scale_factors=True)``, 22
+states; C++ ``GpsInsFilter<S, true>``).
 
 Same method names and the same algorithm step by step as the C++ class (see the header comment
 there for the equations, the error definitions and the paper's slips). Written to be read and
@@ -9,6 +11,14 @@ Error state ``dx = [dp_n (m), dv_n (m/s), psi (rad), db_a (m/s^2), db_g (rad/s),
 estimate minus truth, attitude error the phi-angle ``C_nb_est = (I + [psi x]) C_nb``. Each aid is
 one function giving ``(y, H, R)`` (``_gps_position``, ...), sent through the one gated path
 :meth:`GpsInsFilter._apply`, as the C++ pieces of ``nav/gps_ins/aids.hpp``.
+
+Scale factors (the model shared with the C++ ``GpsInsFilter<S, true>``): ``dx`` continues with
+``[ds_a (1), ds_g (1)]`` (indices SA, SG) for the sensor model, per axis in the body axes,
+``f_m = (1 + s_a) f + b_a + noise``, ``w_m = (1 + s_g) w + b_g + noise``. The IMU is corrected as
+``(m - b) / (1 + s)`` in every phase (:func:`_corrected`), F gains the terms of :func:`gpsins_F`,
+the scale factors are random walks (``acc_scale_noise``, ``gyro_scale_noise``) without decay, no aid
+sees them directly (their H columns are zero), a correction is injected as ``s -= ds``. Without
+them everything is as with 16 states, bit for bit.
 """
 from __future__ import annotations
 
@@ -35,6 +45,9 @@ KINDS = ("gps_pos", "gps_vel", "baro", "baro_vd", "compass", "mag", "zupt", "zar
 DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned")
 N = 16
 POS, VEL, ATT, BA, BG, BO = 0, 3, 6, 9, 12, 15
+#: With the scale factors: 22 states, the accelerometer's (SA) and the gyro's (SG) after the 16.
+N_SF = 22
+SA, SG = 16, 19
 
 
 #: The parameters of the C++ filter with its defaults (the one table, quatnav.filters.tables).
@@ -58,10 +71,14 @@ def _radii(lat):
     return float(np.asarray(r[0])), float(np.asarray(r[1]))
 
 
-def gpsins_F(nav: StrapdownState, f_b, p) -> np.ndarray:
+def gpsins_F(nav: StrapdownState, f_b, p, w_b=None, acc_scale=None, gyro_scale=None) -> np.ndarray:
     """Continuous error dynamics F (16 x 16) at ``nav`` for the bias-corrected specific force
-    (the altimeter offset is a random walk: its row is zero)."""
-    F = np.zeros((N, N))
+    (the altimeter offset is a random walk: its row is zero). With the scale factors
+    (``acc_scale`` and ``gyro_scale`` given) 22 x 22, ``f_b`` and ``w_b`` the corrected specific
+    force and body rate ``(m - b) / (1 + s)``."""
+    sf = acc_scale is not None
+    n = N_SF if sf else N
+    F = np.zeros((n, n))
     L, h = float(nav.lat), float(nav.h)
     R_M, R_N = _radii(L)
     Rm, Rn = R_M + h, R_N + h
@@ -106,11 +123,24 @@ def gpsins_F(nav: StrapdownState, f_b, p) -> np.ndarray:
     F[3:6, 0:3] = Fvp
     F[3:6, 3:6] = Fvv
     F[3:6, 6:9] = -Q.skew(f_n)
-    F[3:6, 9:12] = -C
     F[6:9, 0:3] = Fpsi_p
     F[6:9, 3:6] = Fpsi_v
     F[6:9, 6:9] = -Q.skew(w_in)
-    F[6:9, 12:15] = -C
+    if not sf:
+        F[3:6, 9:12] = -C
+        F[6:9, 12:15] = -C
+    else:
+        # Scale factors: the corrected input f = (f_m - b_a) / (1 + s_a) is off by (exactly, from
+        # (1 + s_est) f_est - (1 + s_true) f_true = -db_a) df = -(db_a + ds_a * f_true) / (1 + s_a)
+        # ~= -Da (db_a + diag(f) ds_a), Da = diag(1 / (1 + s_a)); the rate likewise with Dg. They
+        # enter as dv' = ... + C_nb df (eq. 8) and psi' = ... + C_nb dw (eq. 10), where the biases
+        # alone gave -C_nb db: the bias columns gain Da (Dg), the scale-factor columns are them
+        # times diag(f) (diag(w)). The scale-factor rows are zero (random walks, no decay).
+        da, dg = 1.0 / (1.0 + np.asarray(acc_scale, float)), 1.0 / (1.0 + np.asarray(gyro_scale, float))
+        F[3:6, 9:12] = -C * da                                              # -C Da
+        F[3:6, SA:SA + 3] = -C * (np.asarray(f_b, float) * da)              # -C diag(f / (1 + s_a))
+        F[6:9, 12:15] = -C * dg                                             # -C Dg
+        F[6:9, SG:SG + 3] = -C * (np.asarray(w_b, float) * dg)              # -C diag(w / (1 + s_g))
     if p.acc_bias_tau > 0:
         F[9:12, 9:12] = -np.eye(3) / p.acc_bias_tau
     if p.gyro_bias_tau > 0:
@@ -118,11 +148,16 @@ def gpsins_F(nav: StrapdownState, f_b, p) -> np.ndarray:
     return F
 
 
-def _qc_diag(p, q_scale):
-    """Qc: the IMU and bias densities scaled by the adaptation's q_scale, the offset's random walk."""
-    return np.concatenate([np.zeros(3), q_scale * np.full(3, p.acc_noise ** 2), q_scale * np.full(3, p.gyro_noise ** 2),
-                           q_scale * np.full(3, p.acc_bias_noise ** 2), q_scale * np.full(3, p.gyro_bias_noise ** 2),
-                           [p.baro_offset_noise ** 2]])
+def _qc_diag(p, q_scale, n=N):
+    """Qc: the IMU and bias densities scaled by the adaptation's q_scale, the offset's random walk;
+    with the scale factors (n = 22) their random walks, scaled like the biases."""
+    qc = np.concatenate([np.zeros(3), q_scale * np.full(3, p.acc_noise ** 2), q_scale * np.full(3, p.gyro_noise ** 2),
+                         q_scale * np.full(3, p.acc_bias_noise ** 2), q_scale * np.full(3, p.gyro_bias_noise ** 2),
+                         [p.baro_offset_noise ** 2]])
+    if n == N_SF:
+        qc = np.concatenate([qc, q_scale * np.full(3, p.acc_scale_noise ** 2),
+                             q_scale * np.full(3, p.gyro_scale_noise ** 2)])
+    return qc
 
 
 def geodetic_diff(lat_a, lon_a, h_a, lat_b, lon_b, h_b):
@@ -149,6 +184,8 @@ class _State:
     gyro_bias: np.ndarray
     P: np.ndarray
     t: float = 0.0
+    acc_scale: np.ndarray = field(default_factory=lambda: np.zeros(3))   # zero and unused without the
+    gyro_scale: np.ndarray = field(default_factory=lambda: np.zeros(3))  # scale-factor states
     omega_b: np.ndarray = field(default_factory=lambda: np.zeros(3))
     f_b: np.ndarray = field(default_factory=lambda: np.zeros(3))
     phase: int = ALIGNING
@@ -192,7 +229,8 @@ class _State:
 
     def copy(self):
         return replace(self, nav=self.nav.copy(), acc_bias=self.acc_bias.copy(), gyro_bias=self.gyro_bias.copy(),
-                       P=self.P.copy(), omega_b=self.omega_b.copy(), f_b=self.f_b.copy(),
+                       P=self.P.copy(), acc_scale=self.acc_scale.copy(), gyro_scale=self.gyro_scale.copy(),
+                       omega_b=self.omega_b.copy(), f_b=self.f_b.copy(),
                        align_sum=self.align_sum.copy(), reject_run=dict(self.reject_run),
                        rest_gyr_lp=self.rest_gyr_lp.copy(), rest_acc_lp=self.rest_acc_lp.copy(),
                        mot_v0=self.mot_v0.copy(), mot_q=self.mot_q.copy(), mot_dv=self.mot_dv.copy(),
@@ -200,10 +238,19 @@ class _State:
                        counters={k: dict(v) for k, v in self.counters.items()})
 
 
-def _new_state():
+def _new_state(n=N):
     return _State(nav=StrapdownState(q_nb=np.array([1.0, 0, 0, 0]), v_n=np.zeros(3), lat=0.0,
                                      lon=0.0, h=0.0),
-                  acc_bias=np.zeros(3), gyro_bias=np.zeros(3), P=np.zeros((N, N)))
+                  acc_bias=np.zeros(3), gyro_bias=np.zeros(3), P=np.zeros((n, n)))
+
+
+def _corrected(s, w_m, f_m, scale_factors):
+    """The IMU corrected by the estimates: ``w = w_m - b_g``, ``f = f_m - b_a``; with the scale
+    factors ``(m - b) / (1 + s)`` elementwise (the sensor model ``m = (1 + s) x + b``)."""
+    w, f = w_m - s.gyro_bias, f_m - s.acc_bias
+    if scale_factors:
+        w, f = w / (1.0 + s.gyro_scale), f / (1.0 + s.acc_scale)
+    return w, f
 
 
 @dataclass
@@ -225,6 +272,7 @@ def _result(status, m, decision="none"):
 
 
 # --- the aids: each gives (y, H, R) at the state (``nav/gps_ins/aids.hpp``) ----------------------
+# H has the state's columns (len(s.P)): the scale factors' six are zero, no aid sees them directly.
 def _antenna_velocity(s, p, C):
     return s.nav.v_n + C @ np.cross(s.omega_b, p.lever_arm_b)
 
@@ -240,7 +288,7 @@ def _gps_position(s, p, lat, lon, h, sigma, age):
     v_ant = _antenna_velocity(s, p, C)
     la, lo, hh = geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, l_n - v_ant * age)
     y = geodetic_diff(la, lo, hh, lat, lon, h)
-    H = np.zeros((3, N))
+    H = np.zeros((3, len(s.P)))
     H[:, POS:POS + 3] = np.eye(3)
     H[:, VEL:VEL + 3] = -age * np.eye(3)
     H[:, ATT:ATT + 3] = -Q.skew(l_n) + age * Q.skew(v_ant - s.nav.v_n)
@@ -257,7 +305,7 @@ def _gps_velocity(s, p, v_n, sigma, age):
     wl = C @ np.cross(s.omega_b, p.lever_arm_b)
     a_n = _nav_acceleration(s, C)
     y = s.nav.v_n + wl - a_n * age - v_n
-    H = np.zeros((3, N))
+    H = np.zeros((3, len(s.P)))
     H[:, VEL:VEL + 3] = np.eye(3)
     H[:, ATT:ATT + 3] = -Q.skew(wl) + age * Q.skew(C @ s.f_b)
     H[:, BA:BA + 3] = age * C
@@ -269,14 +317,14 @@ def _gps_velocity(s, p, v_n, sigma, age):
 
 def _baro_height(s, p, h_baro):
     """The altimeter reads the ellipsoidal height plus its offset (the 16th state)."""
-    H = np.zeros((1, N))
+    H = np.zeros((1, len(s.P)))
     H[0, POS + 2] = -1.0
     H[0, BO] = 1.0
     return np.array([s.nav.h + s.baro_offset - h_baro]), H, np.array([[p.baro_sigma ** 2]])
 
 
 def _baro_vd(s, p, h_baro, h_ref, T):
-    H = np.zeros((1, N))
+    H = np.zeros((1, len(s.P)))
     H[0, VEL + 2] = 1.0
     R = np.array([[2 * p.baro_sigma ** 2 / T ** 2 + p.baro_vd_sigma ** 2]])
     return np.array([s.nav.v_n[2] + (h_baro - h_ref) / T]), H, R
@@ -284,7 +332,7 @@ def _baro_vd(s, p, h_baro, h_ref, T):
 
 def _compass(s, p, yaw):
     e = Q.to_euler(s.nav.q_nb)
-    H = np.zeros((1, N))
+    H = np.zeros((1, len(s.P)))
     tp = math.tan(e[1])
     H[0, ATT:ATT + 3] = [tp * math.cos(e[2]), tp * math.sin(e[2]), 1.0]
     return np.array([float(Q.wrap_pi(e[2] - yaw))]), H, np.array([[p.compass_sigma ** 2]])
@@ -294,7 +342,7 @@ def _mag_heading(s, p, m_b):
     """Angle of the field in NED as the filter sees it minus the declination."""
     m_n = Q.rotate(s.nav.q_nb, m_b)
     mh2 = m_n[0] ** 2 + m_n[1] ** 2
-    H = np.zeros((1, N))
+    H = np.zeros((1, len(s.P)))
     h = np.array([-m_n[0] * m_n[2] / mh2, -m_n[1] * m_n[2] / mh2, 1.0])
     y = float(Q.wrap_pi(math.atan2(m_n[1], m_n[0]) - p.declination))
     R = p.mag_heading_sigma ** 2
@@ -308,14 +356,14 @@ def _mag_heading(s, p, m_b):
 
 def _body_velocity_rows(s, rows):
     Ct = Q.to_rotmat(s.nav.q_nb).T
-    H = np.zeros((len(rows), N))
+    H = np.zeros((len(rows), len(s.P)))
     H[:, VEL:VEL + 3] = Ct[rows]
     H[:, ATT:ATT + 3] = (Ct @ Q.skew(s.nav.v_n))[rows]
     return (Ct @ s.nav.v_n)[rows], H
 
 
 def _zupt(s, p):
-    H = np.zeros((3, N))
+    H = np.zeros((3, len(s.P)))
     H[:, VEL:VEL + 3] = np.eye(3)
     return s.nav.v_n.copy(), H, p.zupt_sigma ** 2 * np.eye(3)
 
@@ -323,7 +371,7 @@ def _zupt(s, p):
 def _zaru(s, p):
     w_ie = earth.earth_rate_n(s.nav.lat) if p.earth_rotation else np.zeros(3)
     Ct = Q.to_rotmat(s.nav.q_nb).T
-    H = np.zeros((3, N))
+    H = np.zeros((3, len(s.P)))
     H[:, ATT:ATT + 3] = -Ct @ Q.skew(w_ie)  # the Earth rate seen in the body turns with the attitude
     H[:, BG:BG + 3] = -np.eye(3)
     dt = s.dt_last if s.dt_last > 0 else 1.0
@@ -376,13 +424,16 @@ def _reset_velocity(s, p, v_n, R):
 
 
 class GpsInsFilter:
-    """Numpy twin of ``quatnav::GpsInsFilter`` (see the C++ header for the model)."""
+    """Numpy twin of ``quatnav::GpsInsFilter`` (see the C++ header for the model);
+    ``scale_factors=True``: with the accelerometer and gyro scale-factor states (22 states)."""
 
     n_states = N
 
-    def __init__(self, **params):
+    def __init__(self, scale_factors=False, **params):
         self.p = GpsInsParams(**params)
-        self.s = _new_state()
+        self.scale_factors = bool(scale_factors)
+        self.n_states = N_SF if self.scale_factors else N
+        self.s = _new_state(self.n_states)
 
     # --- accessors ------------------------------------------------------------------------
     @property
@@ -414,6 +465,14 @@ class GpsInsFilter:
         return self.s.gyro_bias.copy()
 
     @property
+    def acc_scale(self):
+        return self.s.acc_scale.copy()
+
+    @property
+    def gyro_scale(self):
+        return self.s.gyro_scale.copy()
+
+    @property
     def baro_offset(self):
         return self.s.baro_offset
 
@@ -430,23 +489,42 @@ class GpsInsFilter:
         return {k: dict(v) for k, v in self.s.counters.items()}
 
     def clear(self):
-        self.s = _new_state()
+        self.s = _new_state(self.n_states)
 
     def initial_covariance(self, pos_sigma, vel_sigma):
         p = self.p
+        return self._initial_P(pos_sigma, vel_sigma, p.init_level_sigma, p.init_yaw_sigma)
+
+    def _initial_P(self, pos_sigma, vel_sigma, level_sigma, yaw_sigma):
+        """The covariance at the start of navigation (the offset's 0 until the altimeter gives it)."""
+        p = self.p
         d = np.concatenate([np.asarray(pos_sigma, float), np.full(3, vel_sigma),
-                            [p.init_level_sigma, p.init_level_sigma, p.init_yaw_sigma],
+                            [level_sigma, level_sigma, yaw_sigma],
                             np.full(3, p.init_acc_bias_sigma), np.full(3, p.init_gyro_bias_sigma), [0.0]])
+        if self.scale_factors:
+            d = np.concatenate([d, np.full(3, p.init_acc_scale_sigma), np.full(3, p.init_gyro_scale_sigma)])
         return np.diag(d ** 2)
 
-    def reset(self, q_nb, v_n, lat, lon, h, acc_bias, gyro_bias, P):
+    def _scales(self, acc_scale, gyro_scale):
+        """Given scale factors as arrays (only zeros without the scale-factor states)."""
+        a, g = np.array(acc_scale, float).reshape(3), np.array(gyro_scale, float).reshape(3)
+        if not self.scale_factors and (a.any() or g.any()):
+            raise ValueError("acc_scale, gyro_scale: the filter has no scale-factor states (scale_factors=False)")
+        return a, g
+
+    def reset(self, q_nb, v_n, lat, lon, h, acc_bias, gyro_bias, P, acc_scale=(0.0, 0.0, 0.0),
+              gyro_scale=(0.0, 0.0, 0.0)):
+        P = np.asarray(P, float)
+        if P.shape != (self.n_states, self.n_states):
+            raise ValueError(f"P: expected shape ({self.n_states}, {self.n_states}), got {P.shape}")
         s = self.s.copy()
         q = np.asarray(q_nb, float)
         s.nav = StrapdownState(q_nb=q / np.linalg.norm(q), v_n=np.asarray(v_n, float).copy(),
                                lat=float(lat), lon=float(lon), h=float(h))
         s.acc_bias = np.asarray(acc_bias, float).copy()
         s.gyro_bias = np.asarray(gyro_bias, float).copy()
-        s.P = np.asarray(P, float).copy()
+        s.acc_scale, s.gyro_scale = self._scales(acc_scale, gyro_scale)
+        s.P = P.copy()
         s.phase = NAVIGATING
         s.heading_known = True
         s.baro_offset_valid = False
@@ -468,8 +546,7 @@ class GpsInsFilter:
         s = self.s.copy()
         if not np.array_equal(p.imu_rotation, np.eye(3)):
             w_m, f_m = p.imu_rotation @ w_m, p.imu_rotation @ f_m
-        w = w_m - s.gyro_bias
-        f = f_m - s.acc_bias
+        w, f = _corrected(s, w_m, f_m, self.scale_factors)
         g = float(earth.gravity(s.nav.lat, s.nav.h)) if s.phase == NAVIGATING else 9.80665
         if s.phase == NAVIGATING:
             sv = math.sqrt(np.trace(s.P[VEL:VEL + 3, VEL:VEL + 3]))
@@ -503,14 +580,15 @@ class GpsInsFilter:
             q = Q.mul(s.nav.q_nb, Q.from_rotvec(w * dt))
             s.nav.q_nb = q / np.linalg.norm(q)
         else:
-            F = gpsins_F(s.nav, f, p)
+            sf = dict(w_b=w, acc_scale=s.acc_scale, gyro_scale=s.gyro_scale) if self.scale_factors else {}
+            F = gpsins_F(s.nav, f, p, **sf)
             st = strapdown_step(s.nav, w, f, dt, earth_rotation=p.earth_rotation)
             if st != "ok":
                 return st
             Fdt = F * dt
-            Phi = np.eye(N) + Fdt + 0.5 * Fdt @ Fdt
+            Phi = np.eye(len(F)) + Fdt + 0.5 * Fdt @ Fdt
             self.last_transition = Phi  # the smoother's (GpsInsRtsModel)
-            qc = _qc_diag(p, s.q_scale)
+            qc = _qc_diag(p, s.q_scale, len(F))
             Qd = 0.5 * dt * (Phi * qc) @ Phi.T + np.diag(0.5 * dt * qc)
             P = Phi @ s.P @ Phi.T + Qd
             P = 0.5 * (P + P.T)
@@ -557,13 +635,15 @@ class GpsInsFilter:
     def at_rest(self):
         return self.p.rest_time > 0 and self.s.rest_t >= self.p.rest_time
 
-    def set_initial(self, q_nb, v_n=None, acc_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0)):
+    def set_initial(self, q_nb, v_n=None, acc_bias=(0.0, 0.0, 0.0), gyro_bias=(0.0, 0.0, 0.0),
+                    acc_scale=(0.0, 0.0, 0.0), gyro_scale=(0.0, 0.0, 0.0)):
         if self.s.phase == NAVIGATING:
             return "not_initialized"
         s = self.s.copy()
         q = np.asarray(q_nb, float)
         s.nav.q_nb = q / np.linalg.norm(q)
         s.acc_bias, s.gyro_bias = np.asarray(acc_bias, float).copy(), np.asarray(gyro_bias, float).copy()
+        s.acc_scale, s.gyro_scale = self._scales(acc_scale, gyro_scale)
         s.init_v = None if v_n is None else np.asarray(v_n, float).copy()
         s.phase, s.heading_known = LEVELLED, True
         s.align_method = s.heading_source = "given"
@@ -728,7 +808,8 @@ class GpsInsFilter:
 
     @staticmethod
     def _inject(s, dx):
-        """Feedback of paper Fig. 2: the error estimate goes into the nominal state and biases."""
+        """Feedback of paper Fig. 2: the error estimate goes into the nominal state and biases
+        (and the scale factors, when dx has their six rows)."""
         s.nav.lat, s.nav.lon, s.nav.h = geodetic_add(s.nav.lat, s.nav.lon, s.nav.h, -dx[0:3])
         s.nav.v_n = s.nav.v_n - dx[3:6]
         q = Q.mul(Q.from_rotvec(-dx[6:9]), s.nav.q_nb)
@@ -736,6 +817,9 @@ class GpsInsFilter:
         s.acc_bias = s.acc_bias - dx[9:12]
         s.gyro_bias = s.gyro_bias - dx[12:15]
         s.baro_offset = s.baro_offset - dx[BO]
+        if len(dx) > N:
+            s.acc_scale = s.acc_scale - dx[SA:SA + 3]
+            s.gyro_scale = s.gyro_scale - dx[SG:SG + 3]
 
     # --- measurement updates --------------------------------------------------------------
     def _pos_sigma(self, sigma):
@@ -767,10 +851,7 @@ class GpsInsFilter:
         q = np.asarray(q, float) / np.linalg.norm(q)
         lat, lon, h = geodetic_add(lat, lon, h, -Q.rotate(q, self.p.lever_arm_b))
         s.nav = StrapdownState(q_nb=q, v_n=np.asarray(v0, float).copy(), lat=lat, lon=lon, h=h)
-        p = self.p
-        d = np.concatenate([np.asarray(sig, float), np.full(3, vel_sigma), [level_sigma, level_sigma, yaw_sigma],
-                            np.full(3, p.init_acc_bias_sigma), np.full(3, p.init_gyro_bias_sigma), [0.0]])
-        s.P = np.diag(d ** 2)
+        s.P = self._initial_P(sig, vel_sigma, level_sigma, yaw_sigma)
         s.phase, s.heading_known = NAVIGATING, True
         s.align_method, s.heading_source, s.nav_start_t = method, heading, s.t
         s.mot_valid = False
@@ -975,7 +1056,8 @@ class GpsInsFilter:
         ``outages`` as ``(t_start, t_end)`` pairs that drop the fixes inside them, ``imu_input``
         "rate" or "increment". Returns a dict of the C++ batch's arrays (``llh``, ``v_n``,
         ``q_nb``, ``acc_bias``, ``gyro_bias``, ``sigma``, ``baro_offset``, ``q_scale``,
-        ``flags``, ``t`` and one report per aid, statuses and decisions as names).
+        ``flags``, ``t`` and one report per aid, statuses and decisions as names; with the
+        scale factors also ``acc_scale`` and ``gyro_scale``, and ``sigma`` has 22 columns).
         ``smooth=True``: the smoothed values over the navigating samples
         (:func:`run_smoothed`), the forward dict in ``forward``. ``observer``:
         ``after_predict(k, f)`` after the time update of sample k (``f.sample_transition``: the
@@ -1045,11 +1127,13 @@ class GpsInsFilter:
 
         out = {"llh": np.full((n, 3), np.nan), "v_n": np.full((n, 3), np.nan),
                "q_nb": np.full((n, 4), np.nan), "acc_bias": np.zeros((n, 3)),
-               "gyro_bias": np.zeros((n, 3)), "sigma": np.full((n, N), np.nan),
+               "gyro_bias": np.zeros((n, 3)), "sigma": np.full((n, self.n_states), np.nan),
                "baro_offset": np.full(n, np.nan), "q_scale": np.ones(n), "flags": np.zeros(n, np.uint32),
                "gps": report(ng, 2, 3), "baro": report(nb, 2, 1), "compass": report(nc, 1, 1),
                "odometer": report(no, 1, 1), "mag": report(n if mag is not None else 0, 1, 1),
                "zupt": report(n, 1, 3), "zaru": report(n, 1, 3), "nhc": report(n, 1, 2)}
+        if self.scale_factors:
+            out["acc_scale"], out["gyro_scale"] = np.zeros((n, 3)), np.zeros((n, 3))
         if n == 0:
             return out
         ig = int(np.sum(gps_t <= t[0]))
@@ -1067,7 +1151,7 @@ class GpsInsFilter:
                 if p.max_dt < step <= p.max_coast and p.max_dt > 0:
                     m = int(math.ceil(step / (p.max_dt * (1 - 1e-9))))
                 st = "ok"
-                self.sample_transition = np.eye(N)
+                self.sample_transition = np.eye(self.n_states)
                 for _ in range(m):
                     if st == "ok":
                         st = self.predict(w, a, step / m)
@@ -1109,6 +1193,8 @@ class GpsInsFilter:
                 out["q_nb"][k] = self.q_nb
             out["acc_bias"][k] = self.s.acc_bias
             out["gyro_bias"][k] = self.s.gyro_bias
+            if self.scale_factors:
+                out["acc_scale"][k], out["gyro_scale"][k] = self.s.acc_scale, self.s.gyro_scale
             out["q_scale"][k] = self.s.q_scale
             out["flags"][k] = (FLAGS[("aligning", "levelled", "navigating")[self.s.phase]]
                                | (FLAGS["initialized"] if (not was_nav and self.navigating) else 0)
@@ -1123,7 +1209,9 @@ class GpsInsFilter:
 class GpsInsRtsModel:
     """The smoother's model of :class:`GpsInsFilter` (``quatnav.reference.smoother``): a snapshot
     is the posterior ``(lat, lon, h, baro_offset, q_nb, v_n, acc_bias, gyro_bias, P, breaks,
-    baro_valid)`` while navigating (``breaks``: resets to a fix and covariance inflations so far); the error chart is the filter's (estimate minus truth):
+    baro_valid)`` while navigating (``breaks``: resets to a fix and covariance inflations so far),
+    then ``(acc_scale, gyro_scale)`` with the scale factors; the error chart is the filter's
+    (estimate minus truth):
     ``local(base, x)`` the error of ``base`` if ``x`` were the truth, ``retract(base, d)`` the
     injection of the error ``d`` into ``base``. ``f``: the filter whose run is recorded (its
     ``sample_transition``)."""
@@ -1135,10 +1223,11 @@ class GpsInsRtsModel:
         if not f.navigating:
             return None
         s = f.s
-        return (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb.copy(), s.nav.v_n.copy(),
+        post = (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb.copy(), s.nav.v_n.copy(),
                 s.acc_bias.copy(), s.gyro_bias.copy(), s.P.copy(),
                 sum(c["resets"] + c["inflated"] for c in s.counters.values()),
                 s.baro_offset_valid)
+        return post + (s.acc_scale.copy(), s.gyro_scale.copy()) if f.scale_factors else post
 
     @staticmethod
     def same(a, b):
@@ -1159,18 +1248,22 @@ class GpsInsRtsModel:
 
     @staticmethod
     def local(base, x):
-        return np.concatenate([geodetic_diff(base[0], base[1], base[2], x[0], x[1], x[2]), base[5] - x[5],
-                               Q.to_rotvec(Q.mul(base[4], Q.conj(x[4]))), base[6] - x[6], base[7] - x[7],
-                               [base[3] - x[3]]])
+        d = np.concatenate([geodetic_diff(base[0], base[1], base[2], x[0], x[1], x[2]), base[5] - x[5],
+                            Q.to_rotvec(Q.mul(base[4], Q.conj(x[4]))), base[6] - x[6], base[7] - x[7],
+                            [base[3] - x[3]]])
+        return np.concatenate([d, base[11] - x[11], base[12] - x[12]]) if len(base) > 11 else d
 
     @staticmethod
     def retract(base, d, Ps):
         s = _new_state()
         s.nav = StrapdownState(q_nb=base[4], v_n=base[5], lat=base[0], lon=base[1], h=base[2])
         s.acc_bias, s.gyro_bias, s.baro_offset = base[6], base[7], base[3]
+        if len(base) > 11:
+            s.acc_scale, s.gyro_scale = base[11], base[12]
         GpsInsFilter._inject(s, d)
-        return (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb, s.nav.v_n, s.acc_bias, s.gyro_bias, Ps,
-                base[9], base[10])
+        x = (s.nav.lat, s.nav.lon, s.nav.h, s.baro_offset, s.nav.q_nb, s.nav.v_n, s.acc_bias, s.gyro_bias, Ps,
+             base[9], base[10])
+        return x + (s.acc_scale, s.gyro_scale) if len(base) > 11 else x
 
 
 class _GpsInsRecorder(Recorder):
@@ -1212,14 +1305,16 @@ def run_smoothed(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_ve
                  odometer=None, outages=(), imu_input="rate", observer=None):
     """:meth:`GpsInsFilter.run` (the same arguments) followed by the backward pass. Returns
     ``(out, smoothed)``: the forward dict and ``{"llh", "v_n", "q_nb", "acc_bias", "gyro_bias",
-    "sigma", "baro_offset"}``, the smoothed values at the navigating samples and the forward ones
-    elsewhere. ``observer``: also told of every sample (after the smoother's record)."""
+    "sigma", "baro_offset"}`` (and ``"acc_scale", "gyro_scale"`` with the scale factors), the
+    smoothed values at the navigating samples and the forward ones elsewhere. ``observer``: also
+    told of every sample (after the smoother's record)."""
     rec = _GpsInsRecorder(GpsInsRtsModel(f))
     out = f.run(gyr, acc, mag, t=t, dt=dt, gps_pos=gps_pos, gps_vel=gps_vel, baro=baro, compass=compass,
                 odometer=odometer, outages=outages, imu_input=imu_input,
                 observer=rec if observer is None else _Both(rec, observer))
+    keys = ("llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset")
     sm = {k: np.array(out[k], dtype=float, copy=True)
-          for k in ("llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset")}
+          for k in keys + (("acc_scale", "gyro_scale") if f.scale_factors else ())}
     if rec.first is None:
         return out, sm
     first, xs, Ps = rec.smooth()
@@ -1229,4 +1324,6 @@ def run_smoothed(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_ve
         sm["v_n"][k], sm["q_nb"][k], sm["acc_bias"][k], sm["gyro_bias"][k] = x[5], x[4], x[6], x[7]
         sm["sigma"][k] = np.sqrt(np.maximum(np.diag(P), 0.0))
         sm["baro_offset"][k] = x[3] if x[10] else np.nan
+        if f.scale_factors:
+            sm["acc_scale"][k], sm["gyro_scale"][k] = x[11], x[12]
     return out, sm
