@@ -13,7 +13,7 @@ printf "%-46s %12s %12s\n" "filter [policy]" "Ir/step f64" "Ir/step f32"
   for scalar in double float; do
     # The case struct of this label: find the instantiation through its scalar.
     valgrind --tool=callgrind --callgrind-out-file="$OUT/cg.out" \
-      --toggle-collect="*timed_steps<*<${scalar}>, ${scalar}>*" \
+      --toggle-collect="*timed_steps<*<${scalar}*>, ${scalar}>*" \
       "$BIN" --no-flops --reps 1 --steps "$STEPS" --scalar "$scalar" --filter "$label" >/dev/null 2>"$OUT/log"
     ir=$(callgrind_annotate "$OUT/cg.out" 2>/dev/null | awk '/PROGRAM TOTALS/ {gsub(",", "", $1); print $1}')
     line+=$(printf " %12.0f" "$(echo "$ir / (2 * $STEPS)" | bc -l)")
