@@ -148,3 +148,45 @@ TEST(GpsInsAids, TheCheckDetectsAnError) {
   EXPECT_NEAR(fd[0], -0.5, 1e-6);
   EXPECT_NEAR(m.H(0, gpsins::kVel), -0.5, 1e-12);
 }
+
+// The evidence of a wheeled vehicle (detail::gpsins_nhc_evidence): it accumulates while GNSS-aided
+// and fast with no lateral or vertical body velocity, is held while unaided or slow, and is lost
+// when the body moves sideways; the constraint's R is then no smaller than what was seen.
+TEST(GpsInsAids, NonHolonomicEvidence) {
+  GpsInsParams<double> p = params();
+  GpsInsState<double> s = a_state();
+  const Vec3<double> fwd_b(10.0, 0.05, -0.02);  // 0.054 m/s across: within the 0.3 m/s limit
+  s.nav.v_n = quat::rotate(s.nav.q_nb, fwd_b);
+  s.t = 100.0;
+  s.gnss_t = 99.5;  // aided
+  const double dt = 0.01;
+  for (int k = 0; k < 1000; ++k) detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_NEAR(s.nhc_t, 10.0, 1e-9);
+  EXPECT_NEAR(s.nhc_ms, 0.05 * 0.05 + 0.02 * 0.02, 1e-12);  // started at the first sample
+  s.gnss_t = 90.0;  // unaided (an outage): held
+  for (int k = 0; k < 1000; ++k) detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_NEAR(s.nhc_t, 10.0, 1e-9);
+  s.gnss_t = 99.5;
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(2.0, 0.0, 0.0));  // slower than nhc_auto_speed: held
+  for (int k = 0; k < 1000; ++k) detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_NEAR(s.nhc_t, 10.0, 1e-9);
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(8.0, 6.0, 0.0));  // sideways at 6 m/s: lost
+  int lost_after = -1;
+  for (int k = 0; k < 1000 && lost_after < 0; ++k) {
+    detail::gpsins_nhc_evidence(s, p, dt);
+    if (s.nhc_t == 0.0) lost_after = k;
+  }
+  EXPECT_GE(lost_after, 0);
+  EXPECT_LT(lost_after, 10);  // the mean square passes 0.09 m^2/s^2 within a few samples of 36
+  p.nhc_auto = false;  // off: nothing moves
+  const GpsInsState<double> before = s;
+  detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_EQ(s.nhc_t, before.nhc_t);
+  EXPECT_EQ(s.nhc_ms, before.nhc_ms);
+  // The constraint's R: the larger of nhc_sigma^2 and the evidence's mean square.
+  AidMeasurement<double, 2, 16> m;
+  gpsins_aid::NonHolonomic<double>{0.25}.measure(s, p, m);
+  EXPECT_EQ(m.R(0, 0), 0.25);
+  gpsins_aid::NonHolonomic<double>{}.measure(s, p, m);
+  EXPECT_EQ(m.R(1, 1), p.nhc_sigma * p.nhc_sigma);
+}

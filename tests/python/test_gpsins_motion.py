@@ -108,15 +108,17 @@ def test_given_initial_state(car):
         quatnav.GpsInsFilter().set_initial()
 
 
-@pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial"])
+@pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial", "nhc_auto"])
 def test_cpp_matches_reference_step_by_step(car, case):
     s = car
     n = 2500 if case != "static_mag_zupt" else 2000
     t0 = 0.0 if case == "static_mag_zupt" else 12.0
     gyr, acc, t = _cut(s, t0)
     gyr, acc, t = gyr[:n], acc[:n], t[:n]
-    kw = _gnss(s, t0, velocity=case == "velocity")
-    params = dict(lever_arm_b=_lever(s), nhc=True)
+    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto"))
+    # nhc_auto: the constraint by evidence (the default), after 5 s of it instead of 20.
+    params = dict(lever_arm_b=_lever(s), nhc=True) if case != "nhc_auto" else dict(lever_arm_b=_lever(s),
+                                                                                     nhc_auto_time=5.0)
     f = quatnav.GpsInsFilter(**params)
     ref = R.GpsInsFilter(**params)
     mag = None
@@ -149,8 +151,10 @@ def test_cpp_matches_reference_step_by_step(car, case):
     if case == "static_mag_zupt":
         assert r.aids["zupt"].accepted.sum() > 50 and r.alignment["heading"] == "magnetometer"
         assert r.aids["mag"].accepted.sum() > 100
-    if case in ("velocity", "positions"):
+    if case in ("velocity", "positions", "nhc_auto"):
         assert r.aids["nhc"].accepted.sum() > 100
+    if case == "nhc_auto":  # not before the evidence: 5 s of aided motion after the start of navigation
+        assert r.aids["nhc"].t[0] - r.t[nav][0] > 5.0
 
 
 def test_magnetometer_disturbance_is_rejected(car):
@@ -223,19 +227,41 @@ def test_gap_is_coasted_not_raised(car):
 
 
 def test_nhc_bounds_an_outage(car):
-    """A 30 s GNSS outage in the turn: the non-holonomic constraint at least halves the drift."""
+    """A 30 s GNSS outage in the turn: the non-holonomic constraint at least halves the drift, forced
+    (nhc) or by the evidence of the aided drive before the outage (nhc_auto, the default)."""
     s = car
     kw = _gnss(s, 0.0)
     out = [(40.0, 70.0)]
     drift = {}
-    for nhc in (False, True):
-        r = quatnav.GpsInsFilter(lever_arm_b=_lever(s), nhc=nhc).run(s.imu.gyro, s.imu.accel, t=s.imu.t,
-                                                                     outages=out, **kw)
+    for case, params in (("off", dict(nhc_auto=False)), ("forced", dict(nhc=True, nhc_auto=False)),
+                         ("auto", {})):
+        r = quatnav.GpsInsFilter(lever_arm_b=_lever(s), **params).run(s.imu.gyro, s.imu.accel, t=s.imu.t,
+                                                                      outages=out, **kw)
         hz, _ = _errors(s, r)
         tt = r.t[r.navigating]
-        drift[nhc] = hz[np.searchsorted(tt, 69.9)]
-        assert ("nhc" in r.aids) == nhc
-    assert drift[True] < 0.5 * drift[False], drift
+        drift[case] = hz[np.searchsorted(tt, 69.9)]
+        assert ("nhc" in r.aids) == (case != "off")
+        if case == "auto":  # evidence: 20 s of aided motion above 3 m/s, all before the outage
+            assert 25.0 < r.aids["nhc"].t[0] < 40.0
+    assert drift["forced"] < 0.5 * drift["off"], drift
+    assert drift["auto"] < 0.5 * drift["off"], drift
+
+
+def test_nhc_auto_stays_off_without_the_evidence(car):
+    """A body moving sideways (the IMU turned 90 deg about z and not told): the lateral body velocity
+    is the speed, so the evidence never accumulates and the constraint is never applied; nor while
+    walking (below nhc_auto_speed)."""
+    s = car
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # body x = IMU y
+    gyr, acc = s.imu.gyro @ turn, s.imu.accel @ turn  # the IMU reads the body vector in its axes
+    r = quatnav.GpsInsFilter(lever_arm_b=_lever(s)).run(gyr, acc, t=s.imu.t, **_gnss(s, 0.0))
+    assert "nhc" not in r.aids
+    w = make_scenario("paper004_walk", seed=0)
+    kw = dict(gps_pos=quatnav.Aid(w.gps.t_valid, np.column_stack([w.gps.lat, w.gps.lon, w.gps.h])),
+              gps_vel=quatnav.Aid(w.gps.t_valid, w.gps.v_n))
+    r = quatnav.GpsInsFilter(lever_arm_b=tuple(w.params["gps"]["lever_arm_b_m"])).run(w.imu.gyro, w.imu.accel,
+                                                                                      t=w.imu.t, **kw)
+    assert r.navigating.any() and "nhc" not in r.aids
 
 
 def test_zupt_holds_the_position_while_standing_in_an_outage():

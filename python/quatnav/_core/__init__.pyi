@@ -3919,6 +3919,38 @@ class GpsInsParams_f64:
     def nhc(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_auto(self) -> bool:
+        """
+        apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit (RMS); its R is then the larger of nhc_sigma^2 and that mean square [-]
+        """
+    @nhc_auto.setter
+    def nhc_auto(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto_limit(self) -> float:
+        """
+        non-holonomic evidence: largest RMS lateral and vertical body velocity [m/s]
+        """
+    @nhc_auto_limit.setter
+    def nhc_auto_limit(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto_speed(self) -> float:
+        """
+        non-holonomic evidence: slowest speed that counts [m/s]
+        """
+    @nhc_auto_speed.setter
+    def nhc_auto_speed(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto_time(self) -> float:
+        """
+        non-holonomic evidence: duration needed (the mean square's time constant is a quarter of it) [s]
+        """
+    @nhc_auto_time.setter
+    def nhc_auto_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_sigma(self) -> float:
         """
         one-sigma of the lateral and vertical body velocity [m/s]
@@ -4707,6 +4739,38 @@ class GpsInsParams_f32:
         """
     @nhc.setter
     def nhc(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto(self) -> bool:
+        """
+        apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit (RMS); its R is then the larger of nhc_sigma^2 and that mean square [-]
+        """
+    @nhc_auto.setter
+    def nhc_auto(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto_limit(self) -> float:
+        """
+        non-holonomic evidence: largest RMS lateral and vertical body velocity [m/s]
+        """
+    @nhc_auto_limit.setter
+    def nhc_auto_limit(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto_speed(self) -> float:
+        """
+        non-holonomic evidence: slowest speed that counts [m/s]
+        """
+    @nhc_auto_speed.setter
+    def nhc_auto_speed(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_auto_time(self) -> float:
+        """
+        non-holonomic evidence: duration needed (the mean square's time constant is a quarter of it) [s]
+        """
+    @nhc_auto_time.setter
+    def nhc_auto_time(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_sigma(self) -> float:

@@ -409,6 +409,13 @@ GPSINS_PARAMS = (
     _p("nhc", False, "-", "non-holonomic constraint: no lateral or vertical velocity (wheeled vehicles)", "bool"),
     _p("nhc_sigma", 0.1, "m/s", "one-sigma of the lateral and vertical body velocity"),
     _p("gate_nhc", 18.421, "1 (chi-square, 2 dof)", "NIS gate of the non-holonomic constraint (0: off)", "pos0"),
+    _p("nhc_auto", True, "-", "apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of "
+       "GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit "
+       "(RMS); its R is then the larger of nhc_sigma^2 and that mean square", "bool"),
+    _p("nhc_auto_speed", 3.0, "m/s", "non-holonomic evidence: slowest speed that counts", "pos0"),
+    _p("nhc_auto_time", 20.0, "s", "non-holonomic evidence: duration needed (the mean square's time constant is a "
+       "quarter of it)", "pos0"),
+    _p("nhc_auto_limit", 0.3, "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity", "pos0"),
     _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),

@@ -212,6 +212,9 @@ class _State:
     gnss_speed: float = -1.0
     gnss_speed_t: float = 0.0
     pseudo_t: float = -1e9
+    gnss_t: float = -1e9
+    nhc_ms: float = -1.0
+    nhc_t: float = 0.0
     mot_valid: bool = False
     mot_llh: tuple = (0.0, 0.0, 0.0)
     mot_has_v: bool = False
@@ -378,9 +381,24 @@ def _zaru(s, p):
     return s.omega_b - Ct @ w_ie, H, (p.gyro_noise ** 2 / dt + p.zaru_sigma ** 2) * np.eye(3)
 
 
-def _nhc(s, p):
+def _nhc(s, p, var=0.0):
     y, H = _body_velocity_rows(s, [1, 2])
-    return y, H, p.nhc_sigma ** 2 * np.eye(2)
+    return y, H, (var if var > 0 else p.nhc_sigma ** 2) * np.eye(2)
+
+
+def _nhc_evidence(s, p, dt):
+    """The evidence of a wheeled vehicle (as detail::gpsins_nhc_evidence): while GNSS-aided and
+    faster than nhc_auto_speed, the low-passed mean square lateral and vertical body velocity and the
+    time it has stayed within nhc_auto_limit^2."""
+    if not p.nhc_auto or not s.t - s.gnss_t < 2.5:
+        return
+    v_b = Q.to_rotmat(s.nav.q_nb).T @ s.nav.v_n
+    if not v_b @ v_b > p.nhc_auto_speed ** 2:
+        return
+    e = v_b[1] ** 2 + v_b[2] ** 2
+    tau = p.nhc_auto_time / 4
+    s.nhc_ms = e if s.nhc_ms < 0 else s.nhc_ms + (dt / (tau + dt) if tau > 0 else 1.0) * (e - s.nhc_ms)
+    s.nhc_t = s.nhc_t + dt if s.nhc_ms <= p.nhc_auto_limit ** 2 else 0.0
 
 
 def _odometer(s, p, speed):
@@ -597,6 +615,8 @@ class GpsInsFilter:
             if p.gyro_bias_tau > 0:
                 s.gyro_bias = s.gyro_bias * math.exp(-dt / p.gyro_bias_tau)
             s.P = P
+        if s.phase == NAVIGATING:
+            _nhc_evidence(s, p, dt)
         s.omega_b = w
         s.f_b = f
         s.dt_last = dt
@@ -651,6 +671,11 @@ class GpsInsFilter:
         self.s = s
         return "ok"
 
+    @property
+    def nhc_active(self):
+        """The non-holonomic constraint applies while moving: forced (nhc) or by evidence (nhc_auto)."""
+        return bool(self.p.nhc or (self.p.nhc_auto and self.s.nhc_t >= self.p.nhc_auto_time))
+
     def update_constraints(self):
         """ZUPT and ZARU at rest, NHC while moving, at most every pseudo_interval."""
         p, s = self.p, self.s
@@ -662,8 +687,9 @@ class GpsInsFilter:
             zupt = self._apply("zupt", *_zupt(self.s, p), p.gate_zupt)
             zaru = self._apply("zaru", *_zaru(self.s, p), p.gate_zupt)
             self.s.pseudo_t = self.s.t
-        elif not self.at_rest and p.nhc:
-            nhc = self._apply("nhc", *_nhc(self.s, p), p.gate_nhc)
+        elif not self.at_rest and self.nhc_active:
+            var = p.nhc_sigma ** 2 if p.nhc else max(p.nhc_sigma ** 2, self.s.nhc_ms)
+            nhc = self._apply("nhc", *_nhc(self.s, p, var), p.gate_nhc)
             self.s.pseudo_t = self.s.t
         return zupt, zaru, nhc
 
@@ -714,6 +740,8 @@ class GpsInsFilter:
         c = self.s.counters[kind]
         if res.status == "ok":
             c["accepted"] += 1
+            if kind in ("gps_pos", "gps_vel"):
+                self.s.gnss_t = self.s.t
             res.decision = "accepted" if res.decision == "none" else res.decision
         elif res.status == "rejected":
             c["rejected"] += 1

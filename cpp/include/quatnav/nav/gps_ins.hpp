@@ -342,6 +342,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       floor_covariance<S, kStates>(P, p_.cov_floor);
       s.P = P;
     }
+    if (s.phase == GpsInsPhase::Navigating) detail::gpsins_nhc_evidence(s, p_, dt);
     if (!detail::gpsins_nav_ok(s) || !w.allFinite() || !f.allFinite() || !s.rest_acc_lp.allFinite() ||
         !s.mot_dv.allFinite())
       return Status::NumericalFailure;
@@ -365,12 +366,18 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       r.zupt = apply(gpsins_aid::ZeroVelocity<S>{});
       r.zaru = apply(gpsins_aid::ZeroRate<S>{});
       s_.pseudo_t = s_.t;
-    } else if (!rest && p_.nhc) {
-      r.nhc = apply(gpsins_aid::NonHolonomic<S>{});
+    } else if (!rest && nhc_active()) {
+      // Forced (nhc): nhc_sigma; by evidence: no less than the motion showed.
+      const S r0 = p_.nhc_sigma * p_.nhc_sigma;
+      r.nhc = apply(gpsins_aid::NonHolonomic<S>{p_.nhc ? r0 : std::max(r0, s_.nhc_ms)});
       s_.pseudo_t = s_.t;
     }
     return r;
   }
+
+  /// The non-holonomic constraint applies while moving: forced (nhc), or by the evidence of a
+  /// wheeled vehicle (nhc_auto: detail::gpsins_nhc_evidence in gps_ins/alignment.hpp).
+  bool nhc_active() const { return p_.nhc || (p_.nhc_auto && s_.nhc_t >= double(p_.nhc_auto_time)); }
 
   /// Odometer forward speed (m/s, along the body x axis). Navigating only.
   GpsInsUpdate<S, 1> update_odometer(S speed) {
@@ -802,6 +809,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     const std::size_t k = std::size_t(kind);
     if (r.status == Status::Ok) {
       ++s_.counters.accepted[k];
+      if (kind == GpsInsAid::GpsPos || kind == GpsInsAid::GpsVel) s_.gnss_t = s_.t;
       if (r.decision == GpsInsDecision::None) r.decision = GpsInsDecision::Accepted;
     } else if (r.status == Status::Rejected) {
       ++s_.counters.rejected[k];

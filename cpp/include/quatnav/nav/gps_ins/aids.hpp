@@ -286,17 +286,18 @@ template <class S> struct ZeroRate {
 
 /// Non-holonomic constraint of a wheeled vehicle: no lateral (y) or vertical (z) velocity of the
 /// body at the IMU, y = rows 1, 2 of C_nb^T v_n (the lever arm to the axle and side slip are in
-/// nhc_sigma).
+/// nhc_sigma). `var`: the variance of each row (0: nhc_sigma^2).
 template <class S> struct NonHolonomic {
   static constexpr GpsInsAid kind = GpsInsAid::Nhc;
   static constexpr int M = 2, C0 = 3, NC = 6;
   static constexpr bool kAdaptive = false;
+  S var = S(0);
   static S gate(const GpsInsParams<S>& p) { return p.gate_nhc; }
   template <bool SF, int N>
   void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
     static constexpr int rows[2] = {1, 2};
     detail_body::body_velocity_rows<S, 2>(s, rows, m.y, m.H);
-    m.R.diagonal().setConstant(p.nhc_sigma * p.nhc_sigma);
+    m.R.diagonal().setConstant(var > S(0) ? var : p.nhc_sigma * p.nhc_sigma);
   }
 };
 

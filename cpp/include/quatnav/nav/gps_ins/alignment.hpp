@@ -33,6 +33,25 @@
 namespace quatnav {
 namespace detail {
 
+/// The evidence of a wheeled vehicle (nhc_auto), after a navigating time update over dt. While
+/// GNSS-aided (an accepted GNSS position or velocity update less than 2.5 s before) and faster
+/// than nhc_auto_speed, the squared lateral and vertical body velocity e = v_b,y^2 + v_b,z^2 is
+/// low-passed into s.nhc_ms (time constant nhc_auto_time / 4; the first sample starts it) and the
+/// time with s.nhc_ms within nhc_auto_limit^2 accumulates in s.nhc_t (above it: back to 0).
+/// Slow or unaided (a GNSS outage, where the velocity is the constrained INS's own) it is held.
+template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, S dt) {
+  if (!p.nhc_auto || !(s.t - s.gnss_t < 2.5)) return;
+  const Vec3<S> v_b = quat::rotate_inv(s.nav.q_nb, s.nav.v_n);
+  if (!(v_b.squaredNorm() > p.nhc_auto_speed * p.nhc_auto_speed)) return;
+  const S e = v_b[1] * v_b[1] + v_b[2] * v_b[2];
+  const S tau = p.nhc_auto_time / S(4);
+  if (s.nhc_ms < S(0))
+    s.nhc_ms = e;
+  else
+    s.nhc_ms += (tau > S(0) ? dt / (tau + dt) : S(1)) * (e - s.nhc_ms);
+  s.nhc_t = s.nhc_ms <= p.nhc_auto_limit * p.nhc_auto_limit ? s.nhc_t + double(dt) : 0.0;
+}
+
 /// One step of the rest detector on the bias-corrected rate w and specific force f over dt,
 /// with gravity g (m/s^2); `slow`: the speed allows rest (an IMU alone cannot tell a smooth
 /// constant-velocity motion from rest). Returns whether the sample is still; updates the

@@ -93,6 +93,13 @@ namespace quatnav {
   X(bool, nhc, false, "-", "non-holonomic constraint: no lateral or vertical velocity (wheeled vehicles)") \
   X(S, nhc_sigma, S(0.1), "m/s", "one-sigma of the lateral and vertical body velocity")                 \
   X(S, gate_nhc, S(18.421), "1 (chi-square, 2 dof)", "NIS gate of the non-holonomic constraint (0: off)") \
+  X(bool, nhc_auto, true, "-",                                                                          \
+    "apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided "  \
+    "motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit "     \
+    "(RMS); its R is then the larger of nhc_sigma^2 and that mean square")                               \
+  X(S, nhc_auto_speed, S(3), "m/s", "non-holonomic evidence: slowest speed that counts")                \
+  X(S, nhc_auto_time, S(20), "s", "non-holonomic evidence: duration needed (the mean square's time constant is a quarter of it)") \
+  X(S, nhc_auto_limit, S(0.3), "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity") \
   X(S, pseudo_interval, S(0.1), "s", "shortest interval between two zero-velocity or non-holonomic updates") \
   X(S, odometer_sigma, S(0.05), "m/s", "one-sigma of an odometer speed")                                \
   X(S, gate_odometer, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)")          \
@@ -243,6 +250,9 @@ struct GpsInsCounters {
   X(S, gnss_speed, S(-1), "m/s", "last horizontal GNSS speed before navigation (-1: none)")              \
   X(double, gnss_speed_t, 0.0, "s", "filter time of that speed")                                        \
   X(double, pseudo_t, -1e9, "s", "filter time of the last zero-velocity or non-holonomic update")         \
+  X(double, gnss_t, -1e9, "s", "filter time of the last accepted GNSS position or velocity update")     \
+  X(S, nhc_ms, S(-1), "m^2/s^2", "mean square lateral and vertical body velocity in GNSS-aided motion (-1: none yet)")   \
+  X(double, nhc_t, 0.0, "s", "GNSS-aided motion with nhc_ms within nhc_auto_limit^2 (non-holonomic evidence)") \
   X(bool, mot_valid, false, "-", "a motion window is open (alignment in motion)")                       \
   X(double, mot_lat, 0.0, "rad", "latitude of the fix that opened the motion window")                   \
   X(double, mot_lon, 0.0, "rad", "longitude of that fix")                                               \

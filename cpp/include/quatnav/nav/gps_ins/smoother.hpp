@@ -252,7 +252,7 @@ template <class S, bool SF = false> struct GpsInsSmoothedOutput {
 /// pseudo-measurements at most every pseudo_interval.
 template <class S> std::size_t gpsins_max_epochs(const GpsInsParams<S>& p, const GpsInsBatchIo<S>& io) {
   std::size_t e = io.ng + io.nb + io.nc + io.no + (io.mag ? io.n : 0) + 2;
-  if ((p.zupt || p.nhc) && io.n > 1) {
+  if ((p.zupt || p.nhc || p.nhc_auto) && io.n > 1) {
     const double T = io.t[io.n - 1] - io.t[0];
     const double pi = double(p.pseudo_interval);
     const double c = pi > 0.0 ? T / (pi * (1.0 - 1e-6)) + 2.0 : double(io.n);
