@@ -170,6 +170,12 @@ TEST(GpsInsAids, NonHolonomicEvidence) {
   s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(2.0, 0.0, 0.0));  // slower than nhc_auto_speed: held
   for (int k = 0; k < 1000; ++k) detail::gpsins_nhc_evidence(s, p, dt);
   EXPECT_NEAR(s.nhc_t, 10.0, 1e-9);
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(10.0, 0.45, 0.0));  // 0.45 m/s across (a turn): held
+  for (int k = 0; k < 3000; ++k) detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_NEAR(s.nhc_ms, 0.45 * 0.45, 1e-3);  // six time constants
+  // It accrued until the mean square passed 0.09: (1 - a)^k = (0.2025 - 0.09) / (0.2025 - 0.0029),
+  // a = dt / (5 + dt): k = 287 samples, 2.87 s.
+  EXPECT_NEAR(s.nhc_t, 12.87, 0.02);
   s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(8.0, 6.0, 0.0));  // sideways at 6 m/s: lost
   int lost_after = -1;
   for (int k = 0; k < 1000 && lost_after < 0; ++k) {
@@ -177,7 +183,7 @@ TEST(GpsInsAids, NonHolonomicEvidence) {
     if (s.nhc_t == 0.0) lost_after = k;
   }
   EXPECT_GE(lost_after, 0);
-  EXPECT_LT(lost_after, 10);  // the mean square passes 0.09 m^2/s^2 within a few samples of 36
+  EXPECT_LT(lost_after, 10);  // the mean square passes 4 x 0.09 m^2/s^2 within a few samples of 36
   p.nhc_auto = false;  // off: nothing moves
   const GpsInsState<double> before = s;
   detail::gpsins_nhc_evidence(s, p, dt);

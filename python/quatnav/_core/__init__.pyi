@@ -3929,7 +3929,7 @@ class GpsInsParams_f64:
     @property
     def nhc_auto_limit(self) -> float:
         """
-        non-holonomic evidence: largest RMS lateral and vertical body velocity [m/s]
+        non-holonomic evidence: largest RMS lateral and vertical body velocity (above twice it the evidence is lost) [m/s]
         """
     @nhc_auto_limit.setter
     def nhc_auto_limit(self, arg1: typing.Any) -> None:
@@ -4751,7 +4751,7 @@ class GpsInsParams_f32:
     @property
     def nhc_auto_limit(self) -> float:
         """
-        non-holonomic evidence: largest RMS lateral and vertical body velocity [m/s]
+        non-holonomic evidence: largest RMS lateral and vertical body velocity (above twice it the evidence is lost) [m/s]
         """
     @nhc_auto_limit.setter
     def nhc_auto_limit(self, arg1: typing.Any) -> None:

@@ -415,7 +415,8 @@ GPSINS_PARAMS = (
     _p("nhc_auto_speed", 3.0, "m/s", "non-holonomic evidence: slowest speed that counts", "pos0"),
     _p("nhc_auto_time", 20.0, "s", "non-holonomic evidence: duration needed (the mean square's time constant is a "
        "quarter of it)", "pos0"),
-    _p("nhc_auto_limit", 0.3, "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity", "pos0"),
+    _p("nhc_auto_limit", 0.3, "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity "
+       "(above twice it the evidence is lost)", "pos0"),
     _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),

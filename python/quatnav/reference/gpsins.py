@@ -389,7 +389,7 @@ def _nhc(s, p, var=0.0):
 def _nhc_evidence(s, p, dt):
     """The evidence of a wheeled vehicle (as detail::gpsins_nhc_evidence): while GNSS-aided and
     faster than nhc_auto_speed, the low-passed mean square lateral and vertical body velocity and the
-    time it has stayed within nhc_auto_limit^2."""
+    time it has stayed within nhc_auto_limit^2 (lost above twice the limit, held in between)."""
     if not p.nhc_auto or not s.t - s.gnss_t < 2.5:
         return
     v_b = Q.to_rotmat(s.nav.q_nb).T @ s.nav.v_n
@@ -398,7 +398,10 @@ def _nhc_evidence(s, p, dt):
     e = v_b[1] ** 2 + v_b[2] ** 2
     tau = p.nhc_auto_time / 4
     s.nhc_ms = e if s.nhc_ms < 0 else s.nhc_ms + (dt / (tau + dt) if tau > 0 else 1.0) * (e - s.nhc_ms)
-    s.nhc_t = s.nhc_t + dt if s.nhc_ms <= p.nhc_auto_limit ** 2 else 0.0
+    if s.nhc_ms <= p.nhc_auto_limit ** 2:
+        s.nhc_t += dt
+    elif not s.nhc_ms <= 4 * p.nhc_auto_limit ** 2:  # above twice the limit: lost; between: held
+        s.nhc_t = 0.0
 
 
 def _odometer(s, p, speed):

@@ -37,8 +37,10 @@ namespace detail {
 /// GNSS-aided (an accepted GNSS position or velocity update less than 2.5 s before) and faster
 /// than nhc_auto_speed, the squared lateral and vertical body velocity e = v_b,y^2 + v_b,z^2 is
 /// low-passed into s.nhc_ms (time constant nhc_auto_time / 4; the first sample starts it) and the
-/// time with s.nhc_ms within nhc_auto_limit^2 accumulates in s.nhc_t (above it: back to 0).
-/// Slow or unaided (a GNSS outage, where the velocity is the constrained INS's own) it is held.
+/// time with s.nhc_ms within nhc_auto_limit^2 accumulates in s.nhc_t; above (2 nhc_auto_limit)^2
+/// the evidence is lost (s.nhc_t = 0); in between it is held (a car's sustained tight turn, the
+/// IMU ahead of the rear axle, must not undo it). Slow or unaided (a GNSS outage, where the
+/// velocity is the constrained INS's own) it is held.
 template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, S dt) {
   if (!p.nhc_auto || !(s.t - s.gnss_t < 2.5)) return;
   const Vec3<S> v_b = quat::rotate_inv(s.nav.q_nb, s.nav.v_n);
@@ -49,7 +51,11 @@ template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, cons
     s.nhc_ms = e;
   else
     s.nhc_ms += (tau > S(0) ? dt / (tau + dt) : S(1)) * (e - s.nhc_ms);
-  s.nhc_t = s.nhc_ms <= p.nhc_auto_limit * p.nhc_auto_limit ? s.nhc_t + double(dt) : 0.0;
+  const S lim2 = p.nhc_auto_limit * p.nhc_auto_limit;
+  if (s.nhc_ms <= lim2)
+    s.nhc_t += double(dt);
+  else if (!(s.nhc_ms <= S(4) * lim2))
+    s.nhc_t = 0.0;
 }
 
 /// One step of the rest detector on the bias-corrected rate w and specific force f over dt,

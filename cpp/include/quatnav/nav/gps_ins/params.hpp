@@ -99,7 +99,7 @@ namespace quatnav {
     "(RMS); its R is then the larger of nhc_sigma^2 and that mean square")                               \
   X(S, nhc_auto_speed, S(3), "m/s", "non-holonomic evidence: slowest speed that counts")                \
   X(S, nhc_auto_time, S(20), "s", "non-holonomic evidence: duration needed (the mean square's time constant is a quarter of it)") \
-  X(S, nhc_auto_limit, S(0.3), "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity") \
+  X(S, nhc_auto_limit, S(0.3), "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity (above twice it the evidence is lost)") \
   X(S, pseudo_interval, S(0.1), "s", "shortest interval between two zero-velocity or non-holonomic updates") \
   X(S, odometer_sigma, S(0.05), "m/s", "one-sigma of an odometer speed")                                \
   X(S, gate_odometer, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)")          \
