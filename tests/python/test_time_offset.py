@@ -5,6 +5,7 @@ the stamps, within its own stated uncertainty; a log at rest gives no estimate."
 import json
 import subprocess
 import sys
+import tomllib
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -121,12 +122,20 @@ def test_ins_run_estimates_and_uses_the_offset(tmp_path):
     d = tmp_path / "car"
     py = [sys.executable, "-m", "quatnav"]
     subprocess.run(py + ["simulate", "car_city", "--seed", "1", "--csv", str(d)], check=True, capture_output=True)
+    # The config gets the mounting beside the lever arm (scenario.toml says what it is).
+    c_b_imu = tomllib.loads((d / "scenario.toml").read_text())["imu"]["C_b_imu"]
+    with open(d / "config.toml", "a") as fh:
+        fh.write(f"imu_rotation = {c_b_imu!r}\n")
     p = subprocess.run(py + ["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"), "--config",
                              str(d / "config.toml"), "--out", str(tmp_path / "out.csv"),
                              "--estimate-time-offset=-0.4,0.1", "--json", str(tmp_path / "s.json")], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     assert p.stdout.startswith("estimated gps_time_offset = "), p.stdout
-    est = json.loads((tmp_path / "s.json").read_text())["gps_time_offset_estimate"]
+    # Only the lever arm and the mounting given: the constraint is learned from the drive.
+    assert "non-holonomic constraint from t = " in p.stdout, p.stdout
+    summary = json.loads((tmp_path / "s.json").read_text())
+    assert 20.0 < summary["nhc_start_s"] < 60.0, summary["nhc_start_s"]
+    est = summary["gps_time_offset_estimate"]
     assert abs(est["offset_s"] + LATENCY) < 0.01 and est["bounds_s"] == [-0.4, 0.1] and not est["at_bound"], est
     for bad in ("1,x", "0.2,-0.2"):
         p = subprocess.run(py + ["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"), "--out",

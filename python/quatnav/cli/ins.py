@@ -154,6 +154,10 @@ alignment: at rest (the IMU still for align_time) roll and pitch from the accele
   align_motion_time with the body x axis along the velocity (no side slip), or with positions
   only from the course between fixes align_course_distance apart and the mean specific force
   (roll/pitch one-sigma align_level_sigma); or given in the config's [initial] table
+non-holonomic constraint (no lateral or vertical body velocity): nhc = true applies it whenever
+  moving; by default (nhc_auto) it applies once the log has shown a wheeled vehicle (nhc_auto_time
+  of GNSS-aided motion above nhc_auto_speed within nhc_auto_limit across); the summary line says
+  from when
 exit status: 0 on success, 1 when navigation never started (no output rows), 2 on an input
 error (one line on stderr naming the file, line and column)."""
 
@@ -883,6 +887,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         msg += "; gated out: " + ", ".join(f"{k} {v}" for k, v in rej.items())
     if nav.any():
         msg += f"; alignment {r.alignment['method']}, heading from {r.alignment['heading']}"
+    nhc_t = _nhc_start(r)
+    if nhc_t is not None:
+        msg += f"; non-holonomic constraint from t = {nhc_t:.1f} s"
     if smooth and nav.any():
         msg += "; smoothed"
     if estimate is not None:
@@ -892,12 +899,19 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
                "coasted_gaps": [{"lines": [int(lines_i[k - 1]), int(lines_i[k])], "seconds": step} for k, step in gaps],
                "gated_out": rej, "counters": r.counters, "alignment": r.alignment,
                "decisions": {k: a.decisions() for k, a in r.aids.items()}, "diagnostics_rows": n_diag,
-               "warnings": warnings, "smoothed": bool(smooth)}
+               "warnings": warnings, "smoothed": bool(smooth), "nhc_start_s": nhc_t}
     if estimate is not None:
         summary["gps_time_offset_estimate"] = {
             "offset_s": estimate.offset, "sigma_s": estimate.sigma if np.isfinite(estimate.sigma) else None,
             "at_bound": estimate.at_bound, "bounds_s": list(estimate.bounds), "runs": estimate.runs}
     return msg, bool(nav.any()), summary
+
+
+def _nhc_start(r):
+    """The time of the first accepted non-holonomic update (forced by nhc, or learned: nhc_auto)."""
+    a = r.aids.get("nhc")
+    ok = np.flatnonzero(a.accepted) if a is not None else []
+    return float(a.t[ok[0]]) if len(ok) else None
 
 
 def _run(args) -> int:
