@@ -285,7 +285,11 @@ def _read_fast(body_bytes, sep, decimal, ncol, wanted, nrows):
     try:
         tab = pacsv.read_csv(
             pa.py_buffer(body_bytes),
-            read_options=pacsv.ReadOptions(column_names=names, use_threads=True, block_size=_BLOCK),
+            # Threads only for more than one block (one block is parsed by one thread anyway): the
+            # threaded reader can abort the interpreter's exit when it follows the read closely
+            # (apache/arrow#34314, #39862), as a command-line error on a small file does.
+            read_options=pacsv.ReadOptions(column_names=names, use_threads=len(body_bytes) > _BLOCK,
+                                           block_size=_BLOCK),
             parse_options=pacsv.ParseOptions(delimiter=sep),
             convert_options=pacsv.ConvertOptions(
                 include_columns=[names[k] for k in wanted], column_types={names[k]: pa.float64() for k in wanted},
