@@ -34,6 +34,7 @@ from ..core.strapdown import StrapdownState, strapdown_step
 from ..filters.tables import FLAGS, GPSINS_PARAMS
 from .attitude import sample_times
 from .kalman import kalman_correct
+from .lowpass import lowpass, lowpass_weight
 from .smoother import Recorder
 
 __all__ = ["DEFAULTS", "GpsInsParams", "GpsInsFilter", "gpsins_F", "ALIGNING", "LEVELLED", "NAVIGATING",
@@ -392,12 +393,12 @@ def _nhc_evidence(s, p, dt):
     time it has stayed within nhc_auto_limit^2 (lost above twice the limit, held in between)."""
     if not p.nhc_auto or not s.t - s.gnss_t < 2.5:
         return
-    v_b = Q.to_rotmat(s.nav.q_nb).T @ s.nav.v_n
+    v_b = Q.rotate_inv(s.nav.q_nb, s.nav.v_n)
     if not v_b @ v_b > p.nhc_auto_speed ** 2:
         return
     e = v_b[1] ** 2 + v_b[2] ** 2
     tau = p.nhc_auto_time / 4
-    s.nhc_ms = e if s.nhc_ms < 0 else s.nhc_ms + (dt / (tau + dt) if tau > 0 else 1.0) * (e - s.nhc_ms)
+    s.nhc_ms = e if s.nhc_ms < 0 else lowpass(s.nhc_ms, e, dt, tau)
     if s.nhc_ms <= p.nhc_auto_limit ** 2:
         s.nhc_t += dt
     elif not s.nhc_ms <= 4 * p.nhc_auto_limit ** 2:  # above twice the limit: lost; between: held
@@ -632,7 +633,7 @@ class GpsInsFilter:
         if not s.rest_init:
             s.rest_gyr_lp, s.rest_acc_lp, s.rest_init = w.copy(), f.copy(), True
         else:
-            a = 1.0 - math.exp(-dt / p.rest_tau) if p.rest_tau > 0 else 1.0
+            a = lowpass_weight(dt, p.rest_tau)
             s.rest_gyr_lp = s.rest_gyr_lp + a * (w - s.rest_gyr_lp)
             s.rest_acc_lp = s.rest_acc_lp + a * (f - s.rest_acc_lp)
         still = (slow and np.linalg.norm(w - s.rest_gyr_lp) < p.rest_gyr_th

@@ -17,6 +17,7 @@ from ..core import quaternion as Q
 from ..filters.tables import MARG_PARAMS
 from ..filters.tables import FLAGS
 from .attitude import _unit, attitude_from_acc_mag, make_params, sample_times, table_defaults
+from .lowpass import lowpass_weight
 from .parts import AccFilter, MagDisturbance, Rest
 
 
@@ -81,10 +82,6 @@ def residual(q, meas, refs):
 def lever_corrected(f_b, omega_b, omega_dot_b, d_b):
     """eq. (7'): f_b + w_dot x d + w x (w x d)."""
     return f_b + np.cross(omega_dot_b, d_b) + np.cross(omega_b, np.cross(omega_b, d_b))
-
-
-def _lowpass_weight(T, tau):
-    return 1.0 - np.exp(-T / tau) if tau > 0 else 1.0
 
 
 class MargFilter:
@@ -166,7 +163,7 @@ class MargFilter:
         q = Q.mul(self.q, Q.from_rotvec(w * dt))
         if self.omega_set:
             raw = (w - self.omega_b) / dt
-            self.omega_dot_b = self.omega_dot_b + _lowpass_weight(dt, self.p.omega_dot_tau) * (raw - self.omega_dot_b)
+            self.omega_dot_b = self.omega_dot_b + lowpass_weight(dt, self.p.omega_dot_tau) * (raw - self.omega_dot_b)
         self.q = q / np.linalg.norm(q)
         self.omega_b, self.omega_set = w, True
         self.time_since_gps += dt
@@ -197,7 +194,7 @@ class MargFilter:
                 if self.gps_fixes == 1:
                     self.gps_acc_n = raw
                 else:
-                    self.gps_acc_n = self.gps_acc_n + _lowpass_weight(dt, self.p.gps_acc_tau) * (raw - self.gps_acc_n)
+                    self.gps_acc_n = self.gps_acc_n + lowpass_weight(dt, self.p.gps_acc_tau) * (raw - self.gps_acc_n)
                 self.gps_fixes = 2
         self.gps_vel_n, self.gps_t, self.time_since_gps = v_n, float(t), 0.0
         return "ok"

@@ -16,14 +16,9 @@ import numpy as np
 
 from ..core import quaternion as Q
 from ..filters.tables import FLAGS
+from .lowpass import lowpass
 
 __all__ = ["lowpass", "MagRef", "Rest", "AccFilter", "MagDisturbance"]
-
-
-def lowpass(y, x, dt, tau):
-    """First-order low-pass step y + a (x - y), a = dt / (tau + dt) (attitude.hpp)."""
-    a = dt / (tau + dt)
-    return y + a * (x - y)
 
 
 class MagRef:

@@ -8,6 +8,7 @@
 
 #include "../core/checks.hpp"
 #include "../core/fields.hpp"
+#include "../core/lowpass.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
 
@@ -49,12 +50,6 @@ template <class S> struct MagRef {
 };
 
 namespace detail {
-
-/// First-order low-pass step y += a (x - y) with a = dt / (tau + dt).
-template <class S, class V> void lowpass(V& y, const V& x, S dt, S tau) {
-  const S a = dt / (tau + dt);
-  y = y + a * (x - y);
-}
 
 /// Tilt and heading from one accelerometer and magnetometer sample. Returns false for
 /// degenerate input. mag may be null (heading 0). mag_ref receives [m_x, 0, m_z] normalized.

@@ -245,11 +245,6 @@ Vec3<S> marg_lever_corrected(const Vec3<S>& f_b, const Vec3<S>& omega_b, const V
   return f_b + omega_dot_b.cross(d_b) + omega_b.cross(omega_b.cross(d_b));
 }
 
-/// One-pole low-pass weight for a step T and time constant tau (tau <= 0: no filtering).
-template <class S> S lowpass_weight(S T, S tau) {
-  return tau > S(0) ? S(1) - std::exp(-T / tau) : S(1);
-}
-
 }  // namespace detail
 
 template <class S> class MargFilter {

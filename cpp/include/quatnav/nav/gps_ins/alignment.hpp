@@ -26,6 +26,7 @@
 
 #include <cmath>
 
+#include "../../core/lowpass.hpp"
 #include "../../core/quaternion.hpp"
 #include "../../core/types.hpp"
 #include "params.hpp"
@@ -50,7 +51,7 @@ template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, cons
   if (s.nhc_ms < S(0))
     s.nhc_ms = e;
   else
-    s.nhc_ms += (tau > S(0) ? dt / (tau + dt) : S(1)) * (e - s.nhc_ms);
+    lowpass(s.nhc_ms, e, dt, tau);
   const S lim2 = p.nhc_auto_limit * p.nhc_auto_limit;
   if (s.nhc_ms <= lim2)
     s.nhc_t += double(dt);
@@ -70,7 +71,7 @@ bool gpsins_rest_step(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Vec
     s.rest_acc_lp = f;
     s.rest_init = true;
   } else {
-    const S a = p.rest_tau > S(0) ? S(1) - std::exp(-dt / p.rest_tau) : S(1);
+    const S a = lowpass_weight(dt, p.rest_tau);
     s.rest_gyr_lp += a * (w - s.rest_gyr_lp);
     s.rest_acc_lp += a * (f - s.rest_acc_lp);
   }
