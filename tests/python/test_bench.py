@@ -28,3 +28,17 @@ def test_cli_small_run_writes_json(tmp_path, capsys):
         assert r["samples_per_s"] > 0 and np.isfinite(r["samples_per_s"])
     assert "quatnav bench -n 3000" in res["command"]
     assert "QuaternionEKF f64" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("entry", bench.entries(), ids=lambda e: e.name)
+def test_every_registered_entry_runs(entry):
+    """Every filter and peer of `quatnav bench` runs on a short record (the peers whose package is
+    installed); a quaternion output is finite and of unit norm."""
+    if not bench._available(entry):
+        pytest.skip(f"{entry.requires} not installed")
+    d = bench.marg_data(300, seed=1).astype(entry.dtype)
+    out = entry.make(d)()
+    if isinstance(out, np.ndarray) and out.ndim == 2 and out.shape[1] == 4:
+        assert out.shape[0] == 300
+        assert np.all(np.isfinite(out))
+        np.testing.assert_allclose(np.linalg.norm(out, axis=1), 1.0, atol=1e-3)

@@ -433,7 +433,7 @@ def _filterpy_ekf(d: MargData):
 
     class QuatEKF(ExtendedKalmanFilter):
         def predict_x(self, u=0):
-            q, self.F = ref.propagate(self.x[:4], self.x[4:], u, d.dt)
+            q, self.F, _ = ref.propagate(self.x[:4], self.x[4:], u, d.dt)
             self.x = np.concatenate([q, self.x[4:]])
 
     def run():
@@ -455,7 +455,7 @@ def _filterpy_ukf(d: MargData):
     ref, x0, P0, R, Qn, hx, Hjac, z = _qekf_model(d)
 
     def fx(x, dt, gyr):
-        q, _ = ref.propagate(x[:4] / np.linalg.norm(x[:4]), x[4:], gyr, dt)
+        q, _, _ = ref.propagate(x[:4] / np.linalg.norm(x[:4]), x[4:], gyr, dt)
         return np.concatenate([q, x[4:]])
 
     def run():
