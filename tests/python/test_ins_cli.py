@@ -470,6 +470,9 @@ def test_initial_state_mag_odometer_increments_and_diagnostics(walk, files, tmp_
     assert all(r["decision"] in ("accepted", "rejected", "inflated", "reset", "skipped", "aligned", "none") for r in rows)
     times = [float(r["time"]) for r in rows]
     assert times == sorted(times)
+    for r in rows:  # every number a plain float ('nan' where none), as any CSV reader takes it
+        for c in ("innovation_0", "innovation_1", "innovation_2", "nis", "inflation", "q_scale"):
+            float(r[c])
     # against the truth: the same accuracy as the rates run
     header, a = _read(out)
     c = {n: a[:, i] for i, n in enumerate(header)}

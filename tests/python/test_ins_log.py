@@ -94,3 +94,25 @@ def test_ins_needs_gnss(tmp_path, walk):
     if not f.exists():
         pytest.skip("px4 data absent")
     assert cli.main(["ins", "run", "--log", str(f), "--out", str(tmp_path / "o.csv")]) == 2
+
+
+def test_ulog_magnetometer_gives_the_heading(tmp_path, data_dir):
+    """A PX4 log at rest (SITL, GNSS from 9.5 s): `--log` uses the log's magnetometer for the
+    heading, so navigation starts at the first fix; the attitude agrees with PX4's own estimate
+    within the magnetic declination (no declination is given here) and `--no-mag` drops it."""
+    pytest.importorskip("pyulog")
+    f = data_dir / "px4" / "sample_logging_tagged_and_default_params.ulg"
+    if not f.exists():
+        pytest.skip("px4 data absent")
+    out, js, cj = tmp_path / "o.csv", tmp_path / "s.json", tmp_path / "c.json"
+    assert cli.main(["ins", "run", "--log", str(f), "--out", str(out), "--json", str(js)]) == 0
+    s = json.loads(js.read_text())
+    assert s["alignment"]["heading"] == "magnetometer" and s["rows"] > 200
+    assert s["decisions"]["mag"].get("accepted", 0) > 10
+    assert cli.main(["compare", str(out), str(f), "--json", str(cj)]) == 0
+    c = json.loads(cj.read_text())
+    assert c["attitude_inclination_deg"]["rms"] < 0.5
+    assert c["attitude_heading_deg"]["rms"] < 6.0  # the declination: PX4 gives true north
+    assert cli.main(["ins", "run", "--log", str(f), "--out", str(tmp_path / "n.csv"), "--json", str(js),
+                     "--no-mag"]) == 1
+    assert json.loads(js.read_text())["alignment"]["heading"] == "none"

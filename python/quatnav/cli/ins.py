@@ -28,7 +28,8 @@ GNSS           ``time`` (s), ``lat lon`` (deg), ``h`` (m, ellipsoidal) of the an
 BARO           ``time`` (s), ``h`` (altimeter height, m; its offset is tied to the GNSS height)
 COMPASS        ``time`` (s), ``heading`` (magnetic heading, deg; ``declination`` is added)
 MAG            ``time`` (s), ``mag_x mag_y mag_z`` (raw magnetometer, IMU axes, any unit; each
-               sample is used at the first IMU row at or after its time)
+               sample is used at the first IMU row at or after its time). With ``--log``, the
+               log's magnetometer unless ``--mag`` replaces it or ``--no-mag`` drops it
 ODOMETER       ``time`` (s), ``speed`` (m/s along the body x axis)
 =============  ===========================================================================
 
@@ -624,6 +625,9 @@ def _columns_of(log, what):
         if b.altitude is None:
             raise InputError(f"{log.source}: the barometer gives pressure only, no altitude")
         d = {"time": b.t, "h": b.altitude}
+    elif what == "MAG":
+        m = log.require("mag").mag
+        d = {"time": m.t, **{f"mag_{c}": m.values[:, i] for i, c in enumerate("xyz")}}
     else:
         c = log.require("compass").compass
         d = {"time": c.t, "heading": np.degrees(c.heading), "north": getattr(c, "north", "magnetic")}
@@ -699,7 +703,7 @@ def write_diagnostics(path, r) -> int:
         with open(path, "w", encoding="utf-8") as fh:
             fh.write(",".join(DIAGNOSTICS_COLUMNS) + "\n")
             for row in rows:
-                fh.write(",".join(x if isinstance(x, str) else repr(x) for x in row) + "\n")
+                fh.write(",".join(x if isinstance(x, str) else repr(float(x)) for x in row) + "\n")
     except OSError as e:
         raise InputError(f"diagnostics {path}: cannot write ({e.strerror})") from None
     return len(rows)
@@ -707,7 +711,7 @@ def write_diagnostics(path, r) -> int:
 
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
               calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False, time_offset=None,
-              executor=None):
+              executor=None, no_mag=False):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -722,8 +726,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     ``warn(text)`` is called once per warning (default: collected in ``summary["warnings"]`` only).
     ``calibration``: a calibration TOML file (``quatnav calibrate``) applied to the gyro and
     accelerometer samples before the filter sees them. ``mag``, ``odometer``: CSV files of a raw
-    magnetometer and an odometer; ``diagnostics``: a CSV file for the per-sample report of the aids.
-    ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
+    magnetometer and an odometer (without ``mag``, the magnetometer of ``log`` when it has one, unless
+    ``no_mag``); ``diagnostics``: a CSV file for the per-sample report of the aids. ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
     ``time_offset``: ``(low, high)`` s: estimate ``gps_time_offset`` over that interval first
     (:func:`quatnav.calibration.gps_time_offset`, its runs through ``executor``) and run with it;
     ``summary["gps_time_offset_estimate"]`` holds the estimate.
@@ -800,7 +804,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         d_o, _ = read_csv(odometer, ODOMETER_COLUMNS, what="ODOMETER")
         kw.update(odometer=quatnav.Aid(d_o["time"], d_o["speed"]))
     d_m = None
-    if mag:
+    if mag or (log is not None and log.mag is not None and not no_mag):
         d_m, _ = read_csv(mag, MAG_COLUMNS, what="MAG")
     t = d_imu["time"]
     gyro = np.column_stack([d_imu[c] for c in ("gyro_x", "gyro_y", "gyro_z")])
@@ -928,7 +932,7 @@ def _run(args) -> int:
                                  log=log, fmt=args.format, tracks=tracks,
                                  calibration=getattr(args, "calibration", None), mag=args.mag,
                                  odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth,
-                                 time_offset=args.estimate_time_offset)
+                                 time_offset=args.estimate_time_offset, no_mag=args.no_mag)
     print(msg)
     if ok:
         from ..io import tracks as track_files
@@ -1004,7 +1008,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--gnss", metavar="GNSS.csv", help="GNSS fixes of the antenna (CSV, RTKLIB .pos, NMEA, ULog, bag)")
     r.add_argument("--baro", metavar="BARO.csv", help="altimeter heights (optional; CSV or a log with a barometer)")
     r.add_argument("--compass", metavar="COMPASS.csv", help="compass headings (optional)")
-    r.add_argument("--mag", metavar="MAG.csv", help="raw magnetometer: time, mag_x, mag_y, mag_z (optional; IMU axes)")
+    r.add_argument("--mag", metavar="MAG.csv", help="raw magnetometer: time, mag_x, mag_y, mag_z (optional; IMU axes; "
+                   "default: the magnetometer of --log, if it has one)")
+    r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer of --log (heading from a compass or "
+                   "the GNSS course; for a magnetometer disturbed by the vehicle)")
     r.add_argument("--odometer", metavar="ODO.csv", help="odometer: time, speed (m/s, optional)")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
     from ..calibration import add_calibration_argument
