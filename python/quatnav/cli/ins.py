@@ -507,8 +507,10 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
     A threshold on the speed sees a start late and a stop early (a walker reaches 0.5 m/s about
     a second after the first step), the IMU's activity sees both when they happen. Where the
     motion that starts also stops (the GNSS speed below 0.5 m/s for a second, the IMU still for a
-    second, the two within 10 s, their differences within 4 s of each other), the offset is the
-    mean of the two differences, in which the threshold's lag cancels."""
+    second, the two within 10 s), and the start's difference exceeds the stop's by 0 to 4 s (twice
+    the threshold's lag, within a GNSS interval), the offset is the mean of the two differences, in
+    which the lag cancels. A stop the IMU sees earlier than that (a vehicle braking gently after its
+    last turn looks still to it) is not used: the start alone gives the offset."""
     if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
         return None
     dt = float(np.median(np.diff(t)))
@@ -554,8 +556,11 @@ def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", acc
     if sg is not None and stops.size:
         si = float(t[stops[np.argmin(np.abs(t[stops] - sg))]])
         # the same offset seen with the threshold's lag added at the start and taken off at the
-        # stop: differences more than 4 s apart (a lag over 2 s) are different events
-        if abs(sg - si) <= 10.0 and abs((tg - ti) - (sg - si)) <= 4.0:
+        # stop: (tg - ti) - (sg - si) = 2 lag >= 0, up to a GNSS interval of sampling. Over 4 s (a
+        # lag over 2 s): different events; below: a stop the IMU saw early (gentle braking)
+        lag2 = (tg - ti) - (sg - si)
+        tol = max(0.5, float(np.median(np.diff(gnss_t))))
+        if abs(sg - si) <= 10.0 and -tol <= lag2 <= 4.0:
             d = 0.5 * (tg - ti + sg - si)
             seen += f" and stops at {sg:.3f} s and {si:.3f} s"
     if not 1.0 < abs(d) <= 10.0:
