@@ -645,3 +645,56 @@ def test_box_mean_is_numpys_centred_convolution(n, w):
         ref = np.column_stack([np.convolve(x[:, c], np.ones(w) / w, mode="full")[(w - 1) // 2:][:n] for c in range(3)])
     np.testing.assert_allclose(_box_mean(x, w), ref, rtol=0, atol=1e-12)
     np.testing.assert_allclose(_box_mean(x[:, 0], w), ref[:, 0], rtol=0, atol=1e-12)
+
+
+def _drive(beta, tilt=(0.0, 0.0), seed=0):
+    """A car driving 300 s with turns and speed changes; the IMU yawed by beta (and tilted) from
+    the body: (t, accel in the IMU axes, GNSS times, GNSS north/east velocity)."""
+    from quatnav.core import quaternion as quat
+    rng = np.random.default_rng(seed)
+    dt = 0.005
+    t = np.arange(0.0, 300.0, dt)
+    k = (t // 4).astype(int)  # a new manoeuvre every 4 s
+    a_long = rng.uniform(-1.5, 1.5, k.max() + 1)[k]
+    rate = rng.uniform(-0.15, 0.15, k.max() + 1)[k]
+    s = np.maximum(10.0 + np.cumsum(a_long) * dt, 4.0)
+    a_long = np.gradient(s, dt)
+    psi = np.cumsum(rate) * dt
+    f_b = np.column_stack([a_long, s * rate, np.full(len(t), -9.81)]) + 0.05 * rng.standard_normal((len(t), 3))
+    C_b_imu = quat.to_rotmat(quat.from_euler([tilt[0], tilt[1], beta]))
+    accel = f_b @ C_b_imu  # x_imu = C_b_imu^T x_b, row by row
+    gi = np.arange(0, len(t), 20)  # GNSS at 10 Hz
+    v = np.column_stack([s * np.cos(psi), s * np.sin(psi)])[gi] + 0.03 * rng.standard_normal((len(gi), 2))
+    return t, accel, t[gi], v
+
+
+@pytest.mark.parametrize("beta_deg", [0.0, 90.0, -30.0, 145.0, 180.0])
+def test_forward_axis_is_the_mounting_yaw(beta_deg):
+    """The direction of travel from the accelerations is -beta for an IMU yawed by beta (tilted
+    by 3 and -2 deg), within a degree; its warning names imu_rotation's yaw beta, and is quiet
+    within 20 deg."""
+    from quatnav.cli.ins import check_forward_axis, forward_axis
+    t, accel, tg, v = _drive(np.radians(beta_deg), tilt=(np.radians(3.0), np.radians(-2.0)))
+    ang, n, agree = forward_axis(t, accel, tg, v)
+    err = (np.degrees(ang) + beta_deg + 180.0) % 360.0 - 180.0
+    assert abs(err) < 1.0 and agree > 0.95 and n > 250, (np.degrees(ang), n, agree)
+    msg = check_forward_axis(t, accel, tg, v)
+    if beta_deg == 0.0:
+        assert msg is None
+    else:
+        import re
+        yaw = float(re.search(r"add a yaw of (\S+) rad", msg).group(1))
+        assert abs((np.degrees(yaw) - beta_deg + 180.0) % 360.0 - 180.0) < 1.0, msg
+
+
+def test_forward_axis_needs_speed_and_agreement():
+    """Below 3 m/s (a walker's GNSS speed: no course to speak of) there is no answer; a velocity
+    of noise alone (no relation to the specific force) gives a low agreement and no warning."""
+    from quatnav.cli.ins import check_forward_axis, forward_axis
+    t, accel, tg, v = _drive(np.radians(90.0))
+    assert forward_axis(t, accel, tg, v * 3.0 / np.hypot(v[:, 0], v[:, 1]).max()) is None
+    rng = np.random.default_rng(1)
+    noise = np.column_stack([10.0 + 3.0 * rng.standard_normal(len(tg)), 3.0 * rng.standard_normal(len(tg))])
+    r = forward_axis(t, accel, tg, noise)
+    assert r is None or r[2] < 0.3
+    assert check_forward_axis(t, accel, tg, noise) is None

@@ -153,7 +153,7 @@ def test_noisy_imu_errors_are_in_the_imu_frame(car):
     assert not s.imu.saturated.any()
 
 
-def test_simulate_car_writes_ins_run_files(tmp_path):
+def test_simulate_car_writes_ins_run_files(tmp_path, capsys):
     from quatnav import cli
     d = tmp_path / "car"
     assert cli.main(["simulate", "car_city", "--seed", "2", "--csv", str(d)]) == 0
@@ -173,3 +173,13 @@ def test_simulate_car_writes_ins_run_files(tmp_path):
     rc = cli.main(["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"),
                    "--config", str(d / "config.toml"), "--out", str(out)])
     assert rc in (0, 1) and out.exists()
+    # the IMU yawed by 90 deg: named, with the yaw that imu_rotation needs
+    import re
+    err = capsys.readouterr().err
+    m = re.search(r"travels at (\S+) deg from the body x axis.*add a yaw of (\S+) rad", err)
+    assert m and abs(float(m.group(1)) + 90.0) <= 2.0 and abs(np.degrees(float(m.group(2))) - 90.0) < 2.0, err
+    C = sc["imu"]["C_b_imu"]
+    (d / "mounted.toml").write_text((d / "config.toml").read_text().replace("[filter]\n", f"[filter]\nimu_rotation = {C}\n"))
+    rc = cli.main(["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"),
+                   "--config", str(d / "mounted.toml"), "--out", str(out)])
+    assert rc == 0 and "travels at" not in capsys.readouterr().err

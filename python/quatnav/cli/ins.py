@@ -598,13 +598,105 @@ def _gnss_speed(d_g):
     return np.r_[0.0, np.hypot(dn, de) / np.diff(t)]
 
 
+def _gnss_vel_ne(d_g):
+    """(times, (K, 2) north/east velocity) of the fixes: the given velocity, else the position
+    differences at the midpoints; None for fewer than 3 fixes."""
+    t = np.asarray(d_g["time"], float)
+    if len(t) < 3:
+        return None
+    if "v_n" in d_g and np.isfinite(d_g["v_n"]).all() and np.isfinite(d_g["v_e"]).all():
+        return t, np.column_stack([d_g["v_n"], d_g["v_e"]]).astype(float)
+    lat, lon = np.radians(d_g["lat"]), np.radians(d_g["lon"])
+    dt = np.diff(t)
+    return 0.5 * (t[1:] + t[:-1]), np.column_stack([np.diff(lat) * 6.36e6 / dt,
+                                                    np.diff(lon) * 6.38e6 * np.cos(lat[1:]) / dt])
+
+
+def forward_axis(t, accel, gnss_t, vel_ne, span=1.0, min_speed=3.0):
+    """The direction of travel in the IMU's horizontal plane, from the accelerations: over each
+    ``span`` s between fixes while moving faster than ``min_speed`` (the course defined), the GNSS
+    velocity change gives the acceleration along and across the track (forward, right), the mean
+    specific force over the same interval, with the gravity direction (the log's mean specific
+    force) taken off, the same acceleration in the IMU axes. The least-squares rotation about the
+    down axis between the two is the angle of the direction of travel from the IMU's x axis
+    (positive towards y, i.e. to the right in forward-right-down).
+
+    Returns ``(angle_rad, intervals, agreement)`` (agreement: the fitted rotation's correlation,
+    1 for a perfect fit) or None when fewer than 10 intervals accelerate by 0.5 m/s^2 or more."""
+    t = np.asarray(t, float)
+    f = np.asarray(accel, float)
+    g = f.mean(axis=0)
+    if len(t) < 10 or not np.linalg.norm(g) > 5.0:
+        return None
+    down = -g / np.linalg.norm(g)
+    e1 = np.array([1.0, 0.0, 0.0]) - down[0] * down
+    if not np.linalg.norm(e1) > 0.3:  # x near vertical: no angle from it
+        return None
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(down, e1)  # e1, e2, down right-handed (x, y, z in forward-right-down)
+    tg = np.asarray(gnss_t, float)
+    v = np.asarray(vel_ne, float)
+    m = max(1, int(round(span / float(np.median(np.diff(tg))))))
+    i0, i1 = np.arange(len(tg) - m), np.arange(m, len(tg))
+    dtg = tg[i1] - tg[i0]
+    vm = 0.5 * (v[i0] + v[i1])
+    speed = np.hypot(vm[:, 0], vm[:, 1])
+    ok = ((np.hypot(v[i0, 0], v[i0, 1]) > min_speed) & (np.hypot(v[i1, 0], v[i1, 1]) > min_speed)
+          & (dtg < 1.5 * span + 1e-9) & (tg[i0] >= t[0]) & (tg[i1] <= t[-1]) & np.isfinite(vm).all(axis=1))
+    if ok.sum() < 10:
+        return None
+    i0, i1, dtg, vm, speed = i0[ok], i1[ok], dtg[ok], vm[ok], speed[ok]
+    a = (v[i1] - v[i0]) / dtg[:, None]
+    u = vm / speed[:, None]
+    q = np.column_stack([_row_dots2(a, u), a[:, 1] * u[:, 0] - a[:, 0] * u[:, 1]])  # along, right of the track
+    c = np.vstack([np.zeros(3), np.cumsum(f, axis=0)])
+    k0, k1 = np.searchsorted(t, tg[i0]), np.searchsorted(t, tg[i1])
+    good = k1 > k0
+    fm = (c[k1[good]] - c[k0[good]]) / (k1[good] - k0[good])[:, None]
+    p = np.column_stack([fm @ e1, fm @ e2])
+    q = q[good]
+    strong = np.hypot(q[:, 0], q[:, 1]) >= 0.5
+    if strong.sum() < 10:
+        return None
+    cross = float(np.sum(q[:, 0] * p[:, 1] - q[:, 1] * p[:, 0]))
+    dot = float(np.sum(q[:, 0] * p[:, 0] + q[:, 1] * p[:, 1]))
+    agreement = float(np.hypot(cross, dot) / np.sqrt(np.sum(p * p) * np.sum(q * q)))
+    return float(np.arctan2(cross, dot)), int(len(q)), agreement
+
+
+def _row_dots2(a, b):
+    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]
+
+
+def check_forward_axis(t, accel, gnss_t, vel_ne, where="IMU", limit_deg=20.0):
+    """A warning when the direction of travel (:func:`forward_axis`, agreement 0.7 or more) is more
+    than ``limit_deg`` from the body's x axis, naming the yaw of ``imu_rotation`` that would turn
+    it there (or None)."""
+    if vel_ne is None:
+        return None
+    r = forward_axis(t, accel, gnss_t, vel_ne)
+    if r is None:
+        return None
+    ang, n, agree = r
+    if agree < 0.7 or abs(np.degrees(ang)) <= limit_deg:
+        return None
+    return (f"{where}: the vehicle travels at {np.degrees(ang):+.0f} deg from the body x axis about down (from the "
+            f"accelerations of {n} one-second intervals against the GNSS velocity, agreement {agree:.2f}); the "
+            "alignment in motion, the odometer and the non-holonomic constraint take x as forward: if the IMU is "
+            f"mounted so, add a yaw of {-ang:.4f} rad to imu_rotation in [filter] (e.g. imu_rotation = "
+            f"[0, 0, {-ang:.4f}] for IMU axes otherwise forward-right-down)")
+
+
 def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), align_time=2.0,
-                          imu="IMU", gnss="GNSS", gnss_speed=None) -> list:
-    """The warnings of the checks above for one run (each at most once)."""
+                          imu="IMU", gnss="GNSS", gnss_speed=None, gnss_vel=None) -> list:
+    """The warnings of the checks above for one run (each at most once). ``gnss_vel``: (times,
+    (K, 2) north/east velocity) of the GNSS (:func:`_gnss_vel_ne`) for the forward-axis check."""
     gnss_t = np.asarray(gnss_t)
     out = [check_gyro(gyro, t, align_time, imu), check_accel(accel, imu), check_gravity(accel, t, align_time, imu),
            check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, gnss_t, gnss),
            check_clock(t, gnss_t, gnss), check_motion_start(t, gyro, gnss_t, gnss_speed, gnss, imu, accel)]
+    if gnss_vel is not None:
+        out.append(check_forward_axis(t, accel, gnss_vel[0], gnss_vel[1], imu))
     return [w for w in out if w]
 
 
@@ -827,7 +919,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     if not np.array_equal(rot, np.eye(3)):  # the checks look at the body axes
         rates, forces = rates @ rot.T, forces @ rot.T
     for w in plausibility_warnings(t, rates, forces, d_g["time"], d_g["lat"], d_g["lon"], align_time,
-                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}", gnss_speed=_gnss_speed(d_g)):
+                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}", gnss_speed=_gnss_speed(d_g),
+                                   gnss_vel=_gnss_vel_ne(d_g)):
         note(w)
     overlap = check_overlap(t, d_g["time"]) is None
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
