@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .util import UsageError
+from .util import UsageError, declination_arg, wmm_declination
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 
@@ -29,7 +29,8 @@ inputs: --log FILE is any format quatnav.io.read knows (RTKLIB .pos, PX4 .ulg, R
 --topic KIND=TOPIC (repeat): the topic of a stream instead of the first of its type: imu, mag in
   a ROS bag (e.g. --topic imu=/imu/data_raw); mag (vehicle_magnetometer, sensor_mag, ...) in a ULog.
 --rate HZ: average the IMU over blocks to about HZ before filtering (default: every sample).
---declination DEG: east of true north; yaw is then relative to true north.
+--declination DEG: east of true north; yaw is then relative to true north. --declination auto: the
+  World Magnetic Model's at the log's first GNSS fix (ahrs.utils.WMM, the [peers] extra).
 --smooth: offline, the Rauch-Tung-Striebel smoothed attitude (every estimate uses the whole log;
   docs/SMOOTHING.md); qekf and euler-ekf.
 output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w, q_x, q_y, q_z
@@ -56,7 +57,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="read stream KIND (imu, mag) of a bag or ULog from TOPIC (repeat)")
     r.add_argument("--mag", metavar="MAG.csv", help="magnetometer samples as CSV (with --imu)")
     r.add_argument("--filter", default="qekf", choices=list(FILTERS), help="qekf (default), euler-ekf or marg")
-    r.add_argument("--declination", type=float, default=0.0, metavar="DEG", help="magnetic declination, deg east")
+    r.add_argument("--declination", type=declination_arg, default=0.0, metavar="DEG|auto",
+                   help="magnetic declination, deg east; auto: the World Magnetic Model at the log's first GNSS fix "
+                        "(the ahrs package, [peers] extra)")
     r.add_argument("--rate", type=float, metavar="HZ", help="average the IMU to this rate first")
     r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer (6D: heading is free)")
     r.add_argument("--smooth", action="store_true", help="offline: the smoothed attitude (qekf, euler-ekf)")
@@ -241,7 +244,17 @@ def _run(args) -> int:
         raise UsageError(f"{log.source}: fewer than 2 IMU samples")
     if args.smooth and args.filter == "marg":
         raise UsageError("--smooth: marg has no smoother; use --filter qekf or euler-ekf")
-    res = run_filter(log, args.filter, args.declination, args.rate, args.smooth)
+    decl = args.declination
+    if decl is None:  # auto
+        g = log.gnss
+        ok = None if g is None else np.isfinite(g.lat) & np.isfinite(g.lon)
+        if ok is None or not ok.any():
+            raise UsageError(f"--declination auto: {log.source} has no GNSS position; give the declination in degrees")
+        i = int(np.argmax(ok))
+        d, text = wmm_declination(float(g.lat[i]), float(g.lon[i]), float(g.h[i]) if np.isfinite(g.h[i]) else 0.0)
+        decl = math.degrees(d)
+        log.notes.append(text)
+    res = run_filter(log, args.filter, decl, args.rate, args.smooth)
     write_table(result_table(res), args.out)
     print(f"wrote {args.out}: {len(res.t)} rows, {FILTERS[args.filter]}{' smoothed' if args.smooth else ''}"
           f"{'' if log.mag is not None else ' (no magnetometer: heading free)'}")

@@ -78,7 +78,7 @@ import sys
 import numpy as np
 
 from ..io.table import CsvError, read_table
-from .util import UsageError, write_json
+from .util import UsageError, declination_arg, write_json
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 IMU_INCREMENT_COLUMNS = ("time", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")
@@ -808,7 +808,7 @@ def write_diagnostics(path, r) -> int:
 
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
               calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False, time_offset=None,
-              executor=None, no_mag=False):
+              executor=None, no_mag=False, declination=False):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -824,14 +824,16 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     ``calibration``: a calibration TOML file (``quatnav calibrate``) applied to the gyro and
     accelerometer samples before the filter sees them. ``mag``, ``odometer``: CSV files of a raw
     magnetometer and an odometer (without ``mag``, the magnetometer of ``log`` when it has one, unless
-    ``no_mag``); ``diagnostics``: a CSV file for the per-sample report of the aids. ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
+    ``no_mag``); ``declination``: degrees east (replaces the configuration's), None for the
+    World Magnetic Model at the first fix (``summary["declination_note"]``), False: as configured;
+    ``diagnostics``: a CSV file for the per-sample report of the aids. ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
     ``time_offset``: ``(low, high)`` s: estimate ``gps_time_offset`` over that interval first
     (:func:`quatnav.calibration.gps_time_offset`, its runs through ``executor``) and run with it;
     ``summary["gps_time_offset_estimate"]`` holds the estimate.
     """
     import quatnav
 
-    warnings = []
+    warnings, note_info = [], []
 
     def note(text):
         warnings.append(text)
@@ -844,14 +846,21 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         raise InputError(f"output {out}: cannot write (no such directory: {parent})")
     initial = {}
     params = load_config(config, initial) if config else {}
-    try:
-        f = quatnav.GpsInsFilter(**params)
-        if initial:
-            f.set_initial(initial.get("q_nb"), euler=initial.get("euler"), v_n=initial.get("v_n"),
-                          acc_bias=initial.get("acc_bias", (0.0, 0.0, 0.0)),
-                          gyro_bias=initial.get("gyro_bias", (0.0, 0.0, 0.0)))
-    except (TypeError, ValueError) as e:
-        raise InputError(f"config {config}: {e}") from None
+
+    def make_filter():
+        try:
+            f = quatnav.GpsInsFilter(**params)
+            if initial:
+                f.set_initial(initial.get("q_nb"), euler=initial.get("euler"), v_n=initial.get("v_n"),
+                              acc_bias=initial.get("acc_bias", (0.0, 0.0, 0.0)),
+                              gyro_bias=initial.get("gyro_bias", (0.0, 0.0, 0.0)))
+        except (TypeError, ValueError) as e:
+            raise InputError(f"config {config}: {e}") from None
+        return f
+
+    if declination is not False and declination is not None:
+        params["declination"] = math.radians(declination)
+    f = make_filter()
     max_dt, align_time = float(f.params["max_dt"]), float(f.params["align_time"])
     read_csv = _reader(log, fmt)
     baro_from_log = log is not None and baro is None and log.baro is not None and log.baro.altitude is not None
@@ -884,6 +893,16 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
             neg = np.flatnonzero((a <= 0).any(axis=1))
             if len(neg):
                 raise InputError(f"GNSS {gnss}: line {lines_g[neg[0]]}: {'/'.join(cols)} must be positive")
+    if declination is None:  # auto: the World Magnetic Model at the first fix
+        from .util import wmm_declination
+        ok = np.isfinite(d_g["lat"]) & np.isfinite(d_g["lon"]) & np.isfinite(d_g["h"])
+        if not ok.any():
+            raise InputError(f"GNSS {gnss}: --declination auto needs a GNSS position")
+        i = int(np.argmax(ok))
+        params["declination"], text = wmm_declination(math.radians(float(d_g["lat"][i])),
+                                                      math.radians(float(d_g["lon"][i])), float(d_g["h"][i]))
+        f = make_filter()
+        note_info.append(text)
     kw = dict(gps_pos=quatnav.Aid(d_g["time"], np.column_stack([np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"]]),
                                   np.column_stack([d_g[c] for c in ("sigma_n", "sigma_e", "sigma_d")])),
               gps_vel=quatnav.Aid(d_g["time"], np.column_stack([d_g[c] for c in ("v_n", "v_e", "v_d")]),
@@ -1001,7 +1020,11 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
                "coasted_gaps": [{"lines": [int(lines_i[k - 1]), int(lines_i[k])], "seconds": step} for k, step in gaps],
                "gated_out": rej, "counters": r.counters, "alignment": r.alignment,
                "decisions": {k: a.decisions() for k, a in r.aids.items()}, "diagnostics_rows": n_diag,
-               "warnings": warnings, "smoothed": bool(smooth), "nhc_start_s": nhc_t}
+               "warnings": warnings, "smoothed": bool(smooth), "nhc_start_s": nhc_t,
+               "declination_rad": float(f.params["declination"])}
+    for text in note_info:
+        summary["declination_note"] = text
+        msg += f"\nnote: {text}"
     if estimate is not None:
         summary["gps_time_offset_estimate"] = {
             "offset_s": estimate.offset, "sigma_s": estimate.sigma if np.isfinite(estimate.sigma) else None,
@@ -1030,7 +1053,8 @@ def _run(args) -> int:
                                  log=log, fmt=args.format, tracks=tracks,
                                  calibration=getattr(args, "calibration", None), mag=args.mag,
                                  odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth,
-                                 time_offset=args.estimate_time_offset, no_mag=args.no_mag)
+                                 time_offset=args.estimate_time_offset, no_mag=args.no_mag,
+                                 declination=args.declination)
     print(msg)
     if ok:
         from ..io import tracks as track_files
@@ -1111,6 +1135,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer of --log (heading from a compass or "
                    "the GNSS course; for a magnetometer disturbed by the vehicle)")
     r.add_argument("--odometer", metavar="ODO.csv", help="odometer: time, speed (m/s, optional)")
+    r.add_argument("--declination", type=declination_arg, default=False, metavar="DEG|auto",
+                   help="magnetic declination, deg east of true north (replaces the config's), or auto: the World "
+                        "Magnetic Model at the first GNSS fix (the ahrs package, [peers] extra); the compass and "
+                        "magnetometer headings then turn into true ones")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
     from ..calibration import add_calibration_argument
     add_calibration_argument(r)

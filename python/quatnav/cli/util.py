@@ -8,7 +8,7 @@ import json
 import sys
 from pathlib import Path
 
-__all__ = ["UsageError", "write_json", "missing_extra"]
+__all__ = ["UsageError", "write_json", "missing_extra", "declination_arg", "wmm_declination"]
 
 #: optional package -> extra of ``pip install 'quatnav[EXTRA]'`` that provides it, per command
 #: (``None``: any command). scipy is in both [sim] and [eval]; the command decides which to name.
@@ -63,3 +63,44 @@ def _json_default(o):
     if isinstance(o, Path):
         return str(o)
     raise TypeError(f"cannot write {type(o).__name__} as JSON")
+
+
+def declination_arg(text: str):
+    """``--declination``: degrees east of true north (a float) or ``auto`` (None: from the World
+    Magnetic Model at the log's first GNSS fix, :func:`wmm_declination`)."""
+    import argparse
+    import math
+    if text.strip().lower() == "auto":
+        return None
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected degrees east (e.g. 3.2) or auto") from None
+    if not math.isfinite(v) or abs(v) > 180.0:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected degrees east within +-180, or auto")
+    return v
+
+
+def wmm_declination(lat_rad: float, lon_rad: float, h_m: float, year: float | None = None) -> tuple:
+    """The magnetic declination (rad, east of true north) of the World Magnetic Model at a place
+    and a decimal year (default: today), with a one-line note naming the model, place and date.
+
+    The model is ``ahrs.utils.WMM`` (the ``[peers]`` extra): a maintained implementation of the
+    NOAA/BGS model with its coefficient files (WMM2025 from ahrs 0.4), used here rather than a
+    copy of the coefficients in this package, which would age with each five-year release."""
+    import datetime
+    import math
+    try:
+        from ahrs.utils import WMM
+    except ImportError:
+        raise UsageError("--declination auto needs the ahrs package (pip install 'quatnav[peers]')") from None
+    if year is None:
+        d = datetime.date.today()
+        year = d.year + (d.timetuple().tm_yday - 0.5) / 365.25
+    lat, lon = math.degrees(lat_rad), math.degrees(lon_rad)
+    w = WMM(latitude=lat, longitude=lon, height=h_m / 1000.0, date=year)
+    dec = float(w.D)
+    if not math.isfinite(dec):
+        raise UsageError(f"--declination auto: the World Magnetic Model gives no declination at {lat:.5f}, {lon:.5f}")
+    note = f"declination {dec:+.2f} deg from the World Magnetic Model at {lat:.5f}, {lon:.5f}, {year:.1f} (ahrs.utils.WMM)"
+    return math.radians(dec), note
