@@ -163,6 +163,7 @@ def test_simulate_car_writes_ins_run_files(tmp_path, capsys):
     assert sc["imu"]["mounting_rpy_deg"] == [2.0, -3.0, 90.0]
     assert sc["gnss"] == {"lever_arm_b_m": [-0.4, 0.2, -1.4], "latency_s": 0.125, "time_stamp": "delivery"}
     assert sc["events"]["gnss_outages"] == [[102.5, 132.5]]
+    assert sc["mag"]["declination_deg"] == -8.5 and sc["mag"]["hard_iron_uT"] == [8.0, -5.0, 3.0]
     s = make_scenario("car_city", seed=2)
     g = pd.read_csv(d / "gnss.csv")
     np.testing.assert_allclose(g["time"], s.gps.t_valid + 0.125, atol=1e-9)   # stamped late

@@ -40,8 +40,9 @@ and units (``quatnav ins run -h``), so a simulated run goes through the command 
 * ``config.toml``: ``[filter]`` with the antenna lever arm ``lever_arm_b`` (m);
 * ``scenario.toml``: what the scenario knows and a filter may be told: ``[imu]`` the mounting
   (``mounting_rpy_deg``, ZYX deg, and ``C_b_imu``, body from IMU), ``[gnss]`` ``lever_arm_b_m``,
-  ``latency_s`` and ``time_stamp`` ("valid" or "delivery"), ``[events]`` the stops and GNSS
-  outages (s);
+  ``latency_s`` and ``time_stamp`` ("valid" or "delivery"), ``[mag]`` the Earth field
+  (``declination_deg``, ``inclination_deg``, ``intensity_uT``) and the magnetometer's
+  ``hard_iron_uT`` and ``soft_iron``, ``[events]`` the stops and GNSS outages (s);
 * ``truth.csv``: ``time, lat, lon`` (deg), ``h``, ``v_n v_e v_d``, ``roll pitch yaw`` (deg) at
   every trajectory sample: the first columns of ``ins run``'s output, for comparison.
 
@@ -308,11 +309,20 @@ def _write_scenario_toml(s: Scenario, path, lever) -> Path:
         gp = s.params.get("gps", {})
         doc["gnss"] = {"lever_arm_b_m": [float(x) for x in lever], "latency_s": float(gp.get("latency_s", 0.0)),
                        "time_stamp": "delivery" if s.gps.stamped_on_delivery else "valid"}
+    mp = s.params.get("mag")
+    if s.mag is not None and mp:
+        # the Earth field the magnetometer sees (declination: what --declination must say for a
+        # true heading) and its errors in the sensor frame (what a calibration removes)
+        doc["mag"] = {k: ([[float(x) for x in r] for r in mp[k]] if k == "soft_iron" else
+                          [float(x) for x in mp[k]] if k == "hard_iron_uT" else float(mp[k]))
+                      for k in ("declination_deg", "inclination_deg", "intensity_uT", "hard_iron_uT", "soft_iron")
+                      if k in mp}
     ev = s.params.get("events")
     if ev:
         doc["events"] = {k: v for k, v in ev.items() if k in ("stops", "gnss_outages")}
     head = (f"quatnav simulate: sensor model and events of {s.name} (seed {s.seed})\n"
             "imu: the IMU's axes relative to the body (ZYX deg; C_b_imu rotates IMU-frame vectors into the body)\n"
-            "gnss.time_stamp: 'delivery' = the fixes in gnss.csv are stamped late by latency_s")
+            "gnss.time_stamp: 'delivery' = the fixes in gnss.csv are stamped late by latency_s\n"
+            "mag: the Earth field (declination east of true north) and the sensor's hard and soft iron")
     Path(path).write_text(dumps(doc, header=head))
     return Path(path)
