@@ -183,4 +183,10 @@ def test_simulate_car_writes_ins_run_files(tmp_path, capsys):
     (d / "mounted.toml").write_text((d / "config.toml").read_text().replace("[filter]\n", f"[filter]\nimu_rotation = {C}\n"))
     rc = cli.main(["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"),
                    "--config", str(d / "mounted.toml"), "--out", str(out)])
-    assert rc == 0 and "travels at" not in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert rc == 0 and "travels at" not in err and "headings gated out" not in err
+    # its magnetometer, hard iron uncalibrated and declination not given: most headings gated out, said
+    rc = cli.main(["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"), "--mag", str(d / "mag.csv"),
+                   "--config", str(d / "mounted.toml"), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 0 and re.search(r"magnetometer: \d+ of \d+ headings gated out .*calibrate mag", err), err

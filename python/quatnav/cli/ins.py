@@ -994,6 +994,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     if tracks is not None:
         tracks.update(result=r, nav=nav, gnss=d_g)
     rej = {k: v for k, v in r.rejections.items() if v}
+    for w in check_heading_aids(r):
+        note(w)
     n_nav = int(nav.sum())
     n_diag = write_diagnostics(diagnostics, r) if diagnostics else None
     if nav.any():
@@ -1030,6 +1032,32 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
             "offset_s": estimate.offset, "sigma_s": estimate.sigma if np.isfinite(estimate.sigma) else None,
             "at_bound": estimate.at_bound, "bounds_s": list(estimate.bounds), "runs": estimate.runs}
     return msg, bool(nav.any()), summary
+
+
+def check_heading_aids(r, min_tested=50, max_rejected=0.2) -> list:
+    """Warnings for a magnetometer or compass whose headings the filter gated out in more than
+    ``max_rejected`` of the samples it tested (at least ``min_tested``): the aid disagrees with the
+    heading that the GNSS and the IMU give, and the part that passed the gate still pulls on it."""
+    out = []
+    for name, what, fix in (("mag", "magnetometer", "an uncalibrated hard-iron offset (quatnav calibrate mag, "
+                             "--calibration), a declination (--declination DEG or auto) or a field the vehicle "
+                             "disturbs (--no-mag)"),
+                            ("compass", "compass", "a declination (--declination DEG or auto), a compass mounted "
+                             "turned, or one the vehicle disturbs")):
+        a = r.aids.get(name)
+        if a is None:
+            continue
+        d = a.decisions()
+        tested = sum(d.get(k, 0) for k in ("accepted", "rejected", "inflated", "reset"))
+        bad = d.get("rejected", 0)
+        if tested < min_tested or not bad > max_rejected * tested:
+            continue
+        inn = np.asarray(a.innovation, float)[:, 0]
+        rms = float(np.degrees(np.sqrt(np.nanmean(inn[np.isfinite(inn)] ** 2))))
+        out.append(f"{what}: {bad} of {tested} headings gated out ({100 * bad / tested:.0f} %; innovations "
+                   f"{rms:.1f} deg RMS): it disagrees with the heading of the GNSS and the IMU, and the samples that "
+                   f"pass pull the heading towards it: {fix}")
+    return out
 
 
 def _nhc_start(r):
