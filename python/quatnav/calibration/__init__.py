@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._toml import dumps
+from .mag_attitude import MagAttitudeFit, mag_attitude_fit
 from .online import OnlineHardIron, hard_iron_track
 from .sensors import (STANDARD_GRAVITY, SensorCalibration, accelerometer, gyroscope, magnetometer,
                       rest_segments, sphere_coverage)
@@ -26,7 +27,7 @@ from .time_offset import TimeOffsetEstimate, gps_time_offset
 __all__ = ["Calibration", "SensorCalibration", "magnetometer", "accelerometer", "gyroscope",
            "rest_segments", "sphere_coverage", "apply", "save_calibration", "load_calibration",
            "apply_calibration_args", "STANDARD_GRAVITY", "OnlineHardIron", "hard_iron_track",
-           "gps_time_offset", "TimeOffsetEstimate"]
+           "gps_time_offset", "TimeOffsetEstimate", "mag_attitude_fit", "MagAttitudeFit"]
 
 _SENSORS = ("gyro", "acc", "mag")
 

@@ -808,7 +808,7 @@ def write_diagnostics(path, r) -> int:
 
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
               calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False, time_offset=None,
-              executor=None, no_mag=False, declination=False):
+              executor=None, no_mag=False, declination=False, mag_calibrate=False):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -826,6 +826,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     magnetometer and an odometer (without ``mag``, the magnetometer of ``log`` when it has one, unless
     ``no_mag``); ``declination``: degrees east (replaces the configuration's), None for the
     World Magnetic Model at the first fix (``summary["declination_note"]``), False: as configured;
+    ``mag_calibrate``: run once without the magnetometer, fit its offset and the Earth field to that
+    run's attitude (:mod:`quatnav.calibration.mag_attitude`) and run with the corrected samples and
+    the fitted declination (``summary["mag_calibration"]``);
     ``diagnostics``: a CSV file for the per-sample report of the aids. ``smooth``: write the Rauch-Tung-Striebel smoothed solution (``run(..., smooth=True)``).
     ``time_offset``: ``(low, high)`` s: estimate ``gps_time_offset`` over that interval first
     (:func:`quatnav.calibration.gps_time_offset`, its runs through ``executor``) and run with it;
@@ -950,6 +953,28 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     if d_m is not None:
         kw["mag"] = mag_at_imu_rows(tt, d_m["time"], np.column_stack([d_m[f"mag_{c}"] for c in "xyz"]))
     imu_input = "increment" if increments else "rate"
+    mag_fit = None
+    if mag_calibrate:
+        if "mag" not in kw:
+            raise InputError("--mag-calibrate needs a magnetometer (--mag MAG.csv, or a log with one)")
+        mag_fit = _calibrate_mag(make_filter(), gg, aa, tt, imu_input, kw)
+        if mag_fit is None:
+            note("--mag-calibrate: fewer than 100 magnetometer samples with a settled heading (yaw one-sigma "
+                 "below 1 deg) in the run without it: the magnetometer is used as it is")
+        else:
+            rot = np.asarray(f.params["imu_rotation"], float)
+            kw["mag"] = kw["mag"] - rot.T @ mag_fit.offset  # the offset in the IMU axes of the samples
+            if declination is not False:
+                note(f"--mag-calibrate: the magnetometer's fitted declination ({math.degrees(mag_fit.declination):+.2f} "
+                     "deg) replaces the one given")
+            params["declination"] = mag_fit.declination
+            f = make_filter()
+            b = rot.T @ mag_fit.offset
+            note_info.append(f"magnetometer calibrated against the GNSS/INS attitude of a run without it: offset "
+                             f"({b[0]:.4g}, {b[1]:.4g}, {b[2]:.4g}) in its axes, declination "
+                             f"{math.degrees(mag_fit.declination):+.2f} deg, inclination "
+                             f"{math.degrees(mag_fit.inclination):.2f} deg, residual {mag_fit.residual_rms:.3g} RMS "
+                             f"({mag_fit.samples} samples)")
     estimate = None
     if time_offset is not None:
         import contextlib
@@ -1024,14 +1049,33 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
                "decisions": {k: a.decisions() for k, a in r.aids.items()}, "diagnostics_rows": n_diag,
                "warnings": warnings, "smoothed": bool(smooth), "nhc_start_s": nhc_t,
                "declination_rad": float(f.params["declination"])}
+    if mag_fit is not None:
+        rot = np.asarray(f.params["imu_rotation"], float)
+        summary["mag_calibration"] = {
+            "offset_imu_axes": (rot.T @ mag_fit.offset).tolist(), "offset_sigma_body": mag_fit.offset_sigma.tolist(),
+            "field_n": mag_fit.field_n.tolist(), "declination_rad": mag_fit.declination,
+            "inclination_rad": mag_fit.inclination, "residual_rms": mag_fit.residual_rms, "samples": mag_fit.samples}
     for text in note_info:
-        summary["declination_note"] = text
+        summary.setdefault("notes", []).append(text)
+        if text.startswith("declination"):
+            summary["declination_note"] = text
         msg += f"\nnote: {text}"
     if estimate is not None:
         summary["gps_time_offset_estimate"] = {
             "offset_s": estimate.offset, "sigma_s": estimate.sigma if np.isfinite(estimate.sigma) else None,
             "at_bound": estimate.at_bound, "bounds_s": list(estimate.bounds), "runs": estimate.runs}
     return msg, bool(nav.any()), summary
+
+
+def _calibrate_mag(f, gyro, accel, t, imu_input, kw):
+    """Run ``f`` without the magnetometer and fit its offset and the Earth field to the attitudes
+    whose yaw one-sigma is below 1 deg (:func:`quatnav.calibration.mag_attitude_fit`), or None."""
+    from ..calibration.mag_attitude import mag_attitude_fit
+    r0 = f.run(gyro, accel, t=t, imu_input=imu_input, **{k: v for k, v in kw.items() if k != "mag"})
+    settled = np.isfinite(r0.sigma[:, 8]) & (r0.sigma[:, 8] < math.radians(1.0))
+    q = np.where(settled[:, None], r0.quat, np.nan)
+    rot = np.asarray(f.params["imu_rotation"], float)
+    return mag_attitude_fit(q, kw["mag"] @ rot.T)
 
 
 def check_heading_aids(r, min_tested=50, max_rejected=0.2) -> list:
@@ -1082,7 +1126,7 @@ def _run(args) -> int:
                                  calibration=getattr(args, "calibration", None), mag=args.mag,
                                  odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth,
                                  time_offset=args.estimate_time_offset, no_mag=args.no_mag,
-                                 declination=args.declination)
+                                 declination=args.declination, mag_calibrate=args.mag_calibrate)
     print(msg)
     if ok:
         from ..io import tracks as track_files
@@ -1163,6 +1207,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer of --log (heading from a compass or "
                    "the GNSS course; for a magnetometer disturbed by the vehicle)")
     r.add_argument("--odometer", metavar="ODO.csv", help="odometer: time, speed (m/s, optional)")
+    r.add_argument("--mag-calibrate", action="store_true",
+                   help="calibrate the magnetometer on this log first: run without it, fit its hard-iron offset "
+                        "and the Earth field (hence the declination) to that run's attitude, whose heading the "
+                        "GNSS gives, then run with the corrected samples (needs turns; a drive will do)")
     r.add_argument("--declination", type=declination_arg, default=False, metavar="DEG|auto",
                    help="magnetic declination, deg east of true north (replaces the config's), or auto: the World "
                         "Magnetic Model at the first GNSS fix (the ahrs package, [peers] extra); the compass and "
