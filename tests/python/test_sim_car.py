@@ -189,4 +189,4 @@ def test_simulate_car_writes_ins_run_files(tmp_path, capsys):
     rc = cli.main(["ins", "run", "--imu", str(d / "imu.csv"), "--gnss", str(d / "gnss.csv"), "--mag", str(d / "mag.csv"),
                    "--config", str(d / "mounted.toml"), "--out", str(out)])
     err = capsys.readouterr().err
-    assert rc == 0 and re.search(r"magnetometer: \d+ of \d+ headings gated out .*calibrate mag", err), err
+    assert rc == 0 and re.search(r"magnetometer: \d+ of \d+ headings gated out .*--mag-calibrate", err), err

@@ -1083,9 +1083,9 @@ def check_heading_aids(r, min_tested=50, max_rejected=0.2) -> list:
     ``max_rejected`` of the samples it tested (at least ``min_tested``): the aid disagrees with the
     heading that the GNSS and the IMU give, and the part that passed the gate still pulls on it."""
     out = []
-    for name, what, fix in (("mag", "magnetometer", "an uncalibrated hard-iron offset (quatnav calibrate mag, "
-                             "--calibration), a declination (--declination DEG or auto) or a field the vehicle "
-                             "disturbs (--no-mag)"),
+    for name, what, fix in (("mag", "magnetometer", "an uncalibrated hard-iron offset or a declination "
+                             "(--mag-calibrate fits both on this log; or quatnav calibrate mag with --calibration, "
+                             "--declination DEG or auto) or a field the vehicle disturbs (--no-mag)"),
                             ("compass", "compass", "a declination (--declination DEG or auto), a compass mounted "
                              "turned, or one the vehicle disturbs")):
         a = r.aids.get(name)
