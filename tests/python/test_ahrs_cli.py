@@ -70,6 +70,19 @@ def test_ahrs_options(sim, tmp_path):
     assert len(df) == 750 and (tmp_path / "a.png").stat().st_size > 0
 
 
+@pytest.mark.parametrize("name", ["qekf", "euler-ekf", "marg"])
+def test_declination_turns_every_filters_yaw(sim, name, tmp_path):
+    """--declination D gives yaw + D from every filter (true north; MargFilter's own declination
+    parameter only concerns GPS velocities, so its output is turned like EulerEKF's)."""
+    s, d = sim
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    base = ["ahrs", "run", "--imu", str(d / "imu.csv"), "--filter", name]
+    assert cli.main(base + ["--out", str(a)]) == 0
+    assert cli.main(base + ["--out", str(b), "--declination", "8.1"]) == 0
+    dy = (pd.read_csv(b)["yaw"] - pd.read_csv(a)["yaw"] + 180.0) % 360.0 - 180.0
+    np.testing.assert_allclose(dy.to_numpy()[100:], 8.1, atol=0.05)
+
+
 def test_slerp_at():
     q = Q.normalize(np.array([[1.0, 0, 0, 0], [np.cos(0.5), 0, 0, np.sin(0.5)]]))
     mid = slerp_at(np.array([0.5]), np.array([0.0, 1.0]), q)

@@ -142,7 +142,9 @@ def run_filter(log, name="qekf", declination_deg=0.0, rate=None, smooth=False):
             with np.errstate(all="ignore"):
                 mag = np.nanmean(m, axis=1) if np.isfinite(m).any() else None
     cls = getattr(quatnav, FILTERS[name])
-    takes_decl = any(p.name == "declination" for p in cls.PARAMS)
+    # QuaternionEKF refers its yaw to true north given the declination; MargFilter's declination
+    # only turns GPS velocities into its magnetic frame and EulerEKF has none: their yaw is magnetic
+    takes_decl = FILTERS[name] == "QuaternionEKF"
     f = cls(declination=math.radians(declination_deg)) if takes_decl else cls()
     if mag is not None and not np.isfinite(mag[0]).all():
         first = np.flatnonzero(np.isfinite(mag).all(1))
@@ -152,8 +154,8 @@ def run_filter(log, name="qekf", declination_deg=0.0, rate=None, smooth=False):
             mag[0] = mag[first[0]]  # the initial heading from the first magnetometer sample
     res = f.run(gyr, acc, mag, t=t, on_invalid="skip", **({"smooth": True} if smooth else {}))
     if not takes_decl and declination_deg and mag is not None:
-        # a filter without the parameter (EulerEKF) refers yaw to magnetic north: turn the
-        # navigation frame about down by the declination (q_true_nb = q_z(decl) * q_mag_nb)
+        # a filter whose yaw is magnetic (EulerEKF, MargFilter): turn the navigation frame about
+        # down by the declination (q_true_nb = q_z(decl) * q_mag_nb)
         from ..core import quaternion as Q
         d = math.radians(declination_deg)
         res.quat[:] = Q.mul(np.array([math.cos(d / 2), 0.0, 0.0, math.sin(d / 2)]), res.quat)
