@@ -97,6 +97,9 @@ def _imu_with_times(d, name, t):
     (("experiment", "nav13", "--accel-noise-scale", "0"), "--accel-noise-scale"),
     (("experiment", "navego", "--seconds", "-1"), "--seconds"),
     (("experiment", "marg-turn", "--seeds", "1", "--gain", "-1"), "gain: expected a non-negative finite number"),
+    (("simulate", "paper004_walk", "--out", "x.npz", "--plot", "x.xyz"), "--plot x.xyz: matplotlib cannot write .xyz"),
+    (("ahrs", "run", "--imu", "x.csv", "--out", "o.csv", "--plot", "p.jpg2"), "cannot write .jpg2 files (it writes"),
+    (("ahrs", "run", "--imu", "x.csv", "--out", "o.csv", "--declination", "400"), "expected degrees east within +-180"),
 ])
 def test_usage_errors_are_one_line(args, expect, tmp_path):
     line = error_line(quatnav_cli(*args, cwd=tmp_path))

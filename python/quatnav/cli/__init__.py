@@ -124,10 +124,18 @@ def _preflight(args) -> None:
     seed = getattr(args, "seed", None)
     if isinstance(seed, int) and seed < 0:
         raise UsageError(f"--seed: expected a non-negative integer, got {seed}")
-    if getattr(args, "plot", None):
+    plot = getattr(args, "plot", None)
+    if plot:
         import importlib.util
         if importlib.util.find_spec("matplotlib") is None:
             raise ModuleNotFoundError("No module named 'matplotlib'", name="matplotlib")
+        suffix = Path(str(plot)).suffix.lower().lstrip(".")
+        if suffix and not Path(str(plot)).is_dir():  # a file (eval broad's --plot is a folder)
+            from matplotlib.backend_bases import FigureCanvasBase
+            kinds = FigureCanvasBase.get_supported_filetypes()
+            if suffix not in kinds:
+                raise UsageError(f"--plot {plot}: matplotlib cannot write .{suffix} files "
+                                 f"(it writes {', '.join(sorted(kinds))})")
 
 
 def _small_pages() -> None:
