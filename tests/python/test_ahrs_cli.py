@@ -83,6 +83,19 @@ def test_declination_turns_every_filters_yaw(sim, name, tmp_path):
     np.testing.assert_allclose(dy.to_numpy()[100:], 8.1, atol=0.05)
 
 
+def test_times_in_milliseconds_are_refused(sim, tmp_path):
+    """The same file with its times in ms: one line naming the unit, exit status 2 (it ran with
+    20 s steps before)."""
+    s, d = sim
+    df = pd.read_csv(d / "imu.csv")
+    df["time"] *= 1000.0
+    df.to_csv(tmp_path / "ms.csv", index=False)
+    r = subprocess.run([sys.executable, "-m", "quatnav", "ahrs", "run", "--imu", str(tmp_path / "ms.csv"), "--out",
+                        str(tmp_path / "o.csv")], capture_output=True, text=True, cwd=tmp_path,
+                       env={**__import__("os").environ, "PYTHONPATH": PACKAGE_DIR})
+    assert r.returncode == 2 and "look like milliseconds" in r.stderr and "Traceback" not in r.stderr, r.stderr
+
+
 def test_slerp_at():
     q = Q.normalize(np.array([[1.0, 0, 0, 0], [np.cos(0.5), 0, 0, np.sin(0.5)]]))
     mid = slerp_at(np.array([0.5]), np.array([0.0, 1.0]), q)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 
 import numpy as np
 
@@ -244,6 +245,12 @@ def _run(args) -> int:
         raise UsageError(f"--rate {args.rate:g}: must be > 0 Hz")
     if len(log.imu.t) < 2:
         raise UsageError(f"{log.source}: fewer than 2 IMU samples")
+    # times in ms, us or ns are refused as ins run refuses them (the filters' max_dt is 1 s)
+    from .ins import check_imu_times
+    _, warns = check_imu_times(log.imu.t, np.arange(1, len(log.imu.t) + 1), 1.0, where=f"IMU {log.source}")
+    for w in warns:
+        if "slow for an IMU" in w:
+            print(f"quatnav ahrs run: warning: {w}", file=sys.stderr)
     if args.smooth and args.filter == "marg":
         raise UsageError("--smooth: marg has no smoother; use --filter qekf or euler-ekf")
     decl = args.declination
