@@ -487,7 +487,10 @@ def test_config_initial_and_rotation_errors(files, tmp_path, capsys):
                          ("[initial]\nbogus = 1\n", "[initial] unknown key 'bogus'"),
                          ("[filter]\nimu_rotation = [1, 2]\n", "imu_rotation must be [roll, pitch, yaw]"),
                          ("[filter]\nimu_rotation = [[1, 0, 0], [0, 1, 0], [0, 0, -1]]\n", "not a rotation matrix"),
-                         ("[filter]\nzupt = 1\n", "zupt must be true or false")):
+                         ("[filter]\nzupt = 1\n", "zupt must be true or false"),
+                         ("[initial]\neuler = [0, 30, 0]\n", "not [roll, pitch, yaw] in radians (pitch within"),
+                         ("[initial]\neuler = [0, 0, 90]\n", "if these are degrees: [0, 0, 1.5708]"),
+                         ("[filter]\nimu_rotation = [180, 0, 0]\n", "if these are degrees: [3.14159, 0, 0]")):
         cfg = tmp_path / "c.toml"
         cfg.write_text(text)
         assert cli.main(_args(dict(files, config=str(cfg)), tmp_path / "o.csv")) == 2

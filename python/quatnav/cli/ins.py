@@ -222,6 +222,8 @@ def load_config(path, initial: dict | None = None) -> dict:
             if not (numbers(v, 3) or (isinstance(v, list) and len(v) == 3 and all(numbers(r, 3) for r in v))):
                 raise InputError(f"config {path}: [filter] {k} must be [roll, pitch, yaw] (rad) or a 3x3 matrix "
                                  "(a list of 3 rows)")
+            if numbers(v, 3):
+                _check_radians(v, f"config {path}: [filter] {k}", pitch_limit=False)
         elif kind == "bool":
             if not isinstance(v, bool):
                 raise InputError(f"config {path}: [filter] {k} must be true or false")
@@ -239,11 +241,25 @@ def load_config(path, initial: dict | None = None) -> dict:
             raise InputError(f"config {path}: [initial] unknown key {k!r} (known: {', '.join(sizes)})")
         if not numbers(v, sizes[k]):
             raise InputError(f"config {path}: [initial] {k} must be a list of {sizes[k]} numbers")
+    if "euler" in init:
+        _check_radians(init["euler"], f"config {path}: [initial] euler", pitch_limit=True)
     if init and ("euler" in init) == ("q_nb" in init):
         raise InputError(f"config {path}: [initial] needs exactly one of euler (rad) and q_nb")
     if initial is not None:
         initial.update(init)
     return dict(params)
+
+
+def _check_radians(rpy, where, pitch_limit):
+    """Refuse [roll, pitch, yaw] that cannot be radians (beyond 2 pi, or a pitch beyond pi/2 where
+    ``pitch_limit``): most likely degrees, which the message converts."""
+    bad = any(abs(float(x)) > 2 * math.pi + 1e-9 for x in rpy)
+    if pitch_limit and abs(float(rpy[1])) > math.pi / 2 + 1e-9:
+        bad = True
+    if bad:
+        rad = ", ".join(f"{math.radians(float(x)):.6g}" for x in rpy)
+        raise InputError(f"{where} = {list(rpy)} is not [roll, pitch, yaw] in radians"
+                         f"{' (pitch within +-pi/2)' if pitch_limit else ''}; if these are degrees: [{rad}]")
 
 
 _UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1e-9))
