@@ -86,6 +86,19 @@ def test_magnetometer_poor_coverage_warns_and_degrades_gracefully():
         cal.magnetometer(_mag_log(), model="full")  # full coverage: no warning
 
 
+def test_magnetometer_refuses_a_few_directions():
+    """Directions within 10 deg of one axis (a second of slight motion): no model is determined
+    (the fits found a 'field' of several hundred uT before); a ValueError says so."""
+    rng = np.random.default_rng(5)
+    u = _sphere(200000, rng)
+    u = u[u[:, 2] > np.cos(np.radians(10.0))][:500]
+    raw = 50.0 * u + HARD + rng.normal(scale=0.2, size=u.shape)
+    for model in ("offset", "full"):
+        with pytest.raises(ValueError, match="no calibration is determined"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            cal.magnetometer(raw, model=model)
+
+
 def test_sphere_coverage():
     rng = np.random.default_rng(0)
     assert cal.sphere_coverage(_sphere(5000, rng)) == 1.0

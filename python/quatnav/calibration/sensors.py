@@ -21,6 +21,9 @@ STANDARD_GRAVITY = 9.80665  #: m/s^2
 #: coverage (fraction of equal-area sphere cells holding a direction) below which
 #: :func:`magnetometer` warns; a full hand rotation reaches 0.7-0.9, a yaw-only sweep about 0.2.
 MIN_COVERAGE = 0.35
+#: Below this coverage around the fitted centre no magnetometer model is determined (a 20 deg cap
+#: or less): magnetometer() refuses the samples.
+MIN_DETERMINED_COVERAGE = 0.03
 
 
 @dataclass
@@ -254,6 +257,11 @@ def magnetometer(mag: ArrayLike, model: str = "full", robust: bool = True,
         b, W = b0, W0
     else:
         b, W = _trimmed_algebraic_fit(x, model)
+        if model != "offset" and sphere_coverage(x - b) < coverage_min:
+            # around the fitted centre the samples may still be a cap (the offset fit can land
+            # inside a small cluster and make it look covered): the same fall-back
+            fitted = "offset"
+            b, W = b0, W0
     if robust:
         from scipy.optimize import least_squares
 
@@ -279,6 +287,10 @@ def magnetometer(mag: ArrayLike, model: str = "full", robust: bool = True,
     sig = 1.4826 * np.median(np.abs(r - np.median(r)))
     outl = np.abs(r) > max(5 * sig, 1e-12 * field_strength)
     cov = sphere_coverage(cal)
+    if cov < MIN_DETERMINED_COVERAGE:
+        raise ValueError(f"mag: the samples cover {cov:.0%} of the directions around the fitted centre (fewer than "
+                         f"{MIN_DETERMINED_COVERAGE:.0%}): no calibration is determined by them; rotate the sensor "
+                         "through more orientations")
     info = {"field_strength": float(field_strength), "coverage": cov, "requested_model": model,
             "samples": int(len(x)), "outliers": int(outl.sum())}
     out = SensorCalibration("mag", fitted, b, matrix, float(np.sqrt(np.mean(r[~outl] ** 2))), info)
