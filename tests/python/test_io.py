@@ -195,6 +195,14 @@ def test_ulog():
     assert g is not None and (g.quality >= 3).all()
     assert -90 < np.degrees(g.lat).min() and np.all(np.abs(np.degrees(g.lat)) > 1e-3)
     assert log.mag.unit == "gauss" and log.baro.altitude is not None
+    # a topic asked for by name: read, or a clear error (not a silently missing stream)
+    assert io.read(sitl, mag_topic="sensor_mag").mag is not None
+    with pytest.raises(ValueError, match=r"no topic 'nosuch' \(topics: .*sensor_combined"):
+        io.read(sitl, mag_topic="nosuch")
+    with pytest.raises(ValueError, match="topic 'vehicle_attitude' has no magnetometer fields"):
+        io.read(sitl, mag_topic="vehicle_attitude")
+    with pytest.raises(ValueError, match="no topic 'gps'"):
+        io.read(sitl, gnss_topic="gps")
 
 
 def test_ulog_damaged(tmp_path):

@@ -74,6 +74,10 @@ def read_ulog(path, *, mag_topic=None, gnss_topic=None, multi_id: int = 0) -> Lo
     except Exception as e:  # pyulog raises plain Exceptions on a damaged file
         raise ValueError(f"{path}: not a readable ULog file ({type(e).__name__}: {e})") from None
     log = Log(source=str(path), format="ulog")
+    names = sorted({d.name for d in u.data_list})
+    for topic in (mag_topic, gnss_topic):
+        if topic is not None and topic not in names:
+            raise ValueError(f"{path}: no topic {topic!r} (topics: {', '.join(names)})")
     us = 1e-6
     sc = _topic(u, "sensor_combined", multi_id)
     if sc is not None:
@@ -108,6 +112,8 @@ def read_ulog(path, *, mag_topic=None, gnss_topic=None, multi_id: int = 0) -> Lo
             log.mag = Mag(t=tm, values=v, unit="gauss")
             log.notes.append(f"magnetometer from {name}")
             break
+    if mag_topic is not None and log.mag is None:
+        raise ValueError(f"{path}: topic {mag_topic!r} has no magnetometer fields (magnetometer_ga, or x, y, z)")
     # GNSS
     for name in ([gnss_topic] if gnss_topic else ["vehicle_gps_position", "sensor_gps"]):
         d = _topic(u, name, multi_id)
