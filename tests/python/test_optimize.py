@@ -177,3 +177,20 @@ def test_tune_gnss_ins_command(tmp_path):
         q = subprocess.run([sys.executable, "-m", "quatnav", "tune", "--target", "gnss-ins", "--param",
                             "gyro_noise=1e-4:1e-2", *args], capture_output=True, text=True, env=env, timeout=120)
         assert q.returncode == 2 and expect in q.stderr and len(q.stderr.strip().splitlines()) == 1, q.stderr
+
+
+def test_tune_help_examples_name_real_parameters():
+    """Every example of `quatnav tune -h` names parameters its filter has."""
+    import re
+    import quatnav
+    from quatnav.cli.ahrs import FILTERS
+    from quatnav.evaluation.optimize import TUNE_EPILOG
+    text = TUNE_EPILOG.replace("\\\n", " ")
+    examples = [ln for ln in text.splitlines() if ln.strip().startswith("quatnav tune")]
+    assert len(examples) >= 3
+    for ex in examples:
+        m = re.search(r"--filter (\S+)", ex)
+        cls = quatnav.GpsInsFilter if "gnss-ins" in ex else getattr(quatnav, FILTERS[m.group(1) if m else "qekf"])
+        names = {p.name for p in cls.PARAMS}
+        for p in re.findall(r"--param (\w+)=", ex):
+            assert p in names, (ex, p)

@@ -327,7 +327,7 @@ def optimize(evaluate, logs, bounds: dict, *, base: dict | None = None, method: 
 TUNE_EPILOG = """\
 examples:
   quatnav tune --param gyro_noise=1e-4:1e-1 --param acc_sigma=0.01:1 --budget 40 --jobs 2
-  quatnav tune DIR --filter euler-ekf --param gain=0.1:10 --method lhs --budget 64
+  quatnav tune DIR --filter marg --param gain=0.1:10 --method lhs --budget 64
   quatnav tune --param mag_sigma=0.02:3 --scheduler tcp://host:8786 --json best.json
   quatnav tune --target gnss-ins --logs walk-degraded,navego,sim:paper004_walk \\
                --param gyro_noise=1e-4:1e-2 --param acc_noise=1e-3:1e-1 --jobs 2
@@ -341,7 +341,7 @@ RTK), navego (NaveGo's synthetic run against its truth), sim:NAME[:SEED] (a simu
 with GNSS against its truth); --seconds N uses the first N s of the real logs.
 Logs run in parallel with --jobs N or on a dask.distributed cluster with --scheduler. The report
 gives the best parameters, the figure per log, and the change of the mean when each parameter
-moves by -+10 %% (a flat optimum: the parameter hardly matters there)."""
+moves by -+10 % (a flat optimum: the parameter hardly matters there)."""
 
 
 def _parse_param(text):
