@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-from .util import UsageError, declination_arg, wmm_declination
+from .util import UsageError, declination_arg, first_fix_declination
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 
@@ -256,11 +256,7 @@ def _run(args) -> int:
     decl = args.declination
     if decl is None:  # auto
         g = log.gnss
-        ok = None if g is None else np.isfinite(g.lat) & np.isfinite(g.lon)
-        if ok is None or not ok.any():
-            raise UsageError(f"--declination auto: {log.source} has no GNSS position; give the declination in degrees")
-        i = int(np.argmax(ok))
-        d, text = wmm_declination(float(g.lat[i]), float(g.lon[i]), float(g.h[i]) if np.isfinite(g.h[i]) else 0.0)
+        d, text = first_fix_declination(*((g.lat, g.lon, g.h) if g is not None else ([], [], [])), log.source)
         decl = math.degrees(d)
         log.notes.append(text)
     res = run_filter(log, args.filter, decl, args.rate, args.smooth)

@@ -481,7 +481,7 @@ def motion_start(t, speed_or_rate, threshold):
 
 
 def _row_dots(a, b):
-    """The dot product of each row of two (n, 3) arrays."""
+    """The dot product of each row of two (n, k) arrays."""
     return np.einsum("ij,ij->i", a, b)
 
 
@@ -606,26 +606,24 @@ def _gnss_speed(d_g):
     """Horizontal GNSS speed per fix (m/s): the given velocity, else the position differences."""
     if "v_n" in d_g and np.isfinite(d_g["v_n"]).all():
         return np.hypot(d_g["v_n"], d_g["v_e"])
-    lat, lon, t = np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["time"]
-    if len(t) < 2:
-        return None
-    dn = np.diff(lat) * 6.36e6
-    de = np.diff(lon) * 6.38e6 * np.cos(lat[1:])
-    return np.r_[0.0, np.hypot(dn, de) / np.diff(t)]
+    r = _gnss_vel_ne(d_g)
+    return None if r is None else np.r_[0.0, np.hypot(r[1][:, 0], r[1][:, 1])]  # each on the later fix
 
 
 def _gnss_vel_ne(d_g):
     """(times, (K, 2) north/east velocity) of the fixes: the given velocity, else the position
-    differences at the midpoints; None for fewer than 3 fixes."""
+    differences at the midpoints; None for fewer than 2 fixes."""
     t = np.asarray(d_g["time"], float)
-    if len(t) < 3:
+    if len(t) < 2:
         return None
     if "v_n" in d_g and np.isfinite(d_g["v_n"]).all() and np.isfinite(d_g["v_e"]).all():
         return t, np.column_stack([d_g["v_n"], d_g["v_e"]]).astype(float)
-    lat, lon = np.radians(d_g["lat"]), np.radians(d_g["lon"])
+    from ..core.earth import radii
+    lat, lon, h = np.radians(d_g["lat"]), np.radians(d_g["lon"]), np.asarray(d_g["h"], float)
     dt = np.diff(t)
-    return 0.5 * (t[1:] + t[:-1]), np.column_stack([np.diff(lat) * 6.36e6 / dt,
-                                                    np.diff(lon) * 6.38e6 * np.cos(lat[1:]) / dt])
+    R_M, R_N = radii(lat[1:])
+    return 0.5 * (t[1:] + t[:-1]), np.column_stack([np.diff(lat) * (R_M + h[1:]) / dt,
+                                                    np.diff(lon) * (R_N + h[1:]) * np.cos(lat[1:]) / dt])
 
 
 def forward_axis(t, accel, gnss_t, vel_ne, span=1.0, min_speed=3.0):
@@ -664,7 +662,7 @@ def forward_axis(t, accel, gnss_t, vel_ne, span=1.0, min_speed=3.0):
     i0, i1, dtg, vm, speed = i0[ok], i1[ok], dtg[ok], vm[ok], speed[ok]
     a = (v[i1] - v[i0]) / dtg[:, None]
     u = vm / speed[:, None]
-    q = np.column_stack([_row_dots2(a, u), a[:, 1] * u[:, 0] - a[:, 0] * u[:, 1]])  # along, right of the track
+    q = np.column_stack([_row_dots(a, u), a[:, 1] * u[:, 0] - a[:, 0] * u[:, 1]])  # along, right of the track
     c = np.vstack([np.zeros(3), np.cumsum(f, axis=0)])
     k0, k1 = np.searchsorted(t, tg[i0]), np.searchsorted(t, tg[i1])
     good = k1 > k0
@@ -678,10 +676,6 @@ def forward_axis(t, accel, gnss_t, vel_ne, span=1.0, min_speed=3.0):
     dot = float(np.sum(q[:, 0] * p[:, 0] + q[:, 1] * p[:, 1]))
     agreement = float(np.hypot(cross, dot) / np.sqrt(np.sum(p * p) * np.sum(q * q)))
     return float(np.arctan2(cross, dot)), int(len(q)), agreement
-
-
-def _row_dots2(a, b):
-    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]
 
 
 def check_forward_axis(t, accel, gnss_t, vel_ne, where="IMU", limit_deg=20.0):
@@ -913,13 +907,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
             if len(neg):
                 raise InputError(f"GNSS {gnss}: line {lines_g[neg[0]]}: {'/'.join(cols)} must be positive")
     if declination is None:  # auto: the World Magnetic Model at the first fix
-        from .util import wmm_declination
-        ok = np.isfinite(d_g["lat"]) & np.isfinite(d_g["lon"]) & np.isfinite(d_g["h"])
-        if not ok.any():
-            raise InputError(f"GNSS {gnss}: --declination auto needs a GNSS position")
-        i = int(np.argmax(ok))
-        params["declination"], text = wmm_declination(math.radians(float(d_g["lat"][i])),
-                                                      math.radians(float(d_g["lon"][i])), float(d_g["h"][i]))
+        from .util import first_fix_declination
+        params["declination"], text = first_fix_declination(np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"],
+                                                            f"GNSS {gnss}")
         f = make_filter()
         note_info.append(text)
     kw = dict(gps_pos=quatnav.Aid(d_g["time"], np.column_stack([np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"]]),
@@ -978,14 +968,13 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
             note("--mag-calibrate: fewer than 100 magnetometer samples with a settled heading (yaw one-sigma "
                  "below 1 deg) in the run without it: the magnetometer is used as it is")
         else:
-            rot = np.asarray(f.params["imu_rotation"], float)
-            kw["mag"] = kw["mag"] - rot.T @ mag_fit.offset  # the offset in the IMU axes of the samples
+            b = np.asarray(f.params["imu_rotation"], float).T @ mag_fit.offset  # in the IMU axes of the samples
+            kw["mag"] = kw["mag"] - b
             if declination is not False:
                 note(f"--mag-calibrate: the magnetometer's fitted declination ({math.degrees(mag_fit.declination):+.2f} "
                      "deg) replaces the one given")
             params["declination"] = mag_fit.declination
             f = make_filter()
-            b = rot.T @ mag_fit.offset
             note_info.append(f"magnetometer calibrated against the GNSS/INS attitude of a run without it: offset "
                              f"({b[0]:.4g}, {b[1]:.4g}, {b[2]:.4g}) in its axes, declination "
                              f"{math.degrees(mag_fit.declination):+.2f} deg, inclination "
@@ -1066,9 +1055,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
                "warnings": warnings, "smoothed": bool(smooth), "nhc_start_s": nhc_t,
                "declination_rad": float(f.params["declination"])}
     if mag_fit is not None:
-        rot = np.asarray(f.params["imu_rotation"], float)
         summary["mag_calibration"] = {
-            "offset_imu_axes": (rot.T @ mag_fit.offset).tolist(), "offset_sigma_body": mag_fit.offset_sigma.tolist(),
+            "offset_imu_axes": b.tolist(), "offset_sigma_body": mag_fit.offset_sigma.tolist(),
             "field_n": mag_fit.field_n.tolist(), "declination_rad": mag_fit.declination,
             "inclination_rad": mag_fit.inclination, "residual_rms": mag_fit.residual_rms, "samples": mag_fit.samples}
     for text in note_info:

@@ -8,7 +8,8 @@ import json
 import sys
 from pathlib import Path
 
-__all__ = ["UsageError", "write_json", "missing_extra", "declination_arg", "wmm_declination"]
+__all__ = ["UsageError", "write_json", "missing_extra", "declination_arg", "wmm_declination",
+           "first_fix_declination"]
 
 #: optional package -> extra of ``pip install 'quatnav[EXTRA]'`` that provides it, per command
 #: (``None``: any command). scipy is in both [sim] and [eval]; the command decides which to name.
@@ -104,3 +105,15 @@ def wmm_declination(lat_rad: float, lon_rad: float, h_m: float, year: float | No
         raise UsageError(f"--declination auto: the World Magnetic Model gives no declination at {lat:.5f}, {lon:.5f}")
     note = f"declination {dec:+.2f} deg from the World Magnetic Model at {lat:.5f}, {lon:.5f}, {year:.1f} (ahrs.utils.WMM)"
     return math.radians(dec), note
+
+
+def first_fix_declination(lat_rad, lon_rad, h_m, where: str) -> tuple:
+    """:func:`wmm_declination` at the first fix with a finite latitude and longitude (its height,
+    or 0 m when that is not finite); a UsageError naming ``where`` when there is none."""
+    import numpy as np
+    lat, lon, h = (np.asarray(x, float) for x in (lat_rad, lon_rad, h_m))
+    ok = np.isfinite(lat) & np.isfinite(lon)
+    if not ok.any():
+        raise UsageError(f"--declination auto: {where} has no GNSS position; give the declination in degrees")
+    i = int(np.argmax(ok))
+    return wmm_declination(float(lat[i]), float(lon[i]), float(h[i]) if np.isfinite(h[i]) else 0.0)
