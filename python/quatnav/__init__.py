@@ -13,7 +13,7 @@ from .filters.attitude import AttitudeResult, EulerEKF, QuaternionEKF
 from .filters.marg import MargFilter, MargResult
 from .filters._base import NavResult
 from .filters.nav13 import NavFilter13, NavFilter13Result
-from .filters.gpsins import GpsInsFilter, GpsInsResult
+from .filters.gpsins import GpsInsFilter, GpsInsResult, NavigationWarning
 
 
 
@@ -30,4 +30,4 @@ def __getattr__(name):
 __all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "Flag", "Status", "core", "__version__"]
 __all__ += ["MargFilter", "MargResult"]
 __all__ += ["NavFilter13", "NavFilter13Result", "NavResult"]
-__all__ += ["GpsInsFilter", "GpsInsResult"]
+__all__ += ["GpsInsFilter", "GpsInsResult", "NavigationWarning"]

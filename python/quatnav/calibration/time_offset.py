@@ -37,6 +37,7 @@ through any :class:`concurrent.futures.Executor` (a process pool, ``dask.distrib
 from __future__ import annotations
 
 import math
+import warnings
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 
@@ -90,13 +91,15 @@ class TimeOffsetEstimate:
 
 def _nis(params, dtype, state, args, kwargs, offset, time_sigma):
     """The per-fix NIS of the GNSS position and velocity updates of one run (NaN: no NIS)."""
-    from ..filters.gpsins import GpsInsFilter
+    from ..filters.gpsins import GpsInsFilter, NavigationWarning
     p = dict(params)
     p.update(gps_time_offset=float(offset), gps_time_sigma=float(time_sigma), adapt_q_max=1.0)
     f = GpsInsFilter(**p, dtype=dtype)
     if state is not None:
         f.set_state(state)
-    r = f.run(*args, **kwargs)
+    with warnings.catch_warnings():  # a run without navigation has no NIS: the estimate says so
+        warnings.simplefilter("ignore", NavigationWarning)
+        r = f.run(*args, **kwargs)
     return np.concatenate([np.asarray(r.aids[k].nis, float) for k in ("gps_pos", "gps_vel") if k in r.aids])
 
 

@@ -72,11 +72,14 @@ rest, latitude/longitude in radians, GNSS and IMU time ranges that do not overla
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import sys
+import warnings
 
 import numpy as np
 
+from ..filters._base import accel_unit
 from ..io.table import CsvError, read_table
 from .util import UsageError, declination_arg, write_json
 
@@ -378,14 +381,14 @@ def check_gyro(gyro, t, align_time, where="IMU"):
 
 def check_accel(accel, where="IMU"):
     """A warning when the specific force looks like g or mg, or is far from gravity (or None)."""
-    m = float(np.median(_row_norms(np.asarray(accel, float))))
-    if 0.5 <= m <= 2.0:
+    unit, m = accel_unit(accel)
+    if unit == "g":
         return (f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
                 "multiply by 9.80665")
-    if 500.0 <= m <= 2000.0:
+    if unit == "mg":
         return (f"{where}: accel_x/y/z look like milli-g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
                 "multiply by 0.00980665")
-    if not 6.0 <= m <= 14.0:
+    if unit == "far":
         return f"{where}: median |accel| {m:.4g} m/s^2, far from gravity (~9.8): check the unit of accel_x/y/z"
     return None
 
@@ -816,6 +819,18 @@ def write_diagnostics(path, r) -> int:
     return len(rows)
 
 
+def _quiet_navigation(fn):
+    """Run ``fn`` with :class:`quatnav.NavigationWarning` silenced: its message reports the reason."""
+    @functools.wraps(fn)
+    def wrapped(*args, **kwargs):
+        from ..filters.gpsins import NavigationWarning
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NavigationWarning)
+            return fn(*args, **kwargs)
+    return wrapped
+
+
+@_quiet_navigation
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
               calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False, time_offset=None,
               executor=None, no_mag=False, declination=False, mag_calibrate=False):
@@ -1033,7 +1048,11 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     elif not overlap:
         msg = f"wrote {out}: 0 rows (navigation never started: the GNSS and IMU times do not overlap)"
     else:
-        msg = f"wrote {out}: 0 rows (navigation never started: no GNSS fix after levelling, or no heading)"
+        a = r.alignment
+        fix = ("; give --mag or --compass (or a log with a magnetometer), move faster than min_speed_for_heading, "
+               "or the attitude as [initial] euler in --config" if a["method"] != "none" and a["heading"] == "none"
+               else "")
+        msg = f"wrote {out}: 0 rows (navigation never started: {a['reason']}{fix})"
     if gaps:
         msg += f"; {len(gaps)} IMU gap{'s' if len(gaps) > 1 else ''} coasted"
     if rej:

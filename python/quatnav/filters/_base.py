@@ -480,6 +480,21 @@ def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
                         "gyroscope first")
 
 
+def accel_unit(accel) -> tuple:
+    """The unit a specific force (N, 3) appears to be in, from its median norm: ``"g"`` (0.5-2),
+    ``"mg"`` (500-2000), ``"far"`` (neither those nor 6-14 m/s^2: far from gravity in any of
+    them) or None (m/s^2); and that median. Non-finite rows are left out."""
+    a = np.asarray(accel, float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        n = np.sqrt(np.einsum("ij,ij->i", a, a))
+    n = n[np.isfinite(n)]
+    if not n.size:
+        return None, float("nan")
+    m = float(np.median(n))
+    unit = "g" if 0.5 <= m <= 2.0 else "mg" if 500.0 <= m <= 2000.0 else None if 6.0 <= m <= 14.0 else "far"
+    return unit, m
+
+
 def no_mag(mag, filter_name: str) -> None:
     if mag is not None:
         raise TypeError(f"mag: {filter_name} takes no magnetometer; the times are keywords: run(gyr, acc, *, t=...)")

@@ -13,18 +13,19 @@ described in ``cpp/include/quatnav/nav/gps_ins.hpp``.
 from __future__ import annotations
 
 import numbers
+import warnings
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .. import _validate as V
-from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    skipped_imu_rows, smoother_info, times_of)
+from ._base import (AidResult, Filter, NavResult, accel_unit, aid_times, check_aid, check_imu_order, check_swapped,
+                    core, skipped_imu_rows, smoother_info, times_of)
 from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
-__all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "GPSINS_FLAGS", "GPSINS_DECISIONS", "STATE_NAMES",
-           "SCALE_STATE_NAMES", "PARAM_NAMES"]
+__all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "NavigationWarning", "GPSINS_FLAGS", "GPSINS_DECISIONS",
+           "STATE_NAMES", "SCALE_STATE_NAMES", "PARAM_NAMES"]
 
 #: Names of the 16 error states, in order (units: m, m/s, rad, m/s^2, rad/s, m).
 STATE_NAMES = ("dp_n", "dp_e", "dp_d", "dv_n", "dv_e", "dv_d", "psi_n", "psi_e", "psi_d",
@@ -34,6 +35,11 @@ SCALE_STATE_NAMES = STATE_NAMES + ("sa_x", "sa_y", "sa_z", "sg_x", "sg_y", "sg_z
 
 #: Parameter names (the table ``quatnav.filters.tables.GPSINS_PARAMS``: units and defaults).
 PARAM_NAMES = tuple(p.name for p in GPSINS_PARAMS)
+
+
+class NavigationWarning(UserWarning):
+    """:meth:`GpsInsFilter.run` ended without navigating over a record long enough to align (the
+    result's ``alignment["reason"]`` says why)."""
 
 
 @dataclass(repr=False, eq=False)
@@ -111,7 +117,9 @@ class GpsInsResult(NavResult):
         specific force; ``"given"``: :meth:`GpsInsFilter.set_initial` or ``reset``; ``"none"``),
         ``heading`` (``"compass"``, ``"magnetometer"``, ``"gnss_velocity"``, ``"gnss_course"``,
         ``"given"``, ``"none"``), ``level_t`` and ``navigation_t`` (the times of the first
-        levelled and the first navigating sample of this run, s; None when not reached).
+        levelled and the first navigating sample of this run, s; None when not reached) and
+        ``reason``: when navigation did not start, one sentence saying which step of the
+        alignment was not reached and what it needed (None otherwise).
     """
 
     FLAGS: ClassVar[dict] = GPSINS_FLAGS
@@ -593,6 +601,16 @@ class GpsInsFilter(Filter):
         alignment = {"method": d["align_method"], "heading": d["heading_source"],
                      "level_t": float(t[np.argmax(phase != 0)]) if phase.any() else None,
                      "navigation_t": float(t[nav_rows[0]]) if nav_rows.size else None}
+        alignment["reason"] = None if nav_rows.size else _not_navigating(
+            self._f.params, alignment, t, accel, flags,
+            gps_t[~np.isnan(gps_llh).all(axis=1)] + float(self._f.params.gps_time_offset), vel is not None,
+            mag_a, len(compass_t), aids)
+        p = self._f.params
+        if alignment["reason"] and t[-1] - t[0] >= float(p.align_time) + float(p.align_motion_max):
+            fix = ("; give mag or compass, move with GNSS velocity, or set the attitude with set_initial()"
+                   if alignment["method"] != "none" and alignment["heading"] == "none" else "")
+            warnings.warn(f"GpsInsFilter: no navigation over t = {t[0]:.6g}..{t[-1]:.6g} s: {alignment['reason']}{fix}",
+                          NavigationWarning, stacklevel=2)
         counters = self.counters
 
         def result(o, **kw):
@@ -607,3 +625,53 @@ class GpsInsFilter(Filter):
             return fwd
         sm = d["smoothed"]
         return result(sm, forward=fwd, smoother=smoother_info(sm["info"]))
+
+
+def _not_navigating(p, alignment, t, accel, flags, fixes, have_vel, mag, n_compass, aids) -> str:
+    """Why a run did not start navigating: the first step of the alignment it did not reach
+    (levelling, a heading, a GNSS fix after them) and what that step needs, with the inputs'
+    evidence (``fixes``: the times of the GNSS position fixes given, on the IMU's clock)."""
+    inside = fixes[(fixes >= t[0]) & (fixes <= t[-1])]
+    if not fixes.size:
+        return ("no GNSS position fix was given (gps_pos): navigation starts at the first fix after the "
+                "alignment")
+    if not inside.size:
+        return (f"the GNSS fixes (t = {fixes[0]:.6g}..{fixes[-1]:.6g} s with gps_time_offset = "
+                f"{float(p.gps_time_offset):g} s) do not overlap the IMU's times (give both on one clock)")
+    ms = f"{float(p.align_motion_time):g}"
+    if alignment["method"] == "none":
+        unit, m = accel_unit(accel)
+        g = {"g": f"acc looks like g (median |acc| {m:.4g}): give m/s^2 (multiply by 9.80665)",
+             "mg": f"acc looks like milli-g (median |acc| {m:.4g}): give m/s^2 (multiply by 0.00980665)",
+             "far": f"the median |acc| {m:.4g} m/s^2 is far from gravity: check its unit"}.get(unit)
+        still = bool(np.any(flags & GPSINS_FLAGS["at_rest"]))
+        why = (g + "; " if g else "") + (
+            "the IMU was never still " if not still else "the IMU was still, but not ")
+        return ("it never levelled: " + why + f"for align_time = {float(p.align_time):g} s (rates within "
+                f"rest_gyr_th = {float(p.rest_gyr_th):g} rad/s and specific force within rest_acc_th = "
+                f"{float(p.rest_acc_th):g} m/s^2 of their low-passes and of gravity), and no alignment in motion "
+                f"completed (GNSS {'velocity' if have_vel else 'positions'} while moving, over at least "
+                f"align_motion_time = {ms} s" + ("" if have_vel else
+                f" and align_course_distance = {float(p.align_course_distance):g} m") + ")")
+    lt = alignment["level_t"]
+    at = f" at t = {lt:.6g} s" if lt is not None else ""
+    if alignment["heading"] == "none":
+        src = []
+        if mag is None:
+            src.append("no magnetometer")
+        else:
+            a = aids.get("mag")
+            n_rej = int(a.rejected.sum()) if a is not None else 0
+            src.append("every magnetometer sample after levelling failed its disturbance tests" if n_rej
+                       else "no magnetometer sample after levelling")
+        if not n_compass:
+            src.append("no compass")
+        if not p.heading_from_gps:
+            src.append("heading_from_gps is off")
+        elif not have_vel:
+            src.append("no GNSS velocity for the course")
+        else:
+            src.append(f"the GNSS speed never reached min_speed_for_heading = {float(p.min_speed_for_heading):g} m/s")
+        return f"levelled ({alignment['method']}){at}, but no heading: " + ", ".join(src)
+    return (f"aligned ({alignment['method']}, heading from {alignment['heading']}){at}, but no GNSS position fix "
+            f"came after it (the last at t = {inside[-1]:.6g} s)")
