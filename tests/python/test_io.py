@@ -195,6 +195,13 @@ def test_ulog():
     assert g is not None and (g.quality >= 3).all()
     assert -90 < np.degrees(g.lat).min() and np.all(np.abs(np.degrees(g.lat)) > 1e-3)
     assert log.mag.unit == "gauss" and log.baro.altitude is not None
+    # the recording date: time_utc_usec of vehicle_gps_position (the SITL run of 2022-04-29) and of
+    # sensor_gps alike, one UTC time per fix, on the fixes' clock
+    for glog in (log, io.read(sitl, gnss_topic="sensor_gps")):
+        u = glog.gnss.utc
+        assert u is not None and u.shape == glog.gnss.t.shape and np.isfinite(u).all()
+        assert time_mod.gmtime(u[0])[:3] == (2022, 4, 29)
+        np.testing.assert_allclose(np.diff(u), np.diff(glog.gnss.t), atol=0.06)
     # a topic asked for by name: read, or a clear error (not a silently missing stream)
     assert io.read(sitl, mag_topic="sensor_mag").mag is not None
     with pytest.raises(ValueError, match=r"no topic 'nosuch' \(topics: .*sensor_combined"):

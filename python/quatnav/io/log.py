@@ -31,7 +31,9 @@ class Gnss:
     """GNSS fixes. ``lat``, ``lon`` rad, ``h`` m (ellipsoidal, antenna); optional ``vel_n``
     (K, 3) NED m/s, ``sigma`` (K, 3) position one-sigma north/east/down m, ``sigma_vel`` (K, 3)
     m/s, ``quality`` (K,) int (the format's fix quality code, see ``quality_kind``), ``weight``
-    (K,) in [0, 1] (1 = the best fix kind of the format, 0 = no fix)."""
+    (K,) in [0, 1] (1 = the best fix kind of the format, 0 = no fix), ``utc`` (K,) the UTC time
+    of each fix, s since 1970-01-01 (Unix time; NaN where the receiver gave none; None: the
+    format carries no date), which dates the recording (the epoch of the World Magnetic Model)."""
     t: np.ndarray
     lat: np.ndarray
     lon: np.ndarray
@@ -42,6 +44,7 @@ class Gnss:
     quality: np.ndarray | None = None
     weight: np.ndarray | None = None
     quality_kind: str = ""
+    utc: np.ndarray | None = None
 
 
 @dataclass

@@ -13,6 +13,7 @@ Topics read (the first instance, ``multi_id`` 0, unless a topic option names ano
   longitude_deg``; ``alt_ellipsoid`` in mm or ``altitude_ellipsoid_m`` (else the MSL altitude, noted);
   ``eph``/``epv`` as sigmas, ``vel_n_m_s vel_e_m_s vel_d_m_s`` when ``vel_ned_valid``,
   ``s_variance_m_s`` as velocity sigma, ``fix_type`` as quality (rows below a 3-D fix dropped);
+  ``time_utc_usec`` (UTC microseconds since 1970, 0 when the receiver has no time) as ``utc``;
   ``heading`` (rad, NaN when the receiver has none; a two-antenna GPS yaw) as the ``compass``
   stream with ``north="true"``.
 * barometer: ``vehicle_air_data`` (``baro_alt_meter``, ``baro_pressure_pa``), else ``baro_alt_meter``
@@ -144,6 +145,10 @@ def read_ulog(path, *, mag_topic=None, gnss_topic=None, multi_id: int = 0) -> Lo
         eph = np.asarray(d.get("eph", np.full(len(tg), 5.0)), float)
         epv = np.asarray(d.get("epv", np.full(len(tg), 10.0)), float)
         sv = np.asarray(d["s_variance_m_s"], float) if "s_variance_m_s" in d else None
+        utc = None
+        if "time_utc_usec" in d:
+            u_us = np.asarray(d["time_utc_usec"])
+            utc = np.where(u_us > 0, u_us.astype(float) * us, np.nan)
         ok = (fix >= 3) & np.isfinite(lat) & np.concatenate([[True], np.diff(tg) > 0])
         if (~ok).any():
             log.notes.append(f"{name}: {int((~ok).sum())} rows without a 3-D fix dropped")
@@ -153,7 +158,8 @@ def read_ulog(path, *, mag_topic=None, gnss_topic=None, multi_id: int = 0) -> Lo
                             vel_n=None if vel is None else vel[ok],
                             sigma=np.column_stack([eph, eph, epv])[ok],
                             sigma_vel=None if sv is None else np.column_stack([sv, sv, sv])[ok],
-                            quality=fix[ok], weight=w[ok], quality_kind="px4-fix_type")
+                            quality=fix[ok], weight=w[ok], quality_kind="px4-fix_type",
+                            utc=None if utc is None else utc[ok])
             if "heading" in d:
                 hd = np.asarray(d["heading"], float)
                 hk = ok & np.isfinite(hd)
