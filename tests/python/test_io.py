@@ -80,6 +80,7 @@ def test_pos_layouts(tmp_path, mode, time):
     if mode != "ecef":
         np.testing.assert_allclose(g.sigma[0], [0.01, 0.012, 0.03])
     assert (g.quality == 1).all() and (g.weight == 1).all()
+    np.testing.assert_allclose(g.utc, g.t - 18.0)  # GPST less the leap seconds: the date of the recording
 
 
 def test_pos_quality_without_sigma_columns(tmp_path):
@@ -146,6 +147,9 @@ def test_nmea(tmp_path):
     np.testing.assert_allclose(g.vel_n[0, :2], [0.0, 2.0 * 1852 / 3600], atol=1e-12)
     assert (g.quality == 4).all() and g.sigma[0, 0] == pytest.approx(0.8 * 0.02)
     assert checksum_ok(lines[0]) and not checksum_ok(lines[0][:-1] + "0")
+    np.testing.assert_array_equal(g.utc, g.t)  # UTC, dated by RMC
+    p.write_text("\n".join(x for x in lines if "RMC" not in x) + "\n")
+    assert io.read(p).gnss.utc is None  # times of day only: no date
 
 
 def test_csv_streams(tmp_path):
@@ -157,7 +161,9 @@ def test_csv_streams(tmp_path):
     np.testing.assert_array_equal(io.mag_on_imu_times(log)[1], [np.nan] * 3)
     g = tmp_path / "gnss.csv"
     g.write_text("time,lat,lon,h\n0,40,-105,1600\n")
-    assert io.read(g).streams() == ["gnss"]
+    assert io.read(g).streams() == ["gnss"] and io.read(g).gnss.utc is None
+    g.write_text("time,lat,lon,h,utc\n0,40,-105,1600,\n1,40,-105,1600,1756402201.5\n")
+    np.testing.assert_array_equal(io.read(g).gnss.utc, [np.nan, 1756402201.5])  # Unix time, empty: none
     bad = tmp_path / "x.csv"
     bad.write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match=r"x\.csv: CSV columns .* match no stream"):

@@ -8,7 +8,8 @@ stream     columns
 IMU        ``time gyro_x gyro_y gyro_z`` (rad/s) ``accel_x accel_y accel_z`` (m/s^2)
 mag        ``mag_x mag_y mag_z`` (any unit; empty cells = no sample)
 GNSS       ``time lat lon`` (deg) ``h`` (m); optional ``v_n v_e v_d``, ``sigma_n sigma_e sigma_d``,
-           ``sigma_vn sigma_ve sigma_vd``
+           ``sigma_vn sigma_ve sigma_vd``, ``utc`` (UTC time of the fix, s since 1970-01-01: Unix
+           time; it dates the recording)
 baro       ``time h`` (without lat/lon)
 compass    ``time heading`` (deg)
 reference  ``time q_w q_x q_y q_z`` (the output of ``quatnav ahrs run`` reads back as one);
@@ -73,14 +74,15 @@ def read_csv(path, *, kind: str | None = None) -> Log:
             ok = np.isfinite(m).all(1)
             log.mag = Mag(t=c["time"][ok], values=m[ok], unit="as in the file")
     if "gnss" in want:
-        opt = ("v_n", "v_e", "v_d", "sigma_n", "sigma_e", "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd")
+        opt = ("v_n", "v_e", "v_d", "sigma_n", "sigma_e", "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd", "utc")
         c = read_table(path, ("time", "lat", "lon", "h"), opt, what="GNSS").columns
         vel = _v(c, opt[:3])
         sig = _v(c, opt[3:6])
         sv = _v(c, opt[6:9])
         log.gnss = Gnss(t=c["time"], lat=np.radians(c["lat"]), lon=np.radians(c["lon"]), h=c["h"],
                         vel_n=vel if np.isfinite(vel).any() else None, sigma=sig if np.isfinite(sig).any() else None,
-                        sigma_vel=sv if np.isfinite(sv).any() else None)
+                        sigma_vel=sv if np.isfinite(sv).any() else None,
+                        utc=c["utc"] if np.isfinite(c["utc"]).any() else None)
     if "baro" in want:
         c = read_table(path, ("time", "h"), what="BARO").columns
         log.baro = Baro(t=c["time"], altitude=c["h"])

@@ -8,7 +8,8 @@ and reported in ``Log.notes`` (and the count in ``Log.bad_lines``), never used. 
 ellipsoidal (GGA altitude + geoid separation). The horizontal sigma is HDOP times a user range
 error per fix quality (:data:`UERE`), the vertical twice that. Course and speed give ``vel_n``
 north and east; its down component is NaN (unknown). Times are UTC seconds from 1970 when an RMC
-date was seen, else seconds of the day (midnight roll-overs unwrapped).
+date was seen (``gnss.utc`` the same), else seconds of the day (midnight roll-overs unwrapped;
+``gnss.utc`` None: no date).
 """
 from __future__ import annotations
 
@@ -128,7 +129,8 @@ def read_nmea(path) -> Log:
     g = Gnss(t=t, lat=np.radians([x["lat"] for x in e]), lon=np.radians([x["lon"] for x in e]),
              h=np.array([x["h"] for x in e]), vel_n=vel if np.isfinite(spd).any() else None,
              sigma=np.column_stack([sh, sh, 2 * sh]), quality=q,
-             weight=np.array([UERE.get(k, ("?", 5.0, 0.0))[2] for k in q]), quality_kind="nmea-gga")
+             weight=np.array([UERE.get(k, ("?", 5.0, 0.0))[2] for k in q]), quality_kind="nmea-gga",
+             utc=t.copy() if date0 is not None else None)
     compass = None
     if headings:
         # the epoch times as for the fixes (midnight unwrapped over every epoch, the date added)

@@ -8,6 +8,8 @@ by solution quality; the velocity columns (vn/ve/vu) when present.
 
 Times are seconds on the file's own scale counted from 1970-01-01 without leap seconds (a GPST
 file gives GPST seconds; week/tow files the same scale), so files on one clock line up.
+``gnss.utc`` is the same time in UTC (GPST less 18 leap seconds, JST less 9 h): the date of the
+recording.
 """
 from __future__ import annotations
 
@@ -42,6 +44,11 @@ def ecef_to_geodetic(xyz):
     n = a / np.sqrt(1 - e2 * np.sin(lat) ** 2)
     h = p / np.cos(lat) - n
     return lat, lon, h
+
+
+#: time scale of the file -> its offset from UTC, s (GPST: the leap seconds since 2017; a few
+#: seconds off before that, which does not matter to the date ``gnss.utc`` serves)
+_UTC_OFFSET = {"GPST": 18.0, "UTC": 0.0, "JST": 9 * 3600.0}
 
 
 def _time(tok0, tok1):
@@ -148,5 +155,6 @@ def read_pos(path) -> Log:
         if "sdvn" in c:
             sig_v = np.column_stack([c["sdvn"], c["sdve"], c["sdvu"]])
     g = Gnss(t=t, lat=np.asarray(lat, float), lon=np.asarray(lon, float), h=np.asarray(h, float), vel_n=vel,
-             sigma=sigma, sigma_vel=sig_v, quality=q, weight=weight, quality_kind="rtklib")
+             sigma=sigma, sigma_vel=sig_v, quality=q, weight=weight, quality_kind="rtklib",
+             utc=t - _UTC_OFFSET[timescale])
     return Log(source=str(path), format="rtklib-pos", gnss=g, notes=notes)
