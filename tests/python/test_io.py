@@ -164,6 +164,9 @@ def test_csv_streams(tmp_path):
     assert io.read(g).streams() == ["gnss"] and io.read(g).gnss.utc is None
     g.write_text("time,lat,lon,h,utc\n0,40,-105,1600,\n1,40,-105,1600,1756402201.5\n")
     np.testing.assert_array_equal(io.read(g).gnss.utc, [np.nan, 1756402201.5])  # Unix time, empty: none
+    g.write_text("time,lat,lon,h,utc\n0,40,-105,1600,2025-08-28T17:30:01Z\n")  # text: noted, not used
+    log = io.read(g)
+    assert log.gnss.utc is None and "utc column ignored" in log.notes[-1]
     bad = tmp_path / "x.csv"
     bad.write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match=r"x\.csv: CSV columns .* match no stream"):

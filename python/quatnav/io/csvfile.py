@@ -9,7 +9,7 @@ IMU        ``time gyro_x gyro_y gyro_z`` (rad/s) ``accel_x accel_y accel_z`` (m/
 mag        ``mag_x mag_y mag_z`` (any unit; empty cells = no sample)
 GNSS       ``time lat lon`` (deg) ``h`` (m); optional ``v_n v_e v_d``, ``sigma_n sigma_e sigma_d``,
            ``sigma_vn sigma_ve sigma_vd``, ``utc`` (UTC time of the fix, s since 1970-01-01: Unix
-           time; it dates the recording)
+           time; it dates the recording; a column of other text is noted and ignored)
 baro       ``time h`` (without lat/lon)
 compass    ``time heading`` (deg)
 reference  ``time q_w q_x q_y q_z`` (the output of ``quatnav ahrs run`` reads back as one);
@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import quaternion as Q
-from .table import read_table
+from .table import CsvError, read_table
 from .log import Baro, Compass, Gnss, Imu, Log, Mag, Reference
 
 __all__ = ["read_csv", "header_names"]
@@ -74,15 +74,20 @@ def read_csv(path, *, kind: str | None = None) -> Log:
             ok = np.isfinite(m).all(1)
             log.mag = Mag(t=c["time"][ok], values=m[ok], unit="as in the file")
     if "gnss" in want:
-        opt = ("v_n", "v_e", "v_d", "sigma_n", "sigma_e", "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd", "utc")
+        opt = ("v_n", "v_e", "v_d", "sigma_n", "sigma_e", "sigma_d", "sigma_vn", "sigma_ve", "sigma_vd")
         c = read_table(path, ("time", "lat", "lon", "h"), opt, what="GNSS").columns
         vel = _v(c, opt[:3])
         sig = _v(c, opt[3:6])
         sv = _v(c, opt[6:9])
         log.gnss = Gnss(t=c["time"], lat=np.radians(c["lat"]), lon=np.radians(c["lon"]), h=c["h"],
                         vel_n=vel if np.isfinite(vel).any() else None, sigma=sig if np.isfinite(sig).any() else None,
-                        sigma_vel=sv if np.isfinite(sv).any() else None,
-                        utc=c["utc"] if np.isfinite(c["utc"]).any() else None)
+                        sigma_vel=sv if np.isfinite(sv).any() else None)
+        if "utc" in h:  # read apart: a utc column of dates as text (this reader's numbers only) stays harmless
+            try:
+                u = read_table(path, ("time",), ("utc",), what="GNSS").columns["utc"]
+                log.gnss.utc = u if np.isfinite(u).any() else None
+            except CsvError as e:
+                log.notes.append(f"GNSS utc column ignored (expected UTC seconds since 1970): {e}")
     if "baro" in want:
         c = read_table(path, ("time", "h"), what="BARO").columns
         log.baro = Baro(t=c["time"], altitude=c["h"])
