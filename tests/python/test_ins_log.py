@@ -145,6 +145,132 @@ def test_declination_auto_turns_the_heading_to_true_north(tmp_path, data_dir):
     assert e.value.code == 2
 
 
+def _wmm_deg(lat_deg, lon_deg, h_m, year):
+    """The declination of ahrs.utils.WMM itself, deg."""
+    from ahrs.utils import WMM
+    return float(WMM(latitude=lat_deg, longitude=lon_deg, height=h_m / 1000.0, date=year).D)
+
+
+def test_declination_auto_at_the_recording_date(tmp_path, data_dir, capsys):
+    """`--declination auto` evaluates the World Magnetic Model on the day of the recording: the SITL
+    log's GNSS UTC time (2022-04-29, WMM-2020) gives the model's declination at the first fix on
+    that day, and PX4's own (true-north) heading within 0.3 deg; `--date` replaces the log's date
+    and moves the declination by the model's secular change between the two dates, in `ins run`
+    and `ahrs run` alike."""
+    pytest.importorskip("pyulog")
+    pytest.importorskip("ahrs")
+    from quatnav import io
+    from quatnav.cli.util import decimal_year, date_arg
+    import datetime
+    f = data_dir / "px4" / "sample_logging_tagged_and_default_params.ulg"
+    if not f.exists():
+        pytest.skip("px4 data absent")
+    g = io.read(f).gnss
+    lat, lon, h = np.degrees(g.lat[0]), np.degrees(g.lon[0]), g.h[0]
+    day = datetime.datetime.fromtimestamp(g.utc[0], datetime.timezone.utc)
+    assert (day.year, day.month, day.day) == (2022, 4, 29)
+    out, js, cj = tmp_path / "o.csv", tmp_path / "s.json", tmp_path / "c.json"
+
+    def ins(*extra):
+        assert cli.main(["ins", "run", "--log", str(f), "--out", str(out), "--json", str(js), "--declination", "auto",
+                         *extra]) == 0
+        return json.loads(js.read_text())
+    s = ins()
+    assert np.degrees(s["declination_rad"]) == pytest.approx(_wmm_deg(lat, lon, h, decimal_year(day)), abs=1e-9)
+    assert "on 2022-04-29" in s["declination_note"] and "WMM-2020" in s["declination_note"]
+    assert "log's GNSS UTC time" in s["declination_note"]
+    assert not any("no recording date" in n for n in s["notes"])
+    assert cli.main(["compare", str(out), str(f), "--json", str(cj)]) == 0
+    assert json.loads(cj.read_text())["attitude_heading_deg"]["rms"] < 0.3  # 0.6 with today's model
+    # --date replaces the log's date: the difference is the model's own between the dates
+    y0, y1 = date_arg("2025-06-01"), date_arg("2029.5")
+    d0, d1 = (np.degrees(ins("--date", d)["declination_rad"]) for d in ("2025-06-01", "2029.5"))
+    w0, w1 = _wmm_deg(lat, lon, h, y0), _wmm_deg(lat, lon, h, y1)
+    assert d0 == pytest.approx(w0, abs=1e-9) and d1 == pytest.approx(w1, abs=1e-9)
+    assert abs(w1 - w0) > 0.2  # Zurich: about +0.1 deg a year
+    assert "from --date" in json.loads(js.read_text())["declination_note"]
+    capsys.readouterr()
+    a = tmp_path / "a.csv"
+    assert cli.main(["ahrs", "run", "--log", str(f), "--out", str(a), "--declination", "auto", "--date",
+                     "2025-06-01"]) == 0
+    o = capsys.readouterr().out
+    assert f"declination {w0:+.2f} deg" in o and "on 2025-06-01 (2025.41, from --date)" in o
+
+
+@pytest.mark.parametrize("date,why", [("2022-13-01", "not a date"), ("june", "expected a date YYYY-MM-DD"),
+                                      ("2012-06-01", "before 2015")])
+def test_bad_date_is_one_line(tmp_path, data_dir, capsys, date, why):
+    """A --date that is not a date, or one the model has no coefficients for (ahrs.utils.WMM: from
+    2015), is one line on stderr and exit status 2; so is --date without --declination auto."""
+    pytest.importorskip("pyulog")
+    pytest.importorskip("ahrs")
+    f = data_dir / "px4" / "sample_logging_tagged_and_default_params.ulg"
+    if not f.exists():
+        pytest.skip("px4 data absent")
+    for cmd in ("ins", "ahrs"):
+        try:
+            rc = cli.main([cmd, "run", "--log", str(f), "--out", str(tmp_path / "o.csv"), "--declination", "auto",
+                           "--date", date])
+        except SystemExit as e:  # argparse: one line, exit status 2
+            rc = e.code
+        err = capsys.readouterr().err
+        assert rc == 2 and why in err and len(err.strip().splitlines()) == 1, err
+    assert cli.main(["ahrs", "run", "--log", str(f), "--out", str(tmp_path / "o.csv"), "--date", "2027-01-01"]) == 2
+    assert cli.main(["ins", "run", "--log", str(f), "--out", str(tmp_path / "o.csv"), "--declination", "3",
+                     "--date", "2027-01-01"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("it goes with --declination auto") == 2 and len(err.strip().splitlines()) == 2
+
+
+def test_date_after_the_model_is_a_warning(tmp_path, data_dir, capsys):
+    """A date after the newest model's five years is evaluated (its secular change extrapolated)
+    with one warning line."""
+    pytest.importorskip("pyulog")
+    pytest.importorskip("ahrs")
+    f = data_dir / "px4" / "sample_logging_tagged_and_default_params.ulg"
+    if not f.exists():
+        pytest.skip("px4 data absent")
+    assert cli.main(["ahrs", "run", "--log", str(f), "--out", str(tmp_path / "a.csv"), "--declination", "auto",
+                     "--date", "2031-06-01"]) == 0
+    c = capsys.readouterr()
+    assert "on 2031-06-01" in c.out
+    w = [x for x in c.err.splitlines() if "warning" in x]
+    assert len(w) == 1 and "outside WMM-2025's validity (2025.0 to 2030.0)" in w[0]
+
+
+def test_declination_auto_without_a_date_says_so(walk, tmp_path, capsys):
+    """GNSS without a date (the simulated walk's CSV, times from 0 s): the model at today's date and
+    a note that says so; a utc column (UTC s since 1970) or an RTKLIB .pos file (calendar times)
+    dates it (the .pos file's GPST less the leap seconds); a utc column that is not seconds is one
+    line, exit status 2."""
+    pytest.importorskip("ahrs")
+    d = walk
+    out, js = tmp_path / "o.csv", tmp_path / "s.json"
+    base = ["ins", "run", "--baro", str(d / "baro_abs.csv"), "--config", str(d / "config.toml"), "--out", str(out),
+            "--json", str(js), "--declination", "auto", "--imu", str(d / "imu_abs.csv"), "--gnss"]
+    assert cli.main(base + [str(d / "gnss_abs.csv")]) == 0
+    o = capsys.readouterr().out
+    note = [x for x in o.splitlines() if "no recording date" in x]
+    assert len(note) == 1 and note[0].startswith("note: GNSS ") and "--date" in note[0]
+    assert "today" in json.loads(js.read_text())["declination_note"]
+    g = pd.read_csv(d / "gnss_abs.csv")
+    g["utc"] = g["time"]  # the simulated times start on 2026-01-01 (EPOCH)
+    g.to_csv(tmp_path / "g.csv", index=False, float_format="%.17g")
+    # the .pos file's GPST times from 2026-01-01 00:00:00 are 18 s ahead of UTC: 2025-12-31 at the first fix
+    for gnss, day in ((tmp_path / "g.csv", "2026-01-01"), (d / "gnss.pos", "2025-12-31")):
+        assert cli.main(base + [str(gnss)]) == 0
+        s = json.loads(js.read_text())
+        assert f"on {day} (2026.00, from the log's GNSS UTC time)" in s["declination_note"], gnss
+        assert "no recording date" not in capsys.readouterr().out
+    g["utc"] = "2026-01-01T00:00:00Z"
+    g.to_csv(tmp_path / "g.csv", index=False, float_format="%.17g")
+    assert cli.main(base + [str(tmp_path / "g.csv")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "column 'utc'" in err[0] and "Unix time" in err[0]
+    # without --declination auto the column is not read
+    assert cli.main(base[:-5] + ["--imu", str(d / "imu_abs.csv"), "--gnss", str(tmp_path / "g.csv")]) == 0
+
+
 def test_wmm_declination_sign_and_size():
     """East positive, as the model's maps give it: about +3 to +5 deg in Zurich, +7 to +9 deg in
     Boulder, -10 to -14 deg in Boston, 2025-2030; a declination argument is degrees or auto."""
@@ -155,6 +281,9 @@ def test_wmm_declination_sign_and_size():
         d, note = wmm_declination(np.radians(lat), np.radians(lon), 0.0, year=2027.0)
         assert lo < np.degrees(d) < hi, (lat, lon, np.degrees(d))
         assert "2027.0" in note
+    # on the equator and the prime meridian too (ahrs evaluates in its constructor only off them)
+    d, note = wmm_declination(0.0, 0.0, 0.0, year=2027.0)
+    assert -10.0 < np.degrees(d) < 10.0 and "on 2027-01-01" in note
     assert declination_arg("auto") is None and declination_arg(" AUTO ") is None
     assert declination_arg("-8.5") == -8.5
     for bad in ("east", "nan", "200"):

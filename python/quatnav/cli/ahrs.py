@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-from .util import UsageError, declination_arg, first_fix_declination
+from .util import UsageError, date_arg, declination_arg, first_fix_declination
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 
@@ -61,6 +61,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--declination", type=declination_arg, default=0.0, metavar="DEG|auto",
                    help="magnetic declination, deg east; auto: the World Magnetic Model at the log's first GNSS fix "
                         "(the ahrs package, [peers] extra)")
+    r.add_argument("--date", type=date_arg, metavar="YYYY-MM-DD",
+                   help="the day of the recording for --declination auto, YYYY-MM-DD or a decimal year; default: "
+                        "the log's GNSS UTC time, else today, with a note")
     r.add_argument("--rate", type=float, metavar="HZ", help="average the IMU to this rate first")
     r.add_argument("--no-mag", action="store_true", help="ignore the magnetometer (6D: heading is free)")
     r.add_argument("--smooth", action="store_true", help="offline: the smoothed attitude (qekf, euler-ekf)")
@@ -234,6 +237,8 @@ def plot_attitude(res, log, path):
 
 
 def _run(args) -> int:
+    if args.date is not None and args.declination is not None:
+        raise UsageError("--date dates the World Magnetic Model: it goes with --declination auto")
     log = load_inputs(args)
     if getattr(args, "calibration", None):
         from ..calibration import apply_calibration_args
@@ -256,9 +261,11 @@ def _run(args) -> int:
     decl = args.declination
     if decl is None:  # auto
         g = log.gnss
-        d, text = first_fix_declination(*((g.lat, g.lon, g.h) if g is not None else ([], [], [])), log.source)
+        d, texts = first_fix_declination(*((g.lat, g.lon, g.h) if g is not None else ([], [], [])), log.source,
+                                         utc=g.utc if g is not None else None, date=args.date,
+                                         warn=lambda w: print(f"quatnav ahrs run: warning: {w}", file=sys.stderr))
         decl = math.degrees(d)
-        log.notes.append(text)
+        log.notes.extend(texts)
     res = run_filter(log, args.filter, decl, args.rate, args.smooth)
     write_table(result_table(res), args.out)
     print(f"wrote {args.out}: {len(res.t)} rows, {FILTERS[args.filter]}{' smoothed' if args.smooth else ''}"

@@ -81,7 +81,7 @@ import numpy as np
 
 from ..filters._base import accel_unit
 from ..io.table import CsvError, read_table
-from .util import UsageError, declination_arg, write_json
+from .util import UsageError, date_arg, declination_arg, write_json
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 IMU_INCREMENT_COLUMNS = ("time", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")
@@ -729,7 +729,8 @@ def _columns_of(log, what):
         d = {"time": g.t, "lat": np.degrees(g.lat), "lon": np.degrees(g.lon), "h": g.h,
              **{k: v[:, i] for i, k in enumerate(("v_n", "v_e", "v_d"))},
              **{k: sg[:, i] for i, k in enumerate(("sigma_n", "sigma_e", "sigma_d"))},
-             **{k: sv[:, i] for i, k in enumerate(("sigma_vn", "sigma_ve", "sigma_vd"))}}
+             **{k: sv[:, i] for i, k in enumerate(("sigma_vn", "sigma_ve", "sigma_vd"))},
+             "utc": g.utc if g.utc is not None else np.full(len(g.t), np.nan)}
     elif what == "BARO":
         b = log.require("baro").baro
         if b.altitude is None:
@@ -833,7 +834,7 @@ def _quiet_navigation(fn):
 @_quiet_navigation
 def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, log=None, fmt="auto", tracks=None,
               calibration=None, mag=None, odometer=None, diagnostics=None, smooth=False, time_offset=None,
-              executor=None, no_mag=False, declination=False, mag_calibrate=False):
+              executor=None, no_mag=False, declination=False, mag_calibrate=False, date=None):
     """Run the filter on the files and write ``out``.
 
     Returns
@@ -850,7 +851,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     accelerometer samples before the filter sees them. ``mag``, ``odometer``: CSV files of a raw
     magnetometer and an odometer (without ``mag``, the magnetometer of ``log`` when it has one, unless
     ``no_mag``); ``declination``: degrees east (replaces the configuration's), None for the
-    World Magnetic Model at the first fix (``summary["declination_note"]``), False: as configured;
+    World Magnetic Model at the first fix (``summary["declination_note"]``) on the date ``date`` (a
+    decimal year), else the GNSS's (its ``utc`` column, a log's UTC time), else today's, False: as configured;
     ``mag_calibrate``: run once without the magnetometer, fit its offset and the Earth field to that
     run's attitude (:mod:`quatnav.calibration.mag_attitude`) and run with the corrected samples and
     the fitted declination (``summary["mag_calibration"]``);
@@ -886,6 +888,8 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
             raise InputError(f"config {config}: {e}") from None
         return f
 
+    if date is not None and declination is not None:
+        raise InputError("--date dates the World Magnetic Model: it goes with --declination auto")
     if declination is not False and declination is not None:
         params["declination"] = math.radians(declination)
     f = make_filter()
@@ -902,7 +906,13 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     imu = imu or log.source
     if len(d_imu["time"]) < 2:
         raise InputError(f"IMU {imu}: needs at least two rows")
-    d_g, lines_g = read_csv(gnss, GNSS_COLUMNS, GNSS_OPTIONAL, what="GNSS")
+    try:  # utc (UTC s since 1970) dates the World Magnetic Model: read for --declination auto only
+        d_g, lines_g = read_csv(gnss, GNSS_COLUMNS, GNSS_OPTIONAL + (("utc",) if declination is None else ()),
+                                what="GNSS")
+    except InputError as e:
+        if "column 'utc'" not in str(e):
+            raise
+        raise InputError(f"{e} (utc: UTC seconds since 1970-01-01, Unix time; or give --date YYYY-MM-DD)") from None
     gnss = gnss or log.source
     for c, lim in (("lat", 90.0), ("lon", 360.0)):
         bad = np.flatnonzero(np.abs(d_g[c]) > lim)
@@ -923,10 +933,10 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
                 raise InputError(f"GNSS {gnss}: line {lines_g[neg[0]]}: {'/'.join(cols)} must be positive")
     if declination is None:  # auto: the World Magnetic Model at the first fix
         from .util import first_fix_declination
-        params["declination"], text = first_fix_declination(np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"],
-                                                            f"GNSS {gnss}")
+        params["declination"], texts = first_fix_declination(np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"],
+                                                             f"GNSS {gnss}", utc=d_g.get("utc"), date=date, warn=note)
         f = make_filter()
-        note_info.append(text)
+        note_info.extend(texts)
     kw = dict(gps_pos=quatnav.Aid(d_g["time"], np.column_stack([np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"]]),
                                   np.column_stack([d_g[c] for c in ("sigma_n", "sigma_e", "sigma_d")])),
               gps_vel=quatnav.Aid(d_g["time"], np.column_stack([d_g[c] for c in ("v_n", "v_e", "v_d")]),
@@ -1149,7 +1159,7 @@ def _run(args) -> int:
                                  calibration=getattr(args, "calibration", None), mag=args.mag,
                                  odometer=args.odometer, diagnostics=args.diagnostics, smooth=args.smooth,
                                  time_offset=args.estimate_time_offset, no_mag=args.no_mag,
-                                 declination=args.declination, mag_calibrate=args.mag_calibrate)
+                                 declination=args.declination, mag_calibrate=args.mag_calibrate, date=args.date)
     print(msg)
     if ok:
         from ..io import tracks as track_files
@@ -1238,6 +1248,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="magnetic declination, deg east of true north (replaces the config's), or auto: the World "
                         "Magnetic Model at the first GNSS fix (the ahrs package, [peers] extra); the compass and "
                         "magnetometer headings then turn into true ones")
+    r.add_argument("--date", type=date_arg, metavar="YYYY-MM-DD",
+                   help="the day of the recording for --declination auto (the World Magnetic Model's date), "
+                        "YYYY-MM-DD or a decimal year; default: the GNSS's UTC time (a ULog's time_utc_usec, a utc "
+                        "column, a .pos or NMEA date), else today, with a note")
     r.add_argument("--config", metavar="CONFIG.toml", help="filter parameters ([filter] table)")
     from ..calibration import add_calibration_argument
     add_calibration_argument(r)

@@ -8,8 +8,8 @@ import json
 import sys
 from pathlib import Path
 
-__all__ = ["UsageError", "write_json", "missing_extra", "declination_arg", "wmm_declination",
-           "first_fix_declination"]
+__all__ = ["UsageError", "write_json", "missing_extra", "declination_arg", "date_arg", "decimal_year",
+           "wmm_declination", "first_fix_declination"]
 
 #: optional package -> extra of ``pip install 'quatnav[EXTRA]'`` that provides it, per command
 #: (``None``: any command). scipy is in both [sim] and [eval]; the command decides which to name.
@@ -82,13 +82,62 @@ def declination_arg(text: str):
     return v
 
 
-def wmm_declination(lat_rad: float, lon_rad: float, h_m: float, year: float | None = None) -> tuple:
+def date_arg(text: str) -> float:
+    """``--date``: the day of the recording, ``YYYY-MM-DD`` or a decimal year (``2027.5``), as a
+    decimal year (:func:`decimal_year`)."""
+    import argparse
+    import datetime
+    import math
+    import re
+    s = text.strip()
+    if re.fullmatch(r"\d{4}-\d{2}-\d{2}", s):
+        try:
+            return decimal_year(datetime.date.fromisoformat(s))
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(f"{text!r}: not a date ({e})") from None
+    try:
+        v = float(s)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and 1.0 <= v < 10000.0):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected a date YYYY-MM-DD (e.g. 2022-04-29) or a decimal "
+                                         "year (e.g. 2022.3)")
+    return v
+
+
+def decimal_year(when) -> float:
+    """A date or a UTC datetime as a decimal year: the year plus the fraction of it gone by
+    (a date: at its start), the World Magnetic Model's time argument."""
+    import calendar
+    import datetime
+    t = when.replace(tzinfo=None) if isinstance(when, datetime.datetime) else \
+        datetime.datetime(when.year, when.month, when.day)
+    days = 366 if calendar.isleap(t.year) else 365
+    return t.year + (t - datetime.datetime(t.year, 1, 1)).total_seconds() / (86400.0 * days)
+
+
+def _date_text(year: float) -> str:
+    """A decimal year as its day, ``YYYY-MM-DD``."""
+    import calendar
+    import datetime
+    import math
+    y = int(year)
+    day = math.floor((year - y) * (366 if calendar.isleap(y) else 365) + 1e-6)
+    return (datetime.date(y, 1, 1) + datetime.timedelta(days=day)).isoformat()
+
+
+def wmm_declination(lat_rad: float, lon_rad: float, h_m: float, year: float | None = None, *,
+                    source: str = "", warn=None) -> tuple:
     """The magnetic declination (rad, east of true north) of the World Magnetic Model at a place
-    and a decimal year (default: today), with a one-line note naming the model, place and date.
+    and a decimal year (default: today), with a one-line note naming the model, place and date
+    (and ``source``, where the date comes from).
 
     The model is ``ahrs.utils.WMM`` (the ``[peers]`` extra): a maintained implementation of the
-    NOAA/BGS model with its coefficient files (WMM2025 from ahrs 0.4), used here rather than a
-    copy of the coefficients in this package, which would age with each five-year release."""
+    NOAA/BGS model with its coefficient files (WMM2015, WMM2020 and WMM2025 in ahrs 0.4, each
+    valid for five years from its epoch), used here rather than a copy of the coefficients in this
+    package, which would age with each five-year release. A date before its first model is a
+    :class:`UsageError`; a date after its last model's five years is evaluated (the model's
+    secular change extrapolated) and ``warn(text)`` says so."""
     import datetime
     import math
     try:
@@ -96,24 +145,62 @@ def wmm_declination(lat_rad: float, lon_rad: float, h_m: float, year: float | No
     except ImportError:
         raise UsageError("--declination auto needs the ahrs package (pip install 'quatnav[peers]')") from None
     if year is None:
-        d = datetime.date.today()
-        year = d.year + (d.timetuple().tm_yday - 0.5) / 365.25
+        year = decimal_year(datetime.datetime.now(datetime.timezone.utc))
+        source = source or "today"
     lat, lon = math.degrees(lat_rad), math.degrees(lon_rad)
-    w = WMM(latitude=lat, longitude=lon, height=h_m / 1000.0, date=year)
-    dec = float(w.D)
+    when = f"{_date_text(year)} ({year:.2f}{', ' + source if source else ''})"
+    try:
+        w = WMM(latitude=lat, longitude=lon, height=h_m / 1000.0, date=year)
+        if w.D is None:  # ahrs evaluates in its constructor only where latitude and longitude are both non-zero
+            w.magnetic_field(lat, lon, h_m / 1000.0, date=year)
+    except ValueError as e:  # ahrs: no coefficients before its first model
+        raise UsageError(f"--declination auto: ahrs.utils.WMM cannot give the World Magnetic Model on {when}: "
+                         f"{str(e).rstrip('.')}; give the declination in degrees (--declination DEG)") from None
+    dec = float(w.D) if w.D is not None else math.nan
     if not math.isfinite(dec):
         raise UsageError(f"--declination auto: the World Magnetic Model gives no declination at {lat:.5f}, {lon:.5f}")
-    note = f"declination {dec:+.2f} deg from the World Magnetic Model at {lat:.5f}, {lon:.5f}, {year:.1f} (ahrs.utils.WMM)"
+    epoch = float(w.epoch)
+    if warn is not None and not epoch <= year < epoch + 5.0:
+        warn(f"--declination auto: {when} is outside {w.model}'s validity ({epoch:.0f}.0 to {epoch + 5:.0f}.0), the "
+             "newest model ahrs.utils.WMM has: its secular change is extrapolated (a newer ahrs may carry the next "
+             "model)")
+    note = (f"declination {dec:+.2f} deg from the World Magnetic Model ({w.model}, ahrs.utils.WMM) at {lat:.5f}, "
+            f"{lon:.5f} on {when}")
     return math.radians(dec), note
 
 
-def first_fix_declination(lat_rad, lon_rad, h_m, where: str) -> tuple:
+def first_fix_declination(lat_rad, lon_rad, h_m, where: str, utc=None, date: float | None = None,
+                          warn=None) -> tuple:
     """:func:`wmm_declination` at the first fix with a finite latitude and longitude (its height,
-    or 0 m when that is not finite); a UsageError naming ``where`` when there is none."""
+    or 0 m when that is not finite); a UsageError naming ``where`` when there is none.
+
+    The date is ``date`` (a decimal year: ``--date``), else that of the first finite ``utc`` (UTC
+    s since 1970, per fix: :attr:`quatnav.io.Gnss.utc`), else today's, with a note that the log
+    has none. Returns ``(declination_rad, notes)``: the note of :func:`wmm_declination` first.
+    ``warn``: see :func:`wmm_declination`."""
+    import datetime
     import numpy as np
     lat, lon, h = (np.asarray(x, float) for x in (lat_rad, lon_rad, h_m))
     ok = np.isfinite(lat) & np.isfinite(lon)
     if not ok.any():
         raise UsageError(f"--declination auto: {where} has no GNSS position; give the declination in degrees")
     i = int(np.argmax(ok))
-    return wmm_declination(float(lat[i]), float(lon[i]), float(h[i]) if np.isfinite(h[i]) else 0.0)
+    notes, source = [], "from --date"
+    if date is None:
+        u = np.asarray(utc, float).ravel() if utc is not None else np.empty(0)
+        u = u[np.isfinite(u)]
+        if u.size:
+            try:
+                date = decimal_year(datetime.datetime.fromtimestamp(float(u[0]), datetime.timezone.utc))
+            except (OverflowError, OSError, ValueError):
+                raise UsageError(f"--declination auto: {where}: UTC time {float(u[0]):g} s is not a date (expected "
+                                 "seconds since 1970-01-01); give --date YYYY-MM-DD") from None
+            source = "from the log's GNSS UTC time"
+        else:
+            source = "today"
+            notes.append(f"{where}: no recording date in the log (no UTC time with its GNSS fixes): the World "
+                         "Magnetic Model at today's date; give --date YYYY-MM-DD (the day of the recording) "
+                         "for its own")
+    d, text = wmm_declination(float(lat[i]), float(lon[i]), float(h[i]) if np.isfinite(h[i]) else 0.0, date,
+                              source=source, warn=warn)
+    return d, [text] + notes
