@@ -3,7 +3,8 @@
 ::
 
     quatnav ahrs run --log FILE [--format FMT] [--topic KIND=TOPIC] | --imu IMU.csv [--mag MAG.csv]
-                     [--filter qekf|euler-ekf|marg] [--declination DEG] [--rate HZ] [--no-mag]
+                     [--filter qekf|euler-ekf|marg] [--declination DEG|auto [--date YYYY-MM-DD]]
+                     [--rate HZ] [--no-mag]
                      [--smooth] --out OUT.csv|OUT.parquet [--plot FILE.png]
 
 The log is read by :func:`quatnav.io.read` (RTKLIB, ULog, ROS bag, NMEA or CSV). Magnetometer
@@ -31,7 +32,9 @@ inputs: --log FILE is any format quatnav.io.read knows (RTKLIB .pos, PX4 .ulg, R
   a ROS bag (e.g. --topic imu=/imu/data_raw); mag (vehicle_magnetometer, sensor_mag, ...) in a ULog.
 --rate HZ: average the IMU over blocks to about HZ before filtering (default: every sample).
 --declination DEG: east of true north; yaw is then relative to true north. --declination auto: the
-  World Magnetic Model's at the log's first GNSS fix (ahrs.utils.WMM, the [peers] extra).
+  World Magnetic Model's at the log's first GNSS fix (ahrs.utils.WMM, the [peers] extra) on the day
+  of the recording: --date YYYY-MM-DD (or a decimal year), else the GNSS's first UTC time (a ULog's
+  time_utc_usec, a .pos or NMEA date, a CSV utc column), else today's, with a note.
 --smooth: offline, the Rauch-Tung-Striebel smoothed attitude (every estimate uses the whole log;
   docs/SMOOTHING.md); qekf and euler-ekf.
 output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w, q_x, q_y, q_z

@@ -23,8 +23,10 @@ IMU            ``time`` (s), ``gyro_x gyro_y gyro_z`` (rad/s), ``accel_x accel_y
                increments) over (time[k-1], time[k]]; the first row only fixes the start time.
 GNSS           ``time`` (s), ``lat lon`` (deg), ``h`` (m, ellipsoidal) of the antenna; optional
                ``v_n v_e v_d`` (NED velocity, m/s), ``sigma_n sigma_e sigma_d`` (position
-               one-sigma, m), ``sigma_vn sigma_ve sigma_vd`` (velocity one-sigma, m/s). An
-               empty optional cell means "not given" (no velocity / the configured sigma).
+               one-sigma, m), ``sigma_vn sigma_ve sigma_vd`` (velocity one-sigma, m/s), ``utc``
+               (UTC time of the fix, s since 1970-01-01, Unix time: the date of the recording
+               for ``--declination auto``, read with it only). An empty optional cell means
+               "not given" (no velocity / the configured sigma).
 BARO           ``time`` (s), ``h`` (altimeter height, m; its offset is tied to the GNSS height)
 COMPASS        ``time`` (s), ``heading`` (magnetic heading, deg; ``declination`` is added)
 MAG            ``time`` (s), ``mag_x mag_y mag_z`` (raw magnetometer, IMU axes, any unit; each
@@ -114,7 +116,8 @@ with pandas: pip install 'quatnav[io]'.
   IMU      time, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s^2); body
            forward-right-down; row k = mean over (time[k-1], time[k]]
   GNSS     time, lat, lon (deg), h (m, antenna); optional v_n, v_e, v_d (m/s),
-           sigma_n, sigma_e, sigma_d (m), sigma_vn, sigma_ve, sigma_vd (m/s); empty cell = not given
+           sigma_n, sigma_e, sigma_d (m), sigma_vn, sigma_ve, sigma_vd (m/s); empty cell = not given;
+           utc (UTC s since 1970, Unix time: the recording's date for --declination auto)
   BARO     time, h (m)
   COMPASS  time, heading (deg, magnetic; the declination parameter is added)
   MAG      time, mag_x, mag_y, mag_z (raw magnetometer, IMU axes, any unit; optional)
@@ -147,6 +150,11 @@ other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by 
 --kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude
   with its 3-sigma band, biases, the difference to the log's own attitude estimate (e.g. PX4's)
   when it has one, the position one-sigma, and every aid's innovation NIS over time (x: not applied)
+--declination auto: the World Magnetic Model (ahrs.utils.WMM, the [peers] extra) at the first GNSS
+  fix on the day of the recording: --date YYYY-MM-DD (or a decimal year), else the GNSS's first UTC
+  time (a ULog's time_utc_usec, a .pos or NMEA date, a utc column), else today's, with a note; the
+  note names the model, the date and its source; a date after the model's five years is a warning,
+  one before 2015 (no coefficients) an error
 --json FILE writes a summary (rows, navigation start, alignment, gaps, decisions, warnings);
   --json - prints it
 --diagnostics FILE.csv writes one row per aiding sample: aid, time (s), innovation_0..2 (INS
