@@ -155,7 +155,8 @@ def wmm_declination(lat_rad: float, lon_rad: float, h_m: float, year: float | No
             w.magnetic_field(lat, lon, h_m / 1000.0, date=year)
     except ValueError as e:  # ahrs: no coefficients before its first model
         raise UsageError(f"--declination auto: ahrs.utils.WMM cannot give the World Magnetic Model on {when}: "
-                         f"{str(e).rstrip('.')}; give the declination in degrees (--declination DEG)") from None
+                         f"{str(e).rstrip('.')}; give another --date or the declination in degrees "
+                         "(--declination DEG)") from None
     dec = float(w.D) if w.D is not None else math.nan
     if not math.isfinite(dec):
         raise UsageError(f"--declination auto: the World Magnetic Model gives no declination at {lat:.5f}, {lon:.5f}")
