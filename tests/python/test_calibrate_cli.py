@@ -48,6 +48,8 @@ def logs(tmp_path_factory):
                fmt="%.9g")
     np.savetxt(d / "nomag.csv", np.column_stack([t, gyr, acc]), delimiter=",", header=HEADER.rsplit(",", 3)[0],
                comments="", fmt="%.9g")
+    np.savetxt(d / "nomagz.csv", np.column_stack([t, gyr, acc, mag[:, :2]]), delimiter=",",
+               header=HEADER.rsplit(",", 1)[0], comments="", fmt="%.9g")
     return d, b_acc, b_gyr, hard
 
 
@@ -78,6 +80,7 @@ def test_calibrate_plot_and_json(logs, tmp_path):
 
 @pytest.mark.parametrize("args, expect", [
     (("mag", "nomag.csv"), "no mag_x"),
+    (("mag", "nomagz.csv"), "no mag_z column (needed by 'calibrate mag'; found time, gyro_x"),
     (("acc", "log.csv", "--model", "full"), "acc models are"),
     (("gyro", "log.csv", "--model", "full"), "--model is for mag and acc"),
     (("mag", "missing.csv"), "cannot open"),

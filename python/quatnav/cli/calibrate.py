@@ -35,8 +35,14 @@ def read_log(path, mag=False):
     except CsvError as e:
         raise UsageError(str(e)) from None
     m = tab.stack(MAG)
-    if mag and np.isnan(m).all():
-        raise UsageError(f"LOG {path}: no mag_x, mag_y, mag_z columns (needed by 'calibrate mag')")
+    if mag:
+        missing = [c for c in MAG if c not in tab.header]
+        if missing:
+            word = "column" if len(missing) == 1 else "columns"
+            raise UsageError(f"LOG {path}: no {', '.join(missing)} {word} (needed by 'calibrate mag'; "
+                             f"found {', '.join(h for h in tab.header if h)})")
+        if not np.isfinite(m).all(axis=1).any():
+            raise UsageError(f"LOG {path}: no row has all of mag_x, mag_y, mag_z (needed by 'calibrate mag')")
     return tab["time"], tab.stack(IMU[1:4]), tab.stack(IMU[4:7]), m
 
 
