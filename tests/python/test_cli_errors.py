@@ -100,6 +100,12 @@ def _imu_with_times(d, name, t):
     (("simulate", "paper004_walk", "--out", "x.npz", "--plot", "x.xyz"), "--plot x.xyz: matplotlib cannot write .xyz"),
     (("ahrs", "run", "--imu", "x.csv", "--out", "o.csv", "--plot", "p.jpg2"), "cannot write .jpg2 files (it writes"),
     (("ahrs", "run", "--imu", "x.csv", "--out", "o.csv", "--declination", "400"), "expected degrees east within +-180"),
+    (("--nosuch",), "quatnav: error: unrecognized arguments: --nosuch (see 'quatnav -h')"),
+    (("ins", "run", "--imu", "x.csv", "--out", "o.csv", "--nosuch"),
+     "quatnav ins run: error: unrecognized arguments: --nosuch (see 'quatnav ins run -h')"),
+    (("ins", "--nosuch", "run", "--imu", "x.csv", "--out", "o.csv"), "quatnav ins run: error: unrecognized arguments"),
+    (("calibrate", "mag", "x.csv", "--out", "c.toml", "--nosuch", "1"),
+     "quatnav calibrate: error: unrecognized arguments: --nosuch 1 (see 'quatnav calibrate -h')"),
 ])
 def test_usage_errors_are_one_line(args, expect, tmp_path):
     line = error_line(quatnav_cli(*args, cwd=tmp_path))

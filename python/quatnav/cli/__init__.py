@@ -41,6 +41,27 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):  # noqa: D401 - argparse API
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} -h')\n")
 
+    def parse_args(self, args=None, namespace=None):
+        """argparse's, but an unknown option is reported by the (sub)command that was given
+        (``quatnav ins run: error: unrecognized arguments: ...``), not by ``quatnav``: a
+        subcommand's parser hands the words it does not know up to its parent."""
+        ns, extras = self.parse_known_args(args, namespace)
+        if extras:
+            self._command_parser(getattr(ns, "_prog", self.prog)).error(
+                f"unrecognized arguments: {' '.join(extras)}")
+        return ns
+
+    def _command_parser(self, prog: str) -> argparse.ArgumentParser:
+        """The parser of the tree whose prog is ``prog`` (``self`` if none is)."""
+        todo = [self]
+        while todo:
+            p = todo.pop()
+            if p.prog == prog:
+                return p
+            todo += [sub for a in p._actions if isinstance(a, argparse._SubParsersAction)
+                     for sub in a.choices.values()]
+        return self
+
 
 def _missing_module(exc: ImportError) -> str | None:
     """The optional module whose absence caused ``exc`` (following ``raise ... from``), or None."""
