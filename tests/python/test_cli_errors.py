@@ -112,6 +112,19 @@ def test_usage_errors_are_one_line(args, expect, tmp_path):
     assert expect in line, line
 
 
+@pytest.mark.parametrize("opt, path, expect", [
+    ("--out", "no/such.npz", "--out no/such.npz: cannot write (no such directory: "),
+    ("--csv", "no/such/dir", "--csv no/such/dir: cannot create it (no such directory: "),
+    ("--csv", "no/such.csv", "--csv no/such.csv: cannot write (no such directory: "),
+])
+def test_simulate_refuses_an_output_folder_whose_parent_is_missing(opt, path, expect, tmp_path):
+    """--out and --csv alike: a path into a folder that does not exist is refused before the
+    scenario is made, and no folder is created (--csv DIR creates DIR itself, not its parents)."""
+    line = error_line(quatnav_cli("simulate", "paper004_static", opt, path, cwd=tmp_path))
+    assert expect in line, line
+    assert not (tmp_path / "no").exists()
+
+
 # --- ins run -----------------------------------------------------------------------------------
 @needs_pandas
 @pytest.mark.parametrize("scale, unit", [(1e3, "milliseconds"), (1e6, "microseconds"), (1e9, "nanoseconds")])

@@ -16,6 +16,8 @@ yaw (deg)), so that
 
 runs the scenario unchanged. --csv FILE.csv (a name ending in .csv) writes every field of the
 scenario instead (FILE.csv with the truth, FILE_imu.csv, ..., FILE_meta.json; quatnav.sim.io).
+DIR is created if needed, but not its parent folder: as for --out, a path into a folder that
+does not exist is refused.
 Needs scipy for some sensor models: pip install 'quatnav[sim]'.
 """
 
@@ -44,6 +46,25 @@ def add_parser(subparsers):
     return p
 
 
+def _check_outputs(args) -> None:
+    """Refuse, before the scenario is made, an --out or --csv whose folder does not exist: --csv
+    DIR creates DIR itself, not a chain of folders that a typo in the path would give."""
+    from pathlib import Path
+    for opt, path, made in (("--out", args.out, False), ("--csv", args.csv, True)):
+        if not path:
+            continue
+        p = Path(path)
+        if made and not str(path).lower().endswith(".csv"):
+            if p.exists() and not p.is_dir():
+                raise UsageError(f"{opt} {path}: not a folder (give a folder, or a name ending in .csv)")
+            what = "cannot create it"
+        else:
+            what = "cannot write"
+        parent = p.resolve().parent
+        if not parent.is_dir():
+            raise UsageError(f"{opt} {path}: {what} (no such directory: {parent})")
+
+
 def run(args) -> int:
     from . import scenarios
     if args.list:
@@ -63,6 +84,7 @@ def run(args) -> int:
         raise UsageError(f"--seed: expected a non-negative integer, got {args.seed}")
     if not (args.out or args.csv or args.plot or args.json):
         raise UsageError("nothing to write: give --out FILE.npz, --csv DIR, --plot FILE.png and/or --json FILE")
+    _check_outputs(args)
     s = scenarios.make_scenario(args.name, seed=args.seed)
     from . import io
     files = []
