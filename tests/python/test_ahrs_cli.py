@@ -153,3 +153,31 @@ def test_ahrs_run_applies_a_calibration(sim, tmp_path):
     assert not np.allclose(g, s.gyr) and not np.allclose(m, s.mag)
     r = quatnav.QuaternionEKF().run(g, a, m, t=s.t, on_invalid="skip")
     np.testing.assert_allclose(pd.read_csv(out)[["q_w", "q_x", "q_y", "q_z"]].to_numpy(), r.quat, atol=1e-9)
+
+
+def test_ahrs_run_json_summary(sim, tmp_path, capsys):
+    """--json FILE writes the summary, as ins run's does; --json - prints only the JSON on stdout
+    (the other output goes to stderr)."""
+    s, d = sim
+    out, js = tmp_path / "a.csv", tmp_path / "a.json"
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--out", str(out), "--json", str(js)]) == 0
+    got = json.loads(js.read_text())
+    assert got["output"] == str(out) and got["rows"] == got["imu_samples"] == len(s.t)
+    assert got["filter"] == "QuaternionEKF" and got["magnetometer"] is True and got["smoothed"] is False
+    assert got["declination_rad"] == 0.0 and got["warnings"] == []
+    r = quatnav.QuaternionEKF().run(s.gyr, s.acc, s.mag, t=s.t, on_invalid="skip")
+    assert got["flags"] == {n: int(r.flag(n).sum()) for n in r.flags_seen()}
+    capsys.readouterr()
+    assert cli.main(["ahrs", "run", "--imu", str(d / "imu.csv"), "--out", str(out), "--filter", "euler-ekf",
+                     "--no-mag", "--declination", "3", "--json", "-"]) == 0
+    cap = capsys.readouterr()
+    got = json.loads(cap.out)
+    assert got["filter"] == "EulerEKF" and got["magnetometer"] is False
+    assert got["declination_rad"] == pytest.approx(np.radians(3.0))
+    assert f"wrote {out}" in cap.err
+
+
+def test_ahrs_run_help_documents_json():
+    p = subprocess.run([sys.executable, "-m", "quatnav", "ahrs", "run", "-h"], capture_output=True, text=True,
+                       env={"PYTHONPATH": PACKAGE_DIR, "PATH": "/usr/bin:/bin"})
+    assert p.returncode == 0 and "--json FILE" in p.stdout and "--json - prints it" in p.stdout

@@ -5,7 +5,7 @@
     quatnav ahrs run --log FILE [--format FMT] [--topic KIND=TOPIC] | --imu IMU.csv [--mag MAG.csv]
                      [--filter qekf|euler-ekf|marg] [--declination DEG|auto [--date YYYY-MM-DD]]
                      [--rate HZ] [--no-mag]
-                     [--smooth] --out OUT.csv|OUT.parquet [--plot FILE.png]
+                     [--smooth] --out OUT.csv|OUT.parquet [--plot FILE.png] [--json FILE|-]
 
 The log is read by :func:`quatnav.io.read` (RTKLIB, ULog, ROS bag, NMEA or CSV). Magnetometer
 samples go on the first IMU row at or after their time (other rows: no magnetometer update).
@@ -18,7 +18,7 @@ import sys
 
 import numpy as np
 
-from .util import UsageError, date_arg, declination_arg, first_fix_declination
+from .util import UsageError, date_arg, declination_arg, first_fix_declination, write_json
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 
@@ -42,6 +42,8 @@ output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w
   (the filter's one-sigma values, rad or rad/s), flags (bits), flag_names ('|'-separated).
 --plot FILE.png: attitude, biases and, when the log carries its own estimate (e.g. PX4's
   vehicle_attitude), the inclination and heading difference to it.
+--json FILE writes a summary (rows, filter, magnetometer used, declination, samples per flag,
+  skipped rows, warnings, notes); --json - prints it
 exit status: 0 on success, 2 on an input error (one line on stderr)."""
 
 
@@ -72,6 +74,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     r.add_argument("--smooth", action="store_true", help="offline: the smoothed attitude (qekf, euler-ekf)")
     r.add_argument("--out", required=True, metavar="OUT.csv", help="output file (.csv or .parquet)")
     r.add_argument("--plot", metavar="FILE.png", help="also plot the result")
+    r.add_argument("--json", metavar="FILE", help="also write a summary as JSON ('-': to stdout)")
     from ..calibration import add_calibration_argument
     add_calibration_argument(r)
     r.set_defaults(func=_run)
@@ -239,9 +242,26 @@ def plot_attitude(res, log, path):
     plt.close(fig)
 
 
+def run_summary(res, log, args, declination_deg, warnings) -> dict:
+    """The ``--json`` summary of ``ahrs run`` (keys and units in the manner of ``ins run``'s)."""
+    summary = {"output": str(args.out), "rows": int(len(res.t)), "imu_samples": int(len(log.imu.t)),
+               "filter": FILTERS[args.filter], "smoothed": bool(args.smooth), "magnetometer": log.mag is not None,
+               "declination_rad": math.radians(declination_deg), "rate_hz": args.rate,
+               "flags": {n: int(np.count_nonzero(res.flag(n))) for n in res.flags_seen()},
+               "skipped_rows": {k: int(len(v)) for k, v in res.skipped_rows.items()},
+               "warnings": warnings}
+    for text in log.notes:
+        summary.setdefault("notes", []).append(text)
+        if text.startswith("declination"):
+            summary["declination_note"] = text
+    return summary
+
+
 def _run(args) -> int:
     if args.date is not None and args.declination is not None:
         raise UsageError("--date dates the World Magnetic Model: it goes with --declination auto")
+    prog = getattr(args, "_prog", "quatnav ahrs run")
+    warnings = []
     log = load_inputs(args)
     if getattr(args, "calibration", None):
         from ..calibration import apply_calibration_args
@@ -258,7 +278,8 @@ def _run(args) -> int:
     _, warns = check_imu_times(log.imu.t, np.arange(1, len(log.imu.t) + 1), 1.0, where=f"IMU {log.source}")
     for w in warns:
         if "slow for an IMU" in w:
-            print(f"quatnav ahrs run: warning: {w}", file=sys.stderr)
+            warnings.append(w)
+            print(f"{prog}: warning: {w}", file=sys.stderr)
     if args.smooth and args.filter == "marg":
         raise UsageError("--smooth: marg has no smoother; use --filter qekf or euler-ekf")
     decl = args.declination
@@ -266,7 +287,8 @@ def _run(args) -> int:
         g = log.gnss
         d, texts = first_fix_declination(*((g.lat, g.lon, g.h) if g is not None else ([], [], [])), log.source,
                                          utc=g.utc if g is not None else None, date=args.date,
-                                         warn=lambda w: print(f"quatnav ahrs run: warning: {w}", file=sys.stderr))
+                                         warn=lambda w: (warnings.append(w), print(f"{prog}: warning: {w}",
+                                                                                   file=sys.stderr)))
         decl = math.degrees(d)
         log.notes.extend(texts)
     res = run_filter(log, args.filter, decl, args.rate, args.smooth)
@@ -278,4 +300,6 @@ def _run(args) -> int:
     if args.plot:
         plot_attitude(res, log, args.plot)
         print(f"wrote {args.plot}")
+    if args.json:
+        write_json(run_summary(res, log, args, decl, warnings), args)
     return 0
