@@ -181,3 +181,18 @@ def test_ahrs_run_help_documents_json():
     p = subprocess.run([sys.executable, "-m", "quatnav", "ahrs", "run", "-h"], capture_output=True, text=True,
                        env={"PYTHONPATH": PACKAGE_DIR, "PATH": "/usr/bin:/bin"})
     assert p.returncode == 0 and "--json FILE" in p.stdout and "--json - prints it" in p.stdout
+
+
+def test_no_mag_does_not_claim_a_magnetometer(data_dir, tmp_path, capsys):
+    """The SITL ULog has a magnetometer: without --no-mag the command says where it was read from;
+    with --no-mag it says nothing of the kind (neither printed nor in the --json notes)."""
+    pytest.importorskip("pyulog")
+    f = data_dir / "px4" / "sample_logging_tagged_and_default_params.ulg"
+    out, js = tmp_path / "a.csv", tmp_path / "a.json"
+    assert cli.main(["ahrs", "run", "--log", str(f), "--out", str(out)]) == 0
+    assert "note: magnetometer from " in capsys.readouterr().out
+    assert cli.main(["ahrs", "run", "--log", str(f), "--out", str(out), "--no-mag", "--json", str(js)]) == 0
+    text = capsys.readouterr().out
+    assert "(no magnetometer: heading free)" in text and "magnetometer from" not in text
+    got = json.loads(js.read_text())
+    assert got["magnetometer"] is False and not any("magnetometer" in n for n in got.get("notes", []))

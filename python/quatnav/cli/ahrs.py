@@ -122,7 +122,9 @@ def load_inputs(args):
                              unit="as in the file")
     log.require("imu")
     if args.no_mag:
+        # nor say where the magnetometer was read from (ULog: "magnetometer from vehicle_magnetometer")
         log.mag = None
+        log.notes = [n for n in log.notes if not n.startswith("magnetometer")]
     return log
 
 
