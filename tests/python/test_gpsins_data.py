@@ -69,6 +69,25 @@ def test_navego_gps_ins_rmse(navego):
     assert sum(out["rejections"].values()) == 0
 
 
+def test_navego_short_run_has_no_attitude_after_60s(navego, tmp_path, capsys):
+    """--seconds 60: the ins run runs navigate less than 60 s, so there is no attitude RMSE from
+    60 s on: None in the JSON and one line saying why, not numpy's empty-mean warning and NaN."""
+    import json
+    import warnings
+
+    from quatnav import cli
+    js = tmp_path / "n.json"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert cli.main(["experiment", "navego", "--data", str(navego.path), "--seconds", "60",
+                         "--json", str(js)]) == 0
+    text = capsys.readouterr().out
+    assert "nan" not in text and "none after 60 s (it navigated 58.6 s)" in text
+    got = json.loads(js.read_text())
+    for name in ("cli_in_motion", "cli_position_only"):
+        assert got[name]["attitude_rmse_after_60s_deg"] is None and got[name]["navigation_s"] < 60.0
+
+
 # --- the walk ------------------------------------------------------------------------------------
 def test_walk_loader_fields_units_and_time(walk):
     w = walk

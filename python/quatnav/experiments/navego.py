@@ -23,7 +23,9 @@ folder, :func:`quatnav.cli.ins.run_files`) with the filter's own alignment, **wi
 ``ini_align``: ``cli_in_motion`` (GNSS position and velocity: the alignment in motion from the
 GNSS velocity change against the specific force) and ``cli_position_only`` (the velocity columns
 left out: the course between fixes). Their errors are scored from the CLI's output rows (from the
-start of navigation) against ``ref.mat`` the same way.
+start of navigation) against ``ref.mat`` the same way, and the attitude's also from 60 s after the
+start of navigation (once the alignment's errors have settled); a run that navigates less than
+60 s (``--seconds``) has no such figure (``None``), and the report says why.
 """
 from __future__ import annotations
 
@@ -218,15 +220,16 @@ def run_cli(d, velocity=True, seconds=None, folder=None):
     rpy = np.radians(np.column_stack([tab["roll"], tab["pitch"], tab["yaw"]]))
     de = np.degrees(np.angle(np.exp(1j * (rpy - d.ref_rpy[i]))))
     names = ("n", "e", "d")
-    late = t >= t[0] + 60.0
+    late = t >= t[0] + 60.0  # none in a run shorter than that: no figure rather than NaN
     out = {"message": msg, "alignment": summary["alignment"], "navigation_start_s": float(t[0] - d.imu_t[0]),
-           "rows": int(len(t)),
+           "rows": int(len(t)), "navigation_s": float(t[-1] - t[0]),
            "position_rmse_m": dict(zip(names, map(float, _rms(dp)))),
            "horizontal_rmse_m": float(_rms(np.hypot(dp[:, 0], dp[:, 1]))),
            "velocity_rmse_mps": dict(zip(names, map(float, _rms(dv)))),
            "attitude_rmse_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de)))),
            "attitude_max_deg": dict(zip(("roll", "pitch", "yaw"), map(float, np.max(np.abs(de), axis=0)))),
-           "attitude_rmse_after_60s_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de[late])))),
+           "attitude_rmse_after_60s_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de[late]))))
+           if late.any() else None,
            "attitude_at_start_deg": dict(zip(("roll", "pitch", "yaw"), map(float, de[0]))),
            "decisions": summary["decisions"]}
     return out, dict(t=t, dp=dp, dv=dv, deul=de)
@@ -337,7 +340,10 @@ def run(args) -> int:
     print(f"gate rejections: {out['rejections']}")
     for name in ("cli_in_motion", "cli_position_only"):
         c = out[name]
+        late = c["attitude_rmse_after_60s_deg"]
+        late = (f"after 60 s {fmt(late, 2)}" if late is not None else
+                f"none after 60 s (it navigated {c['navigation_s']:.1f} s)")
         print(f"{name} (ins run, no ini_align; alignment {c['alignment']['method']}, navigating from "
               f"{c['navigation_start_s']:.1f} s): horizontal RMSE {c['horizontal_rmse_m']:.2f} m; attitude (deg) "
-              f"{fmt(c['attitude_rmse_deg'], 2)}; after 60 s {fmt(c['attitude_rmse_after_60s_deg'], 2)}")
+              f"{fmt(c['attitude_rmse_deg'], 2)}; {late}")
     return 0
