@@ -1,6 +1,7 @@
 """Noise parameters from the Allan deviation: recovery on simulated sensors, the filter
 parameters under each filter's names, the TOML that 'ins run --config' reads, the 'quatnav
-allan' command, and static stretches of real data (skipped when the data is absent)."""
+allan' command, and static stretches of real data (the shared data folder of conftest.py: skipped
+when it is absent)."""
 import os
 import subprocess
 import sys
@@ -99,16 +100,18 @@ def test_allan_command(tmp_path):
     assert (tmp_path / "a.png").stat().st_size > 1000
 
 
-def test_static_stretch_of_the_real_walk():
+@pytest.mark.data
+def test_static_stretch_of_the_real_walk(data_dir):
     """The longest rest of the gnss_imu_walk log (about 15 s at 166 Hz, near the end).
     Measured: gyro white 1.0e-4, 6.8e-5, 4.7e-5 rad/s/sqrt(Hz); accelerometer 5.8e-4, 7.2e-4,
     3.0e-5 m/s^2/sqrt(Hz) (the z axis looks quantized); the log is far too short for a rate
     random walk (the bias noise comes from the bias-instability equivalent)."""
     from quatnav.datasets import gnss_imu_walk
     from quatnav.calibration import rest_segments
-    if not (gnss_imu_walk.default_dir() / "imu_1730_sf.csv").exists():
-        pytest.skip("gnss_imu_walk data not present")
-    w = gnss_imu_walk.load()
+    d = data_dir / "gnss_imu_walk"
+    if not (d / "imu_1730_sf.csv").exists():
+        pytest.skip(f"gnss_imu_walk data not found in {d}")
+    w = gnss_imu_walk.load(d)
     segs = rest_segments(w.imu_t, w.accel_s, w.gyro_s, acc_std=0.05, gyr_std=0.01)
     a, b = max(segs, key=lambda s: s[1] - s[0])
     assert w.imu_t[b - 1] - w.imu_t[a] > 10.0
@@ -118,17 +121,16 @@ def test_static_stretch_of_the_real_walk():
     assert m.bias_source("gyro") == "bias_instability"
 
 
-def test_rest_phase_of_a_broad_trial():
+@pytest.mark.data
+def test_rest_phase_of_a_broad_trial(data_dir):
     """The first rest phase of BROAD trial 02 (40 s at 286 Hz). Measured: gyro white 1.2e-4,
     2.9e-4, 1.1e-4 rad/s/sqrt(Hz), bias instability 6-8e-5 rad/s; accelerometer white 2.6e-3,
     2.9e-3, 4.1e-3 m/s^2/sqrt(Hz)."""
     from quatnav.datasets import broad
-    try:
-        trials = broad.list_trials()
-    except (FileNotFoundError, OSError):
-        trials = []
+    d = data_dir / "broad"
+    trials = broad.list_trials(d) if d.is_dir() else []
     if not trials:
-        pytest.skip("BROAD data not present")
+        pytest.skip(f"BROAD data not found in {d}")
     tr = broad.load_trial(trials[0])
     rest = ~tr.movement
     edges = np.flatnonzero(np.diff(np.concatenate([[0], rest.astype(int), [0]])))
