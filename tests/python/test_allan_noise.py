@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import quatnav
-from quatnav.calibration.noise import FILTER_NOISE, fit_allan, noise_parameters
+from quatnav.calibration.noise import FILTER_NOISE, fit_allan, motion_evidence, noise_parameters
 from quatnav.filters.tables import PARAM_TABLES
 
 PYTHON_DIR = str(Path(quatnav.__file__).resolve().parents[1])
@@ -94,10 +94,61 @@ def test_allan_command(tmp_path):
     p = subprocess.run([sys.executable, "-m", "quatnav", "allan", tmp_path / "rest.csv", "--out", tmp_path / "n.toml",
                         "--plot", tmp_path / "a.png"], capture_output=True, text=True, env=env, timeout=120)
     assert p.returncode == 0, p.stderr
+    assert "warning" not in p.stderr, p.stderr
     doc = tomllib.loads((tmp_path / "n.toml").read_text())
     assert doc["filter"]["gyro_noise"] == pytest.approx(0.001, rel=0.05)
     assert doc["filter"]["acc_noise"] == pytest.approx(0.002, rel=0.05)
     assert (tmp_path / "a.png").stat().st_size > 1000
+
+
+GRADES = {  # datasheet-like figures: white noise, bias instability, bias random walk
+    "consumer MEMS": (dict(noise_density_dps_per_sqrt_hz=0.01, bias_instability_deg_per_h=10.0, bias_corr_time_s=200.0,
+                           rrw_deg_per_h_per_sqrt_h=5.0),
+                      dict(noise_density_ug_per_sqrt_hz=150.0, bias_instability_ug=50.0, bias_corr_time_s=200.0,
+                           bias_rw_ug_per_sqrt_h=50.0)),
+    "tactical": (dict(arw_deg_per_sqrt_h=0.1, bias_instability_deg_per_h=1.0, bias_corr_time_s=300.0),
+                 dict(noise_density_ug_per_sqrt_hz=30.0, bias_instability_ug=20.0, bias_corr_time_s=300.0)),
+    "navigation": (dict(arw_deg_per_sqrt_h=0.002, bias_instability_deg_per_h=0.003, bias_corr_time_s=1000.0),
+                   dict(noise_density_ug_per_sqrt_hz=5.0, bias_instability_ug=5.0, bias_corr_time_s=1000.0)),
+}
+
+
+def _imu(segments, grade, seed=0):
+    from quatnav.sim import sensors, trajectory
+    g, a = GRADES[grade]
+    traj = trajectory.make_trajectory(segments, 100.0, earth_rate=False)
+    spec = sensors.ImuSpec(gyro=sensors.GyroSpec(**g), accel=sensors.AccelSpec(**a))
+    return sensors.simulate_imu(traj, spec, np.random.default_rng(seed))
+
+
+@pytest.mark.parametrize("grade", list(GRADES))
+def test_motion_evidence_static_versus_moving(grade):
+    """20 min at rest with the noise, bias instability and bias random walk of each grade: no
+    evidence of motion; the same sensor turned by hand for 20 s in the middle: the gyro says so."""
+    from quatnav.sim.trajectory import RandomMotion, Rest
+    imu = _imu([Rest(1200.0)], grade)
+    assert motion_evidence(imu.t, imu.gyro, imu.accel) is None
+    imu = _imu([Rest(600.0), RandomMotion(20.0, amplitude=(0.3, 0.3, 0.6)), Rest(580.0)], grade)
+    why = motion_evidence(imu.t, imu.gyro, imu.accel)
+    assert why is not None and "1 s mean changes by" in why
+    assert 600.0 <= float(why.split("between t = ")[1].split(" s")[0]) <= 621.0
+    assert motion_evidence(imu.t, acc=imu.accel) is not None  # the accelerometer alone sees it too
+
+
+def test_allan_command_warns_of_a_moving_log(tmp_path):
+    pytest.importorskip("pandas")
+    from quatnav.sim.trajectory import Rest, Rotate
+    imu = _imu([Rest(60.0), Rotate("pitch", 4.0, angle=np.pi / 2), Rest(60.0)], "consumer MEMS")
+    np.savetxt(tmp_path / "moved.csv", np.column_stack([imu.t, imu.gyro, imu.accel]), delimiter=",", comments="",
+               fmt="%.9g", header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
+    env = dict(os.environ, PYTHONPATH=PYTHON_DIR + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    p = subprocess.run([sys.executable, "-m", "quatnav", "allan", tmp_path / "moved.csv", "--out", tmp_path / "n.toml"],
+                       capture_output=True, text=True, env=env, timeout=120)
+    assert p.returncode == 0, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("quatnav allan: warning: LOG "), p.stderr
+    assert "is not static: the " in lines[0] and "'s 1 s mean changes by " in lines[0] and "--rest-only" in lines[0]
+    assert "motion, being signal, would be read as noise" in lines[0]
 
 
 @pytest.mark.data
@@ -115,6 +166,7 @@ def test_static_stretch_of_the_real_walk(data_dir):
     segs = rest_segments(w.imu_t, w.accel_s, w.gyro_s, acc_std=0.05, gyr_std=0.01)
     a, b = max(segs, key=lambda s: s[1] - s[0])
     assert w.imu_t[b - 1] - w.imu_t[a] > 10.0
+    assert motion_evidence(w.imu_t[a:b], w.gyro_s[a:b], w.accel_s[a:b]) is None
     m = noise_parameters(1.0 / np.median(np.diff(w.imu_t)), gyr=w.gyro_s[a:b], acc=w.accel_s[a:b])
     assert 1e-5 < m.term("gyro", "white") < 1e-3     # consumer MEMS range
     assert 1e-5 < m.term("acc", "white") < 1e-2
@@ -135,6 +187,9 @@ def test_rest_phase_of_a_broad_trial(data_dir):
     rest = ~tr.movement
     edges = np.flatnonzero(np.diff(np.concatenate([[0], rest.astype(int), [0]])))
     a, b = max(zip(edges[::2], edges[1::2]), key=lambda s: s[1] - s[0])
+    t = np.arange(len(tr.gyr)) / tr.rate
+    assert motion_evidence(t[a:b], tr.gyr[a:b], tr.acc[a:b]) is None
+    assert motion_evidence(t, tr.gyr, tr.acc) is not None  # the whole trial moves
     m = noise_parameters(tr.rate, gyr=tr.gyr[a:b], acc=tr.acc[a:b])
     assert 1e-5 < m.term("gyro", "white") < 1e-3
     assert 1e-4 < m.term("acc", "white") < 1e-1

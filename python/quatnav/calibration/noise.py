@@ -17,6 +17,9 @@ standard error of about ``1 / sqrt(2 (n/m - 1))`` (IEEE 952, C.2; the overlappin
 somewhat better). The line fits weight each point by ``n/m - 1`` (the inverse of that relative
 variance), and each read-out reports the error of the best-determined point its fit uses (the
 smallest tau; neighbouring points are correlated, so the fit is not much better than that).
+
+A log in motion has no meaningful Allan deviation (the motion is signal, and is read as noise,
+bias instability and random walk): :func:`motion_evidence` says when a log is evidently not static.
 """
 from __future__ import annotations
 
@@ -27,7 +30,7 @@ from numpy.typing import ArrayLike
 
 from ._toml import dumps
 
-__all__ = ["AxisNoise", "NoiseModel", "noise_parameters", "fit_allan", "FILTER_NOISE"]
+__all__ = ["AxisNoise", "NoiseModel", "noise_parameters", "fit_allan", "motion_evidence", "FILTER_NOISE"]
 
 #: the noise parameters of each filter (``filters/tables.py``): name -> (sensor, term). All are
 #: continuous-time densities: ``gyro_noise`` rad/s/sqrt(Hz) = the ARW, ``acc_noise``
@@ -182,6 +185,56 @@ def noise_parameters(rate_hz: float, gyr: ArrayLike | None = None, acc: ArrayLik
         curves[name] = (taus, adev)
         out[name] = [fit_allan(taus, adev[:, i], n, rate_hz) for i in range(3)]
     return NoiseModel(out["gyro"], out["acc"], float(rate_hz), n / rate_hz, curves)
+
+
+#: what a still sensor's 1 s mean does not change by from one second to the next, whatever its
+#: grade (:func:`motion_evidence`): gyro rad/s (0.57 deg/s), accelerometer as a fraction of the
+#: gravity it measures (0.1 m/s^2, 0.57 deg of tilt)
+STILL_STEP = {"gyro": 0.01, "acc": 0.01}
+
+
+def motion_evidence(t: ArrayLike, gyr: ArrayLike | None = None, acc: ArrayLike | None = None,
+                    window: float = 1.0, k: float = 10.0) -> str | None:
+    """Why a log is evidently not static, in words, or None when nothing says so.
+
+    The log (``t`` (N,) s; ``gyr`` rad/s, ``acc`` m/s^2, (N, 3)) is cut into blocks of ``window``
+    seconds. At rest, the means of consecutive blocks differ by the white noise, whose standard
+    deviation per axis is ``sqrt(2) sigma / sqrt(m)`` (``m`` samples a block, ``sigma`` the
+    per-sample noise from the sample-to-sample differences), and by the bias's wander, a slow
+    process: within a second it stays far below :data:`STILL_STEP` for any grade (bias
+    instability from ~0.003 deg/h for a navigation-grade gyro to ~10 deg/h = 0.003 deg/s for a
+    consumer MEMS one, 5-100 ug for accelerometers; temperature drifts over minutes). A hand, a
+    vehicle or a turntable turns the sensor by degrees per second and accelerates it by tenths of
+    m/s^2. A change beyond both ``k`` times its white-noise standard deviation (``k`` = 10: never
+    reached by Gaussian noise) and that floor is evidence of motion; the largest is reported.
+    """
+    t = np.asarray(t, float)
+    rate = 1.0 / float(np.median(np.diff(t)))
+    m = max(1, int(round(window * rate)))
+    nb = len(t) // m
+    if nb < 2:
+        return None
+    worst = None
+    for name, x in (("gyro", gyr), ("acc", acc)):
+        if x is None:
+            continue
+        x = np.asarray(x, float)
+        d = np.diff(x, axis=0)
+        sigma = 1.4826 * np.median(np.abs(d - np.median(d, axis=0)), axis=0)  # robust to a few jumps
+        sigma = np.where(sigma > 0, sigma, np.std(d, axis=0)) / np.sqrt(2)   # (a quantized sensor)
+        means = x[:nb * m].reshape(nb, m, 3).mean(axis=1)
+        step = np.abs(np.diff(means, axis=0))
+        floor = STILL_STEP[name] * (float(np.linalg.norm(np.median(means, axis=0))) if name == "acc" else 1.0)
+        limit = np.maximum(k * np.sqrt(2.0 / m) * sigma, floor)
+        ratio = step / limit
+        i, a = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+        if ratio[i, a] > 1.0 and (worst is None or ratio[i, a] > worst[0]):
+            unit = "rad/s" if name == "gyro" else "m/s^2"
+            c = i * m + m // 2  # the centres of the two blocks
+            worst = (ratio[i, a], f"the {name} {'xyz'[a]}'s {window:g} s mean changes by {step[i, a]:.3g} {unit} "
+                                  f"between t = {t[c]:.1f} s and {t[c + m]:.1f} s (a still sensor's, by at most "
+                                  f"{limit[a]:.2g} {unit})")
+    return worst[1] if worst else None
 
 
 def plot_allan(model: NoiseModel, path):

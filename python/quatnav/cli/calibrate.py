@@ -3,6 +3,7 @@ CSV log and write (or update) a calibration TOML file that ``--calibration FILE`
 from __future__ import annotations
 
 import argparse
+import sys
 import warnings
 
 import numpy as np
@@ -152,7 +153,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 ALLAN_EPILOG = """\
 LOG: an IMU CSV log (time, gyro_x..z, accel_x..z) recorded at rest, as long as possible (the
 rate random walk shows only at taus of a tenth of the log and beyond). --rest-only: use the
-longest rest segment found in the log instead of the whole log.
+longest rest segment found in the log instead of the whole log. A log that is evidently not
+static (a 1 s mean of the gyro or the accelerometer changing from one second to the next by more
+than 10 times what its white noise allows and more than a still sensor's bias ever moves in a
+second: 0.01 rad/s, 1 % of gravity; quatnav.calibration.noise.motion_evidence) gets a warning:
+its Allan deviation would read the motion as noise.
 
 The noise file holds [filter] (GpsInsFilter parameters: 'quatnav ins run --config noise.toml'),
 [parameters.NAME] (QuaternionEKF, EulerEKF, NavFilter13, GpsInsFilter under their own parameter
@@ -162,7 +167,8 @@ their relative standard errors). See docs/CALIBRATION.md."""
 
 def _allan(args) -> int:
     from .. import calibration as cal
-    from ..calibration.noise import noise_parameters, plot_allan
+    from ..calibration.noise import motion_evidence, noise_parameters, plot_allan
+    prog = getattr(args, "_prog", "quatnav allan")
     t, gyr, acc, _ = read_log(args.log)
     dt = np.diff(t)
     if np.max(dt) > 1.5 * np.median(dt):
@@ -176,6 +182,14 @@ def _allan(args) -> int:
         a, b = max(segs, key=lambda s: s[1] - s[0])
         t, gyr, acc = t[a:b], gyr[a:b], acc[a:b]
     rate = 1.0 / float(np.median(np.diff(t)))
+    warned = []
+    moving = motion_evidence(t, gyr, acc)
+    if moving:
+        warned.append(f"LOG {args.log} is not static: {moving}; an Allan deviation describes a sensor's noise at "
+                      "rest, and motion, being signal, would be read as noise, bias instability and random walk "
+                      "far above the sensor's own: record the IMU held still"
+                      + ("" if args.rest_only else ", or take the longest rest of this log with --rest-only"))
+        print(f"{prog}: warning: {warned[-1]}", file=sys.stderr)
     try:
         model = noise_parameters(rate, gyr=gyr, acc=acc)
     except ValueError as e:
@@ -195,7 +209,8 @@ def _allan(args) -> int:
         print(f"wrote {plot_allan(model, args.plot)}")
     if args.json:
         write_json({"filters": model.filter_params(),
-                    "gyro": [vars(a) for a in model.gyro], "acc": [vars(a) for a in model.acc]}, args)
+                    "gyro": [vars(a) for a in model.gyro], "acc": [vars(a) for a in model.acc],
+                    "warnings": warned}, args)
     return 0
 
 
