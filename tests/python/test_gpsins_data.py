@@ -88,6 +88,14 @@ def test_navego_short_run_has_no_attitude_after_60s(navego, tmp_path, capsys):
         assert got[name]["attitude_rmse_after_60s_deg"] is None and got[name]["navigation_s"] < 60.0
 
 
+def test_navego_run_too_short_to_align(navego, capsys):
+    """--seconds 1: the ins run runs never start navigating; the report says so, no traceback."""
+    from quatnav import cli
+    assert cli.main(["experiment", "navego", "--data", str(navego.path), "--seconds", "1"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("navigation never started in the 1 s run") == 2, out
+
+
 # --- the walk ------------------------------------------------------------------------------------
 def test_walk_loader_fields_units_and_time(walk):
     w = walk

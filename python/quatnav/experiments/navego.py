@@ -25,7 +25,8 @@ GNSS velocity change against the specific force) and ``cli_position_only`` (the 
 left out: the course between fixes). Their errors are scored from the CLI's output rows (from the
 start of navigation) against ``ref.mat`` the same way, and the attitude's also from 60 s after the
 start of navigation (once the alignment's errors have settled); a run that navigates less than
-60 s (``--seconds``) has no such figure (``None``), and the report says why.
+60 s (``--seconds``) has no such figure (``None``), and the report says why; a run too short to
+align has no figures at all (``rows`` 0).
 """
 from __future__ import annotations
 
@@ -211,7 +212,10 @@ def run_cli(d, velocity=True, seconds=None, folder=None):
         imu, gnss, cfg = write_cli_inputs(d, work, cli_params(d), velocity, seconds)
         out_csv = f"{work}/out.csv"
         msg, ok, summary = ins_cli.run_files(str(imu), str(gnss), out_csv, config=str(cfg))
-        tab = np.genfromtxt(out_csv, delimiter=",", names=True)
+        tab = np.genfromtxt(out_csv, delimiter=",", names=True) if ok else None
+    if not ok:  # a run too short to align (--seconds): nothing to score
+        return {"message": msg, "alignment": summary["alignment"], "navigation_start_s": None, "rows": 0,
+                "decisions": summary["decisions"]}, None
     t = np.atleast_1d(tab["time"])
     i = np.searchsorted(d.ref_t, t - 1e-9)
     llh = np.column_stack([np.radians(tab["lat"]), np.radians(tab["lon"]), tab["h"]])
@@ -340,6 +344,10 @@ def run(args) -> int:
     print(f"gate rejections: {out['rejections']}")
     for name in ("cli_in_motion", "cli_position_only"):
         c = out[name]
+        if not c["rows"]:
+            print(f"{name} (ins run, no ini_align): navigation never started in the {out['duration_s']:.3g} s "
+                  "run (the alignment needs more)")
+            continue
         late = c["attitude_rmse_after_60s_deg"]
         late = (f"after 60 s {fmt(late, 2)}" if late is not None else
                 f"none after 60 s (it navigated {c['navigation_s']:.1f} s)")
