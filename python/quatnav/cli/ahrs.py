@@ -264,6 +264,11 @@ def _run(args) -> int:
         raise UsageError("--date dates the World Magnetic Model: it goes with --declination auto")
     prog = getattr(args, "_prog", "quatnav ahrs run")
     warnings = []
+
+    def warn(text):
+        warnings.append(text)
+        print(f"{prog}: warning: {text}", file=sys.stderr)
+
     log = load_inputs(args)
     if getattr(args, "calibration", None):
         from ..calibration import apply_calibration_args
@@ -280,8 +285,7 @@ def _run(args) -> int:
     _, warns = check_imu_times(log.imu.t, np.arange(1, len(log.imu.t) + 1), 1.0, where=f"IMU {log.source}")
     for w in warns:
         if "slow for an IMU" in w:
-            warnings.append(w)
-            print(f"{prog}: warning: {w}", file=sys.stderr)
+            warn(w)
     if args.smooth and args.filter == "marg":
         raise UsageError("--smooth: marg has no smoother; use --filter qekf or euler-ekf")
     decl = args.declination
@@ -289,8 +293,7 @@ def _run(args) -> int:
         g = log.gnss
         d, texts = first_fix_declination(*((g.lat, g.lon, g.h) if g is not None else ([], [], [])), log.source,
                                          utc=g.utc if g is not None else None, date=args.date,
-                                         warn=lambda w: (warnings.append(w), print(f"{prog}: warning: {w}",
-                                                                                   file=sys.stderr)))
+                                         warn=warn)
         decl = math.degrees(d)
         log.notes.extend(texts)
     res = run_filter(log, args.filter, decl, args.rate, args.smooth)
