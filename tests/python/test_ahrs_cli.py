@@ -17,8 +17,10 @@ from quatnav.cli.compare import attitude_difference, slerp_at, stats
 from quatnav.core import quaternion as Q
 from quatnav.demo import rotation_scenario
 
+from conftest import DATA
+
 PACKAGE_DIR = str(Path(quatnav.__file__).resolve().parents[1])
-PX4 = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "px4"
+PX4 = DATA / "px4"
 
 
 @pytest.fixture(scope="module")

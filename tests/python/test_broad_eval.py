@@ -1,7 +1,5 @@
 """BROAD evaluation: metrics against hand-computed cases, ENU->NED, loader, evaluate, tuning."""
-import os
 from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +12,8 @@ from quatnav.evaluation import metrics as M
 from quatnav.core import quaternion as Q
 from quatnav.datasets import broad
 
-DATA = Path(os.environ.get("QUATNAV_DATA", Path(__file__).resolve().parents[2].parent / "shared" / "data"))
+from conftest import DATA
+
 BROAD = DATA / "broad"
 needs_data = pytest.mark.skipif(not any(BROAD.glob("*.mat")) if BROAD.is_dir() else True,
                                 reason=f"BROAD data not found in {BROAD} (set QUATNAV_DATA)")

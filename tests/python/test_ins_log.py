@@ -13,6 +13,8 @@ import pytest
 
 from quatnav import cli
 
+from conftest import DATA
+
 # RTKLIB times are calendar dates: the simulated clock (0 s ...) as seconds from a date
 EPOCH = calendar.timegm((2026, 1, 1, 0, 0, 0, 0, 0, 0))
 
@@ -89,8 +91,7 @@ def test_log_and_compare_equal_api(walk, tmp_path):
 
 def test_ins_needs_gnss(tmp_path, walk):
     pytest.importorskip("pyulog")
-    from pathlib import Path
-    f = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "px4" / "sample_appended_multiple.ulg"
+    f = DATA / "px4" / "sample_appended_multiple.ulg"
     if not f.exists():
         pytest.skip("px4 data absent")
     assert cli.main(["ins", "run", "--log", str(f), "--out", str(tmp_path / "o.csv")]) == 2

@@ -14,7 +14,8 @@ import pytest
 from quatnav import io
 from quatnav.io.nmea import checksum_ok
 
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
+from conftest import DATA
+
 WALK_POS = DATA / "gnss_imu_walk" / "gnss_1730_sf.pos"
 PX4 = DATA / "px4"
 
