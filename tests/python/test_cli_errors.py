@@ -125,6 +125,29 @@ def test_simulate_refuses_an_output_folder_whose_parent_is_missing(opt, path, ex
     assert not (tmp_path / "no").exists()
 
 
+@needs_pandas
+@pytest.mark.parametrize("cmd, opt, path", [
+    ("ahrs", "--out", "no/o.csv"), ("ahrs", "--json", "no/s.json"), ("ahrs", "--plot", "no/such/p.png"),
+    ("ins", "--out", "no/o.csv"), ("ins", "--json", "no/s.json"), ("ins", "--diagnostics", "no/d.csv"),
+    ("ins", "--kml", "no/t.kml"), ("ins", "--gpx", "no/t.gpx"),
+])
+def test_an_output_into_a_missing_folder_is_refused_before_the_run(logs, tmp_path, cmd, opt, path):
+    """Refused in one line before the run (it used to end the whole run in a traceback); --plot
+    may create its own folder, not a chain of them."""
+    args = ["--imu", logs / "imu.csv"] + (["--gnss", logs / "gnss.csv"] if cmd == "ins" else [])
+    out = [] if opt == "--out" else ["--out", tmp_path / "o.csv"]
+    line = error_line(quatnav_cli(cmd, "run", *args, *out, opt, path, cwd=tmp_path))
+    assert f"{opt} {path}: cannot write (no such directory: " in line, line
+    assert not (tmp_path / "no").exists() and not (tmp_path / "o.csv").exists()
+
+
+@pytest.mark.parametrize("plot", ["figs/p.png", "p.png"])
+def test_plot_creates_its_own_folder(logs, tmp_path, plot):
+    p = quatnav_cli("ahrs", "run", "--imu", logs / "imu.csv", "--out", tmp_path / "o.csv", "--plot", plot, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / plot).is_file()
+
+
 # --- ins run -----------------------------------------------------------------------------------
 @needs_pandas
 @pytest.mark.parametrize("scale, unit", [(1e3, "milliseconds"), (1e6, "microseconds"), (1e9, "nanoseconds")])

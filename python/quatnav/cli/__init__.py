@@ -145,6 +145,21 @@ def _preflight(args) -> None:
     seed = getattr(args, "seed", None)
     if isinstance(seed, int) and seed < 0:
         raise UsageError(f"--seed: expected a non-negative integer, got {seed}")
+    # Output files: a path into a folder that does not exist fails only after the whole run (or
+    # a typo creates a chain of folders): refused first. --plot may create its own folder (one
+    # level: `quatnav demo --plot out/demo.png` in a fresh checkout), not a chain.
+    for dest in ("out", "json", "diagnostics", "kml", "gpx", "plot"):
+        value = getattr(args, dest, None)
+        if not isinstance(value, (str, Path)) or str(value) in ("", "-"):
+            continue
+        folder = Path(value).resolve().parent
+        if dest == "plot" and not folder.is_dir():
+            if not folder.parent.is_dir():
+                raise UsageError(f"--plot {value}: cannot write (no such directory: {folder}, nor {folder.parent})")
+            if Path(value).suffix:  # a figure file (eval broad's --plot is a folder, which it makes)
+                folder.mkdir()
+        elif not folder.is_dir():
+            raise UsageError(f"--{dest} {value}: cannot write (no such directory: {folder})")
     plot = getattr(args, "plot", None)
     if plot:
         import importlib.util
