@@ -193,3 +193,51 @@ def test_rest_phase_of_a_broad_trial(data_dir):
     m = noise_parameters(tr.rate, gyr=tr.gyr[a:b], acc=tr.acc[a:b])
     assert 1e-5 < m.term("gyro", "white") < 1e-3
     assert 1e-4 < m.term("acc", "white") < 1e-1
+
+
+def test_rest_thresholds_from_the_sensors_noise(tmp_path):
+    """A noisy accelerometer (0.06 m/s^2 per axis, above the fixed 0.05 m/s^2 of the window's
+    deviation): the fixed thresholds find no rest, the ones scaled to the quietest windows find
+    the two rests of rest - turn - rest, and `allan --rest-only` takes the longer one quietly."""
+    pytest.importorskip("pandas")
+    from quatnav.calibration import rest_segments
+    from quatnav.sim.trajectory import Rest, Rotate
+    imu = _imu([Rest(60.0), Rotate("pitch", 4.0, angle=np.pi / 2), Rest(40.0)], "consumer MEMS")
+    acc = imu.accel + np.random.default_rng(1).normal(0.0, 0.06, imu.accel.shape)
+    assert rest_segments(imu.t, acc, imu.gyro) == []
+    segs = rest_segments(imu.t, acc, imu.gyro, acc_std=None, gyr_std=None)
+    assert len(segs) == 2
+    (a0, b0), (a1, b1) = segs
+    assert imu.t[a0] < 0.5 and 59.0 < imu.t[b0 - 1] < 60.0 and 64.0 < imu.t[a1] < 65.0 and imu.t[b1 - 1] > 103.0
+    np.savetxt(tmp_path / "noisy.csv", np.column_stack([imu.t, imu.gyro, acc]), delimiter=",", comments="",
+               fmt="%.9g", header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
+    env = dict(os.environ, PYTHONPATH=PYTHON_DIR + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    p = subprocess.run([sys.executable, "-m", "quatnav", "allan", tmp_path / "noisy.csv", "--rest-only", "--out",
+                        tmp_path / "n.toml"], capture_output=True, text=True, env=env, timeout=120)
+    assert p.returncode == 0 and not p.stderr.strip(), p.stderr
+    # A log that never rests: its quietest windows are motion; the thresholds stay bounded.
+    from quatnav.sim.trajectory import RandomMotion
+    imu = _imu([RandomMotion(60.0, amplitude=(0.3, 0.3, 0.6))], "consumer MEMS")
+    assert rest_segments(imu.t, imu.accel, imu.gyro, acc_std=None, gyr_std=None) == []
+
+
+@pytest.mark.data
+def test_rest_segments_of_the_broad_trials(data_dir):
+    """BROAD's protocol rests about 35-45 s at the start and at the end of every trial; the fixed
+    0.05 m/s^2 finds none of them (the accelerometer's noise alone is 0.086), the scaled
+    thresholds find both in each trial."""
+    from quatnav.calibration import rest_segments
+    from quatnav.datasets import broad
+    d = data_dir / "broad"
+    trials = broad.list_trials(d) if d.is_dir() else []
+    if not trials:
+        pytest.skip(f"BROAD data not found in {d}")
+    tr = broad.load_trial(trials[0])
+    t = np.arange(len(tr.gyr)) / tr.rate
+    assert rest_segments(t, tr.acc, tr.gyr) == []
+    segs = rest_segments(t, tr.acc, tr.gyr, acc_std=None, gyr_std=None)
+    long = [(a, b) for a, b in segs if t[b - 1] - t[a] > 25.0]
+    assert len(long) == 2 and t[long[0][0]] < 1.0 and t[long[1][1] - 1] > t[-1] - 30.0
+    for a, b in long:
+        assert not tr.movement[a:b].mean() > 0.02  # the dataset's own labels: at rest
+        assert motion_evidence(t[a:b], tr.gyr[a:b], tr.acc[a:b]) is None

@@ -320,11 +320,16 @@ def _moving_std(x, w):
 
 
 def rest_segments(t: ArrayLike, acc: ArrayLike | None = None, gyr: ArrayLike | None = None, window_s: float = 0.5,
-                  acc_std: float = 0.05, gyr_std: float = 0.02,
+                  acc_std: float | None = 0.05, gyr_std: float | None = 0.02,
                   min_duration_s: float = 1.0) -> list[tuple[int, int]]:
     """Intervals where the sensor is at rest: windowed standard deviation (norm over the axes)
     of the accelerometer below ``acc_std`` (m/s^2) and of the gyroscope below ``gyr_std``
     (rad/s), for at least ``min_duration_s``.
+
+    ``None`` scales a threshold to the sensor's own noise: 1.5 times the windowed deviation of
+    the quietest 1 % of the log (at rest, the white noise), at least 0.05 m/s^2 / 0.02 rad/s and
+    at most ten times that. A consumer IMU's accelerometer noise alone can exceed 0.05 m/s^2 (the
+    BROAD IMU at rest: 0.086), so that a fixed threshold finds no rest in its log.
 
     Returns
     -------
@@ -337,10 +342,14 @@ def rest_segments(t: ArrayLike, acc: ArrayLike | None = None, gyr: ArrayLike | N
     dt = float(np.median(np.diff(t)))
     w = max(2, int(round(window_s / dt)))
     still = np.ones(n, bool)
-    if acc is not None:
-        still &= _moving_std(np.asarray(acc, float), w) < acc_std
-    if gyr is not None:
-        still &= _moving_std(np.asarray(gyr, float), w) < gyr_std
+    for x, th, base in ((acc, acc_std, 0.05), (gyr, gyr_std, 0.02)):
+        if x is None:
+            continue
+        sd = _moving_std(np.asarray(x, float), w)
+        if th is None:
+            q = np.nanpercentile(sd, 1.0) if np.isfinite(sd).any() else base
+            th = min(max(base, 1.5 * float(q)), 10.0 * base)
+        still &= sd < th
     edges = np.flatnonzero(np.diff(np.concatenate([[0], still.astype(int), [0]])))
     segs = []
     for a, b in zip(edges[::2], edges[1::2]):

@@ -153,7 +153,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 ALLAN_EPILOG = """\
 LOG: an IMU CSV log (time, gyro_x..z, accel_x..z) recorded at rest, as long as possible (the
 rate random walk shows only at taus of a tenth of the log and beyond). --rest-only: use the
-longest rest segment found in the log instead of the whole log. A log that is evidently not
+longest rest segment found in the log instead of the whole log (windows of 0.5 s whose deviation
+is below 1.5 times that of the log's quietest 1 %: thresholds scaled to the sensor's own noise,
+quatnav.calibration.rest_segments with acc_std=None, gyr_std=None). A log that is evidently not
 static (a 1 s mean of the gyro or the accelerometer changing from one second to the next by more
 than 10 times what its white noise allows and more than a still sensor's bias ever moves in a
 second: 0.01 rad/s, 1 % of gravity; quatnav.calibration.noise.motion_evidence) gets a warning:
@@ -176,7 +178,7 @@ def _allan(args) -> int:
         raise UsageError(f"LOG {args.log}: time step of {dt[i]:.4g} s after t = {t[i]:.4f} s (median "
                          f"{np.median(dt):.4g} s): the Allan deviation needs uniform samples; cut the log there")
     if args.rest_only:
-        segs = cal.rest_segments(t, acc, gyr)
+        segs = cal.rest_segments(t, acc, gyr, acc_std=None, gyr_std=None)  # thresholds from the sensor's noise
         if not segs:
             raise UsageError(f"LOG {args.log}: no rest segment found")
         a, b = max(segs, key=lambda s: s[1] - s[0])
