@@ -273,7 +273,8 @@ def run_gpsins(d, dtype=np.float64, baro=True, compass=True, outage=False):
                                   "bax", "bay", "baz", "bgx", "bgy", "bgz", "bo"))
     out["q_scale"] = r.q_scale
     out["flags"] = r.flags
-    summary = {"counters": r.counters, "alignment": r.alignment}
+    # the alignment's numbers and names (its "reason" is a sentence, None while navigating)
+    summary = {"counters": r.counters, "alignment": {k: v for k, v in r.alignment.items() if k != "reason"}}
     for key, aids in (("gps", ("gps_pos", "gps_vel")), ("baro", ("baro", "baro_vd")), ("compass", ("compass",))):
         # the files' sums run over the C++ (K, 2) tables row by row: position, velocity of each fix
         nis = np.column_stack([r.aids[a].nis for a in aids if a in r.aids]).ravel() if any(
