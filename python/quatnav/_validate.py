@@ -59,9 +59,10 @@ def first_bad_row(a: np.ndarray) -> int | None:
 
 
 def vectors(x, name: str, cols: int = 3, n: int | None = None, dtype=np.float64,
-            finite: bool = True, allow_nan_rows: bool = False) -> np.ndarray:
+            finite: bool = True, allow_nan_rows: bool = False, like: str = "gyr") -> np.ndarray:
     """Check an (N, cols) array and return it C-contiguous in ``dtype``.
 
+    ``n``: the rows expected, as many as the argument named ``like`` has (for the message).
     ``finite``: raise on the first row with NaN/inf. ``allow_nan_rows``: rows that are entirely
     NaN are allowed (they mean "no sample") while partly-NaN or infinite rows still raise.
     """
@@ -69,7 +70,7 @@ def vectors(x, name: str, cols: int = 3, n: int | None = None, dtype=np.float64,
     if a.ndim != 2 or a.shape[1] != cols:
         raise ValueError(f"{name}: expected shape (N, {cols}), got {a.shape}")
     if n is not None and a.shape[0] != n:
-        raise ValueError(f"{name}: expected {n} rows (as many as gyr), got {a.shape[0]}")
+        raise ValueError(f"{name}: expected {n} rows (as many as {like}), got {a.shape[0]}")
     if a.shape[0] == 0:
         raise ValueError(f"{name}: no samples")
     a = np.ascontiguousarray(a, dtype=dtype)

@@ -452,6 +452,22 @@ def test_aid_is_refused_in_other_forms(scn):
         make().run(gyr, acc, t=t, baro=Aid(scn.baro.t, scn.baro.h, np.ones(len(scn.baro.t))))
 
 
+@pytest.mark.parametrize("name", ["MargFilter", "NavFilter13", "GpsInsFilter"])
+def test_a_length_mismatch_names_what_the_rows_should_match(name, scn):
+    """An aid's values are counted against its own times, the IMU's against gyr (or t)."""
+    make, gyr, acc, t, aids, _ = _log(name, scn)
+    a = aids["gps_vel"] if name != "GpsInsFilter" else aids["gps_pos"]
+    key = "gps_vel" if name != "GpsInsFilter" else "gps_pos"
+    with pytest.raises(ValueError, match=rf"{key}.value: expected {len(a.t)} rows \(as many as {key}.t\), "
+                                         rf"got {len(a.t) - 1}"):
+        make().run(gyr, acc, t=t, **{**aids, key: Aid(a.t, np.asarray(a.value)[:-1])})
+    with pytest.raises(ValueError, match=rf"acc: expected {len(t)} rows \(as many as (gyr|t)\)"):
+        make().run(gyr, acc[:-1], t=t, **aids)
+    if name == "GpsInsFilter":
+        with pytest.raises(ValueError, match=rf"gyr: expected {len(t)} rows \(as many as t\), got {len(t) - 1}"):
+            make().run(gyr[:-1], acc, t=t)
+
+
 def test_compiled_module_loads_on_first_use():
     code = ("import sys, quatnav; assert 'quatnav._core' not in sys.modules, 'eager'; "
             "f = quatnav.QuaternionEKF(); assert 'quatnav._core' in sys.modules; print(quatnav.__version__)")

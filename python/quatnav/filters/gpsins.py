@@ -150,7 +150,7 @@ class GpsInsResult(NavResult):
         return {k: v["rejected"] for k, v in self.counters.items()}
 
 
-def _rows(x, name, k, cols, dtype, allow_nan_rows, finite=True):
+def _rows(x, name, k, cols, dtype, allow_nan_rows, finite=True, like=None):
     if x is None:
         return np.full((k, cols), np.nan, dtype=dtype) if cols > 1 else np.full(k, np.nan, dtype=dtype)
     if cols == 1:
@@ -167,7 +167,8 @@ def _rows(x, name, k, cols, dtype, allow_nan_rows, finite=True):
         if a.shape not in ((0, cols), (0,)):
             raise ValueError(f"{name}: expected shape (0, {cols}), got {a.shape}")
         return np.zeros((0, cols), dtype=dtype)
-    return V.vectors(x, name, cols=cols, n=k, dtype=dtype, finite=finite, allow_nan_rows=allow_nan_rows)
+    return V.vectors(x, name, cols=cols, n=k, dtype=dtype, finite=finite, allow_nan_rows=allow_nan_rows,
+                     like=like or name.split(".")[0] + ".t")
 
 
 def _sigmas(x, name, k, dtype):
@@ -516,11 +517,13 @@ class GpsInsFilter(Filter):
         else:
             n = len(V.vectors(gyr, "gyr", 3, dtype=self.dtype, finite=False))
             t = times_of(n, None, V.time_steps(n, dt=dt, t=t))
-        gyro = V.vectors(gyr, "gyr", 3, n, self.dtype, finite=strict)
-        accel = V.vectors(acc, "acc", 3, n, self.dtype, finite=strict)
+        like = "gyr" if dt is not None else "t"
+        gyro = V.vectors(gyr, "gyr", 3, n, self.dtype, finite=strict, like=like)
+        accel = V.vectors(acc, "acc", 3, n, self.dtype, finite=strict, like=like)
         if imu_input == "rate":
             check_swapped(gyro, accel)
-        mag_a = None if mag is None else V.vectors(mag, "mag", 3, n, self.dtype, finite=strict, allow_nan_rows=True)
+        mag_a = None if mag is None else V.vectors(mag, "mag", 3, n, self.dtype, finite=strict, allow_nan_rows=True,
+                                                   like=like)
         if strict:
             limit = max(float(self._f.params.max_dt), float(self._f.params.max_coast))
             big = np.flatnonzero(np.diff(t) > limit)

@@ -204,7 +204,8 @@ class MargFilter(Filter):
         aid = check_aid(gps_vel, "gps_vel")
         if aid is not None:
             gt = aid_times(aid.t, "gps_vel.t")
-            gv = V.vectors(aid.value, "gps_vel.value", n=gt.shape[0], dtype=self.dtype, finite=strict)
+            gv = V.vectors(aid.value, "gps_vel.value", n=gt.shape[0], dtype=self.dtype, finite=strict,
+                           like="gps_vel.t")
         else:
             gv = np.zeros((0, 3), self.dtype)
             gt = np.zeros(0)

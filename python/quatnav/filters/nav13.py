@@ -324,7 +324,7 @@ class NavFilter13(Filter):
         va = np.asarray(aid.value)
         if cols == 1 and va.ndim == 1:
             va = va[:, None]
-        va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict)
+        va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict, like=tname)
         return ta.astype(self.dtype), va
 
 
