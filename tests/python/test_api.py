@@ -452,6 +452,25 @@ def test_aid_is_refused_in_other_forms(scn):
         make().run(gyr, acc, t=t, baro=Aid(scn.baro.t, scn.baro.h, np.ones(len(scn.baro.t))))
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+@pytest.mark.parametrize("name", NAMES)
+def test_copy_deepcopy_and_pickle_give_an_independent_filter(name, dtype, scn):
+    """A copy (copy.copy, copy.deepcopy, pickle) has the parameters and the state of the original
+    and its own compiled filter: both continue alike, and running one leaves the other as it was."""
+    import copy
+    import pickle
+    make, gyr, acc, t, _, _ = _log(name, scn)
+    f = make(max_dt=0.5, dtype=dtype)
+    h = len(t) // 2
+    f.run(gyr[:h], acc[:h], t=t[:h])
+    copies = [copy.copy(f), copy.deepcopy(f), pickle.loads(pickle.dumps(f))]
+    for g in copies:
+        assert type(g) is type(f) and repr(g) == repr(f) and g.dtype == f.dtype
+    rest = f.run(gyr[h - 1:], acc[h - 1:], t=t[h - 1:])
+    for g in copies:
+        np.testing.assert_array_equal(g.run(gyr[h - 1:], acc[h - 1:], t=t[h - 1:]).quat, rest.quat)
+
+
 @pytest.mark.parametrize("name", ["MargFilter", "NavFilter13", "GpsInsFilter"])
 def test_a_length_mismatch_names_what_the_rows_should_match(name, scn):
     """An aid's values are counted against its own times, the IMU's against gyr (or t)."""

@@ -413,6 +413,15 @@ class Filter:
         if status != "ok":
             raise ValueError(f"state: refused ({status})")
 
+    # A filter is its parameters and its state: pickle, copy.copy and copy.deepcopy rebuild it from
+    # them, each copy with its own compiled filter (a shallow copy sharing it would run both).
+    def __getstate__(self) -> dict:
+        return {"params": dict(self._given), "dtype": self.dtype.name, "state": self.get_state()}
+
+    def __setstate__(self, d: dict) -> None:
+        type(self).__init__(self, dtype=d["dtype"], **d["params"])
+        self.set_state(d["state"])
+
 
 def _params_doc(params) -> str:
     """The numpydoc ``Parameters`` section of a parameter table."""
