@@ -452,6 +452,19 @@ def test_aid_is_refused_in_other_forms(scn):
         make().run(gyr, acc, t=t, baro=Aid(scn.baro.t, scn.baro.h, np.ones(len(scn.baro.t))))
 
 
+@pytest.mark.parametrize("name, options", [(n, {}) for n in NAMES] + [
+    ("QuaternionEKF", {"paper": True}), ("NavFilter13", {"time_update": "ukf"}), ("GpsInsFilter", {"scale_factors": True})])
+def test_n_states_is_the_size_of_the_covariance_and_of_sigma(name, options, scn):
+    make, gyr, acc, t, aids, _ = _log(name, scn)
+    f = make(**options)
+    r = f.run(gyr, acc, t=t, **aids)
+    if name == "MargFilter":  # no covariance: q and the gyro bias
+        assert f.n_states == 7 and r.sigma is None
+        return
+    assert f.covariance.shape == (f.n_states, f.n_states)
+    assert r.sigma.shape[1] == len(r.sigma_names) == f.n_states
+
+
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 @pytest.mark.parametrize("name", NAMES)
 def test_copy_deepcopy_and_pickle_give_an_independent_filter(name, dtype, scn):

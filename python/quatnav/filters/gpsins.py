@@ -209,15 +209,17 @@ def _finite(x, name) -> float:
 
 
 class GpsInsFilter(Filter):
-    """15-state loosely coupled GPS/INS feedback filter with altimeter and compass (paper 004).
+    """16-state loosely coupled GPS/INS feedback filter with altimeter and compass (paper 004); 22
+    states with ``scale_factors=True`` (:attr:`state_names`).
 
     The geodetic position is double in both precisions. An angle parameter outside its range
     raises ``ValueError``: it was most likely given in degrees (use ``np.radians``).
 
-    ``run`` continues from the current state: a new filter (or one after :meth:`reset`) starts
-    with the static alignment; a second call continues the navigation, its first IMU sample only
-    fixing the clock (sample k holds the mean over ``(t[k-1], t[k]]``). For an unrelated log call
-    :meth:`reset` or use a new filter.
+    ``run`` continues from the current state: a new filter (or one after :meth:`clear`) starts
+    with the alignment, one after :meth:`reset` or :meth:`set_initial` from the state given; a
+    second call continues the navigation, its first IMU sample only fixing the clock (sample k
+    holds the mean over ``(t[k-1], t[k]]``). For an unrelated log call :meth:`clear` or use a new
+    filter.
 
     Examples
     --------
@@ -226,7 +228,6 @@ class GpsInsFilter(Filter):
     >>> res.position, res.euler, res.sigma, res.counters   # doctest: +SKIP
     """
 
-    n_states = 15
     PARAMS = GPSINS_PARAMS
     FLAGS = GPSINS_FLAGS
     _core_params = "GpsInsParams"
@@ -240,6 +241,11 @@ class GpsInsFilter(Filter):
         """Names of the error states (:data:`STATE_NAMES`, or :data:`SCALE_STATE_NAMES` with
         ``scale_factors=True``)."""
         return SCALE_STATE_NAMES if self._opts["scale_factors"] else STATE_NAMES
+
+    @property
+    def n_states(self) -> int:
+        """Number of error states: 16, or 22 with ``scale_factors=True``."""
+        return len(self.state_names)
 
     # --- state --------------------------------------------------------------------------------
     @property

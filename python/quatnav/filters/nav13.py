@@ -99,6 +99,7 @@ class NavFilter13(Filter):
     ``"ukf"``: unscented transform in a 12-dimensional attitude-error state (25 sigma points).
     """
 
+    n_states = 13
     PARAMS = NAV13_PARAMS
     FLAGS = NAV13_FLAGS
     _core_params = "NavFilter13Params"
