@@ -465,6 +465,17 @@ def test_n_states_is_the_size_of_the_covariance_and_of_sigma(name, options, scn)
     assert r.sigma.shape[1] == len(r.sigma_names) == f.n_states
 
 
+@pytest.mark.parametrize("name", NAMES)
+def test_initialized_says_whether_the_filter_has_a_state(name, scn):
+    make, gyr, acc, t, aids, _ = _log(name, scn)
+    f = make()
+    assert f.initialized == (name == "NavFilter13")  # NavFilter13 starts from reset()
+    r = f.run(gyr, acc, t=t, **aids)
+    assert f.initialized
+    if name != "NavFilter13":  # the sample where it happened
+        assert r.flag("initialized").sum() == 1
+
+
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 @pytest.mark.parametrize("name", NAMES)
 def test_copy_deepcopy_and_pickle_give_an_independent_filter(name, dtype, scn):

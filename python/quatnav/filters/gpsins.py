@@ -253,6 +253,12 @@ class GpsInsFilter(Filter):
         return bool(self._f.navigating)
 
     @property
+    def initialized(self) -> bool:
+        """True while navigating: the filter has a full state (the ``initialized`` flag marks the
+        sample where navigation started)."""
+        return bool(self._f.navigating)
+
+    @property
     def quat(self) -> np.ndarray:
         """Attitude ``q_nb`` [w, x, y, z], body to NED."""
         return np.array(self._f.q_nb)
