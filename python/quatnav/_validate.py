@@ -5,6 +5,7 @@ a message that names the argument and, for batch input, the first offending row.
 """
 from __future__ import annotations
 
+import difflib
 import numbers
 
 import numpy as np
@@ -21,6 +22,12 @@ def num(x) -> str:
     if isinstance(x, (numbers.Real, np.floating)):
         return repr(float(x))
     return repr(x)
+
+
+def did_you_mean(name, known) -> str:
+    """`` (did you mean 'x'?)`` naming the known names closest to a mistyped ``name``, or ``""``."""
+    close = difflib.get_close_matches(str(name), list(known), n=2, cutoff=0.75)
+    return f" (did you mean {' or '.join(map(repr, close))}?)" if close else ""
 
 
 def resolve_dtype(dtype) -> np.dtype:

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import quatnav
-from quatnav import Aid
+from quatnav import Aid, reference
 from quatnav.filters._base import core
 from quatnav.filters.tables import FLAG_TABLES, PARAM_TABLES, STATUS_NAMES
 from quatnav.sim.scenarios import make_scenario
@@ -188,10 +188,20 @@ def test_constructor_signature_repr_and_unknown_names(name):
     assert repr(cls()) == f"{name}()"
     assert repr(cls(max_dt=0.5)) == f"{name}(max_dt=0.5)"
     assert repr(cls(max_dt=1.0, dtype=np.float32)) == f"{name}(dtype=np.float32)"  # 1.0 is the default
-    with pytest.raises(TypeError, match=r"unknown parameter 'gyro_bias_rw'; known: " + table[0].name):
+    with pytest.raises(TypeError, match=r"unknown parameter 'gyro_bias_rw'( \(did you mean [^)]*\))?; known: " + table[0].name):
         cls(gyro_bias_rw=1e-5)
     with pytest.raises(TypeError, match="keyword-only"):
         cls(0.01)
+    # a misspelt name: the closest known ones are suggested, in the class and in its numpy twin
+    typo = {"MargFilter": "gian", "GpsInsFilter": "lever_arm"}.get(name, "gyro_nosie")
+    hint = {"MargFilter": "'gain'", "GpsInsFilter": "'lever_arm_b' or 'lever_arm_sigma'"}.get(name, "'gyro_noise'")
+    for make in (cls, getattr(reference, name)):
+        with pytest.raises(TypeError, match=rf"unknown parameter '{typo}' \(did you mean {hint}\?\); known: "):
+            make(**{typo: 1.0})
+    r = cls().run(np.zeros((2, 3)), np.tile([0.0, 0.0, -9.81], (2, 1)), dt=0.01) if name != "NavFilter13" else None
+    if r is not None:
+        with pytest.raises(KeyError, match=r"'at_rset': not a flag of .* \(did you mean 'at_rest'\?\); known: "):
+            r.flag("at_rset")
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -226,7 +226,8 @@ class FilterResult:
         try:
             bit = self.FLAGS[name]
         except KeyError:
-            raise KeyError(f"{name!r}: not a flag of {self.filter}; known: {', '.join(self.FLAGS)}") from None
+            raise KeyError(f"{name!r}: not a flag of {self.filter}{V.did_you_mean(name, self.FLAGS)}; "
+                           f"known: {', '.join(self.FLAGS)}") from None
         return (self.flags & bit) != 0
 
     def flags_seen(self) -> list:
@@ -356,7 +357,8 @@ class Filter:
         table = {p.name: p for p in self.PARAMS}
         unknown = [k for k in params if k not in table]
         if unknown:
-            raise TypeError(f"{cls}: unknown parameter {unknown[0]!r}; known: {', '.join(table)}")
+            raise TypeError(f"{cls}: unknown parameter {unknown[0]!r}{V.did_you_mean(unknown[0], table)}; "
+                            f"known: {', '.join(table)}")
         self.dtype = V.resolve_dtype(dtype)
         self._suffix = "_f32" if self.dtype == np.float32 else "_f64"
         self._given = {k: table[k].check(v, self.dtype) for k, v in params.items()}

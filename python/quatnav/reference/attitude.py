@@ -9,6 +9,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .._validate import did_you_mean
 from ..core import quaternion as Q
 from ..filters.tables import EULER_PARAMS, FLAGS, QEKF_PARAMS
 from .kalman import kalman_correct
@@ -59,7 +60,8 @@ def make_params(name: str, defaults: dict, given: dict) -> SimpleNamespace:
     TypeError listing the known ones); each value keeps the type of its default."""
     unknown = sorted(set(given) - set(defaults))
     if unknown:
-        raise TypeError(f"{name}: unknown parameter {unknown[0]!r}; known: {', '.join(defaults)}")
+        raise TypeError(f"{name}: unknown parameter {unknown[0]!r}{did_you_mean(unknown[0], defaults)}; "
+                        f"known: {', '.join(defaults)}")
     p = dict(defaults)
     for k, v in given.items():
         d = defaults[k]

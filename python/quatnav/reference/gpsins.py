@@ -28,6 +28,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .._validate import did_you_mean
 from ..core import earth
 from ..core import quaternion as Q
 from ..core.strapdown import StrapdownState, strapdown_step
@@ -60,7 +61,8 @@ def GpsInsParams(**params) -> SimpleNamespace:
     :data:`quatnav.filters.tables.GPSINS_PARAMS`); an unknown name is a TypeError."""
     unknown = sorted(set(params) - set(DEFAULTS))
     if unknown:
-        raise TypeError(f"GpsInsFilter: unknown parameter {unknown[0]!r}; known: {', '.join(DEFAULTS)}")
+        raise TypeError(f"GpsInsFilter: unknown parameter {unknown[0]!r}{did_you_mean(unknown[0], DEFAULTS)}; "
+                        f"known: {', '.join(DEFAULTS)}")
     p = SimpleNamespace(**{**DEFAULTS, **params})
     p.lever_arm_b = np.asarray(p.lever_arm_b, float).reshape(3)
     p.imu_rotation = np.asarray(p.imu_rotation, float).reshape(3, 3)

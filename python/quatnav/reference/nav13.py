@@ -9,6 +9,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .._validate import did_you_mean
 from ..core import earth
 from ..core import quaternion as Q
 from ..filters.tables import FLAGS, NAV13_PARAMS
@@ -183,7 +184,9 @@ class NavFilter13:
         self.time_update = time_update
         unknown = sorted(set(params) - set(DEFAULTS) - set(GATES))
         if unknown:
-            raise TypeError(f"NavFilter13: unknown parameter {unknown[0]!r}; known: {', '.join({**DEFAULTS, **GATES})}")
+            known = {**DEFAULTS, **GATES}
+            raise TypeError(f"NavFilter13: unknown parameter {unknown[0]!r}{did_you_mean(unknown[0], known)}; "
+                            f"known: {', '.join(known)}")
         self.gates = {k: float(params.pop(k, v)) for k, v in GATES.items()}
         p = dict(DEFAULTS)
         p.update(params)
