@@ -185,6 +185,19 @@ def test_read_errors(tmp_path):
     p.write_bytes(b"\x00\x01\x02")
     with pytest.raises(ValueError, match="cannot tell the format"):
         io.read(p)
+    # a MATLAB file (the BROAD trials, NaveGo's run) is named as such, not parsed as CSV (its header
+    # has commas) into a message of binary garbage; so is other binary content with commas
+    mat = tmp_path / "trial.mat"
+    mat.write_bytes(b"MATLAB 5.0 MAT-file, Platform: posix, Created on: Fri May  7 12:45:59 2021"
+                    + b" " * 41 + b"\x00" * 8 + b"\x00\x01IM\x0f\x00\x00\x00\xb5\xbd,\x00x\x9c")
+    with pytest.raises(ValueError, match=r"trial\.mat: a MATLAB MAT-file, not a format read here .*scipy\.io\.loadmat") as e:
+        io.read(mat)
+    assert "\x00" not in str(e.value)
+    p = tmp_path / "blob.csv"
+    p.write_bytes(b"time,gyro_x\x00\x00\x9c,\x01\n")
+    with pytest.raises(ValueError, match=r"blob\.csv: cannot tell the format: binary content") as e:
+        io.read(p)
+    assert "\x00" not in str(e.value)
 
 
 def test_ulog():

@@ -35,6 +35,13 @@ def detect(path) -> str:
         return "ulog"
     if head.startswith(b"#ROSBAG V2.0"):
         return "rosbag"
+    ext = p.suffix.lower()
+    if head.startswith(b"MATLAB"):  # the text header of every MAT-file, v4 excepted ("MATLAB 5.0 MAT-file")
+        raise ValueError(f"{path}: a MATLAB MAT-file, not a format read here ({', '.join(FORMATS)}): load it "
+                         "with scipy.io.loadmat (the BROAD trials and NaveGo's run: quatnav.datasets)")
+    if b"\x00" in head and ext not in (".ulg", ".bag", ".mcap", ".db3"):
+        raise ValueError(f"{path}: cannot tell the format: binary content (not UTF-8 text), and none of the "
+                         f"binary formats read here (ULog, ROS bag)")
     text = head.decode("utf-8", errors="replace")
     from .nmea import looks_like_nmea
     from .rtklib import looks_like_pos
@@ -42,7 +49,6 @@ def detect(path) -> str:
         return "rtklib"
     if looks_like_nmea(text):
         return "nmea"
-    ext = p.suffix.lower()
     by_ext = {".pos": "rtklib", ".ulg": "ulog", ".nmea": "nmea", ".gps": "nmea", ".csv": "csv", ".txt": "csv",
               ".bag": "rosbag", ".mcap": "rosbag", ".db3": "rosbag"}
     if ext in by_ext:
