@@ -172,6 +172,15 @@ def test_csv_streams(tmp_path):
     bad.write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match=r"x\.csv: CSV columns .* match no stream"):
         io.read(bad)
+    # no header row (as the walk's IMU file): said so, not "columns ['-0.0028', ...] match no stream"
+    # nor "column '0.0' appears twice in the header"
+    bare = tmp_path / "bare.csv"
+    bare.write_text("1756402240.961,0.0006,0.0028,1.0110,-0.0028,-0.0070,-0.0170,0.0,0.0,0.0,0.0\n"
+                    "1756402240.967,0.0006,0.0028,1.0110,-0.0028,-0.0070,-0.0170,0.0,0.0,0.0,0.0\n")
+    for kw in ({}, {"kind": "imu"}):
+        with pytest.raises(ValueError, match=r"bare\.csv(: line 1)?: no header row \(the first line holds numbers.*"
+                                             r"\(time, gyro_x, gyro_y, gyro_z, accel_x"):
+            io.read(bare, **kw)
 
 
 def test_read_errors(tmp_path):

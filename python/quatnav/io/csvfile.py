@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import quaternion as Q
-from .table import CsvError, read_table
+from .table import CsvError, no_header, numbers_only, read_table
 from .log import Baro, Compass, Gnss, Imu, Log, Mag, Reference
 
 __all__ = ["read_csv", "header_names"]
@@ -63,6 +63,8 @@ def read_csv(path, *, kind: str | None = None) -> Log:
             want.add("compass")
         if {"time", "q_w", "q_x", "q_y", "q_z"} <= h or {"time", "roll", "pitch", "yaw"} <= h:
             want.add("reference")
+    if not want and numbers_only(h):
+        raise ValueError(no_header(str(path), IMU))
     if not want:
         raise ValueError(f"{path}: CSV columns {sorted(h)} match no stream (IMU needs {', '.join(IMU)})")
     if "imu" in want:

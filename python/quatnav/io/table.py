@@ -85,6 +85,24 @@ def normalize_name(name: str) -> str:
     return name.strip().strip('"').strip("'").strip().lower()
 
 
+def numbers_only(names) -> bool:
+    """True when every non-empty cell of a would-be header parses as a number: the file has no
+    header row."""
+    cells = [c for c in names if c]
+    try:
+        for c in cells:
+            float(c)
+    except ValueError:
+        return False
+    return bool(cells)
+
+
+def no_header(where: str, required) -> str:
+    """The message for a file whose first line holds numbers (``where``: the file, and the line)."""
+    return (f"{where}: no header row (the first line holds numbers, not column names); add a line "
+            f"naming the columns before it ({', '.join(required)}, in any order)")
+
+
 def sniff_delimiter(header_line: str) -> str:
     """The delimiter of a header line: the most frequent of ``,`` ``;`` tab, else whitespace
     (``r"\\s+"``) when the line has several words, else ``,``."""
@@ -203,6 +221,8 @@ def read_table(path, required, optional=(), what: str = "file", increasing: str 
         header = [normalize_name(c) for c in header_line.split()]
     else:
         header = [normalize_name(c) for c in next(iter(__import__("csv").reader([header_line], delimiter=sep)))]
+    if numbers_only(header):
+        raise CsvError(no_header(f"{where}: line {header_lineno}", required))
     seen = set()
     for c in header:
         if c and c in seen:
