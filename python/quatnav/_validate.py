@@ -47,6 +47,10 @@ def _numeric(x, name: str) -> np.ndarray:
         a = np.asarray(x)
     except Exception as exc:  # ragged lists and the like
         raise ValueError(f"{name}: cannot be converted to an array ({exc})") from exc
+    if a.dtype.kind in "mM":  # numpy counts timedelta64 as a number: its ticks would be taken for seconds
+        how = ("(t - t0) / np.timedelta64(1, 's') with one t0 for the IMU and its aids" if a.dtype.kind == "M"
+               else "t / np.timedelta64(1, 's')")
+        raise TypeError(f"{name}: values of dtype {a.dtype} are not accepted: give seconds as floats, e.g. {how}")
     if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool):
         raise TypeError(f"{name}: expected a numeric array, got dtype {a.dtype}")
     if np.iscomplexobj(a):

@@ -505,6 +505,24 @@ def test_copy_deepcopy_and_pickle_give_an_independent_filter(name, dtype, scn):
         np.testing.assert_array_equal(g.run(gyr[h - 1:], acc[h - 1:], t=t[h - 1:]).quat, rest.quat)
 
 
+@pytest.mark.parametrize("name", NAMES)
+def test_datetime_and_timedelta_times_are_refused_with_the_conversion(name, scn):
+    """numpy counts timedelta64 as a number: a pandas TimedeltaIndex was taken as seconds in
+    nanosecond ticks; datetime64 was refused without saying what to give."""
+    make, gyr, acc, t, aids, _ = _log(name, scn)
+    td = (t * 1e9).astype("timedelta64[ns]")
+    for kw in ({"t": td}, {"t": np.datetime64("2025-08-28T17:30:00", "ns") + td},
+               {"dt": np.timedelta64(20, "ms")}, {"dt": np.diff(td, prepend=td[0] - (td[1] - td[0]))}):
+        key = next(iter(kw))
+        with pytest.raises(TypeError, match=rf"{key}: values of dtype (timedelta|datetime)64\[.*\] are not accepted: "
+                                            r"give seconds as floats, e\.g\. .*np\.timedelta64\(1, 's'\)"):
+            make().run(gyr, acc, **kw)
+    key, a = next(iter(aids.items()), (None, None))
+    if key:
+        with pytest.raises(TypeError, match=rf"{key}.t: values of dtype timedelta64"):
+            make().run(gyr, acc, t=t, **{key: Aid((np.asarray(a.t) * 1e9).astype("timedelta64[ns]"), a.value)})
+
+
 @pytest.mark.parametrize("name", ["MargFilter", "NavFilter13", "GpsInsFilter"])
 def test_a_length_mismatch_names_what_the_rows_should_match(name, scn):
     """An aid's values are counted against its own times, the IMU's against gyr (or t)."""
