@@ -3,6 +3,7 @@ on_invalid), keyword-only constructors from one parameter table, one result base
 flag decoding, per-aid diagnostics, to_dataframe and a short repr, and run continuing from the
 filter's state."""
 import inspect
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -503,6 +504,20 @@ def test_copy_deepcopy_and_pickle_give_an_independent_filter(name, dtype, scn):
     rest = f.run(gyr[h - 1:], acc[h - 1:], t=t[h - 1:])
     for g in copies:
         np.testing.assert_array_equal(g.run(gyr[h - 1:], acc[h - 1:], t=t[h - 1:]).quat, rest.quat)
+
+
+@pytest.mark.parametrize("source, target, key", [
+    (dict(paper=True), dict(), "P"), (dict(), dict(paper=True), "P"),
+    (dict(scale_factors=True), dict(), "P"), (dict(), dict(scale_factors=True), "P")])
+def test_set_state_of_another_configuration_is_named_as_such(source, target, key):
+    cls = quatnav.GpsInsFilter if "scale_factors" in {**source, **target} else quatnav.QuaternionEKF
+    dst = cls(**target)
+    state = cls(**source).get_state()
+    with pytest.raises(ValueError, match=rf"state: {key} has shape \(\d+, \d+\), {re.escape(repr(dst))} has "
+                                         r"\(\d+, \d+\): a state of another filter or configuration"):
+        dst.set_state(state)
+    with pytest.raises(ValueError, match=r"state: missing keys \['euler'\] for EulerEKF\(\): a state of another"):
+        quatnav.EulerEKF().set_state(quatnav.QuaternionEKF().get_state())
 
 
 @pytest.mark.parametrize("name", NAMES)

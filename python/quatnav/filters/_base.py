@@ -408,9 +408,14 @@ class Filter:
         """Restore a state from :meth:`get_state` (of this or another filter of the same class)."""
         if not isinstance(state, dict):
             raise TypeError(f"state: expected a dict from get_state(), got {type(state).__name__}")
-        missing = [k for k in self._f.get_state() if k not in state]
+        own = self._f.get_state()
+        other = "a state of another filter or configuration (paper=, scale_factors=)?"
+        missing = [k for k in own if k not in state]
         if missing:
-            raise ValueError(f"state: missing keys {missing}")
+            raise ValueError(f"state: missing keys {missing} for {self!r}: {other}")
+        for k, v in own.items():
+            if isinstance(v, np.ndarray) and np.shape(state[k]) != v.shape:
+                raise ValueError(f"state: {k} has shape {np.shape(state[k])}, {self!r} has {v.shape}: {other}")
         status = self._f.set_state(state)
         if status != "ok":
             raise ValueError(f"state: refused ({status})")
