@@ -538,6 +538,19 @@ def test_datetime_and_timedelta_times_are_refused_with_the_conversion(name, scn)
             make().run(gyr, acc, t=t, **{key: Aid((np.asarray(a.t) * 1e9).astype("timedelta64[ns]"), a.value)})
 
 
+@pytest.mark.parametrize("name", ["NavFilter13", "GpsInsFilter"])
+def test_one_column_aids_take_k_or_k_by_1_values(name, scn):
+    """Aid(t, value) with value (K,) or (K, m): a one-column aid given as (K, 1) (a DataFrame's
+    df[["h"]]) runs as the (K,) one."""
+    make, gyr, acc, t, aids, _ = _log(name, scn)
+    cols = {"NavFilter13": ("yaw",), "GpsInsFilter": ("baro", "compass")}[name]
+    col = {k: (Aid(a.t, np.asarray(a.value)[:, None]) if k in cols else a) for k, a in aids.items()}
+    a, b = make().run(gyr, acc, t=t, **aids), make().run(gyr, acc, t=t, **col)
+    np.testing.assert_array_equal(a.quat, b.quat)
+    for k in cols:
+        np.testing.assert_array_equal(a.aids[k].nis, b.aids[k].nis)
+
+
 @pytest.mark.parametrize("name", ["MargFilter", "NavFilter13", "GpsInsFilter"])
 def test_a_length_mismatch_names_what_the_rows_should_match(name, scn):
     """An aid's values are counted against its own times, the IMU's against gyr (or t)."""

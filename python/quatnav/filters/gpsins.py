@@ -155,6 +155,8 @@ def _rows(x, name, k, cols, dtype, allow_nan_rows, finite=True, like=None):
         return np.full((k, cols), np.nan, dtype=dtype) if cols > 1 else np.full(k, np.nan, dtype=dtype)
     if cols == 1:
         a = V._numeric(x, name)
+        if a.shape == (k, 1):  # one column (a DataFrame's df[["h"]]): the (K, m) form of Aid, m = 1
+            a = a[:, 0]
         if a.shape != (k,):
             raise ValueError(f"{name}: expected shape ({k},), got {a.shape}")
         a = np.ascontiguousarray(a, dtype=dtype)
