@@ -65,6 +65,11 @@ def test_bad_arguments():
         hard_iron_track(np.full((3, 3), np.nan))
     with pytest.raises(ValueError, match="forgetting"):
         OnlineHardIron(forgetting=1.5)
+    f = OnlineHardIron()
+    for bad in (np.ones((2, 3)), np.ones(2)):  # several samples, or not a 3-vector: named, state kept
+        with pytest.raises(ValueError, match=r"m: expected one sample of shape \(3,\), got shape"):
+            f.update(bad)
+    assert f.samples == 0
 
 
 def test_calibration_api_is_annotated():

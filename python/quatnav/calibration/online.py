@@ -124,7 +124,11 @@ class OnlineHardIron:
 
     def update(self, m: ArrayLike) -> np.ndarray:
         """Take one sample (3,); returns the offset estimate after it (a NaN sample is skipped)."""
-        m = np.asarray(m, dtype=float).reshape(3)
+        m = np.asarray(m, dtype=float)
+        if m.shape != (3,) and m.shape != (1, 3):
+            raise ValueError(f"m: expected one sample of shape (3,), got shape {m.shape} "
+                             "(hard_iron_track takes (N, 3))")
+        m = m.reshape(3)
         if not np.isfinite(m).all():
             return self.offset
         if self.scale is None:
