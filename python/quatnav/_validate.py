@@ -148,6 +148,18 @@ def angle(x, name: str, limit: float = np.pi) -> float:
     return v
 
 
+def euler(x, name: str = "euler", dtype=np.float64) -> np.ndarray:
+    """ZYX Euler angles [roll, pitch, yaw] in rad: finite, each within [-2 pi, 2 pi] (a larger one was
+    most likely given in degrees: refused with a hint)."""
+    e = vector(x, name, 3, dtype=dtype)
+    big = np.flatnonzero(np.abs(e) > 2 * np.pi)
+    if big.size:
+        v = float(e[big[0]])
+        hint = f" (degrees? use np.radians({e.tolist()}))" if np.all(np.abs(e) <= 360) else ""
+        raise ValueError(f"{name}: {('roll', 'pitch', 'yaw')[big[0]]} {v:g} is not an angle in rad{hint}")
+    return e
+
+
 def time_steps(n: int, dt=None, t=None, dtype=np.float64, max_dt: float | None = None) -> np.ndarray:
     """Per-sample step lengths (N,) from a scalar/array ``dt`` or timestamps ``t``.
 

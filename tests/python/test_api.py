@@ -520,6 +520,27 @@ def test_set_state_of_another_configuration_is_named_as_such(source, target, key
         quatnav.EulerEKF().set_state(quatnav.QuaternionEKF().get_state())
 
 
+def test_euler_angles_and_latitudes_in_degrees_are_refused_with_a_hint():
+    """EulerEKF.reset and GpsInsFilter.set_initial took euler=[0, 0, 90] as 90 rad (EulerEKF kept
+    yaw = 90); GpsInsFilter.reset with llh in degrees and NavFilter13.set_position said only
+    'rejected by the filter (invalid_argument)'."""
+    hint = r"\(degrees\? use np\.radians"
+    with pytest.raises(ValueError, match=rf"euler: yaw 90 is not an angle in rad {hint}\(\[0\.0, 0\.0, 90\.0\]\)\)"):
+        quatnav.EulerEKF().reset([0.0, 0.0, 90.0])
+    with pytest.raises(ValueError, match=rf"euler: roll -170 is not an angle in rad {hint}"):
+        quatnav.GpsInsFilter().set_initial(euler=[-170.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=rf"llh: latitude 36.4 is beyond \+-pi/2 rad {hint}"):
+        quatnav.GpsInsFilter().reset([1, 0, 0, 0], [0, 0, 0], [36.4, 127.3, 50.0])
+    for call in (lambda f: f.reset([0, 0, 0], [1, 0, 0, 0], lat=36.4), lambda f: f.set_position(36.4, 127.3, 50.0)):
+        with pytest.raises(ValueError, match=rf"lat: expected \|lat\| < 1.5 rad, got 36.4 {hint}"):
+            call(quatnav.NavFilter13())
+    # radians, up to a full turn either way, are taken as they are
+    f = quatnav.EulerEKF()
+    f.reset([0.1, -0.2, 6.0])
+    np.testing.assert_allclose(f.euler, [0.1, -0.2, 6.0])
+    quatnav.GpsInsFilter().set_initial(euler=[0.0, 0.0, -3.5])
+
+
 @pytest.mark.parametrize("name", NAMES)
 def test_datetime_and_timedelta_times_are_refused_with_the_conversion(name, scn):
     """numpy counts timedelta64 as a number: a pandas TimedeltaIndex was taken as seconds in

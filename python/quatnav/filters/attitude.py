@@ -388,7 +388,7 @@ class EulerEKF(_AttitudeFilter):
         return bool(self._f.at_rest)
 
     def reset(self, euler, bias=None, P=None) -> None:
-        e = V.vector(euler, "euler", dtype=self.dtype)
+        e = V.euler(euler, "euler", dtype=self.dtype)
         b = np.zeros(3, self.dtype) if bias is None else V.vector(bias, "bias", dtype=self.dtype)
         if P is None:
             p = self._f.params

@@ -342,6 +342,9 @@ class GpsInsFilter(Filter):
         q = V.vector(q_nb, "q_nb", 4, self.dtype)
         v = V.vector(v_n, "v_n", 3, self.dtype)
         llh = V.vector(llh, "llh", 3, np.float64)
+        if not abs(llh[0]) <= np.pi / 2:
+            hint = " (degrees? use np.radians)" if abs(llh[0]) <= 90 else ""
+            raise ValueError(f"llh: latitude {llh[0]:g} is beyond +-pi/2 rad{hint}")
         ba = V.vector(acc_bias, "acc_bias", 3, self.dtype)
         bg = V.vector(gyro_bias, "gyro_bias", 3, self.dtype)
         if P is None:
@@ -418,7 +421,7 @@ class GpsInsFilter(Filter):
         if (q_nb is None) == (euler is None):
             raise TypeError("set_initial: give exactly one of q_nb and euler")
         if euler is not None:
-            e = V.vector(euler, "euler", 3, np.float64)
+            e = V.euler(euler, "euler")
             q = Q.from_euler(e).astype(self.dtype)
         else:
             q = V.vector(q_nb, "q_nb", 4, self.dtype, nonzero=True)

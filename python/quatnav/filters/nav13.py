@@ -175,17 +175,14 @@ class NavFilter13(Filter):
         P = V._numeric(P, "P")
         if P.shape != (13, 13) or not np.all(np.isfinite(P)):
             raise ValueError(f"P: expected a finite 13x13 matrix, got shape {P.shape}")
-        for name, val in (("lat", lat), ("lon", lon), ("h", h)):
-            if not np.isfinite(float(val)):
-                raise ValueError(f"{name}: expected a finite number, got {val!r}")
-        if not abs(float(lat)) < 1.5:
-            raise ValueError(f"lat: expected |lat| < 1.5 rad, got {lat!r}")
+        _check_position(lat, lon, h)
         status = self._f.reset(v, q, ba, bg, np.asarray(P, self.dtype), float(lat), float(lon), float(h))
         if status != "ok":
             raise ValueError(f"reset: refused ({status})")
 
     def set_position(self, lat: float, lon: float, h: float) -> None:
         """Replace the carried position (lat, lon in rad, h in m) used for the Earth terms."""
+        _check_position(lat, lon, h)
         status = self._f.set_position(float(lat), float(lon), float(h))
         if status != "ok":
             raise ValueError(f"lat, lon, h: refused ({status})")
@@ -327,6 +324,15 @@ class NavFilter13(Filter):
             va = va[:, None]
         va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict, like=tname)
         return ta.astype(self.dtype), va
+
+
+def _check_position(lat, lon, h) -> None:
+    for name, val in (("lat", lat), ("lon", lon), ("h", h)):
+        if not np.isfinite(float(val)):
+            raise ValueError(f"{name}: expected a finite number, got {val!r}")
+    if not abs(float(lat)) < 1.5:  # the Earth terms' limit, short of the pole
+        hint = " (degrees? use np.radians)" if abs(float(lat)) <= 90 else ""
+        raise ValueError(f"lat: expected |lat| < 1.5 rad, got {lat!r}{hint}")
 
 
 _SIGMA_NAMES = ("v_n", "v_e", "v_d", "q0", "q1", "q2", "q3", "ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z")
