@@ -176,6 +176,25 @@ def test_bad_input_raises_naming_argument(walk):
         f.run(s.imu.gyro[:100], s.imu.accel[:100], t=s.imu.t[:100], gps_vel=quatnav.Aid([0.5, 1.0], np.zeros((2, 3))))
 
 
+def test_outages_take_pairs_or_none_and_name_a_single_pair(walk):
+    """outages=(20, 30) failed with "object of type 'float' has no len()", outages=None (the
+    docstring says optional) with "'NoneType' has no len()"."""
+    s = walk
+    g = s.gps
+    kw = dict(t=s.imu.t, gps_pos=quatnav.Aid(g.t_valid, np.column_stack([g.lat, g.lon, g.h])),
+              gps_vel=quatnav.Aid(g.t_valid, g.v_n), compass=quatnav.Aid(s.compass.t, s.compass.yaw))
+    base = quatnav.GpsInsFilter().run(s.imu.gyro, s.imu.accel, outages=None, **kw)
+    np.testing.assert_array_equal(base.position, quatnav.GpsInsFilter().run(s.imu.gyro, s.imu.accel, **kw).position)
+    cut = [quatnav.GpsInsFilter().run(s.imu.gyro, s.imu.accel, outages=o, **kw) for o in ([(20.0, 30.0)], np.array([[20.0, 30.0]]))]
+    np.testing.assert_array_equal(cut[0].position, cut[1].position)
+    assert cut[0].counters["gps_pos"]["accepted"] == base.counters["gps_pos"]["accepted"] - 50
+    with pytest.raises(ValueError, match=r"outages: expected a sequence of \(t_start, t_end\) pairs, got one pair "
+                                         r"\(20.0, 30.0\): give \[\(20.0, 30.0\)\]"):
+        quatnav.GpsInsFilter().run(s.imu.gyro, s.imu.accel, outages=(20.0, 30.0), **kw)
+    with pytest.raises(ValueError, match=r"outages: .* t_end > t_start; row 1 is \(40.0, 35.0\)"):
+        quatnav.GpsInsFilter().run(s.imu.gyro, s.imu.accel, outages=[(20.0, 30.0), (40.0, 35.0)], **kw)
+
+
 def test_experiment_cli_writes_json(tmp_path):
     import json
 

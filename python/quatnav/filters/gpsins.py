@@ -210,6 +210,26 @@ def _finite(x, name) -> float:
     return v
 
 
+def _outages(x) -> np.ndarray:
+    """The (K, 2) ``(t_start, t_end)`` rows of ``run(outages=...)`` (None: none)."""
+    if x is None:
+        return np.zeros((0, 2))
+    a = V._numeric(x, "outages")
+    if a.size == 0:
+        return np.zeros((0, 2))
+    if a.ndim == 1 and a.shape == (2,):
+        raise ValueError(f"outages: expected a sequence of (t_start, t_end) pairs, got one pair {tuple(a.tolist())}: "
+                         f"give [{tuple(a.tolist())}]")
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise ValueError(f"outages: expected a sequence of (t_start, t_end) pairs, got shape {a.shape}")
+    a = a.astype(np.float64)
+    bad = np.flatnonzero(~(a[:, 1] > a[:, 0]))
+    if bad.size:
+        raise ValueError(f"outages: expected (t_start, t_end) pairs with t_end > t_start; row {int(bad[0])} is "
+                         f"{tuple(a[bad[0]].tolist())}")
+    return a
+
+
 class GpsInsFilter(Filter):
     """16-state loosely coupled GPS/INS feedback filter with altimeter and compass (paper 004); 22
     states with ``scale_factors=True`` (:attr:`state_names`).
@@ -491,7 +511,8 @@ class GpsInsFilter(Filter):
         odometer : Aid, optional
             ``Aid(t, speed)``: odometer times (O,), s, and speeds along the body x axis (O,), m/s.
         outages : sequence of (t_start, t_end), optional
-            GPS fixes with t_start <= t < t_end are dropped (simulated outages).
+            GPS fixes with t_start <= t < t_end are dropped (simulated outages), e.g.
+            ``[(20.0, 30.0)]``; None or empty: none.
         imu_input : {"rate", "increment"}
             Whether ``gyr``/``acc`` hold mean rates and specific forces or increments (rad, m/s).
         on_invalid : {"raise", "skip"}
@@ -569,12 +590,11 @@ class GpsInsFilter(Filter):
         gps_vel_v = _rows(None if vel is None else vel.value, "gps_vel.value", ng, 3, self.dtype, True, strict)
         gps_pos_sigma = _sigmas(None if pos is None else pos.sigma, "gps_pos.sigma", ng, self.dtype)
         gps_vel_sigma = _sigmas(None if vel is None else vel.sigma, "gps_vel.sigma", ng, self.dtype)
-        if len(outages):
+        out = _outages(outages)
+        if len(out):
             gps_llh = gps_llh.copy()
-            for o in outages:
-                if len(o) != 2 or not o[1] > o[0]:
-                    raise ValueError(f"outages: expected (t_start, t_end) pairs, got {o!r}")
-                gps_llh[(gps_t >= o[0]) & (gps_t < o[1])] = np.nan
+            for t0, t1 in out:
+                gps_llh[(gps_t >= t0) & (gps_t < t1)] = np.nan
         b, c = check_aid(baro, "baro"), check_aid(compass, "compass")
         baro_t = np.zeros(0) if b is None else aid_times(b.t, "baro.t")
         baro_h = _rows(np.zeros(0) if b is None else b.value, "baro.value", len(baro_t), 1, np.float64, False, strict)
