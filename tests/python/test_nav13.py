@@ -175,6 +175,34 @@ def test_float32_tracks_float64(tu):
     assert np.max(ang) < 1e-3
 
 
+def _paper002_float32(tu, **params):
+    from quatnav.sim.scenarios import make_scenario
+    s = make_scenario("paper002_straight_then_circle", seed=1)
+    tr = s.truth
+    f = quatnav.NavFilter13(time_update=tu, dtype=np.float32, **params)
+    f.reset(tr.v_n[0], tr.q_nb[0], lat=tr.lat[0], lon=tr.lon[0], h=tr.h[0])
+    r = f.run(s.imu.gyro[1:], s.imu.accel[1:], t=s.imu.t[1:], gps_vel=quatnav.Aid(s.gps.t_valid, s.gps.v_n),
+              yaw=quatnav.Aid(s.compass.t, s.compass.yaw))
+    i = np.searchsorted(tr.t, r.t)
+    return r.aids["gps_vel"].counts(), np.sqrt(np.mean(np.sum((r.velocity - tr.v_n[i]) ** 2, axis=1)))
+
+
+@pytest.mark.parametrize("tu", POLICIES)
+def test_float32_over_the_whole_paper002_scenario(tu):
+    """200 s of paper 002's scenario in float32. With the default cov_floor = 0 (the paper's
+    filter) the bias variances, which have no process noise, shrink into float's rounding: with
+    the ekf and second-order time updates the covariance stops being positive definite at about
+    92 s and about half the velocity updates fail (docs/PORTING.md). cov_floor = 1e-12 holds the
+    whole run: every update applied, the velocity within 0.05 m/s RMS of the truth."""
+    counts, rms = _paper002_float32(tu)
+    if tu == "ukf":
+        assert counts == {"ok": 2001} and rms < 0.05
+    else:  # the documented limit: if this starts to pass, update docs/PORTING.md
+        assert counts.get("solve_failed", 0) > 500 and rms > 100.0
+    counts, rms = _paper002_float32(tu, cov_floor=1e-12)
+    assert counts == {"ok": 2001} and rms < 0.05
+
+
 def test_validation_names_argument_and_row():
     with pytest.raises(ValueError, match="time_update"):
         quatnav.NavFilter13(time_update="particle")
