@@ -362,9 +362,7 @@ class GpsInsFilter(Filter):
         q = V.vector(q_nb, "q_nb", 4, self.dtype)
         v = V.vector(v_n, "v_n", 3, self.dtype)
         llh = V.vector(llh, "llh", 3, np.float64)
-        if not abs(llh[0]) <= np.pi / 2:
-            hint = " (degrees? use np.radians)" if abs(llh[0]) <= 90 else ""
-            raise ValueError(f"llh: latitude {llh[0]:g} is beyond +-pi/2 rad{hint}")
+        V.angle(llh[0], "llh: latitude", np.pi / 2)
         ba = V.vector(acc_bias, "acc_bias", 3, self.dtype)
         bg = V.vector(gyro_bias, "gyro_bias", 3, self.dtype)
         if P is None:
@@ -396,9 +394,7 @@ class GpsInsFilter(Filter):
         time. Returns (position result, velocity result), each with its ``decision`` code
         (:data:`GPSINS_DECISIONS`) and ``inflation``."""
         nan3 = np.full(3, np.nan, self.dtype)
-        la, lo, hh = _finite(lat, "lat"), _finite(lon, "lon"), _finite(h, "h")
-        if not abs(la) <= np.pi / 2:
-            raise ValueError(f"lat: expected |lat| <= pi/2 rad, got {V.num(lat)}")
+        la, lo, hh = V.angle(_finite(lat, "lat"), "lat", np.pi / 2), _finite(lon, "lon"), _finite(h, "h")
         v = nan3 if v_n is None else V.vector(v_n, "v_n", 3, self.dtype)
         ps = nan3 if pos_sigma is None else _sigmas(np.reshape(V._numeric(pos_sigma, "pos_sigma"), (1, -1))
                                                     if np.ndim(pos_sigma) == 1 else pos_sigma, "pos_sigma", 1,

@@ -330,9 +330,7 @@ def _check_position(lat, lon, h) -> None:
     for name, val in (("lat", lat), ("lon", lon), ("h", h)):
         if not np.isfinite(float(val)):
             raise ValueError(f"{name}: expected a finite number, got {val!r}")
-    if not abs(float(lat)) < 1.5:  # the Earth terms' limit, short of the pole
-        hint = " (degrees? use np.radians)" if abs(float(lat)) <= 90 else ""
-        raise ValueError(f"lat: expected |lat| < 1.5 rad, got {lat!r}{hint}")
+    V.angle(float(lat), "lat", 1.5)  # the Earth terms' limit, short of the pole
 
 
 _SIGMA_NAMES = ("v_n", "v_e", "v_d", "q0", "q1", "q2", "q3", "ba_x", "ba_y", "ba_z", "bg_x", "bg_y", "bg_z")
