@@ -47,22 +47,22 @@ def add_parser(subparsers):
 
 
 def _check_outputs(args) -> None:
-    """Refuse, before the scenario is made, an --out or --csv whose folder does not exist: --csv
-    DIR creates DIR itself, not a chain of folders that a typo in the path would give."""
+    """Refuse, before the scenario is made, a --csv whose folder does not exist: --csv DIR creates
+    DIR itself, not a chain of folders that a typo in the path would give. (--out, like every
+    command's output file, is checked before any command runs: cli._preflight.)"""
     from pathlib import Path
-    for opt, path, made in (("--out", args.out, False), ("--csv", args.csv, True)):
-        if not path:
-            continue
-        p = Path(path)
-        if made and not str(path).lower().endswith(".csv"):
-            if p.exists() and not p.is_dir():
-                raise UsageError(f"{opt} {path}: not a folder (give a folder, or a name ending in .csv)")
-            what = "cannot create it"
-        else:
-            what = "cannot write"
-        parent = p.resolve().parent
-        if not parent.is_dir():
-            raise UsageError(f"{opt} {path}: {what} (no such directory: {parent})")
+    path = args.csv
+    if not path:
+        return
+    p = Path(path)
+    what = "cannot write"
+    if not str(path).lower().endswith(".csv"):
+        if p.exists() and not p.is_dir():
+            raise UsageError(f"--csv {path}: not a folder (give a folder, or a name ending in .csv)")
+        what = "cannot create it"
+    parent = p.resolve().parent
+    if not parent.is_dir():
+        raise UsageError(f"--csv {path}: {what} (no such directory: {parent})")
 
 
 def run(args) -> int:
