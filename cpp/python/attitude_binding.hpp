@@ -93,13 +93,14 @@ py::tuple attitude_run(F& f, const carray<typename F::Scalar>& gyr, const carray
 
 /// The batch run of MargFilter with GPS velocity fixes (run_marg_batch): (quat, bias, gps_acc_n, residual, flags).
 template <class S>
-py::tuple marg_run(quatnav::MargFilter<S>& f, const carray<S>& t, const carray<S>& dt, const carray<S>& gyr,
-                   const carray<S>& acc, const py::object& mag_obj, const carray<S>& gps_t, const carray<S>& gps_vel) {
+py::tuple marg_run(quatnav::MargFilter<S>& f, const carray<double>& t, const carray<S>& dt, const carray<S>& gyr,
+                   const carray<S>& acc, const py::object& mag_obj, const carray<double>& gps_t,
+                   const carray<S>& gps_vel) {
   const py::ssize_t n = gyr.ndim() == 2 ? gyr.shape(0) : -1;
   if (n < 0) throw py::value_error("gyr: expected shape (N, 3)");
   require_shape<S>(gyr, "gyr", n, 3);
   require_shape<S>(acc, "acc", n, 3);
-  require_shape<S>(t, "t", n, -1);
+  require_shape<double>(t, "t", n, -1);
   require_shape<S>(dt, "dt", n, -1);
   const py::ssize_t m = gps_t.ndim() == 1 ? gps_t.shape(0) : -1;
   if (m < 0) throw py::value_error("gps_t: expected shape (M,)");
@@ -109,8 +110,8 @@ py::tuple marg_run(quatnav::MargFilter<S>& f, const carray<S>& t, const carray<S
   auto quat = empty<S>(n, 4), bias = empty<S>(n, 3), gps_acc = empty<S>(n, 3), resid = empty<S>(n, -1);
   py::array_t<std::uint32_t> fl({n});
   {
-    const S *pt = t.data(), *pd = dt.data(), *pg = gyr.data(), *pa = acc.data(), *pgt = gps_t.data(),
-            *pgv = gps_vel.data();
+    const S *pd = dt.data(), *pg = gyr.data(), *pa = acc.data(), *pgv = gps_vel.data();
+    const double *pt = t.data(), *pgt = gps_t.data();  // times in double for every S
     S *pq = quat.mutable_data(), *pb = bias.mutable_data(), *pga = gps_acc.mutable_data(), *pr = resid.mutable_data();
     std::uint32_t* pf = fl.mutable_data();
     py::gil_scoped_release release;

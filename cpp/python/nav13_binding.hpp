@@ -19,9 +19,9 @@ template <class S> void bind_params(py::module_& m) {
 }
 
 template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb, const carray<typename F::Scalar>& fb,
-                                      const carray<typename F::Scalar>& t, const carray<typename F::Scalar>& dt,
-                                      const carray<typename F::Scalar>& vel_t, const carray<typename F::Scalar>& vel,
-                                      const carray<typename F::Scalar>& yaw_t, const carray<typename F::Scalar>& yaw,
+                                      const carray<double>& t, const carray<typename F::Scalar>& dt,
+                                      const carray<double>& vel_t, const carray<typename F::Scalar>& vel,
+                                      const carray<double>& yaw_t, const carray<typename F::Scalar>& yaw,
                                       typename F::Scalar gate_vel, typename F::Scalar gate_yaw, bool return_cov,
                                       bool smooth, std::size_t segment) {
   using S = typename F::Scalar;
@@ -29,7 +29,7 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
   if (n < 0) throw py::value_error("f_ib_b: expected shape (N, 3)");
   require_shape<S>(fb, "f_ib_b", n, 3);
   require_shape<S>(wb, "omega_ib_b", n, 3);
-  require_shape<S>(t, "t", n, -1);
+  require_shape<double>(t, "t", n, -1);
   require_shape<S>(dt, "dt", n, -1);
   const py::ssize_t nv = vel_t.ndim() == 1 ? vel_t.shape(0) : -1;
   const py::ssize_t ny = yaw_t.ndim() == 1 ? yaw_t.shape(0) : -1;
@@ -46,8 +46,8 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
   py::array_t<S> xs, ss, as, Ps;
   py::dict info;
   {
-    const S *pf = fb.data(), *pw = wb.data(), *pt = t.data(), *pd = dt.data(), *pvt = vel_t.data(),
-            *pv = vel.data(), *pyt = yaw_t.data(), *py_ = yaw.data();
+    const S *pf = fb.data(), *pw = wb.data(), *pd = dt.data(), *pv = vel.data(), *py_ = yaw.data();
+    const double *pt = t.data(), *pvt = vel_t.data(), *pyt = yaw_t.data();  // times in double for every S
     S *px = x.mutable_data(), *ps = sigma.mutable_data(), *pas = att_sigma.mutable_data();
     S* pP = return_cov ? P.mutable_data() : nullptr;
     std::uint32_t* pfl = fl.mutable_data();

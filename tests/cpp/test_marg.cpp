@@ -150,8 +150,9 @@ template <class S> void expect_no_heap() {
   EXPECT_TRUE(f.quat().allFinite());
   // The batch loop too.
   const std::size_t n = 50, m = 3;
-  std::vector<S> t(n), dt(n, S(0.01)), gyr_b(3 * n, S(0.1)), acc_b(3 * n, S(0)), mag_b(3 * n, S(0)), q(4 * n),
-      b(3 * n), ga(3 * n), res(n), gt = {S(0.1), S(0.2), S(0.3)}, gv(3 * m, S(1));
+  std::vector<S> dt(n, S(0.01)), gyr_b(3 * n, S(0.1)), acc_b(3 * n, S(0)), mag_b(3 * n, S(0)), q(4 * n), b(3 * n),
+      ga(3 * n), res(n), gv(3 * m, S(1));
+  std::vector<double> t(n), gt = {0.1, 0.2, 0.3};  // times are double for every S
   std::vector<std::uint32_t> fl(n);
   for (std::size_t k = 0; k < n; ++k) {
     t[k] = S(0.01) * S(k);
@@ -229,7 +230,8 @@ template <class S> void expect_split_run_identical() {
   const std::size_t n = 400, m = 20;
   std::mt19937 g(7);
   std::normal_distribution<double> nd;
-  std::vector<S> t(n), dt(n, S(0.01)), gyr(3 * n), acc(3 * n), mag(3 * n), gt(m), gv(3 * m);
+  std::vector<S> dt(n, S(0.01)), gyr(3 * n), acc(3 * n), mag(3 * n), gv(3 * m);
+  std::vector<double> t(n), gt(m);
   for (std::size_t k = 0; k < n; ++k) {
     t[k] = S(0.01) * S(k);
     for (int i = 0; i < 3; ++i) {
@@ -291,4 +293,54 @@ TEST(MargFilter, ConstantAccelerationIsRemovedByGps) {
       EXPECT_GT(std::abs(pitch), 0.3 * std::atan(a / g0));
     }
   }
+}
+
+// GPS fixes on a GPS or Unix clock (1.4e9 s): the times are double whatever S, so a float filter
+// differences the fixes as on a clock starting at 0 (a float time resolves 128 s there: every
+// fix would share one time and none would be used).
+template <class S> void expect_epoch_clock_same_as_zero_clock() {
+  const std::size_t n = 400, m = 20;
+  std::mt19937 g(3);
+  std::normal_distribution<double> nd;
+  std::vector<S> dt(n, S(0.01)), gyr(3 * n), acc(3 * n), mag(3 * n), gv(3 * m);
+  std::vector<double> t(n), gt(m);
+  for (std::size_t k = 0; k < n; ++k) {
+    t[k] = 0.01 * double(k);
+    for (int i = 0; i < 3; ++i) {
+      gyr[3 * k + i] = S(0.2 * std::sin(0.01 * k + i) + 0.01 * nd(g));
+      acc[3 * k + i] = S((i == 2 ? -9.8 : 0.5 * std::cos(0.02 * k + i)) + 0.05 * nd(g));
+      mag[3 * k + i] = S((i == 0 ? 20 : i == 2 ? 40 : 3) + 0.2 * nd(g));
+    }
+  }
+  for (std::size_t j = 0; j < m; ++j) {
+    gt[j] = 0.2 * double(j) + 0.005;  // between two samples: the order does not hang on a rounding
+    for (int i = 0; i < 3; ++i) gv[3 * j + i] = S(std::sin(0.3 * j + i));
+  }
+  std::vector<double> t_epoch(t), gt_epoch(gt);
+  for (double& x : t_epoch) x += 1.4e9;
+  for (double& x : gt_epoch) x += 1.4e9;
+  MargFilterParams<S> p;
+  p.lever_arm_b = Vec3<S>(S(0.5), S(0), S(-0.3));
+  std::vector<S> q0(4 * n), q1(4 * n), a0(3 * n), a1(3 * n);
+  std::vector<std::uint32_t> f0(n), f1(n);
+  MargFilter<S> z(p), e(p);
+  run_marg_batch(z, t.data(), dt.data(), gyr.data(), acc.data(), mag.data(), n, gt.data(), gv.data(), m, q0.data(),
+                 (S*)nullptr, a0.data(), (S*)nullptr, f0.data());
+  run_marg_batch(e, t_epoch.data(), dt.data(), gyr.data(), acc.data(), mag.data(), n, gt_epoch.data(), gv.data(), m,
+                 q1.data(), (S*)nullptr, a1.data(), (S*)nullptr, f1.data());
+  std::size_t corrected = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    ASSERT_EQ(f1[k], f0[k]) << k;
+    if (!(f0[k] & flags::kGpsCorrected)) continue;
+    ++corrected;
+    // The fix intervals differ by the rounding of 1.4e9 + 0.2 j in double (2.4e-7 s).
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(a1[3 * k + i], a0[3 * k + i], 1e-4) << k;
+  }
+  EXPECT_GT(corrected, n / 2);
+  for (std::size_t i = 0; i < 4 * n; ++i) EXPECT_NEAR(q1[i], q0[i], 1e-4) << i;
+}
+
+TEST(MargFilter, GpsFixesOnAnEpochClock) {
+  expect_epoch_clock_same_as_zero_clock<double>();
+  expect_epoch_clock_same_as_zero_clock<float>();
 }

@@ -345,7 +345,8 @@ TYPED_TEST(Nav13Filter, BatchEqualsSteps) {
   using F = TypeParam;
   using S = typename F::Scalar;
   const int n = 60;
-  std::vector<S> fb(3 * n), wb(3 * n), t(n), dt(n, S(0.01)), vt, vel, yt, yaw;
+  std::vector<S> fb(3 * n), wb(3 * n), dt(n, S(0.01)), vel, yaw;
+  std::vector<double> t(n), vt, yt;  // run_nav13_batch's times are double for every S
   for (int k = 0; k < n; ++k) {
     fb[3 * k] = S(0.1 * std::sin(0.1 * k));
     fb[3 * k + 1] = S(0);
@@ -389,13 +390,16 @@ TYPED_TEST(Nav13Filter, BatchReportsMeasurementsAfterTheLastSampleAsNeverApplied
   using F = TypeParam;
   using S = typename F::Scalar;
   const int n = 20;
-  std::vector<S> fb(3 * n), wb(3 * n, S(0)), t(n), dt(n, S(0.01));
+  std::vector<S> fb(3 * n), wb(3 * n, S(0)), dt(n, S(0.01));
+  std::vector<double> t(n);
   for (int k = 0; k < n; ++k) {
     fb[3 * k + 2] = S(-9.8);
     t[k] = S(0.01 * (k + 1));
   }
-  const std::vector<S> vt{S(0.1), S(0.5), S(0.6)}, vel{S(0), S(0), S(0), S(1), S(1), S(1), S(1), S(1), S(1)};
-  const std::vector<S> yt{S(0.05), S(0.9)}, yaw{S(0.1), S(0.2)};
+  const std::vector<double> vt{0.1, 0.5, 0.6};
+  const std::vector<S> vel{S(0), S(0), S(0), S(1), S(1), S(1), S(1), S(1), S(1)};
+  const std::vector<double> yt{0.05, 0.9};
+  const std::vector<S> yaw{S(0.1), S(0.2)};
   // Sentinels that a result left unwritten would keep.
   std::vector<S> vi(9, S(7)), vn(3, S(7)), yi(2, S(7)), yn(2, S(7));
   std::vector<std::uint8_t> vs(3, 99), ys(2, 99);

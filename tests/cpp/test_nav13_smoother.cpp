@@ -17,7 +17,8 @@ namespace {
 template <class S, TimeUpdate TU> struct Nav13Case {
   using F = NavFilter13<S, TU>;
   int n = 3000;
-  std::vector<S> w, f, t, dt, vel_t, vel, yaw_t, yaw;
+  std::vector<S> w, f, dt, vel, yaw;
+  std::vector<double> t, vel_t, yaw_t;  // times in double, as run_nav13_batch takes them
   std::vector<double> truth_v, truth_q;  // per sample
   F filter;
 
@@ -48,12 +49,12 @@ template <class S, TimeUpdate TU> struct Nav13Case {
         truth_v.push_back(v[i]);
       }
       for (int i = 0; i < 4; ++i) truth_q.push_back(q[i]);
-      t.push_back(S((k + 1) * h));
+      t.push_back((k + 1) * h);
       dt.push_back(S(h));
       if (k % 10 == 9 && !(k > 1000 && k < 2000)) {  // 10 Hz aids with a 10 s outage
-        vel_t.push_back(S((k + 1) * h));
+        vel_t.push_back((k + 1) * h);
         for (int i = 0; i < 3; ++i) vel.push_back(S(v[i] + 0.05 * nd(g)));
-        yaw_t.push_back(S((k + 1) * h));
+        yaw_t.push_back((k + 1) * h);
         yaw.push_back(S(quat::to_euler(q)[2] + 0.03 * nd(g)));
       }
     }

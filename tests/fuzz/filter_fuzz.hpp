@@ -343,7 +343,7 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
         switch (r.byte() % 4) {
           case 0: for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>(); break;
           case 1: s.gyro_bias = r.vec3<S>(); s.omega_dot_b = r.vec3<S>(); break;
-          case 2: s.gps_t = r.scalar<S>(); s.time_since_gps = r.scalar<S>(); s.gps_fixes = int(r.byte() % 5) - 1; break;
+          case 2: s.gps_t = r.scalar<double>(); s.time_since_gps = r.scalar<S>(); s.gps_fixes = int(r.byte() % 5) - 1; break;
           default: s.mag.ref.mag_ref = r.vec3<S>(); s.initialized = r.byte() & 1; break;
         }
         return {f.set_state(s), true, "set_state"};

@@ -50,7 +50,7 @@ template <class S> struct MargAdapter {
   using Filter = quatnav::MargFilter<S>;
   using State = typename Filter::State;
   Filter f;
-  S t = S(0);
+  double t = 0.0;  // run_marg_batch's times are double (only compared with fix times: none here)
 
   std::uint32_t step(std::uint32_t k) {
     S g[3], a[3], m[3];
@@ -60,9 +60,9 @@ template <class S> struct MargAdapter {
       m[i] = S(qn_input::mag[k][i]);
     }
     const S dt = S(qn_input::dt[k]);
-    if (k > 0) t += dt;
+    if (k > 0) t += double(dt);
     std::uint32_t fl = 0;
-    quatnav::run_marg_batch(f, &t, &dt, g, a, m, 1, static_cast<const S*>(nullptr), static_cast<const S*>(nullptr),
+    quatnav::run_marg_batch(f, &t, &dt, g, a, m, 1, static_cast<const double*>(nullptr), static_cast<const S*>(nullptr),
                             0, static_cast<S*>(nullptr), static_cast<S*>(nullptr), static_cast<S*>(nullptr),
                             static_cast<S*>(nullptr), &fl);
     return fl;

@@ -210,8 +210,8 @@ class MargFilter(Filter):
             gv = np.zeros((0, 3), self.dtype)
             gt = np.zeros(0)
         quat, bias, gps_acc, resid, flags = self._f.run(
-            np.ascontiguousarray(times, self.dtype), np.ascontiguousarray(steps, self.dtype), g, a, m,
-            np.ascontiguousarray(gt, self.dtype), np.ascontiguousarray(gv, self.dtype))
+            np.ascontiguousarray(times, np.float64), np.ascontiguousarray(steps, self.dtype), g, a, m,
+            np.ascontiguousarray(gt, np.float64), np.ascontiguousarray(gv, self.dtype))  # times in double
         skipped = {}
         for name in ("predict_skipped", "acc_skipped", "mag_skipped"):
             rows = np.flatnonzero(flags & MARG_FLAGS[name])

@@ -285,7 +285,7 @@ class NavFilter13(Filter):
         times = np.asarray(t, dtype=np.float64) if t is not None else np.cumsum(steps)
         vt, vv = self._measurements(check_aid(gps_vel, "gps_vel"), "gps_vel", 3, strict)
         yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)
-        out = self._f.run(wb, fb, times.astype(self.dtype), steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
+        out = self._f.run(wb, fb, times, steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
                           float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance),
                           bool(smooth))
         flags = out["flags"]
@@ -316,14 +316,14 @@ class NavFilter13(Filter):
 
     def _measurements(self, aid, name, cols, strict=True):
         if aid is None:
-            return np.zeros(0, self.dtype), np.zeros((0, cols), self.dtype)
+            return np.zeros(0), np.zeros((0, cols), self.dtype)
         tname, vname = f"{name}.t", f"{name}.value"
         ta = aid_times(aid.t, tname, strict_increasing=False)
         va = np.asarray(aid.value)
         if cols == 1 and va.ndim == 1:
             va = va[:, None]
         va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict, like=tname)
-        return ta.astype(self.dtype), va
+        return np.ascontiguousarray(ta, np.float64), va  # times stay double whatever the dtype
 
 
 def _check_position(lat, lon, h) -> None:

@@ -126,7 +126,7 @@ template <class S> struct MargFilterParams {
   X(Vec3<S>, omega_dot_b, Vec3<S>::Zero(), "rad/s^2", "low-passed angular acceleration")                 \
   X(Vec3<S>, gps_vel_n, Vec3<S>::Zero(), "m/s", "last GPS velocity, magnetic NED")                       \
   X(Vec3<S>, gps_acc_n, Vec3<S>::Zero(), "m/s^2", "low-passed GPS antenna acceleration, magnetic NED")   \
-  X(S, gps_t, S(0), "s", "time of the last GPS fix")                                                    \
+  X(double, gps_t, 0.0, "s", "time of the last GPS fix (double for every S: GPS and Unix clocks)")      \
   X(S, time_since_gps, S(0), "s", "time since the last GPS fix")                                        \
   X(S, time_since_update, S(0), "s", "time integrated since the last update")                           \
   X(int, gps_fixes, 0, "-", "0: none, 1: velocity only, 2: acceleration")                               \
@@ -337,10 +337,11 @@ template <class S> class MargFilter {
   }
 
   /// One GPS velocity fix v_true_n [m/s] (of the antenna, true NED) valid at time t [s] (any clock, strictly
-  /// increasing from fix to fix). The antenna acceleration of eq. (7) is the difference of
+  /// increasing from fix to fix; double whatever S, since a float time on a GPS or Unix clock
+  /// resolves 64-128 s). The antenna acceleration of eq. (7) is the difference of
   /// successive fixes, low-pass filtered, held until the next fix. A gap longer than gps_timeout
   /// restarts the differencing.
-  Status update_gps_velocity(const Vec3<S>& v_true_n, S t) {
+  Status update_gps_velocity(const Vec3<S>& v_true_n, double t) {
     if (!v_true_n.allFinite() || !std::isfinite(t)) return Status::NonFinite;
     // True NED -> the filter's magnetic NED: rotate by -declination about down.
     const S cd = std::cos(params_.declination), sd = std::sin(params_.declination);
@@ -352,8 +353,9 @@ template <class S> class MargFilter {
     if (fixes == 0) {
       fixes = 1;
     } else {
-      const S dt = t - st_.gps_t;
-      if (!(dt > S(0))) return Status::InvalidDt;
+      const double dt_fix = t - st_.gps_t;  // in double: the two times may be 1e9 s
+      if (!(dt_fix > 0.0)) return Status::InvalidDt;
+      const S dt = S(dt_fix);
       if (dt > params_.gps_timeout) {
         fixes = 1;
       } else {
@@ -520,7 +522,8 @@ template <class S> class MargFilter {
 
 /// Batch run of MargFilter over n IMU samples with GPS velocity fixes at their own times.
 ///
-/// Inputs (row-major): t (n, IMU sample times [s]), dt (n, step before each sample [s]), gyr
+/// Inputs (row-major): t (n, IMU sample times [s], double for every S, as gps_t), dt (n, step
+/// before each sample [s]), gyr
 /// (n x 3, rad/s), acc (n x 3, m/s^2), mag (n x 3 or null; an all-NaN row means "no sample"),
 /// gps_t (m, fix times [s], same clock as t, non-decreasing), gps_vel (m x 3, m/s NED; null when
 /// m = 0). At sample k: every fix with gps_t <= t[k] not yet used is fed to
@@ -529,8 +532,8 @@ template <class S> class MargFilter {
 /// acceleration used by eq. 7 at that sample, NaN when none), residual (n, |eps| before the
 /// update), flags (n). Allocates nothing.
 template <class S>
-void run_marg_batch(MargFilter<S>& f, const S* t, const S* dt, const S* gyr, const S* acc, const S* mag,
-                    std::size_t n, const S* gps_t, const S* gps_vel, std::size_t m, S* quat_out, S* bias_out,
+void run_marg_batch(MargFilter<S>& f, const double* t, const S* dt, const S* gyr, const S* acc, const S* mag,
+                    std::size_t n, const double* gps_t, const S* gps_vel, std::size_t m, S* quat_out, S* bias_out,
                     S* gps_acc_out, S* residual_out, std::uint32_t* flags_out) {
   std::size_t j = 0;
   const S nan = std::numeric_limits<S>::quiet_NaN();

@@ -685,6 +685,9 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 /// IMU: n samples omega_ib_b (n x 3), f_ib_b (n x 3), row-major; t (n) the end time of each
 /// sample and dt (n) its length, so the filter state (set by reset before the call) is at
 /// t[0] - dt[0]. Measurements: vel (nv x 3) at vel_t (nv), yaw (ny) at yaw_t (ny), both sorted.
+/// The times (t, vel_t, yaw_t) are double whatever S: they only order the measurements among the
+/// samples, and a float time on a GPS or Unix clock (1e9 s) resolves 64-128 s, which would put
+/// every measurement of a record on one sample.
 /// A measurement at time tau is applied before the first predict when tau <= t[0] - dt[0], else
 /// right after the predict of the first IMU sample with t[k] >= tau (within 1e-4 dt); when a
 /// velocity and a yaw fall on the same sample the velocity is applied first (sequential updates of
@@ -693,13 +696,13 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 /// rotation-vector one-sigma, rad), flags (n); per measurement: innovation, NIS, status. Every
 /// sample is reported to `obs` (core/checks.hpp's NoBatchObserver; the smoother's record).
 template <class Filter, class S = typename Filter::Scalar, class Observer = NoBatchObserver>
-void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const S* t, const S* dt, std::size_t n,
-                     const S* vel_t, const S* vel, std::size_t nv, const S* yaw_t, const S* yaw, std::size_t ny,
+void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const double* t, const S* dt, std::size_t n,
+                     const double* vel_t, const S* vel, std::size_t nv, const double* yaw_t, const S* yaw, std::size_t ny,
                      S gate_vel, S gate_yaw, S* x_out, S* sigma_out, S* P_out, S* att_sigma_out,
                      std::uint32_t* flags_out, S* vel_innov, S* vel_nis, std::uint8_t* vel_status, S* yaw_innov,
                      S* yaw_nis, std::uint8_t* yaw_status, Observer&& obs = Observer{}) {
   std::size_t iv = 0, iy = 0;
-  auto apply = [&](S t_now, std::uint32_t& fl) {
+  auto apply = [&](double t_now, std::uint32_t& fl) {
     while (iv < nv && vel_t[iv] <= t_now) {
       const UpdateResult<S, 3> r = f.update_velocity(Vec3<S>(Eigen::Map<const Vec3<S>>(vel + 3 * iv)), gate_vel);
       if (vel_innov) Eigen::Map<Vec3<S>>(vel_innov + 3 * iv) = r.innovation;
@@ -720,14 +723,14 @@ void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const S* t
     }
   };
   std::uint32_t fl0 = 0;
-  if (n > 0) apply(t[0] - dt[0] + S(1e-4) * dt[0], fl0);
+  if (n > 0) apply(t[0] - double(dt[0]) + 1e-4 * double(dt[0]), fl0);
   for (std::size_t k = 0; k < n; ++k) {
     std::uint32_t fl = k == 0 ? fl0 : 0u;
     const Eigen::Map<const Vec3<S>> fk(f_ib_b + 3 * k), wk(omega_ib_b + 3 * k);
     const Status sp = f.predict(Vec3<S>(wk), Vec3<S>(fk), dt[k]);
     if (sp != Status::Ok) fl |= flags::kPredictSkipped | (sp == Status::Saturated ? flags::kSaturated : 0u);
     obs.after_predict(k, f);
-    apply(t[k] + S(1e-4) * dt[k], fl);
+    apply(t[k] + 1e-4 * double(dt[k]), fl);
     obs.after_sample(k, f);
     if (x_out) Eigen::Map<Vec<S, 13>>(x_out + 13 * k) = f.x();
     if (sigma_out) Eigen::Map<Vec<S, 13>>(sigma_out + 13 * k) = f.covariance().diagonal().cwiseMax(S(0)).cwiseSqrt();
