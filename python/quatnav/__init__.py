@@ -7,7 +7,7 @@ navigation frame (NED); SI units and radians; Euler angles ZYX ``[roll, pitch, y
 import importlib
 
 from . import core, datasets, evaluation  # noqa: F401  (numpy core, dataset loaders, BROAD metrics)
-from .filters._base import Aid, AidResult, FilterResult
+from .filters._base import Aid, AidResult, AidWarning, FilterResult
 from .filters.tables import FLAGS, Flag, Status
 from .filters.attitude import AttitudeResult, EulerEKF, QuaternionEKF
 from .filters.marg import MargFilter, MargResult
@@ -27,7 +27,7 @@ def __getattr__(name):
     raise AttributeError(f"module 'quatnav' has no attribute {name!r}")
 
 
-__all__ = ["Aid", "AidResult", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "Flag", "Status", "core", "__version__"]
+__all__ = ["Aid", "AidResult", "AidWarning", "FilterResult", "QuaternionEKF", "EulerEKF", "AttitudeResult", "FLAGS", "Flag", "Status", "core", "__version__"]
 __all__ += ["MargFilter", "MargResult"]
 __all__ += ["NavFilter13", "NavFilter13Result", "NavResult"]
 __all__ += ["GpsInsFilter", "GpsInsResult", "NavigationWarning"]

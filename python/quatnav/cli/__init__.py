@@ -14,6 +14,7 @@ import contextlib
 import linecache
 import os
 import sys
+import warnings
 from pathlib import Path
 
 __all__ = ["main", "build_parser"]
@@ -214,6 +215,23 @@ def main(argv=None) -> int:
         return 2
     command = getattr(args, "_command", None)
     debug = os.environ.get("QUATNAV_TRACEBACK", "") not in ("", "0")
+    with warnings.catch_warnings():
+        # The library's own warnings about the user's data as one line each, not source lines.
+        from ..filters._base import AidWarning
+        from ..filters.gpsins import NavigationWarning
+        shown = warnings.showwarning
+
+        def one_line(message, category, *rest, **kw):
+            if issubclass(category, (AidWarning, NavigationWarning)):
+                print(f"{prog}: warning: {message}", file=sys.stderr)
+            else:
+                shown(message, category, *rest, **kw)
+
+        warnings.showwarning = one_line
+        return _run(args, prog, command, debug)
+
+
+def _run(args, prog, command, debug) -> int:
     try:
         _preflight(args)
         if getattr(args, "json", None) == "-":

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -23,7 +24,30 @@ from .. import _validate as V
 from ..core import quaternion as Q
 from .tables import STATUS_NAMES
 
-__all__ = ["Aid", "AidResult", "FilterResult", "NavResult", "Filter", "core"]
+__all__ = ["Aid", "AidResult", "AidWarning", "FilterResult", "NavResult", "Filter", "core"]
+
+
+class AidWarning(UserWarning):
+    """An aid given to ``run`` whose times all lie before or all after the IMU's: the filter does
+    not use it where it was measured (most often the two are on different clocks, e.g. Unix time
+    and time since boot)."""
+
+
+def warn_aid_outside(owner: str, name: str, aid_t: np.ndarray, start: float, end: float,
+                     before: str = "none is used") -> None:
+    """Warn (AidWarning) when every time of an aid is before ``start`` or after ``end`` (the IMU's
+    span): ``before`` says what the filter does with aid samples that precede the span."""
+    if aid_t.size == 0 or not (np.isfinite(start) and np.isfinite(end)):
+        return
+    if aid_t[-1] < start:
+        side, what = "before", before
+    elif aid_t[0] > end:
+        side, what = "after", "none is used"
+    else:
+        return
+    span = f"{aid_t[0]:.10g}..{aid_t[-1]:.10g}" if aid_t.size > 1 else f"{aid_t[0]:.10g}"
+    warnings.warn(f"{owner}: all {aid_t.size} {name} times (t = {span} s) are {side} the IMU's "
+                  f"(t = {start:.10g}..{end:.10g} s): {what}; give both on one clock", AidWarning, stacklevel=3)
 
 
 def core():

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import _validate as V
 from ._base import (AidResult, Filter, NavResult, accel_unit, aid_times, check_aid, check_imu_order, check_swapped,
-                    core, skipped_imu_rows, smoother_info, times_of)
+                    core, skipped_imu_rows, smoother_info, times_of, warn_aid_outside)
 from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "NavigationWarning", "GPSINS_FLAGS", "GPSINS_DECISIONS",
@@ -599,6 +599,9 @@ class GpsInsFilter(Filter):
                             False, strict)
         o = check_aid(odometer, "odometer")
         odo_t = np.zeros(0) if o is None else aid_times(o.t, "odometer.t")
+        for name, at in (("baro", baro_t), ("compass", compass_t), ("odometer", odo_t)):
+            # (The GNSS fixes: alignment["reason"] and NavigationWarning, with gps_time_offset.)
+            warn_aid_outside("GpsInsFilter", name, at, float(t[0]), float(t[-1]))
         odo_v = _rows(np.zeros(0) if o is None else o.value, "odometer.value", len(odo_t), 1, self.dtype, False, strict)
         d = self._f.run(t, gyro, accel, mag_a, imu_input == "increment", gps_t, gps_llh, gps_vel_v, gps_pos_sigma,
                         gps_vel_sigma, baro_t, baro_h, compass_t, compass_yaw, odo_t, odo_v, bool(smooth))

@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from ._base import Filter, FilterResult, aid_times, check_aid, core, marg_inputs, times_of
+from ._base import Filter, FilterResult, aid_times, check_aid, core, marg_inputs, times_of, warn_aid_outside
 from .tables import MARG_FLAGS, MARG_PARAMS
 
 __all__ = ["MargFilter", "MargResult", "MARG_FLAGS"]
@@ -206,6 +206,9 @@ class MargFilter(Filter):
             gt = aid_times(aid.t, "gps_vel.t")
             gv = V.vectors(aid.value, "gps_vel.value", n=gt.shape[0], dtype=self.dtype, finite=strict,
                            like="gps_vel.t")
+            if n:
+                warn_aid_outside("MargFilter", "gps_vel", gt, float(times[0] - steps[0]), float(times[-1]),
+                                 "all are taken at the first sample, as if just measured")
         else:
             gv = np.zeros((0, 3), self.dtype)
             gt = np.zeros(0)

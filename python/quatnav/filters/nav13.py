@@ -17,7 +17,7 @@ import numpy as np
 from .. import _validate as V
 from ..core import quaternion as Q
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    no_mag, skipped_imu_rows, smoother_info)
+                    no_mag, skipped_imu_rows, smoother_info, warn_aid_outside)
 from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES
 
 __all__ = ["NavFilter13", "NavFilter13Result", "NAV13_FLAGS", "TIME_UPDATES", "initial_covariance"]
@@ -285,6 +285,10 @@ class NavFilter13(Filter):
         times = np.asarray(t, dtype=np.float64) if t is not None else np.cumsum(steps)
         vt, vv = self._measurements(check_aid(gps_vel, "gps_vel"), "gps_vel", 3, strict)
         yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)
+        if n:
+            for name, at in (("gps_vel", vt), ("yaw", yt)):
+                warn_aid_outside("NavFilter13", name, at, float(times[0] - steps[0]), float(times[-1]),
+                                 "all are applied before the first step")
         out = self._f.run(wb, fb, times, steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
                           float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance),
                           bool(smooth))
