@@ -226,24 +226,36 @@ TEST(MargFilter, BadInputLeavesStateUntouched) {
   expect_bad_input_leaves_state<float>();
 }
 
-template <class S> void expect_split_run_identical() {
-  const std::size_t n = 400, m = 20;
-  std::mt19937 g(7);
-  std::normal_distribution<double> nd;
-  std::vector<S> dt(n, S(0.01)), gyr(3 * n), acc(3 * n), mag(3 * n), gv(3 * m);
-  std::vector<double> t(n), gt(m);
-  for (std::size_t k = 0; k < n; ++k) {
-    t[k] = S(0.01) * S(k);
-    for (int i = 0; i < 3; ++i) {
-      gyr[3 * k + i] = S(0.2 * std::sin(0.01 * k + i) + 0.01 * nd(g));
-      acc[3 * k + i] = S((i == 2 ? -9.8 : 0.5 * std::cos(0.02 * k + i)) + 0.05 * nd(g));
-      mag[3 * k + i] = S((i == 0 ? 20 : i == 2 ? 40 : 3) + 0.2 * nd(g));
+/// A 4 s record at 100 Hz (n = 400) with 20 GPS fixes every 0.2 s from fix_t0 on; sample times
+/// and fix times given in S's precision (as the callers had them) then held in double.
+template <class S> struct MargRecord {
+  static constexpr std::size_t n = 400, m = 20;
+  std::vector<S> dt = std::vector<S>(n, S(0.01)), gyr = std::vector<S>(3 * n), acc = std::vector<S>(3 * n),
+                 mag = std::vector<S>(3 * n), gv = std::vector<S>(3 * m);
+  std::vector<double> t = std::vector<double>(n), gt = std::vector<double>(m);
+  MargRecord(unsigned seed, double fix_t0) {
+    std::mt19937 g(seed);
+    std::normal_distribution<double> nd;
+    for (std::size_t k = 0; k < n; ++k) {
+      t[k] = S(0.01) * S(k);
+      for (int i = 0; i < 3; ++i) {
+        gyr[3 * k + i] = S(0.2 * std::sin(0.01 * k + i) + 0.01 * nd(g));
+        acc[3 * k + i] = S((i == 2 ? -9.8 : 0.5 * std::cos(0.02 * k + i)) + 0.05 * nd(g));
+        mag[3 * k + i] = S((i == 0 ? 20 : i == 2 ? 40 : 3) + 0.2 * nd(g));
+      }
+    }
+    for (std::size_t j = 0; j < m; ++j) {
+      gt[j] = S(0.2) * S(j) + S(fix_t0);
+      for (int i = 0; i < 3; ++i) gv[3 * j + i] = S(std::sin(0.3 * j + i));
     }
   }
-  for (std::size_t j = 0; j < m; ++j) {
-    gt[j] = S(0.2) * S(j);
-    for (int i = 0; i < 3; ++i) gv[3 * j + i] = S(std::sin(0.3 * j + i));
-  }
+};
+
+template <class S> void expect_split_run_identical() {
+  MargRecord<S> r(7, 0.0);
+  const std::size_t n = r.n, m = r.m;
+  const auto &dt = r.dt, &gyr = r.gyr, &acc = r.acc, &mag = r.mag, &gv = r.gv;
+  const auto &t = r.t, &gt = r.gt;
   MargFilterParams<S> p;
   p.bias_gain = S(0.05);
   p.lever_arm_b = Vec3<S>(S(0.5), S(0), S(-0.3));
@@ -299,23 +311,11 @@ TEST(MargFilter, ConstantAccelerationIsRemovedByGps) {
 // differences the fixes as on a clock starting at 0 (a float time resolves 128 s there: every
 // fix would share one time and none would be used).
 template <class S> void expect_epoch_clock_same_as_zero_clock() {
-  const std::size_t n = 400, m = 20;
-  std::mt19937 g(3);
-  std::normal_distribution<double> nd;
-  std::vector<S> dt(n, S(0.01)), gyr(3 * n), acc(3 * n), mag(3 * n), gv(3 * m);
-  std::vector<double> t(n), gt(m);
-  for (std::size_t k = 0; k < n; ++k) {
-    t[k] = 0.01 * double(k);
-    for (int i = 0; i < 3; ++i) {
-      gyr[3 * k + i] = S(0.2 * std::sin(0.01 * k + i) + 0.01 * nd(g));
-      acc[3 * k + i] = S((i == 2 ? -9.8 : 0.5 * std::cos(0.02 * k + i)) + 0.05 * nd(g));
-      mag[3 * k + i] = S((i == 0 ? 20 : i == 2 ? 40 : 3) + 0.2 * nd(g));
-    }
-  }
-  for (std::size_t j = 0; j < m; ++j) {
-    gt[j] = 0.2 * double(j) + 0.005;  // between two samples: the order does not hang on a rounding
-    for (int i = 0; i < 3; ++i) gv[3 * j + i] = S(std::sin(0.3 * j + i));
-  }
+  // Fixes between two samples (0.005 s after one): the order does not hang on a rounding.
+  MargRecord<S> r(3, 0.005);
+  const std::size_t n = r.n, m = r.m;
+  const auto &dt = r.dt, &gyr = r.gyr, &acc = r.acc, &mag = r.mag, &gv = r.gv;
+  const auto &t = r.t, &gt = r.gt;
   std::vector<double> t_epoch(t), gt_epoch(gt);
   for (double& x : t_epoch) x += 1.4e9;
   for (double& x : gt_epoch) x += 1.4e9;
