@@ -214,7 +214,7 @@ class MargFilter(Filter):
             gt = np.zeros(0)
         quat, bias, gps_acc, resid, flags = self._f.run(
             np.ascontiguousarray(times, np.float64), np.ascontiguousarray(steps, self.dtype), g, a, m,
-            np.ascontiguousarray(gt, np.float64), np.ascontiguousarray(gv, self.dtype))  # times in double
+            gt, np.ascontiguousarray(gv, self.dtype))  # times in double (aid_times: contiguous float64)
         skipped = {}
         for name in ("predict_skipped", "acc_skipped", "mag_skipped"):
             rows = np.flatnonzero(flags & MARG_FLAGS[name])

@@ -327,7 +327,7 @@ class NavFilter13(Filter):
         if cols == 1 and va.ndim == 1:
             va = va[:, None]
         va = V.vectors(va, vname, cols=cols, n=ta.shape[0], dtype=self.dtype, finite=strict, like=tname)
-        return np.ascontiguousarray(ta, np.float64), va  # times stay double whatever the dtype
+        return ta, va  # aid_times gives contiguous float64: times stay double whatever the dtype
 
 
 def _check_position(lat, lon, h) -> None:
