@@ -367,7 +367,7 @@ for _tu in ("ekf", "second_order", "ukf"):
     CASES.append(_case(f"nav13-{_t}_paper002", "paper002", run_nav13, f"NavFilter13({_tu!r}), velocity + yaw", 200,
                        time_update=_tu))
     # Float32 without a covariance floor, the ekf and second-order time updates lose the velocity
-    # covariance at about 92 s and diverge (docs/PORTING.md): the cases run as a float32 port must.
+    # covariance after 90-100 s and diverge (docs/PORTING.md): the cases run as a float32 port must.
     _floor = 0.0 if _tu == "ukf" else 1e-12
     _desc = f"NavFilter13({_tu!r}, dtype=float32" + (", cov_floor=1e-12" if _floor else "") + "), velocity + yaw"
     CASES.append(_case(f"nav13-{_t}-f32_paper002", "paper002", run_nav13, _desc, 200, time_update=_tu, dtype=F32,
