@@ -23,7 +23,7 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
                                       const carray<double>& vel_t, const carray<typename F::Scalar>& vel,
                                       const carray<double>& yaw_t, const carray<typename F::Scalar>& yaw,
                                       typename F::Scalar gate_vel, typename F::Scalar gate_yaw, bool return_cov,
-                                      bool smooth, std::size_t segment) {
+                                      bool smooth, std::size_t segment, bool apply_at_start) {
   using S = typename F::Scalar;
   const py::ssize_t n = fb.ndim() == 2 ? fb.shape(0) : -1;
   if (n < 0) throw py::value_error("f_ib_b: expected shape (N, 3)");
@@ -55,7 +55,8 @@ template <class F> py::dict nav13_run(F& f, const carray<typename F::Scalar>& wb
     std::uint8_t *pvs = vs.mutable_data(), *pys = ys.mutable_data();
     auto forward = [&](auto&& obs) {
       quatnav::run_nav13_batch(f, pw, pf, pt, pd, std::size_t(n), pvt, pv, std::size_t(nv), pyt, py_, std::size_t(ny),
-                               gate_vel, gate_yaw, px, ps, pP, pas, pfl, pvi, pvn, pvs, pyi, pyn, pys, obs);
+                               gate_vel, gate_yaw, px, ps, pP, pas, pfl, pvi, pvn, pvs, pyi, pyn, pys, apply_at_start,
+                               obs);
     };
     if (smooth) {
       // The backward pass visits every sample (the filter is initialized before the run).
@@ -125,9 +126,11 @@ template <class S, quatnav::TimeUpdate TU> void bind_filter(py::module_& m, cons
       .def("run", &nav13_run<F>, py::arg("omega_ib_b"), py::arg("f_ib_b"), py::arg("t"), py::arg("dt"),
            py::arg("vel_t"), py::arg("vel"), py::arg("yaw_t"), py::arg("yaw"), py::arg("gate_vel") = S(0),
            py::arg("gate_yaw") = S(0), py::arg("return_covariance") = false, py::arg("smooth") = false,
-           py::arg("segment") = std::size_t(256),
+           py::arg("segment") = std::size_t(256), py::arg("apply_at_start") = true,
            "Batch run (GIL released). Returns a dict of arrays; with smooth, also 'smoothed': the "
-           "Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'.");
+           "Rauch-Tung-Striebel estimates (x, sigma, att_sigma, P) and the smoother's 'info'. "
+           "apply_at_start: apply measurements at the state's time before the first step (a run "
+           "from a reset state; false for a run that continues a previous one).");
   def_state_dict<F>(cls);
 }
 

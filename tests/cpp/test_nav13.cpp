@@ -459,6 +459,68 @@ TYPED_TEST(Nav13Filter, BatchReportsMeasurementsAfterTheLastSampleAsNeverApplied
   EXPECT_TRUE(std::isnan(yi[1]) && std::isnan(yn[1]));
 }
 
+// Measurements older than the state are never applied (NotInitialized, NaN); one at the state's
+// time only with apply_at_start (a run from a reset state). So a record run in chunks, each chunk
+// given the whole aid record and apply_at_start for the first only, applies every measurement
+// once and gives the single run bit for bit (the chunks' boundaries fall on measurement times,
+// where a measurement could be applied twice).
+TYPED_TEST(Nav13Filter, ChunksWithTheWholeAidRecordEqualOneRun) {
+  using F = TypeParam;
+  using S = typename F::Scalar;
+  const int n = 60;
+  std::vector<S> fb(3 * n), wb(3 * n), dt(n, S(0.01)), vel, yaw;
+  std::vector<double> t(n), vt{-0.5, 0.0}, yt{0.0};  // before and at the start (t = 0)
+  vel.insert(vel.end(), {S(1), S(2), S(0), S(1), S(2), S(0)});
+  yaw.push_back(S(0.5));
+  for (int k = 0; k < n; ++k) {
+    fb[3 * k] = S(0.1 * std::sin(0.1 * k));
+    fb[3 * k + 2] = S(-9.8);
+    wb[3 * k] = S(0.01);
+    wb[3 * k + 2] = S(0.1);
+    t[k] = 0.01 * (k + 1);
+    if (k % 10 == 9) {  // on samples 9, 19, ...: chunk boundaries below
+      vt.push_back(t[k]);
+      vel.insert(vel.end(), {S(1), S(2), S(0)});
+      yt.push_back(t[k]);
+      yaw.push_back(S(0.5));
+    }
+  }
+  const std::size_t nv = vt.size(), ny = yt.size();
+  auto run = [&](F& f, int k0, int k1, bool at_start, std::vector<S>& x, std::vector<S>& vn, std::vector<std::uint8_t>& vs,
+                 std::vector<S>& yn, std::vector<std::uint8_t>& ys) {
+    std::vector<S> vn_c(nv), vi_c(3 * nv), yn_c(ny), yi_c(ny);
+    std::vector<std::uint8_t> vs_c(nv), ys_c(ny);
+    run_nav13_batch(f, wb.data() + 3 * k0, fb.data() + 3 * k0, t.data() + k0, dt.data() + k0, std::size_t(k1 - k0),
+                    vt.data(), vel.data(), nv, yt.data(), yaw.data(), ny, S(0), S(0), x.data() + 13 * k0,
+                    static_cast<S*>(nullptr), static_cast<S*>(nullptr), static_cast<S*>(nullptr),
+                    static_cast<std::uint32_t*>(nullptr), vi_c.data(), vn_c.data(), vs_c.data(), yi_c.data(),
+                    yn_c.data(), ys_c.data(), at_start);
+    for (std::size_t i = 0; i < nv; ++i)  // keep each measurement's result from the chunk that applied it
+      if (vs_c[i] != static_cast<std::uint8_t>(Status::NotInitialized)) vs[i] = vs_c[i], vn[i] = vn_c[i];
+    for (std::size_t i = 0; i < ny; ++i)
+      if (ys_c[i] != static_cast<std::uint8_t>(Status::NotInitialized)) ys[i] = ys_c[i], yn[i] = yn_c[i];
+  };
+  const auto none = static_cast<std::uint8_t>(Status::NotInitialized);
+  F a = make_filter<F>(), b = make_filter<F>();
+  std::vector<S> xa(13 * n), xb(13 * n), vna(nv), vnb(nv), yna(ny), ynb(ny);
+  std::vector<std::uint8_t> vsa(nv, none), vsb(nv, none), ysa(ny, none), ysb(ny, none);
+  run(a, 0, n, true, xa, vna, vsa, yna, ysa);
+  for (int k0 : {0, 10, 30, 50}) run(b, k0, k0 == 50 ? n : (k0 == 0 ? 10 : k0 + 20), k0 == 0, xb, vnb, vsb, ynb, ysb);
+  EXPECT_EQ(std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(S)), 0);
+  EXPECT_EQ(vsa[0], none);  // before the start
+  for (std::size_t i = 1; i < nv; ++i) {  // from the one at the start on
+    EXPECT_EQ(vsa[i], static_cast<std::uint8_t>(Status::Ok)) << i;
+    EXPECT_EQ(vsb[i], vsa[i]) << i;
+    EXPECT_EQ(vnb[i], vna[i]) << i;
+  }
+  for (std::size_t i = 0; i < ny; ++i) {
+    EXPECT_EQ(ysa[i], static_cast<std::uint8_t>(Status::Ok)) << i;
+    EXPECT_EQ(ysb[i], ysa[i]) << i;
+    EXPECT_EQ(ynb[i], yna[i]) << i;
+  }
+  EXPECT_TRUE(same_state(a.state(), b.state()));
+}
+
 TYPED_TEST(Nav13Filter, StaysUnitAndSymmetric) {
   using F = TypeParam;
   using S = typename F::Scalar;

@@ -78,7 +78,7 @@ template <class S, TimeUpdate TU> struct Nav13Case {
     ASSERT_TRUE(sm.reserve(n, vel_t.size() + yaw_t.size() + 1, segment));
     run_nav13_batch<F, S>(fc, w.data(), f.data(), t.data(), dt.data(), n, vel_t.data(), vel.data(), vel_t.size(),
                           yaw_t.data(), yaw.data(), yaw_t.size(), S(0), S(0), x.data(), sig.data(), nullptr, att.data(),
-                          fl.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, sm);
+                          fl.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, true, sm);
     Nav13SmoothedOutput<S> out{xs.data(), sigs.data(), nullptr, atts.data()};
     Eigen::internal::set_is_malloc_allowed(false);
     const auto r = sm.smooth(out);

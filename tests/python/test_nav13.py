@@ -3,6 +3,7 @@ against finite differences, float32 against float64, state round trips, input va
 from __future__ import annotations
 
 from types import SimpleNamespace
+import warnings
 
 import numpy as np
 import pytest
@@ -311,3 +312,53 @@ def test_experiment_cli_writes_table_and_claims(tmp_path):
         assert s["100-200s"]["attitude_deg"] < 1.0 < s["0-5s"]["attitude_deg"]
     assert set(d["claims"]) == {"before_100s_attitude_ukf_lt_second_order_lt_ekf", "after_100s_second_order_best_yaw",
                                 "after_100s_second_order_best_gyro_bias_z", "second_order_cheaper_than_ukf"}
+
+
+@pytest.mark.parametrize("tu", POLICIES)
+def test_chunks_with_the_whole_aid_record_equal_one_run(tu):
+    """A stream run in chunks, every chunk given the whole aid record (as a reader that does not
+    slice the aids would): each measurement is applied once, in the chunk whose samples reach its
+    time, and the chunks give the single run bit for bit. The chunks start on measurement times
+    (where a measurement could be applied twice); one fix lies before the start (never applied)
+    and one at it (applied by the first run, which starts from reset). Times on a 1/128 s grid,
+    so that every chunk's first step equals the single run's."""
+    rng = np.random.default_rng(8)
+    n = 400
+    t, f, w = _imu(rng, n)
+    t = np.arange(1, n + 1) / 128.0
+    vel_t = np.concatenate([[-1.0, 0.0], t[9::10]])  # before and at the start, then every 10th sample
+    aids = dict(gps_vel=quatnav.Aid(vel_t, rng.normal(size=(len(vel_t), 3)) * 0.05 + [1.7, 1.0, 0.05]),
+                yaw=quatnav.Aid(t[4::10], np.full(len(t[4::10]), np.radians(50.0))))
+    start = _start(rng)
+
+    def fresh():
+        flt = quatnav.NavFilter13(time_update=tu)
+        flt.reset(*start, lat=LAT, lon=LON, h=H)
+        return flt
+
+    whole = fresh().run(w, f, t=t, **aids)
+    chunked, parts = fresh(), []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", quatnav.AidWarning)  # the record overlaps every chunk: quiet
+        for a, b in ((0, 100), (100, 250), (250, n)):
+            parts.append(chunked.run(w[a:b], f[a:b], t=t[a:b], **aids))
+    np.testing.assert_array_equal(np.concatenate([p.x for p in parts]), whole.x)
+    status = whole.aids["gps_vel"].status_names
+    assert status[0] == "not_initialized" and (status[1:] == "ok").all()
+    for name in ("gps_vel", "yaw"):
+        # Every measurement applied in exactly one chunk, with the single run's innovation.
+        applied = np.array([p.aids[name].status_names != "not_initialized" for p in parts])
+        np.testing.assert_array_equal(applied.sum(axis=0), whole.aids[name].status_names != "not_initialized")
+        innov = np.where(applied[..., None], np.stack([np.asarray(p.aids[name].innovation).reshape(
+            len(applied[0]), -1) for p in parts]), 0.0).sum(axis=0)
+        ref = np.nan_to_num(np.asarray(whole.aids[name].innovation).reshape(len(applied[0]), -1))
+        np.testing.assert_array_equal(innov, ref)
+    # The numpy twin follows the same rule, chunk by chunk.
+    twin, tparts = R.NavFilter13(tu), []
+    twin.reset(*start, LAT, LON, H)
+    for a, b in ((0, 100), (100, 250), (250, n)):
+        tparts.append(twin.run(w[a:b], f[a:b], t=t[a:b], **aids))
+    np.testing.assert_allclose(np.concatenate([p.x for p in tparts]), whole.x, rtol=0, atol=1e-10)
+    for p, q in zip(parts, tparts):
+        for name in ("gps_vel", "yaw"):
+            np.testing.assert_array_equal(q.aids[name].status, p.aids[name].status_names)

@@ -103,6 +103,7 @@ class NavFilter13(Filter):
     PARAMS = NAV13_PARAMS
     FLAGS = NAV13_FLAGS
     _core_params = "NavFilter13Params"
+    _fresh = True  # no step since reset/set_state: run applies a measurement at the start time
 
     def _make(self, p):
         f = getattr(core(), _CORE[self._opts["time_update"]] + self._suffix)(p)
@@ -179,6 +180,13 @@ class NavFilter13(Filter):
         status = self._f.reset(v, q, ba, bg, np.asarray(P, self.dtype), float(lat), float(lon), float(h))
         if status != "ok":
             raise ValueError(f"reset: refused ({status})")
+        self._fresh = True
+
+    def set_state(self, state: dict) -> None:
+        super().set_state(state)
+        self._fresh = True
+
+    set_state.__doc__ = Filter.set_state.__doc__
 
     def set_position(self, lat: float, lon: float, h: float) -> None:
         """Replace the carried position (lat, lon in rad, h in m) used for the Earth terms."""
@@ -194,6 +202,7 @@ class NavFilter13(Filter):
         fb = V.vector(acc, "acc", dtype=self.dtype)
         d = V.positive(dt, "dt")
         status = self._f.predict(wb, fb, d)
+        self._fresh = False
         if status == "not_initialized":
             raise ValueError("predict: the filter is not initialized (call reset first)")
         if status == "invalid_dt":
@@ -203,11 +212,13 @@ class NavFilter13(Filter):
     def update_velocity(self, v_n, gate: float = 0.0):
         """NED velocity update (m/s); returns an UpdateResult (status, innovation, innovation_cov, nis)."""
         self._require_init("update_velocity")
+        self._fresh = False
         return self._f.update_velocity(V.vector(v_n, "v_n", dtype=self.dtype), float(gate))
 
     def update_yaw(self, yaw: float, gate: float = 0.0):
         """Yaw update (rad); the innovation is wrapped to (-pi, pi]."""
         self._require_init("update_yaw")
+        self._fresh = False
         y = float(yaw)
         if not np.isfinite(y):
             raise ValueError(f"yaw: expected a finite angle, got {yaw!r}")
@@ -216,6 +227,7 @@ class NavFilter13(Filter):
     def update_velocity_yaw(self, v_n, yaw: float, gate: float = 0.0):
         """Joint velocity + yaw update (eq. 13), one 4-row correction."""
         self._require_init("update_velocity_yaw")
+        self._fresh = False
         y = float(yaw)
         if not np.isfinite(y):
             raise ValueError(f"yaw: expected a finite angle, got {yaw!r}")
@@ -229,7 +241,15 @@ class NavFilter13(Filter):
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_vel=None, yaw=None, return_covariance: bool = False,
             on_invalid: str = "raise", smooth: bool = False) -> NavFilter13Result:
         """Run the filter over N IMU samples and the measurements that fall among them (in C++),
-        continuing from the current state (given by :meth:`reset`).
+        continuing from the current state (given by :meth:`reset` or the previous run).
+
+        A measurement is applied after the first IMU sample that ends at or after its time
+        (within 1e-4 of the step). One older than the state (before ``t[0] - dt[0]``) is never
+        applied (status ``not_initialized``, as for one after the last sample). One at the
+        state's time is applied before the first step when the run starts from :meth:`reset` or
+        :meth:`set_state`, and not when it continues a previous run or steps (which applied it
+        after its last sample): a record run in chunks, each given the whole aid record, gives
+        the run of the whole record, each measurement applied once.
 
         Parameters
         ----------
@@ -287,11 +307,12 @@ class NavFilter13(Filter):
         yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)
         if n:
             for name, at in (("gps_vel", vt), ("yaw", yt)):
-                warn_aid_outside("NavFilter13", name, at, float(times[0] - steps[0]), float(times[-1]),
-                                 "all are applied before the first step")
+                warn_aid_outside("NavFilter13", name, at, float(times[0] - steps[0]), float(times[-1]))
         out = self._f.run(wb, fb, times, steps.astype(self.dtype), vt, vv, yt, yv[:, 0],
                           float(self._opts["gate_gps_vel"]), float(self._opts["gate_yaw"]), bool(return_covariance),
-                          bool(smooth))
+                          bool(smooth), apply_at_start=self._fresh)
+        if n:
+            self._fresh = False
         flags = out["flags"]
         skipped = skipped_imu_rows(flags, NAV13_FLAGS)
         for name, status in (("gps_vel", out["vel_status"]), ("yaw", out["yaw_status"])):

@@ -197,6 +197,7 @@ class NavFilter13:
         self.P = np.eye(13)
         self.lat = self.lon = self.h = 0.0
         self.initialized = False
+        self.fresh = True  # no step since reset/set_state (run's measurement at the start time)
 
     # -- state --------------------------------------------------------------------------
     def reset(self, v_n, q_nb, acc_bias, gyro_bias, P, lat, lon, h):
@@ -205,6 +206,7 @@ class NavFilter13:
         self.x, self.P = normalize(x, 0.5 * (P + P.T))
         self.lat, self.lon, self.h = float(lat), float(lon), float(h)
         self.initialized = True
+        self.fresh = True  # run: a measurement at the start time is applied
         return "ok"
 
     def get_state(self):
@@ -217,6 +219,7 @@ class NavFilter13:
         self.P = np.array(s["P"], float)
         self.lat, self.lon, self.h = float(s["lat"]), float(s["lon"]), float(s["h"])
         self.initialized = bool(s["initialized"])
+        self.fresh = True
         return "ok"
 
     def error_covariance(self):
@@ -240,6 +243,7 @@ class NavFilter13:
         """The time update over ``dt``; refused (a status, the state untouched) like the C++ step:
         before :meth:`reset`, for a non-finite input, a ``dt`` outside (0, max_dt] or a sample at
         or above ``gyro_range`` / ``acc_range`` (when positive). ``cov_floor`` is not modelled."""
+        self.fresh = False
         p = self.params
         w, f = np.asarray(omega_ib_b, float), np.asarray(f_ib_b, float)
         if not self.initialized:
@@ -340,6 +344,7 @@ class NavFilter13:
 
     # -- measurement updates -----------------------------------------------------------------
     def _correct(self, H, R, y, gate):
+        self.fresh = False
         status, dx, Pn, S, nis = kalman_correct(self.P, H, R, y, gate)
         res = SimpleNamespace(status=status, innovation=y, innovation_cov=S, nis=nis)
         if status == "ok":
@@ -379,15 +384,17 @@ class NavFilter13:
         ``t = cumsum(dt)``), as the public class reads them. The aids as ``Aid(t, value)`` (anything
         with ``.t`` and ``.value``): ``gps_vel`` NED velocities (K, 3), ``yaw`` angles (M,). A
         measurement at time ``tm`` is applied after the predict of the first sample k with
-        ``tm <= t[k] + 1e-4 dt[k]`` (those up to ``t[0] - dt[0] + 1e-4 dt[0]`` before the first
-        predict); on one sample every due velocity before every due yaw, with the gates
+        ``tm <= t[k] + 1e-4 dt[k]``; one older than the state (``tm < t[0] - dt[0] - 1e-4 dt[0]``)
+        never; one at the state's time before the first predict if the run starts from
+        :meth:`reset` or :meth:`set_state`, never if it continues a previous run (which applied
+        it after its last sample); on one sample every due velocity before every due yaw, with the gates
         ``gate_gps_vel`` and ``gate_yaw`` of the constructor.
 
         Returns a namespace: ``t``, ``x`` (N, 13), ``quat``, ``velocity``, ``acc_bias``,
         ``gyro_bias``, ``sigma`` (N, 13), ``att_sigma`` (N, 3), ``P`` (N, 13, 13, or None without
         ``return_covariance``), ``flags`` (the C++ bits) and ``aids`` (per given aid: ``t``,
-        ``innovation``, ``nis``, ``status`` names; "not_initialized" for a measurement after the
-        last sample). ``smooth=True``: the estimates, sigmas and P are the Rauch-Tung-Striebel
+        ``innovation``, ``nis``, ``status`` names; "not_initialized" for a measurement never applied:
+        older than the state, or after the last sample). ``smooth=True``: the estimates, sigmas and P are the Rauch-Tung-Striebel
         smoothed ones (:func:`smooth`), the forward namespace in ``forward``."""
         if mag is not None:
             raise TypeError("mag: NavFilter13 uses no magnetometer (pass None)")
@@ -435,7 +442,19 @@ class NavFilter13:
         out = dict(x=np.empty((n, 13)), sigma=np.empty((n, 13)), att_sigma=np.empty((n, 3)),
                    P=np.empty((n, 13, 13)), flags=np.zeros(n, np.uint32))
         posts, links = [], []
-        fl0 = apply(t[0] - steps[0] + 1e-4 * steps[0]) if n else 0
+        fl0 = 0
+        if n:
+            # Older than the state: never applied (not_initialized). At the state's time: applied
+            # before the first predict by a run from reset/set_state, never by one that continues.
+            tol, t_start = 1e-4 * steps[0], t[0] - steps[0]
+            for name, a in (("gps_vel", vel), ("yaw", yw)):
+                next_[name] = int(np.searchsorted(a.t, t_start - tol, side="left"))
+            if self.fresh:
+                fl0 = apply(t_start + tol)
+            else:
+                for name, a in (("gps_vel", vel), ("yaw", yw)):
+                    next_[name] = int(np.searchsorted(a.t, t_start + tol, side="right"))
+            self.fresh = False
         for k in range(n):
             fl = fl0 if k == 0 else 0
             status = self.predict(gyr[k], acc[k], steps[k])

@@ -719,8 +719,14 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
 /// The times (t, vel_t, yaw_t) are double whatever S: they only order the measurements among the
 /// samples, and a float time on a GPS or Unix clock (1e9 s) resolves 64-128 s, which would put
 /// every measurement of a record on one sample.
-/// A measurement at time tau is applied before the first predict when tau <= t[0] - dt[0], else
-/// right after the predict of the first IMU sample with t[k] >= tau (within 1e-4 dt); when a
+/// A measurement at time tau is applied right after the predict of the first IMU sample with
+/// t[k] >= tau (within 1e-4 dt). One before the filter's time t[0] - dt[0] (by more than
+/// 1e-4 dt[0]) is older than the state and never applied (reported as below, NotInitialized).
+/// One at the filter's time (within 1e-4 dt[0]) is applied before the first predict with
+/// apply_at_start (a run from a reset state), else never (a run that continues a previous one,
+/// which applied it after its last sample): so a record run in chunks, each given the whole aid
+/// record and apply_at_start only for the first, applies each measurement once and gives the run
+/// of the whole record bit for bit. When a
 /// velocity and a yaw fall on the same sample the velocity is applied first (sequential updates of
 /// independent measurements).
 /// Outputs (any may be null): x (n x 13), sigma (n x 13), P (n x 169), att_sigma (n x 3, body
@@ -731,7 +737,7 @@ void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const doub
                      const double* vel_t, const S* vel, std::size_t nv, const double* yaw_t, const S* yaw, std::size_t ny,
                      S gate_vel, S gate_yaw, S* x_out, S* sigma_out, S* P_out, S* att_sigma_out,
                      std::uint32_t* flags_out, S* vel_innov, S* vel_nis, std::uint8_t* vel_status, S* yaw_innov,
-                     S* yaw_nis, std::uint8_t* yaw_status, Observer&& obs = Observer{}) {
+                     S* yaw_nis, std::uint8_t* yaw_status, bool apply_at_start = true, Observer&& obs = Observer{}) {
   std::size_t iv = 0, iy = 0;
   auto apply = [&](double t_now, std::uint32_t& fl) {
     while (iv < nv && vel_t[iv] <= t_now) {
@@ -753,8 +759,31 @@ void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const doub
       ++iy;
     }
   };
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  // A measurement never applied: NaN innovation and NIS, and the status of a filter that has no
+  // state for it (NotInitialized), never left unwritten.
+  auto vel_never = [&](std::size_t i) {
+    if (vel_innov) Eigen::Map<Vec3<S>>(vel_innov + 3 * i).setConstant(nan);
+    if (vel_nis) vel_nis[i] = nan;
+    if (vel_status) vel_status[i] = static_cast<std::uint8_t>(Status::NotInitialized);
+  };
+  auto yaw_never = [&](std::size_t i) {
+    if (yaw_innov) yaw_innov[i] = nan;
+    if (yaw_nis) yaw_nis[i] = nan;
+    if (yaw_status) yaw_status[i] = static_cast<std::uint8_t>(Status::NotInitialized);
+  };
   std::uint32_t fl0 = 0;
-  if (n > 0) apply(t[0] - double(dt[0]) + 1e-4 * double(dt[0]), fl0);
+  if (n > 0) {
+    const double tol = 1e-4 * double(dt[0]), t_start = t[0] - double(dt[0]);
+    for (; iv < nv && vel_t[iv] < t_start - tol; ++iv) vel_never(iv);  // older than the state
+    for (; iy < ny && yaw_t[iy] < t_start - tol; ++iy) yaw_never(iy);
+    if (apply_at_start) {
+      apply(t_start + tol, fl0);
+    } else {  // applied by the run this one continues
+      for (; iv < nv && vel_t[iv] <= t_start + tol; ++iv) vel_never(iv);
+      for (; iy < ny && yaw_t[iy] <= t_start + tol; ++iy) yaw_never(iy);
+    }
+  }
   for (std::size_t k = 0; k < n; ++k) {
     std::uint32_t fl = k == 0 ? fl0 : 0u;
     const Eigen::Map<const Vec3<S>> fk(f_ib_b + 3 * k), wk(omega_ib_b + 3 * k);
@@ -771,19 +800,9 @@ void run_nav13_batch(Filter& f, const S* omega_ib_b, const S* f_ib_b, const doub
           f.error_covariance().template block<3, 3>(3, 3).diagonal().cwiseMax(S(0)).cwiseSqrt();
     if (flags_out) flags_out[k] = fl;
   }
-  // Measurements after the last sample are never applied: NaN innovation and NIS, and the status
-  // of a filter that has no state for them yet (NotInitialized), never left unwritten.
-  const S nan = std::numeric_limits<S>::quiet_NaN();
-  for (; iv < nv; ++iv) {
-    if (vel_innov) Eigen::Map<Vec3<S>>(vel_innov + 3 * iv).setConstant(nan);
-    if (vel_nis) vel_nis[iv] = nan;
-    if (vel_status) vel_status[iv] = static_cast<std::uint8_t>(Status::NotInitialized);
-  }
-  for (; iy < ny; ++iy) {
-    if (yaw_innov) yaw_innov[iy] = nan;
-    if (yaw_nis) yaw_nis[iy] = nan;
-    if (yaw_status) yaw_status[iy] = static_cast<std::uint8_t>(Status::NotInitialized);
-  }
+  // Measurements after the last sample are never applied.
+  for (; iv < nv; ++iv) vel_never(iv);
+  for (; iy < ny; ++iy) yaw_never(iy);
 }
 
 }  // namespace quatnav
