@@ -4,7 +4,10 @@
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <type_traits>
 
 #include <quatnav/attitude/parts/acc_filter.hpp>
 #include <quatnav/attitude/parts/mag_disturbance.hpp>
@@ -237,6 +240,68 @@ TYPED_TEST(Parts, MagDisturbanceTestsSettlingAndRecovery) {
   EXPECT_NEAR(n, 100, 1);
   EXPECT_EQ(s.mag_norm_ref, S(70));
   EXPECT_NEAR(double(std::asin(s.ref.mag_ref[2])), double(dip + S(0.2)), 1e-5);
+}
+
+// The dip test and the reference's learning work on the unit vectors (no asin, atan2 or sincos of
+// the dips): against the angles, for random dips and fields.
+TYPED_TEST(Parts, MagDipTestAndLearningAreThoseOfTheAngles) {
+  using S = TypeParam;
+  const double tol_num = std::is_same<S, float>::value ? 2e-6 : 1e-13;
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> dip_d(-1.45, 1.45), off(-0.3, 0.3), az(-3.1, 3.1), tol_d(0.01, 1.0);
+  int differs = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const double d_ref = dip_d(g), d = std::max(-1.5, std::min(1.5, d_ref + off(g))), a = az(g);
+    const Vec3<S> ref = field<S>(S(d_ref));
+    const Vec3<S> m(S(std::cos(d) * std::cos(a)), S(std::cos(d) * std::sin(a)), S(std::sin(d)));
+    const double tol = tol_d(g);
+    const double true_off = std::asin(double(m[2])) - std::atan2(double(ref[2]), double(ref[0]));
+    if (std::abs(std::abs(true_off) - tol) > 10 * tol_num) {
+      EXPECT_EQ(MagDisturbance<S>::dip_differs(ref, m, S(tol)), std::abs(true_off) > tol) << k;
+    }
+    differs += MagDisturbance<S>::dip_differs(ref, m, S(tol));
+    // One learning step: the reference's dip moves by lowpass_gain * (d - d_ref) and stays a unit vector.
+    MagDisturbanceParams<S> p;
+    p.mag_ref_samples = 1;
+    p.mag_ref_tau = S(0.5);
+    p.mag_norm_tol = p.mag_dip_tol = S(0);
+    MagDisturbanceState<S> s;
+    s.ref.mag_ref = ref;
+    s.ref.mag_ref_count = 1;
+    s.mag_norm_ref = S(50);
+    const S dt = S(0.01);
+    const MagSample<S> c = MagDisturbance<S>::screen(p, s, S(50), m, dt);
+    ASSERT_TRUE(c.use);
+    MagDisturbance<S>::finish(p, s, c, Status::Ok, [&] { return m; }, dt);
+    const double w = 0.01 / 0.51;
+    EXPECT_NEAR(std::atan2(double(s.ref.mag_ref[2]), double(s.ref.mag_ref[0])), d_ref + w * true_off, tol_num) << k;
+    EXPECT_NEAR(double(s.ref.mag_ref.norm()), 1.0, tol_num) << k;
+    EXPECT_EQ(s.ref.mag_ref[1], S(0));
+  }
+  EXPECT_GT(differs, 200);
+  EXPECT_LT(differs, 1800);
+}
+
+// A field that became the reference by recovery is learned from, not from the reference it replaced.
+TYPED_TEST(Parts, MagRecoveryKeepsTheNewReferenceWhileLearning) {
+  using S = TypeParam;
+  MagDisturbanceParams<S> p;
+  p.mag_ref_samples = 1;
+  p.mag_ref_tau = S(1);
+  p.mag_recovery_time = S(0.5);
+  MagDisturbanceState<S> s;
+  MagDisturbance<S>::start(p, s, field<S>(S(1.0)), S(50));
+  const S dt = S(0.01);
+  int used = 0;
+  for (int k = 0; k < 200; ++k) {
+    const MagSample<S> c = MagDisturbance<S>::screen(p, s, S(50), field<S>(S(1.2)), dt);
+    if (c.use) {
+      ++used;
+      MagDisturbance<S>::finish(p, s, c, Status::Ok, [] { return field<S>(S(1.2)); }, dt);
+    }
+  }
+  EXPECT_GE(used, 140);  // every sample after the recovery (0.5 s)
+  EXPECT_NEAR(double(std::asin(s.ref.mag_ref[2])), 1.2, 1e-5);
 }
 
 TYPED_TEST(Parts, MagReferenceFollowsTheFieldWithMagRefTau) {

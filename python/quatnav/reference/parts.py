@@ -192,16 +192,25 @@ class MagDisturbance:
     def dip(m_n):
         return float(np.arcsin(np.clip(m_n[2], -1.0, 1.0)))
 
+    @staticmethod
+    def dip_offset(ref, m_n):
+        """The dip of the unit field ``m_n`` minus the unit reference's, in (-pi, pi]."""
+        d = MagDisturbance.dip(m_n) - np.arctan2(ref[2], ref[0])
+        return float(np.arctan2(np.sin(d), np.cos(d)))
+
+    @staticmethod
+    def dip_differs(ref, m_n, tol):
+        """The dip test |d - d_ref| > tol."""
+        return abs(MagDisturbance.dip_offset(ref, m_n)) > tol
+
     def screen(self, norm, m_n, dt):
         p = self.p
-        c = SimpleNamespace(use=True, disturbed=False, dip_ref=0.0, norm=norm, before=self.ref.copy())
+        c = SimpleNamespace(use=True, disturbed=False, norm=norm, before=self.ref.copy())
         self.ref.learn(m_n, p.mag_ref_samples)
         if not self.mag_norm_ref > 0:
             self.mag_norm_ref = norm
-        if p.mag_dip_tol > 0 or p.mag_ref_tau > 0:
-            c.dip_ref = float(np.arctan2(self.ref.mag_ref[2], self.ref.mag_ref[0]))
         c.disturbed = bool((p.mag_norm_tol > 0 and abs(norm / self.mag_norm_ref - 1) > p.mag_norm_tol)
-                           or (p.mag_dip_tol > 0 and abs(self.dip(m_n) - c.dip_ref) > p.mag_dip_tol))
+                           or (p.mag_dip_tol > 0 and self.dip_differs(self.ref.mag_ref, m_n, p.mag_dip_tol)))
         if p.mag_settle_time > 0:
             self.mag_ok_t = 0.0 if c.disturbed else self.mag_ok_t + dt
         if c.disturbed or self.mag_ok_t < p.mag_settle_time:
@@ -219,7 +228,10 @@ class MagDisturbance:
             self.mag_reject_t = 0.0
             if p.mag_ref_tau > 0 and dt > 0:
                 if not self.ref.mag_ref_fixed and self.ref.mag_ref_count >= p.mag_ref_samples:
-                    d = lowpass(c.dip_ref, self.dip(m_n_after()), dt, p.mag_ref_tau)
+                    # the dip d_ref + a (d - d_ref): the reference turned in its plane
+                    r = self.ref.mag_ref
+                    d_ref = np.arctan2(r[2], r[0])
+                    d = lowpass(d_ref, d_ref + self.dip_offset(r, m_n_after()), dt, p.mag_ref_tau)
                     self.ref.mag_ref = np.array([np.cos(d), 0.0, np.sin(d)])
                 self.mag_norm_ref = lowpass(self.mag_norm_ref, c.norm, dt, p.mag_ref_tau)
         elif status == "rejected" and p.mag_recovery_time > 0:

@@ -58,7 +58,6 @@ template <class S> struct MagDisturbanceState {
 template <class S> struct MagSample {
   bool use = true;         ///< pass it to the filter's update (false: rejected by the tests)
   bool disturbed = false;  ///< the norm or dip test failed (a recovery may still use it)
-  S dip_ref = S(0);        ///< the reference dip the tests compared with [rad]
   S norm = S(0);           ///< |mag| [unit of mag]
   MagRef<S> before;        ///< the reference before the sample, restored when it is not used
 };
@@ -100,9 +99,8 @@ template <class S> struct MagDisturbance {
     c.before = s.ref;
     s.ref.learn(m_n, p.mag_ref_samples);
     if (!(s.mag_norm_ref > S(0))) s.mag_norm_ref = norm;
-    if (p.mag_dip_tol > S(0) || p.mag_ref_tau > S(0)) c.dip_ref = std::atan2(s.ref.mag_ref[2], s.ref.mag_ref[0]);
     c.disturbed = (p.mag_norm_tol > S(0) && std::abs(norm / s.mag_norm_ref - S(1)) > p.mag_norm_tol) ||
-                  (p.mag_dip_tol > S(0) && std::abs(dip(m_n) - c.dip_ref) > p.mag_dip_tol);
+                  (p.mag_dip_tol > S(0) && dip_differs(s.ref.mag_ref, m_n, p.mag_dip_tol));
     if (p.mag_settle_time > S(0)) s.mag_ok_t = c.disturbed ? S(0) : s.mag_ok_t + dt;
     if (c.disturbed || s.mag_ok_t < p.mag_settle_time) {
       s.mag_reject_t += dt;
@@ -128,9 +126,16 @@ template <class S> struct MagDisturbance {
       s.mag_reject_t = S(0);
       if (p.mag_ref_tau > S(0) && dt > S(0)) {
         if (!s.ref.mag_ref_fixed && s.ref.mag_ref_count >= p.mag_ref_samples) {
-          S d = c.dip_ref;
-          detail::lowpass(d, dip(m_n_after()), dt, p.mag_ref_tau);
-          s.ref.mag_ref = Vec3<S>(std::cos(d), S(0), std::sin(d));
+          // The dip d_ref + a (d - d_ref): the reference turned by a (d - d_ref) in its plane.
+          S cd, sd;
+          dip_offset(s.ref.mag_ref, m_n_after(), cd, sd);
+          const S phi = detail::lowpass_gain(dt, p.mag_ref_tau) * std::atan2(sd, cd);
+          S cp, sincp;
+          quat::cos_sinc(phi * phi, cp, sincp);
+          const S sp = sincp * phi;
+          const Vec3<S>& r = s.ref.mag_ref;
+          const Vec3<S> turned(r[0] * cp - r[2] * sp, S(0), r[0] * sp + r[2] * cp);
+          s.ref.mag_ref = turned / std::sqrt(turned[0] * turned[0] + turned[2] * turned[2]);
         }
         detail::lowpass(s.mag_norm_ref, c.norm, dt, p.mag_ref_tau);
       }
@@ -162,6 +167,26 @@ template <class S> struct MagDisturbance {
 
   /// The dip (inclination, positive down) of a unit field in the navigation frame [rad].
   static S dip(const Vec3<S>& m_n) { return std::asin(std::max(S(-1), std::min(S(1), m_n[2]))); }
+
+  /// The difference d - d_ref of the dip d of a unit field m_n (navigation frame) and d_ref of
+  /// the unit reference ref = [cos d_ref, 0, sin d_ref], as its cosine c and sine s, with no libm
+  /// call: cos d = sqrt(1 - m_z^2) >= 0 (a dip lies in [-pi/2, pi/2]), sin d = m_z.
+  static void dip_offset(const Vec3<S>& ref, const Vec3<S>& m_n, S& c, S& s) {
+    const S z = std::max(S(-1), std::min(S(1), m_n[2]));
+    const S h = std::sqrt(S(1) - z * z);
+    c = h * ref[0] + z * ref[2];
+    s = z * ref[0] - h * ref[2];
+  }
+
+  /// The dip test |d - d_ref| > tol (tol > 0), as cos(d - d_ref) < cos(tol): both dips lie in
+  /// [-pi/2, pi/2], so |d - d_ref| <= pi, where the cosine decreases. No libm call for tol < 0.5.
+  static bool dip_differs(const Vec3<S>& ref, const Vec3<S>& m_n, S tol) {
+    if (!(tol < S(3.141592653589793))) return false;
+    S c, s, ct, sinct;
+    dip_offset(ref, m_n, c, s);
+    quat::cos_sinc(tol * tol, ct, sinct);
+    return c < ct;
+  }
 };
 
 }  // namespace quatnav
