@@ -70,8 +70,11 @@ QMUL = 16 + 12                    # Hamilton product
 QNORMALIZE = dot(4) + 1 + 1 + 4   # squared norm, sqrt, 1/n, 4 products: 13
 ROTATE = 2 * CROSS + 3 + 3 + 3    # v + w t + u x t, t = 2 u x v: 27
 QUAT_TO_ROTMAT = 4 + 10 + 12      # 2q, 10 pair products, 12 sums/differences: 26
-ROTVEC_TO_QUAT = DOT3 + 1 + 1 + 1 + 3  # |v|^2, sqrt, half angle, sin/|v|, 3 products (+ sin, cos): 11
-ROTVEC_TO_QUAT_LIBM = 2
+# cos and sin(x)/x of the half angle from x^2 (quat::cos_sinc): for a step's angle (below 0.25 rad
+# in double, 0.5 in float) two Taylor polynomials of 5 Horner steps (double; 3 in float), no libm.
+COS_SINC = 2 * 5 * 2              # 20 (double)
+ROTVEC_TO_QUAT = DOT3 + 1 + COS_SINC + 1 + 3  # |v|^2, x^2 = |v|^2 / 4, cos_sinc, sinc / 2, 3 products: 30
+ROTVEC_TO_QUAT_LIBM = 0
 QUAT_TO_ROTVEC = dot(3) + 1 + 1 + 3   # |v|, angle / |v|, 3 products (+ atan2): 10
 # A low-pass step: its weight, then x + w (v - x). The parts (attitude/parts/*.hpp, detail::lowpass)
 # weigh by dt / (tau + dt): an addition and a division, no libm call; MargFilter's own low-passes
@@ -218,12 +221,14 @@ def parts_mag() -> Count:
     """The magnetometer part: reference dip, norm and dip tests, the reference's low-pass."""
     c = Count("mag part")
     c.add("screen: field in the nav frame", ROTATE)
-    c.add("screen: reference dip atan2", 0, libm=1)
     c.add("screen: norm test |m| / ref - 1", 2)
-    c.add("screen: dip asin, difference", 1, libm=1)
+    # cos and sin of d - d_ref from the unit vectors: sqrt(1 - z^2), two 2-term dots; cos(tol) is a
+    # constant of the parameters (the code evaluates its polynomial at every sample: 11 more)
+    c.add("screen: dip test cos(d - d_ref) < cos(tol)", 3 + 6 + 1)
     c.add("screen: settle time", 1)
-    c.add("finish: field after the update, dip asin", ROTATE, libm=1)
-    c.add("finish: dip low-pass, reference cos/sin", LOWPASS1, libm=2)
+    c.add("finish: field after the update, cos and sin of d - d_ref", ROTATE + 9)
+    c.add("finish: dip low-pass: gain x atan2, cos_sinc, turn the reference, normalize",
+          2 + 1 + 1 + COS_SINC + 1 + 6 + 7, libm=1)
     c.add("finish: norm low-pass", LOWPASS1)
     return c
 
