@@ -179,7 +179,8 @@ template <class S> struct MagDisturbance {
   }
 
   /// The dip test |d - d_ref| > tol (tol > 0), as cos(d - d_ref) < cos(tol): both dips lie in
-  /// [-pi/2, pi/2], so |d - d_ref| <= pi, where the cosine decreases. No libm call for tol < 0.5.
+  /// [-pi/2, pi/2], so |d - d_ref| <= pi, where the cosine decreases. cos(tol) by cos_sinc: no libm
+  /// call for tol below 0.125 rad (double) or 0.25 rad (float).
   static bool dip_differs(const Vec3<S>& ref, const Vec3<S>& m_n, S tol) {
     if (!(tol < S(3.141592653589793))) return false;
     S c, s, ct, sinct;
