@@ -1,4 +1,6 @@
 // quatnav._core: the compiled part of the quatnav Python package.
+#include <limits>
+
 #include "common.hpp"
 
 namespace quatnav_py {
@@ -16,6 +18,21 @@ void bind_nav13_timing(py::module_& m);
 void bind_gpsins_f64(py::module_& m);
 void bind_gpsins_f32(py::module_& m);
 void bind_gpsins_scale(py::module_& m);
+
+/// The first row of an (n, 3) array whose Euclidean norm is at most sqrt(tiny) (the squared norm
+/// at most the smallest normal number), rows with a non-finite norm left out; -1 if none. One
+/// pass without temporaries, for the zero-norm test of the batch runs' inputs (_validate.py).
+template <class S> py::ssize_t first_zero_norm_row(const carray<S>& a) {
+  if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("a: expected shape (N, 3)");
+  const S* p = a.data();
+  const py::ssize_t n = a.shape(0);
+  const S tiny = std::numeric_limits<S>::min();
+  py::gil_scoped_release release;
+  for (py::ssize_t k = 0; k < n; ++k, p += 3)
+    if (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] <= tiny) return k;  // NaN and inf compare false
+  return -1;
+}
+
 }  // namespace quatnav_py
 
 PYBIND11_MODULE(_core, m) {
@@ -34,6 +51,10 @@ PYBIND11_MODULE(_core, m) {
       names.append(quatnav::to_string(static_cast<quatnav::Status>(c)));
     return names;
   }, "The names of quatnav::Status by code.");
+  // float32 before float64: an array of another dtype converts to the second overload.
+  m.def("first_zero_norm_row", &quatnav_py::first_zero_norm_row<float>, pybind11::arg("a").noconvert());
+  m.def("first_zero_norm_row", &quatnav_py::first_zero_norm_row<double>, pybind11::arg("a"),
+        "The first row of an (N, 3) array with norm <= sqrt(tiny) (non-finite rows left out), or -1.");
   // The order of registration is that of the signatures' type names: a class is bound before
   // the functions that take or return it.
   quatnav_py::bind_math(m);

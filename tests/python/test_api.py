@@ -93,6 +93,49 @@ def test_old_argument_orders_are_refused(name, scn):
 
 
 @pytest.mark.parametrize("name", NAMES)
+def test_swapped_imu_is_refused_on_a_long_log(name, scn):
+    """The swap test reads a sample of the rows on a long log: a gyro in the accelerometer's place
+    is refused all the same, and a log whose gyro reads gravity-sized on a few rows only runs."""
+    make, gyr, acc, t, _, _ = _log(name, scn)
+    reps = -(-60_000 // len(t))
+    g, a = np.tile(gyr, (reps, 1)), np.tile(acc, (reps, 1))
+    assert len(g) > 4096 * 10
+    with pytest.raises(TypeError, match=r"gyr: median norm .* looks like specific force"):
+        make().run(a, g, dt=0.01)
+    from quatnav.filters._base import check_swapped
+    spikes = g.copy()
+    spikes[::7] = [9.8, 0.0, 0.0]  # one row in seven: the median stays that of a rate
+    check_swapped(spikes, a)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_zero_norm_rows_are_found_as_by_the_norms(dtype):
+    """The compiled zero-norm test of the batch inputs equals the norms' test on rows of zeros,
+    tiny and huge values, NaN and infinity; non-contiguous arrays take the numpy path."""
+    from quatnav import _validate as V
+    rng = np.random.default_rng(7)
+    tiny = np.finfo(dtype).tiny
+    specials = np.array([[0, 0, 0], [tiny, 0, 0], [0, -tiny, 0], [np.nan, np.nan, np.nan], [np.nan, 0, 0],
+                         [np.inf, 0, 0], [0, 0, 1e-30], [np.finfo(dtype).max, 0, 0], [1, 0, 0]], dtype=dtype)
+    for trial in range(200):
+        a = rng.normal(size=(rng.integers(1, 40), 3)).astype(dtype)
+        k = rng.integers(0, 4)
+        rows = rng.integers(0, len(a), k)
+        a[rows] = specials[rng.integers(0, len(specials), k)]
+        with np.errstate(invalid="ignore", over="ignore", under="ignore"):
+            n = np.sqrt(np.einsum("ij,ij->i", a, a))
+        bad = np.flatnonzero(n <= tiny ** 0.5)
+        want = int(bad[0]) if bad.size else -1
+        assert core().first_zero_norm_row(a) == want, (trial, a)
+        for arr in (a, np.asfortranarray(a)):
+            if want < 0:
+                V.nonzero_rows(arr, "acc")
+            else:
+                with pytest.raises(ValueError, match=rf"^acc: zero-norm vector in row {want}$"):
+                    V.nonzero_rows(arr, "acc")
+
+
+@pytest.mark.parametrize("name", NAMES)
 def test_result_fields_flags_aids_dataframe_and_repr(name, scn):
     make, gyr, acc, t, aids, expected_aids = _log(name, scn)
     r = make().run(gyr, acc, t=t, **aids)

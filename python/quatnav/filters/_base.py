@@ -506,11 +506,15 @@ def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
     when the median |gyr| reads as gravity in m/s^2 and the median |acc| as a rate."""
     if not len(g):
         return
-    # Norms in float64 by einsum (no float64 copies of the inputs, no temporaries of
-    # np.linalg.norm): on a long run this test cost a sixth of QuaternionEKF's batch run.
+    # A median over at most 4,096 evenly spaced rows: the test reads the sensors' typical
+    # magnitudes, which such a sample gives as well as the whole log (all rows cost 27 ns per
+    # sample, a twentieth of QuaternionEKF's batch run). Norms in float64 by einsum, without
+    # float64 copies of the inputs.
+    step = -(-len(g) // 4096)
+    gs, as_ = g[::step], a[::step]
     with np.errstate(invalid="ignore", over="ignore"):
-        ng = np.sqrt(np.einsum("ij,ij->i", g, g, dtype=np.float64))
-        na = np.sqrt(np.einsum("ij,ij->i", a, a, dtype=np.float64))
+        ng = np.sqrt(np.einsum("ij,ij->i", gs, gs, dtype=np.float64))
+        na = np.sqrt(np.einsum("ij,ij->i", as_, as_, dtype=np.float64))
         ng, na = ng[np.isfinite(ng)], na[np.isfinite(na)]
     # Gravity within 10 %, and a rate below 3 rad/s where the specific force should be (in m/s^2
     # or in g): a gyro whose median reads 9-10.8 rad/s with such an accelerometer is swapped.
