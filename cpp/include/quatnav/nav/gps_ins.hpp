@@ -145,12 +145,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   using Mat16 = Mat<S, kStates, kStates>;
   using Vec16 = Vec<S, kStates>;
 
-  explicit GpsInsFilter(const Params& params = Params()) : p_(params) {}
+  explicit GpsInsFilter(const Params& params = Params()) : params_(params) {}
 
-  const Params& params() const { return p_; }
+  const Params& params() const { return params_; }
   /// Replace the parameters (the state is kept).
-  void set_params(const Params& params) { p_ = params; }
-  const State& state() const { return s_; }
+  void set_params(const Params& params) { params_ = params; }
+  const State& state() const { return st_; }
   /// Restore a state; InvalidArgument (nothing changed) when it is not finite.
   Status set_state(const State& s) {
     // As the filter keeps them: everything finite, |q| = 1, the latitude off the poles
@@ -166,33 +166,33 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         !std::isfinite(s.mag_ref_dip) || !std::isfinite(s.gnss_speed) || !std::isfinite(s.gnss_speed_t) ||
         int(s.align_method) > 4 || int(s.heading_source) > 5)
       return Status::InvalidArgument;
-    s_ = s;
+    st_ = s;
     return Status::Ok;
   }
   /// Back to the start of alignment (parameters kept): the filter aligns again from the next
   /// IMU samples.
-  void clear() { s_ = State(); }
+  void clear() { st_ = State(); }
 
-  GpsInsPhase phase() const { return s_.phase; }
-  bool navigating() const { return s_.phase == GpsInsPhase::Navigating; }
-  bool levelled() const { return s_.phase != GpsInsPhase::Aligning; }
-  const Quat<S>& q_nb() const { return s_.nav.q_nb; }
-  Vec3<S> euler() const { return quat::to_euler(s_.nav.q_nb); }
-  const Vec3<S>& v_n() const { return s_.nav.v_n; }
-  Vec3<double> llh() const { return Vec3<double>(s_.nav.lat, s_.nav.lon, s_.nav.h); }
-  const Vec3<S>& acc_bias() const { return s_.acc_bias; }
-  const Vec3<S>& gyro_bias() const { return s_.gyro_bias; }
+  GpsInsPhase phase() const { return st_.phase; }
+  bool navigating() const { return st_.phase == GpsInsPhase::Navigating; }
+  bool levelled() const { return st_.phase != GpsInsPhase::Aligning; }
+  const Quat<S>& q_nb() const { return st_.nav.q_nb; }
+  Vec3<S> euler() const { return quat::to_euler(st_.nav.q_nb); }
+  const Vec3<S>& v_n() const { return st_.nav.v_n; }
+  Vec3<double> llh() const { return Vec3<double>(st_.nav.lat, st_.nav.lon, st_.nav.h); }
+  const Vec3<S>& acc_bias() const { return st_.acc_bias; }
+  const Vec3<S>& gyro_bias() const { return st_.gyro_bias; }
   /// The scale-factor estimates (zero without the scale-factor states).
-  const Vec3<S>& acc_scale() const { return s_.acc_scale; }
-  const Vec3<S>& gyro_scale() const { return s_.gyro_scale; }
-  double baro_offset() const { return s_.baro_offset; }
+  const Vec3<S>& acc_scale() const { return st_.acc_scale; }
+  const Vec3<S>& gyro_scale() const { return st_.gyro_scale; }
+  double baro_offset() const { return st_.baro_offset; }
   /// At rest: the IMU has been still for rest_time (gps_ins/alignment.hpp).
-  bool at_rest() const { return p_.rest_time > S(0) && s_.rest_t >= double(p_.rest_time); }
-  GpsInsAlignment align_method() const { return s_.align_method; }
-  GpsInsHeading heading_source() const { return s_.heading_source; }
-  S q_scale() const { return s_.q_scale; }
-  const Mat16& covariance() const { return s_.P; }
-  double time() const { return s_.t; }
+  bool at_rest() const { return params_.rest_time > S(0) && st_.rest_t >= double(params_.rest_time); }
+  GpsInsAlignment align_method() const { return st_.align_method; }
+  GpsInsHeading heading_source() const { return st_.heading_source; }
+  S q_scale() const { return st_.q_scale; }
+  const Mat16& covariance() const { return st_.P; }
+  double time() const { return st_.t; }
 
   /// Start navigation from a given state (skipping alignment): attitude, velocity, position,
   /// biases and the covariance; as reset() of every filter (initialize() starts a filter from
@@ -210,8 +210,8 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     symmetrize(Ps);
     // A P near the float maximum overflows when symmetrized.
     if (!Ps.allFinite() || !(Ps.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
-    floor_covariance<S, kStates>(Ps, p_.cov_floor);
-    State s = s_;
+    floor_covariance<S, kStates>(Ps, params_.cov_floor);
+    State s = st_;
     s.nav = StrapdownState<S>();
     s.nav.q_nb = q_nb / q_nb.norm();
     s.nav.v_n = v_n;
@@ -231,7 +231,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.level_t = s.nav_start_t = s.t;
     // A quaternion whose norm overflows normalizes to zero; a latitude at a pole: refused.
     if (!detail::gpsins_nav_ok(s)) return Status::InvalidArgument;
-    s_ = s;
+    st_ = s;
     return Status::Ok;
   }
 
@@ -242,11 +242,11 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// only; InvalidArgument when anything is non-finite, NotInitialized when navigating.
   Status set_initial(const Quat<S>& q_nb, const Vec3<S>& v_n, bool v_valid, const Vec3<S>& acc_bias,
                      const Vec3<S>& gyro_bias) {
-    if (s_.phase == GpsInsPhase::Navigating) return Status::NotInitialized;
+    if (st_.phase == GpsInsPhase::Navigating) return Status::NotInitialized;
     if (!q_nb.allFinite() || !(q_nb.norm() > S(0.5)) || (v_valid && !v_n.allFinite()) || !acc_bias.allFinite() ||
         !gyro_bias.allFinite())
       return Status::InvalidArgument;
-    State s = s_;
+    State s = st_;
     s.nav.q_nb = q_nb / q_nb.norm();
     s.acc_bias = acc_bias;
     s.gyro_bias = gyro_bias;
@@ -258,14 +258,16 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.heading_source = GpsInsHeading::Given;
     s.level_t = s.t;
     if (!detail::gpsins_nav_ok(s)) return Status::InvalidArgument;
-    s_ = s;
+    st_ = s;
     return Status::Ok;
   }
 
   /// The covariance that initialization uses for a fix with NED position sigmas pos_sigma (m)
   /// (the altimeter offset's block stays zero until its first sample).
   Mat16 initial_covariance(const Vec3<S>& pos_sigma, S vel_sigma) const {
-    return initial_sigmas(pos_sigma, vel_sigma, p_.init_level_sigma, p_.init_yaw_sigma).cwiseAbs2().asDiagonal();
+    return initial_sigmas(pos_sigma, vel_sigma, params_.init_level_sigma, params_.init_yaw_sigma)
+        .cwiseAbs2()
+        .asDiagonal();
   }
 
   /// Time update over one IMU interval: mean rate omega_ib_b (rad/s) and specific force f_ib_b
@@ -274,11 +276,11 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// integrates the motion window (alignment in motion); Levelled: integrates the attitude;
   /// Navigating: strapdown (eq. 1-2) with bias-corrected inputs and covariance propagation.
   Status predict(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) {
-    if (!(std::isfinite(dt) && dt > S(0) && dt <= p_.max_dt)) return Status::InvalidDt;
+    if (!(std::isfinite(dt) && dt > S(0) && dt <= params_.max_dt)) return Status::InvalidDt;
     if (!omega_ib_b.allFinite() || !f_ib_b.allFinite()) return Status::NonFinite;
-    if (detail::saturated(omega_ib_b, p_.gyro_range) || detail::saturated(f_ib_b, p_.acc_range))
+    if (detail::saturated(omega_ib_b, params_.gyro_range) || detail::saturated(f_ib_b, params_.acc_range))
       return Status::Saturated;
-    State s = s_;
+    State s = st_;
     const Vec3<S> w_m = imu_to_body(omega_ib_b);
     const Vec3<S> f_m = imu_to_body(f_ib_b);
     const Vec3<S> w = detail::gpsins_correct<S, SF_>(w_m, s.gyro_bias, s.gyro_scale);
@@ -292,11 +294,11 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       // The INS speed, allowed up to 3 sigma more but never more than rest_speed more: an
       // uncertain velocity (a GNSS outage) must not make a vehicle cruising with a quiet IMU look
       // stopped (a false zero-velocity update pins the position where the outage began).
-      slow = s.nav.v_n.norm() < p_.rest_speed + std::min(S(3) * sv, p_.rest_speed);
+      slow = s.nav.v_n.norm() < params_.rest_speed + std::min(S(3) * sv, params_.rest_speed);
     } else {
-      slow = !(s.gnss_speed >= S(0) && s.t - s.gnss_speed_t < 2.0 && s.gnss_speed > p_.rest_speed);
+      slow = !(s.gnss_speed >= S(0) && s.t - s.gnss_speed_t < 2.0 && s.gnss_speed > params_.rest_speed);
     }
-    const bool still = detail::gpsins_rest_step(s, p_, w, f, dt, g, slow);
+    const bool still = detail::gpsins_rest_step(s, params_, w, f, dt, g, slow);
     if (s.phase != GpsInsPhase::Navigating) detail::gpsins_window_step(s, w, f, dt);
     if (s.phase == GpsInsPhase::Aligning) {
       if (!still) {  // motion: the static levelling starts again
@@ -306,7 +308,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       s.align_sum += f_m.template cast<double>() * double(dt);
       s.align_time += double(dt);
       if (!s.align_sum.allFinite()) return Status::NumericalFailure;
-      if (s.align_time >= double(p_.align_time)) {
+      if (s.align_time >= double(params_.align_time)) {
         const Vec3<S> fm = (s.align_sum / s.align_time).template cast<S>();
         const S fn = fm.norm();
         if (!(fn > S(1))) {
@@ -314,7 +316,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
           s.align_sum.setZero();
           s.align_time = 0.0;
           s.t += double(dt);
-          s_ = s;
+          st_ = s;
           return Status::Ok;
         }
         // Level: the specific force at rest is -g in NED, f_b = C_nb^T [0, 0, -g].
@@ -330,19 +332,19 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       s.nav.q_nb = q / q.norm();
     } else {
       StrapdownParams sp;
-      sp.earth_rotation = p_.earth_rotation;
-      const detail::GpsInsPhi<S, SF_> Phi = detail::gpsins_Phi_state<S, SF_>(s, f, w, dt, p_);
+      sp.earth_rotation = params_.earth_rotation;
+      const detail::GpsInsPhi<S, SF_> Phi = detail::gpsins_Phi_state<S, SF_>(s, f, w, dt, params_);
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
-      Mat16 P = detail::gpsins_propagate<S, SF_>(Phi, s.P, detail::gpsins_Qc_diag<S, SF_>(p_, s.q_scale), dt);
+      Mat16 P = detail::gpsins_propagate<S, SF_>(Phi, s.P, detail::gpsins_Qc_diag<S, SF_>(params_, s.q_scale), dt);
       symmetrize(P);
-      if (p_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / p_.acc_bias_tau);
-      if (p_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / p_.gyro_bias_tau);
+      if (params_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / params_.acc_bias_tau);
+      if (params_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / params_.gyro_bias_tau);
       if (!P.allFinite()) return Status::NumericalFailure;
-      floor_covariance<S, kStates>(P, p_.cov_floor);
+      floor_covariance<S, kStates>(P, params_.cov_floor);
       s.P = P;
     }
-    if (s.phase == GpsInsPhase::Navigating) detail::gpsins_nhc_evidence(s, p_, dt);
+    if (s.phase == GpsInsPhase::Navigating) detail::gpsins_nhc_evidence(s, params_, dt);
     if (!detail::gpsins_nav_ok(s) || !w.allFinite() || !f.allFinite() || !s.rest_acc_lp.allFinite() ||
         !s.mot_dv.allFinite())
       return Status::NumericalFailure;
@@ -350,7 +352,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.f_b = f;
     s.dt_last = double(dt);
     s.t += double(dt);
-    s_ = s;
+    st_ = s;
     return Status::Ok;
   }
 
@@ -359,25 +361,25 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// constraint. Navigating only.
   ConstraintResult<S> update_constraints() {
     ConstraintResult<S> r;
-    if (s_.phase != GpsInsPhase::Navigating || s_.t - s_.pseudo_t < double(p_.pseudo_interval) * (1.0 - 1e-9))
+    if (st_.phase != GpsInsPhase::Navigating || st_.t - st_.pseudo_t < double(params_.pseudo_interval) * (1.0 - 1e-9))
       return r;
     const bool rest = at_rest();
-    if (rest && p_.zupt) {
+    if (rest && params_.zupt) {
       r.zupt = apply(gpsins_aid::ZeroVelocity<S>{});
       r.zaru = apply(gpsins_aid::ZeroRate<S>{});
-      s_.pseudo_t = s_.t;
+      st_.pseudo_t = st_.t;
     } else if (!rest && nhc_active()) {
       // Forced (nhc): nhc_sigma; by evidence: no less than the motion showed.
-      const S r0 = p_.nhc_sigma * p_.nhc_sigma;
-      r.nhc = apply(gpsins_aid::NonHolonomic<S>{p_.nhc ? r0 : std::max(r0, s_.nhc_ms)});
-      s_.pseudo_t = s_.t;
+      const S r0 = params_.nhc_sigma * params_.nhc_sigma;
+      r.nhc = apply(gpsins_aid::NonHolonomic<S>{params_.nhc ? r0 : std::max(r0, st_.nhc_ms)});
+      st_.pseudo_t = st_.t;
     }
     return r;
   }
 
   /// The non-holonomic constraint applies while moving: forced (nhc), or by the evidence of a
   /// wheeled vehicle (nhc_auto: detail::gpsins_nhc_evidence in gps_ins/alignment.hpp).
-  bool nhc_active() const { return p_.nhc || (p_.nhc_auto && s_.nhc_t >= double(p_.nhc_auto_time)); }
+  bool nhc_active() const { return params_.nhc || (params_.nhc_auto && st_.nhc_t >= double(params_.nhc_auto_time)); }
 
   /// Odometer forward speed (m/s, along the body x axis). Navigating only.
   GpsInsUpdate<S, 1> update_odometer(S speed) {
@@ -386,7 +388,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::NonFinite;
       return count(GpsInsAid::Odometer, res);
     }
-    if (s_.phase != GpsInsPhase::Navigating) {
+    if (st_.phase != GpsInsPhase::Navigating) {
       res.status = Status::NotInitialized;
       return res;
     }
@@ -404,36 +406,36 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::NonFinite;
       return count(GpsInsAid::Mag, res);
     }
-    const bool rotated = !(p_.imu_rotation.array() == Mat3<S>::Identity().array()).all();
-    const Vec3<S> m_b = rotated ? Vec3<S>(p_.imu_rotation * m_imu) : m_imu;
+    const bool rotated = !(params_.imu_rotation.array() == Mat3<S>::Identity().array()).all();
+    const Vec3<S> m_b = rotated ? Vec3<S>(params_.imu_rotation * m_imu) : m_imu;
     const S norm = m_b.norm();
     if (!(norm > S(0)) || !std::isfinite(norm)) {
       res.status = Status::ZeroNorm;
       return count(GpsInsAid::Mag, res);
     }
-    if (s_.phase == GpsInsPhase::Aligning) {
+    if (st_.phase == GpsInsPhase::Aligning) {
       res.status = Status::NotInitialized;
       return res;
     }
-    const Vec3<S> m_n = quat::rotate(s_.nav.q_nb, m_b);
+    const Vec3<S> m_n = quat::rotate(st_.nav.q_nb, m_b);
     const S dip = std::atan2(m_n[2], std::sqrt(m_n[0] * m_n[0] + m_n[1] * m_n[1]));
-    if (s_.mag_ref_n < std::uint32_t(p_.mag_ref_samples > 0 ? p_.mag_ref_samples : 0)) {
+    if (st_.mag_ref_n < std::uint32_t(params_.mag_ref_samples > 0 ? params_.mag_ref_samples : 0)) {
       // Learning the reference: every sample counts (no test yet).
-      const S n1 = S(s_.mag_ref_n + 1);
-      s_.mag_ref_norm += (norm - s_.mag_ref_norm) / n1;
-      s_.mag_ref_dip += (dip - s_.mag_ref_dip) / n1;
-      ++s_.mag_ref_n;
-    } else if ((p_.mag_norm_tol > S(0) && std::abs(norm / s_.mag_ref_norm - S(1)) > p_.mag_norm_tol) ||
-               (p_.mag_dip_tol > S(0) && std::abs(dip - s_.mag_ref_dip) > p_.mag_dip_tol)) {
+      const S n1 = S(st_.mag_ref_n + 1);
+      st_.mag_ref_norm += (norm - st_.mag_ref_norm) / n1;
+      st_.mag_ref_dip += (dip - st_.mag_ref_dip) / n1;
+      ++st_.mag_ref_n;
+    } else if ((params_.mag_norm_tol > S(0) && std::abs(norm / st_.mag_ref_norm - S(1)) > params_.mag_norm_tol) ||
+               (params_.mag_dip_tol > S(0) && std::abs(dip - st_.mag_ref_dip) > params_.mag_dip_tol)) {
       res.status = Status::Rejected;
-      res.innovation[0] = quat::wrap_pi(std::atan2(m_n[1], m_n[0]) - p_.declination);
+      res.innovation[0] = quat::wrap_pi(std::atan2(m_n[1], m_n[0]) - params_.declination);
       res.nis = std::numeric_limits<S>::quiet_NaN();
       return count(GpsInsAid::Mag, res);
     }
-    if (s_.phase == GpsInsPhase::Levelled) {
-      if (!s_.heading_known) {
-        set_yaw(quat::wrap_pi(quat::to_euler(s_.nav.q_nb)[2] - (std::atan2(m_n[1], m_n[0]) - p_.declination)));
-        s_.heading_source = GpsInsHeading::Magnetometer;
+    if (st_.phase == GpsInsPhase::Levelled) {
+      if (!st_.heading_known) {
+        set_yaw(quat::wrap_pi(quat::to_euler(st_.nav.q_nb)[2] - (std::atan2(m_n[1], m_n[0]) - params_.declination)));
+        st_.heading_source = GpsInsHeading::Magnetometer;
         res.decision = GpsInsDecision::Aligned;
       }
       res.status = Status::NotInitialized;
@@ -464,17 +466,17 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::InvalidArgument;
       return count(GpsInsAid::GpsVel, res);
     }
-    if (s_.phase != GpsInsPhase::Navigating) {
+    if (st_.phase != GpsInsPhase::Navigating) {
       res.status = Status::NotInitialized;
       const S speed = std::sqrt(v_n[0] * v_n[0] + v_n[1] * v_n[1]);
       // The speed less three of its sigmas: the noise of a fix at rest does not make it move.
       const S moving = speed - S(3) * std::sqrt(sig[0] * sig[0] + sig[1] * sig[1]);
-      s_.gnss_speed = moving > S(0) ? moving : S(0);
-      s_.gnss_speed_t = s_.t;
-      if (s_.phase == GpsInsPhase::Levelled && !s_.heading_known && p_.heading_from_gps) {
-        if (speed >= p_.min_speed_for_heading) {
+      st_.gnss_speed = moving > S(0) ? moving : S(0);
+      st_.gnss_speed_t = st_.t;
+      if (st_.phase == GpsInsPhase::Levelled && !st_.heading_known && params_.heading_from_gps) {
+        if (speed >= params_.min_speed_for_heading) {
           set_yaw(std::atan2(v_n[1], v_n[0]));
-          s_.heading_source = GpsInsHeading::GnssVelocity;
+          st_.heading_source = GpsInsHeading::GnssVelocity;
           res.decision = GpsInsDecision::Aligned;
         }
       }
@@ -490,7 +492,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
                           const Vec3<S>& vel_sigma, S age = S(0)) {
     GpsResult<S> r;
     const bool have_vel = !std::isnan(v_n[0]) || !std::isnan(v_n[1]) || !std::isnan(v_n[2]);
-    if (s_.phase != GpsInsPhase::Navigating) {
+    if (st_.phase != GpsInsPhase::Navigating) {
       if (have_vel) r.vel = update_gps_velocity(v_n, vel_sigma, age);
       r.pos = position_update(lat, lon, h, pos_sigma, age, v_n, vel_sigma);
       return r;
@@ -511,17 +513,17 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       count(GpsInsAid::Baro, r.height);
       return r;
     }
-    const State saved = s_;  // restored (but for the counters) when the height update fails
-    s_.baro_last = h_baro;
-    s_.baro_last_valid = true;
-    if (s_.phase != GpsInsPhase::Navigating) {
+    const State saved = st_;  // restored (but for the counters) when the height update fails
+    st_.baro_last = h_baro;
+    st_.baro_last_valid = true;
+    if (st_.phase != GpsInsPhase::Navigating) {
       r.height.status = Status::NotInitialized;
       return r;
     }
-    if (!s_.baro_offset_valid) {
+    if (!st_.baro_offset_valid) {
       // First altimeter sample in navigation: the offset state from the INS height (the sample is
       // used: Ok, decision Aligned, innovation and NIS zero).
-      init_baro_offset(s_, h_baro);
+      init_baro_offset(st_, h_baro);
       r.height.status = Status::Ok;
       r.height.decision = GpsInsDecision::Aligned;
     } else {
@@ -531,16 +533,16 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         return r;
       }
     }
-    if (p_.baro_rate_baseline > S(0)) {
-      if (!s_.baro_ref_valid) {
-        s_.baro_ref_valid = true;
-        s_.baro_ref_h = h_baro;
-        s_.baro_ref_t = s_.t;
-      } else if (s_.t - s_.baro_ref_t >= double(p_.baro_rate_baseline)) {
-        r.vd = apply(gpsins_aid::BaroVerticalVelocity<S>{h_baro, s_.baro_ref_h, s_.t - s_.baro_ref_t});
+    if (params_.baro_rate_baseline > S(0)) {
+      if (!st_.baro_ref_valid) {
+        st_.baro_ref_valid = true;
+        st_.baro_ref_h = h_baro;
+        st_.baro_ref_t = st_.t;
+      } else if (st_.t - st_.baro_ref_t >= double(params_.baro_rate_baseline)) {
+        r.vd = apply(gpsins_aid::BaroVerticalVelocity<S>{h_baro, st_.baro_ref_h, st_.t - st_.baro_ref_t});
         if (r.vd.status == Status::Ok || r.vd.status == Status::Rejected) {
-          s_.baro_ref_h = h_baro;
-          s_.baro_ref_t = s_.t;
+          st_.baro_ref_h = h_baro;
+          st_.baro_ref_t = st_.t;
         }
       }
     }
@@ -555,15 +557,15 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::NonFinite;
       return count(GpsInsAid::Compass, res);
     }
-    if (s_.phase == GpsInsPhase::Aligning) {
+    if (st_.phase == GpsInsPhase::Aligning) {
       res.status = Status::NotInitialized;
       return res;
     }
-    const S yaw_meas = quat::wrap_pi(heading + p_.declination);
-    if (s_.phase == GpsInsPhase::Levelled) {
-      if (s_.heading_source != GpsInsHeading::Given) {
+    const S yaw_meas = quat::wrap_pi(heading + params_.declination);
+    if (st_.phase == GpsInsPhase::Levelled) {
+      if (st_.heading_source != GpsInsHeading::Given) {
         set_yaw(yaw_meas);
-        s_.heading_source = GpsInsHeading::Compass;
+        st_.heading_source = GpsInsHeading::Compass;
         res.decision = GpsInsDecision::Aligned;
       }
       res.status = Status::NotInitialized;
@@ -576,23 +578,23 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// specific force f_ib_b (IMU axes) over dt makes from the current state (the smoother's,
   /// nav/gps_ins/smoother.hpp; the rate enters only the scale-factor columns).
   Mat16 transition(const Vec3<S>& omega_ib_b, const Vec3<S>& f_ib_b, S dt) const {
-    const Vec3<S> w = detail::gpsins_correct<S, SF_>(imu_to_body(omega_ib_b), s_.gyro_bias, s_.gyro_scale);
-    const Vec3<S> f = detail::gpsins_correct<S, SF_>(imu_to_body(f_ib_b), s_.acc_bias, s_.acc_scale);
-    return detail::gpsins_Phi_state<S, SF_>(s_, f, w, dt, p_).dense();
+    const Vec3<S> w = detail::gpsins_correct<S, SF_>(imu_to_body(omega_ib_b), st_.gyro_bias, st_.gyro_scale);
+    const Vec3<S> f = detail::gpsins_correct<S, SF_>(imu_to_body(f_ib_b), st_.acc_bias, st_.acc_scale);
+    return detail::gpsins_Phi_state<S, SF_>(st_, f, w, dt, params_).dense();
   }
 
  private:
   Vec3<S> imu_to_body(const Vec3<S>& v) const {
-    const bool rotated = !(p_.imu_rotation.array() == Mat3<S>::Identity().array()).all();
-    return rotated ? Vec3<S>(p_.imu_rotation * v) : v;
+    const bool rotated = !(params_.imu_rotation.array() == Mat3<S>::Identity().array()).all();
+    return rotated ? Vec3<S>(params_.imu_rotation * v) : v;
   }
   Vec3<S> gps_pos_sigma(const Vec3<S>& s) const {
-    return Vec3<S>(std::isnan(s[0]) ? p_.gps_pos_sigma_h : s[0], std::isnan(s[1]) ? p_.gps_pos_sigma_h : s[1],
-                   std::isnan(s[2]) ? p_.gps_pos_sigma_v : s[2]);
+    return Vec3<S>(std::isnan(s[0]) ? params_.gps_pos_sigma_h : s[0], std::isnan(s[1]) ? params_.gps_pos_sigma_h : s[1],
+                   std::isnan(s[2]) ? params_.gps_pos_sigma_v : s[2]);
   }
   Vec3<S> gps_vel_sigma(const Vec3<S>& s) const {
-    return Vec3<S>(std::isnan(s[0]) ? p_.gps_vel_sigma : s[0], std::isnan(s[1]) ? p_.gps_vel_sigma : s[1],
-                   std::isnan(s[2]) ? p_.gps_vel_sigma : s[2]);
+    return Vec3<S>(std::isnan(s[0]) ? params_.gps_vel_sigma : s[0], std::isnan(s[1]) ? params_.gps_vel_sigma : s[1],
+                   std::isnan(s[2]) ? params_.gps_vel_sigma : s[2]);
   }
 
   GpsInsUpdate<S, 3> position_update(double lat, double lon, double h, const Vec3<S>& sigma, S age,
@@ -608,26 +610,26 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::InvalidArgument;
       return count(GpsInsAid::GpsPos, res);
     }
-    const Vec3<S> psig = sig.cwiseMax(p_.gps_pos_sigma_min);
-    if (s_.phase == GpsInsPhase::Aligning) {
+    const Vec3<S> psig = sig.cwiseMax(params_.gps_pos_sigma_min);
+    if (st_.phase == GpsInsPhase::Aligning) {
       res.status = align_in_motion(lat, lon, h, psig, v0_n, gps_vel_sigma(vel_sigma));
       if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
       return res;
     }
-    if (s_.phase == GpsInsPhase::Levelled) {
+    if (st_.phase == GpsInsPhase::Levelled) {
       res.status = Status::NotInitialized;
-      if (!s_.heading_known) {
+      if (!st_.heading_known) {
         // Levelled at rest, no heading yet: the course between position fixes once moving.
         Quat<S> q;
         Vec3<S> v;
         S vs, ys, ls;
         if (!window_course(lat, lon, h, psig, false, q, v, vs, ys, ls)) return res;
-        res.status = start(lat, lon, h, psig, q, v, vs, p_.init_level_sigma, ys, s_.align_method,
+        res.status = start(lat, lon, h, psig, q, v, vs, params_.init_level_sigma, ys, st_.align_method,
                            GpsInsHeading::GnssCourse);
       } else {
-        const Vec3<S> v0 = s_.init_v_valid ? s_.init_v : (v0_n.allFinite() ? v0_n : Vec3<S>::Zero());
-        res.status = start(lat, lon, h, psig, s_.nav.q_nb, v0, p_.init_vel_sigma, p_.init_level_sigma,
-                           p_.init_yaw_sigma, s_.align_method, s_.heading_source);
+        const Vec3<S> v0 = st_.init_v_valid ? st_.init_v : (v0_n.allFinite() ? v0_n : Vec3<S>::Zero());
+        res.status = start(lat, lon, h, psig, st_.nav.q_nb, v0, params_.init_vel_sigma, params_.init_level_sigma,
+                           params_.init_yaw_sigma, st_.align_method, st_.heading_source);
       }
       if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
       return res;
@@ -640,31 +642,32 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   Status align_in_motion(double lat, double lon, double h, const Vec3<S>& psig, const Vec3<S>& v2,
                          const Vec3<S>& vsig) {
     const bool have_v = v2.allFinite();
-    if (!s_.mot_valid) {
-      detail::gpsins_window_start(s_, lat, lon, h, v2, have_v);
+    if (!st_.mot_valid) {
+      detail::gpsins_window_start(st_, lat, lon, h, v2, have_v);
       return Status::NotInitialized;
     }
-    const double T = s_.mot_T;
-    if (T >= double(p_.align_motion_time)) {
+    const double T = st_.mot_T;
+    if (T >= double(params_.align_motion_time)) {
       const S g = S(earth::gravity<double>(lat, h));
       // The window's velocity increment in the current body frame.
-      const Vec3<S> dv_b = quat::rotate_inv(s_.mot_q, Vec3<S>(s_.mot_dv.template cast<S>()));
+      const Vec3<S> dv_b = quat::rotate_inv(st_.mot_q, Vec3<S>(st_.mot_dv.template cast<S>()));
       const Vec3<S> x_b(S(1), S(0), S(0));
-      if (have_v && s_.mot_has_v) {
+      if (have_v && st_.mot_has_v) {
         const S speed = std::sqrt(v2[0] * v2[0] + v2[1] * v2[1]);
         Mat3<S> C;
-        if (speed >= p_.min_speed_for_heading &&
-            detail::triad<S>(dv_b, x_b, Vec3<S>(v2 - s_.mot_v0 - Vec3<S>(S(0), S(0), g * S(T))),
+        if (speed >= params_.min_speed_for_heading &&
+            detail::triad<S>(dv_b, x_b, Vec3<S>(v2 - st_.mot_v0 - Vec3<S>(S(0), S(0), g * S(T))),
                              Vec3<S>(v2[0], v2[1], S(0)), C)) {
           // Level: the velocity noise of both ends over g T, and the initial level sigma.
           // Level: the velocity noise of both ends over g T, the rotation an unknown gyro bias
           // adds over the window, and the initial level sigma.
           const S e = std::sqrt(S(2)) * vsig.maxCoeff() / (g * S(T));
-          const S b = p_.init_gyro_bias_sigma * S(T);
-          const Status st = start(lat, lon, h, psig, quat::from_rotmat(C), v2, p_.init_vel_sigma,
-                                  std::sqrt(p_.init_level_sigma * p_.init_level_sigma + e * e + b * b), p_.init_yaw_sigma,
+          const S b = params_.init_gyro_bias_sigma * S(T);
+          const Status st = start(lat, lon, h, psig, quat::from_rotmat(C), v2, params_.init_vel_sigma,
+                                  std::sqrt(params_.init_level_sigma * params_.init_level_sigma + e * e + b * b),
+                                  params_.init_yaw_sigma,
                                   GpsInsAlignment::GnssVelocity, GpsInsHeading::GnssVelocity);
-          if (st == Status::Ok) s_.level_t = s_.t;
+          if (st == Status::Ok) st_.level_t = st_.t;
           return st;
         }
       } else if (!have_v) {
@@ -674,12 +677,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         if (window_course(lat, lon, h, psig, true, q, v, vs, ys, ls)) {
           const Status st = start(lat, lon, h, psig, q, v, vs, ls, ys, GpsInsAlignment::GnssCourse,
                                   GpsInsHeading::GnssCourse);
-          if (st == Status::Ok) s_.level_t = s_.t;
+          if (st == Status::Ok) st_.level_t = st_.t;
           return st;
         }
       }
     }
-    if (T > double(p_.align_motion_max)) detail::gpsins_window_start(s_, lat, lon, h, v2, have_v);
+    if (T > double(params_.align_motion_max)) detail::gpsins_window_start(st_, lat, lon, h, v2, have_v);
     return Status::NotInitialized;
   }
 
@@ -693,32 +696,32 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   // than align_motion_max restarts here.
   bool window_course(double lat, double lon, double h, const Vec3<S>& psig, bool level, Quat<S>& q, Vec3<S>& v,
                      S& vel_sigma, S& yaw_sigma, S& level_sigma) {
-    if (!s_.mot_valid) {
-      detail::gpsins_window_start(s_, lat, lon, h, Vec3<S>(Vec3<S>::Zero()), false);
+    if (!st_.mot_valid) {
+      detail::gpsins_window_start(st_, lat, lon, h, Vec3<S>(Vec3<S>::Zero()), false);
       return false;
     }
-    const Vec3<S> d = earth::geodetic_diff<S>(lat, lon, h, s_.mot_lat, s_.mot_lon, s_.mot_h);
+    const Vec3<S> d = earth::geodetic_diff<S>(lat, lon, h, st_.mot_lat, st_.mot_lon, st_.mot_h);
     const S dist = std::sqrt(d[0] * d[0] + d[1] * d[1]);
     const S sh = std::sqrt(psig[0] * psig[0] + psig[1] * psig[1]);
-    const double T = s_.mot_T;
-    if (T > 0.0 && S(2) * sh / S(T) < S(0.5) * p_.rest_speed) {  // the window tells rest from motion
-      s_.gnss_speed = dist / S(T);
-      s_.gnss_speed_t = s_.t;
+    const double T = st_.mot_T;
+    if (T > 0.0 && S(2) * sh / S(T) < S(0.5) * params_.rest_speed) {  // the window tells rest from motion
+      st_.gnss_speed = dist / S(T);
+      st_.gnss_speed_t = st_.t;
     }
-    const S need = p_.align_course_distance > S(4) * sh ? p_.align_course_distance : S(4) * sh;
+    const S need = params_.align_course_distance > S(4) * sh ? params_.align_course_distance : S(4) * sh;
     if (!(dist >= need) || !(T > 0.0)) {
-      if (T > double(p_.align_motion_max)) detail::gpsins_window_start(s_, lat, lon, h, Vec3<S>(Vec3<S>::Zero()), false);
+      if (T > double(params_.align_motion_max)) detail::gpsins_window_start(st_, lat, lon, h, Vec3<S>(Vec3<S>::Zero()), false);
       return false;
     }
     const S course = std::atan2(d[1], d[0]);
     S a = S(0);  // the acceleration the window may hide
-    level_sigma = p_.init_level_sigma;
+    level_sigma = params_.init_level_sigma;
     if (level) {
-      const Vec3<S> dv_b = quat::rotate_inv(s_.mot_q, Vec3<S>(s_.mot_dv.template cast<S>()));
+      const Vec3<S> dv_b = quat::rotate_inv(st_.mot_q, Vec3<S>(st_.mot_dv.template cast<S>()));
       const S g = S(earth::gravity<double>(lat, h));
       const S dev = std::abs(dv_b.norm() / S(T) - g);
-      if (!(dev < p_.rest_acc_th)) {  // accelerating: wait
-        if (T > double(p_.align_motion_max)) detail::gpsins_window_start(s_, lat, lon, h, Vec3<S>(Vec3<S>::Zero()), false);
+      if (!(dev < params_.rest_acc_th)) {  // accelerating: wait
+        if (T > double(params_.align_motion_max)) detail::gpsins_window_start(st_, lat, lon, h, Vec3<S>(Vec3<S>::Zero()), false);
         return false;
       }
       Mat3<S> C;
@@ -727,18 +730,18 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         return false;
       q = quat::from_rotmat(C);
       a = std::sqrt(S(2) * g * dev);
-      const S b = p_.init_gyro_bias_sigma * S(T);
-      const S l0 = p_.align_level_sigma > p_.init_level_sigma ? p_.align_level_sigma : p_.init_level_sigma;
+      const S b = params_.init_gyro_bias_sigma * S(T);
+      const S l0 = std::max(params_.align_level_sigma, params_.init_level_sigma);
       level_sigma = std::sqrt(l0 * l0 + (a / g) * (a / g) + b * b);
     } else {
-      const Vec3<S> e = quat::to_euler(s_.nav.q_nb);
+      const Vec3<S> e = quat::to_euler(st_.nav.q_nb);
       q = quat::from_euler(e[0], e[1], course);
     }
     v = Vec3<S>(d[0] / S(T), d[1] / S(T), S(0));
     const S sv = S(2) * sh / S(T) + a * S(T) / S(2);
-    vel_sigma = sv > p_.init_vel_sigma ? sv : p_.init_vel_sigma;
+    vel_sigma = sv > params_.init_vel_sigma ? sv : params_.init_vel_sigma;
     const S sy = S(2) * sh / dist;
-    yaw_sigma = sy > p_.init_yaw_sigma ? sy : p_.init_yaw_sigma;
+    yaw_sigma = sy > params_.init_yaw_sigma ? sy : params_.init_yaw_sigma;
     return true;
   }
 
@@ -749,29 +752,29 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.baro_offset = h_baro - s.nav.h;
     s.P.row(B) = s.P.row(D);
     s.P.col(B) = s.P.col(D);
-    s.P(B, B) = s.P(D, D) + p_.baro_sigma * p_.baro_sigma;
+    s.P(B, B) = s.P(D, D) + params_.baro_sigma * params_.baro_sigma;
     s.baro_offset_valid = true;
   }
 
   void set_yaw(S yaw) {
-    const Vec3<S> e = quat::to_euler(s_.nav.q_nb);
-    s_.nav.q_nb = quat::from_euler(e[0], e[1], yaw);
-    s_.heading_known = true;
+    const Vec3<S> e = quat::to_euler(st_.nav.q_nb);
+    st_.nav.q_nb = quat::from_euler(e[0], e[1], yaw);
+    st_.heading_known = true;
   }
 
   /// Put back a saved state, keeping the (diagnostic) counters of what happened since.
   void restore(const State& saved) {
-    const GpsInsCounters c = s_.counters;
-    s_ = saved;
-    s_.counters = c;
+    const GpsInsCounters c = st_.counters;
+    st_ = saved;
+    st_.counters = c;
   }
 
   // Navigation from a fix (the antenna, less the lever arm) with attitude q, velocity v0 and the
   // initial sigmas given.
   Status start(double lat, double lon, double h, const Vec3<S>& sig, const Quat<S>& q, const Vec3<S>& v0,
                S vel_sigma, S level_sigma, S yaw_sigma, GpsInsAlignment method, GpsInsHeading heading) {
-    State s = s_;
-    const Vec3<S> l_n = quat::rotate(q, p_.lever_arm_b);
+    State s = st_;
+    const Vec3<S> l_n = quat::rotate(q, params_.lever_arm_b);
     earth::geodetic_add(lat, lon, h, Vec3<double>(-l_n.template cast<double>()));
     s.nav = StrapdownState<S>();
     s.nav.q_nb = q / q.norm();
@@ -790,7 +793,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.mot_valid = false;
     s.baro_offset_valid = false;
     if (s.baro_last_valid) init_baro_offset(s, s.baro_last);
-    s_ = s;
+    st_ = s;
     return Status::Ok;
   }
 
@@ -799,27 +802,28 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   Vec16 initial_sigmas(const Vec3<S>& pos_sigma, S vel_sigma, S level_sigma, S yaw_sigma) const {
     Vec16 d;
     d.template head<gpsins::kN>() << pos_sigma, Vec3<S>::Constant(vel_sigma), level_sigma, level_sigma, yaw_sigma,
-        Vec3<S>::Constant(p_.init_acc_bias_sigma), Vec3<S>::Constant(p_.init_gyro_bias_sigma), S(0);
+        Vec3<S>::Constant(params_.init_acc_bias_sigma), Vec3<S>::Constant(params_.init_gyro_bias_sigma), S(0);
     if constexpr (SF_)
-      d.template tail<6>() << Vec3<S>::Constant(p_.init_acc_scale_sigma), Vec3<S>::Constant(p_.init_gyro_scale_sigma);
+      d.template tail<6>() << Vec3<S>::Constant(params_.init_acc_scale_sigma),
+          Vec3<S>::Constant(params_.init_gyro_scale_sigma);
     return d;
   }
 
   template <class R> R count(GpsInsAid kind, R r) {
     const std::size_t k = std::size_t(kind);
     if (r.status == Status::Ok) {
-      ++s_.counters.accepted[k];
-      if (kind == GpsInsAid::GpsPos || kind == GpsInsAid::GpsVel) s_.gnss_t = s_.t;
+      ++st_.counters.accepted[k];
+      if (kind == GpsInsAid::GpsPos || kind == GpsInsAid::GpsVel) st_.gnss_t = st_.t;
       if (r.decision == GpsInsDecision::None) r.decision = GpsInsDecision::Accepted;
     } else if (r.status == Status::Rejected) {
-      ++s_.counters.rejected[k];
+      ++st_.counters.rejected[k];
       if (r.decision == GpsInsDecision::None) r.decision = GpsInsDecision::Rejected;
     } else {
-      ++s_.counters.skipped[k];
+      ++st_.counters.skipped[k];
       r.decision = GpsInsDecision::Skipped;
     }
-    if (r.decision == GpsInsDecision::Inflated) ++s_.counters.inflated[k];
-    if (r.decision == GpsInsDecision::Reset) ++s_.counters.resets[k];
+    if (r.decision == GpsInsDecision::Inflated) ++st_.counters.inflated[k];
+    if (r.decision == GpsInsDecision::Reset) ++st_.counters.resets[k];
     return r;
   }
 
@@ -836,7 +840,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     return inject_and_commit(
         res, P,
         [&] {
-          State s = s_;
+          State s = st_;
           detail::gpsins_inject(s, dx);
           return s;
         },
@@ -844,12 +848,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         // The floor acts on P alone (the error state has no constraint), so it does not matter
         // that it comes after the injection here.
         [&](State&, Mat16& Pc) {
-          floor_covariance<S, kStates>(Pc, p_.cov_floor);
+          floor_covariance<S, kStates>(Pc, params_.cov_floor);
           return true;
         },
         [&](State& s, const Mat16& Pc) {
           s.P = Pc;
-          s_ = s;
+          st_ = s;
         });
   }
 
@@ -863,10 +867,10 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   template <class Aid> GpsInsUpdate<S, Aid::M> apply(const Aid& aid) {
     constexpr int M = Aid::M;
     AidMeasurement<S, M, kStates> m;
-    aid.measure(s_, p_, m);
+    aid.measure(st_, params_, m);
     GpsInsUpdate<S, M> res;
-    std::uint32_t& run = s_.reject_run[std::size_t(Aid::kind)];
-    const Status st = correct_and_commit<Aid>(s_.P, m, Aid::gate(p_), res);
+    std::uint32_t& run = st_.reject_run[std::size_t(Aid::kind)];
+    const Status st = correct_and_commit<Aid>(st_.P, m, Aid::gate(params_), res);
     if (st == Status::Ok) {
       run = 0;
       if constexpr (Aid::kAdaptive) adapt(res.nis / S(M));
@@ -874,12 +878,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     }
     if (st != Status::Rejected) return count(Aid::kind, res);
     if constexpr (Aid::kAdaptive) {
-      if (p_.inflate_after > S(0) && double(run) >= double(p_.inflate_after)) {
+      if (params_.inflate_after > S(0) && double(run) >= double(params_.inflate_after)) {
         // Fixes keep failing their gate: the INS has drifted beyond its covariance.
         const UpdateResult<S, M> gated = res;  // the innovation and NIS the gate saw
         const S a = inflation<M>(m, gated);
-        if (a <= p_.inflate_max) {
-          Mat16 P = s_.P;
+        if (a <= params_.inflate_max) {
+          Mat16 P = st_.P;
           P.template topLeftCorner<9, 9>() *= a;
           UpdateResult<S, M> r2;
           if (correct_and_commit<Aid>(P, m, S(0), r2) == Status::Ok) {
@@ -892,12 +896,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
             return count(Aid::kind, res);
           }
         } else {
-          State s = s_;
+          State s = st_;
           // R holds outer products (the GNSS time's and the lever arm's terms) that need not be
           // symmetric to the last bit: the covariance block it becomes must be.
           const Mat<S, M, M> R = S(0.5) * (m.R + m.R.transpose());
-          if (aid.reset(s, p_, R) && detail::gpsins_nav_ok(s)) {
-            s_ = s;
+          if (aid.reset(s, params_, R) && detail::gpsins_nav_ok(s)) {
+            st_ = s;
             res.decision = GpsInsDecision::Reset;
             run = 0;
             return count(Aid::kind, res);
@@ -914,7 +918,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// inflate_max when even that is not enough.
   template <int M> S inflation(const AidMeasurement<S, M, kStates>& m, const UpdateResult<S, M>& gated) const {
     const Mat<S, M, 9> Hn = m.H.template leftCols<9>();
-    const Mat<S, 9, 9> Pn = s_.P.template topLeftCorner<9, 9>();
+    const Mat<S, 9, 9> Pn = st_.P.template topLeftCorner<9, 9>();
     const Mat<S, M, M> B = fixed_mul(fixed_mul(Hn, Pn), Hn.transpose());
     auto nis = [&](S a) {
       Mat<S, M, M> Sa = gated.innovation_cov + (a - S(1)) * B;
@@ -926,7 +930,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       return w.squaredNorm();
     };
     const S target = S(M);
-    const S amax = p_.inflate_max > S(1) ? p_.inflate_max : S(1);
+    const S amax = params_.inflate_max > S(1) ? params_.inflate_max : S(1);
     if (!(nis(amax) <= target)) return amax * S(2);
     S lo = S(0), hi = std::log(amax);
     for (int i = 0; i < 40; ++i) {
@@ -944,23 +948,23 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// adapt_gain * (ln r + ln 3) while r < 1/3, within [1, adapt_q_max]. A consistent filter (r
   /// about 1) leaves it at 1; a process noise too small raises it until the GNSS NIS is back.
   void adapt(S r) {
-    if (!(p_.adapt_q_max > S(1)) || !(r > S(0)) || !std::isfinite(r)) return;
+    if (!(params_.adapt_q_max > S(1)) || !(r > S(0)) || !std::isfinite(r)) return;
     const S l3 = std::log(S(3));
     const S lr = std::log(r > S(1e3) ? S(1e3) : r);
     S step = S(0);
     if (lr > l3)
-      step = p_.adapt_gain * (lr - l3);
+      step = params_.adapt_gain * (lr - l3);
     else if (lr < -l3)
-      step = p_.adapt_gain * (lr + l3);
+      step = params_.adapt_gain * (lr + l3);
     if (step == S(0)) return;
-    S l = std::log(s_.q_scale) + step;
-    const S lmax = std::log(p_.adapt_q_max);
+    S l = std::log(st_.q_scale) + step;
+    const S lmax = std::log(params_.adapt_q_max);
     l = l < S(0) ? S(0) : (l > lmax ? lmax : l);
-    s_.q_scale = std::exp(l);
+    st_.q_scale = std::exp(l);
   }
 
-  Params p_;
-  State s_;
+  Params params_;
+  State st_;
 };
 
 /// Where the batch run writes the per-sample report of one aiding record (any pointer may be
