@@ -364,7 +364,7 @@ def add_parser(sub) -> None:
 def _cmd(args) -> int:
     res = run_demo(plot=args.plot, seed=args.seed)
     if args.json:
-        from .cli.util import write_json
+        from ._command import write_json
 
         def figures(d):
             return {k: figures(v) if isinstance(v, dict) else v for k, v in d.items() if k != "result"}

@@ -227,7 +227,7 @@ def test_bad_calibration_file(tmp_path):
 
     class A:
         calibration = str(tmp_path / "missing.toml")
-    from quatnav.cli.util import UsageError
+    from quatnav._command import UsageError
     with pytest.raises(UsageError, match="cannot open"):
         cal.apply_calibration_args(A(), gyr=np.zeros((2, 3)))
 

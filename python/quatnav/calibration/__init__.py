@@ -116,11 +116,11 @@ def apply_calibration_args(args: argparse.Namespace, gyr: ArrayLike | None = Non
                            mag: ArrayLike | None = None) -> tuple:
     """For a command with a ``--calibration FILE`` option (``args.calibration``): the samples
     calibrated with the file, or unchanged without the option. A bad file raises
-    :class:`quatnav.cli.util.UsageError` (one line, exit 2)."""
+    :class:`quatnav._command.UsageError` (one line, exit 2)."""
     path = getattr(args, "calibration", None)
     if not path:
         return gyr, acc, mag
-    from ..cli.util import UsageError
+    from .._command import UsageError
     try:
         cal = load_calibration(path)
     except (ValueError, FileNotFoundError) as e:

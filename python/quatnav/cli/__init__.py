@@ -19,7 +19,7 @@ from pathlib import Path
 
 __all__ = ["main", "build_parser"]
 
-from .util import _EXTRAS, UsageError, missing_extra
+from .._command import _EXTRAS, UsageError, missing_extra
 
 EPILOG = """\
 environment:

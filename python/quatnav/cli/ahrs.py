@@ -18,7 +18,8 @@ import sys
 
 import numpy as np
 
-from .util import UsageError, date_arg, declination_arg, first_fix_declination, write_json
+from .._command import UsageError, write_json
+from .util import date_arg, declination_arg, first_fix_declination
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 

@@ -8,7 +8,7 @@ import warnings
 
 import numpy as np
 
-from .util import UsageError, write_json
+from .._command import UsageError, write_json
 
 __all__ = ["add_parser", "read_log"]
 

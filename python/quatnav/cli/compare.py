@@ -19,7 +19,7 @@ import numpy as np
 from ..core import earth as E
 from ..core import quaternion as Q
 from ..evaluation import metrics as M
-from .util import UsageError, write_json
+from .._command import UsageError, write_json
 
 EPILOG = """\
 inputs: any file quatnav.io.read knows; a CSV track has time and q_w..q_z (ahrs run output) or

@@ -83,7 +83,8 @@ import numpy as np
 
 from ..filters._base import accel_unit
 from ..io.table import CsvError, read_table
-from .util import UsageError, date_arg, declination_arg, write_json
+from .._command import UsageError, write_json
+from .util import date_arg, declination_arg
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
 IMU_INCREMENT_COLUMNS = ("time", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")

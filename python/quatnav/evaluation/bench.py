@@ -305,7 +305,7 @@ def add_parser(sub) -> None:
 
 
 def _cli(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     for opt, v, lo in (("-n", args.n, 1), ("--repeat", args.repeat, 1), ("--max-n", args.max_n, 1e3)):
         if not v >= lo:
             raise UsageError(f"{opt}: expected at least {lo:g}, got {v:g}")

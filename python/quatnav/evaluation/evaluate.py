@@ -353,14 +353,14 @@ def _names(option: str, value: str, known: dict) -> list[str]:
         return []
     for n in names:
         if n not in known:
-            from ..cli.util import UsageError
+            from .._command import UsageError
             raise UsageError(f"{option}: unknown name {n!r}; known: {', '.join(known)}, or none")
     return names
 
 
 def _broad_dir(arg) -> Path:
     """The BROAD folder of ``quatnav eval broad [DIR]``, or a UsageError saying what to give."""
-    from ..cli.util import UsageError
+    from .._command import UsageError
     from ..datasets import broad
     if arg is not None:
         d = Path(arg)
@@ -379,7 +379,7 @@ def _broad_dir(arg) -> Path:
 
 
 def _cmd_broad(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     filters = _names("--filters", args.filters, FILTERS)
     peers = _names("--peers", args.peers, PEERS)
     if not filters and not peers:

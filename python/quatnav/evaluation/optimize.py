@@ -345,7 +345,7 @@ moves by -+10 % (a flat optimum: the parameter hardly matters there)."""
 
 
 def _parse_param(text):
-    from ..cli.util import UsageError
+    from .._command import UsageError
     try:
         name, rng = text.split("=", 1)
         lo, hi = (float(x) for x in rng.split(":"))
@@ -359,7 +359,7 @@ def _parse_param(text):
 def _targets(args):
     """(filter class, logs, their labels, evaluate, unit) of ``quatnav tune``'s --target."""
     import quatnav
-    from ..cli.util import UsageError
+    from .._command import UsageError
     if args.target == "gnss-ins":
         from ..datasets import data_dir
         labels = [x.strip() for x in (args.logs or "walk-degraded,navego").split(",") if x.strip()]
@@ -394,7 +394,7 @@ def _targets(args):
 
 
 def _tune(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     if not args.param:
         raise UsageError("give at least one --param NAME=LOW:HIGH")
     bounds = dict(_parse_param(p) for p in args.param)

@@ -161,7 +161,7 @@ def plot(res: dict, path):
 
 
 def run(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     if not args.outage_length > 0:
         raise UsageError(f"--outage-length: expected a positive number of seconds, got {args.outage_length:g}")
     res = run_scenario(args.scenario, args.seed, args.outage_start, args.outage_length)

@@ -83,7 +83,7 @@ def run_trial(tr: dict, gain: float = 1.0) -> dict:
 
 
 def run(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     d = Path(args.data) if args.data else default_dir()
     files = sorted(d.glob("*.mat"))
     if not files:

@@ -204,7 +204,7 @@ def plot(series, path):
 
 
 def run(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     if args.seeds < 1:
         raise UsageError(f"--seeds: expected a positive integer, got {args.seeds}")
     res, first = monte_carlo(args.seeds, args.gain, args.gps_tau, keep_first=bool(args.plot))

@@ -247,7 +247,7 @@ def plot(mc: dict, path: str, runs: int, mode: str):
 
 
 def run(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     if args.runs < 1:
         raise UsageError(f"--runs: expected a positive integer, got {args.runs}")
     if args.cost_repeats < 1:

@@ -315,7 +315,7 @@ def plot(arrays, path):
 
 
 def run(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     if args.seconds is not None and not args.seconds > 0:
         raise UsageError(f"--seconds: expected a positive number, got {args.seconds:g}")
     try:

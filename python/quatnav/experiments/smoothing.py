@@ -82,7 +82,7 @@ def nav13_part(runs: int = 8, seed: int = 100) -> dict:
 def run(args) -> int:
     from pathlib import Path
 
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     parts = [p.strip() for p in args.parts.split(",") if p.strip()]
     for p in parts:
         if p not in PARTS:

@@ -266,7 +266,7 @@ def plot(summary, arrays, path):
 
 
 def run(args) -> int:
-    from ..cli.util import UsageError, write_json
+    from .._command import UsageError, write_json
     for opt, v in (("--outage-length", args.outage_length), ("--outage-period", args.outage_period)):
         if not v > 0:
             raise UsageError(f"{opt}: expected a positive number of seconds, got {v:g}")

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli.util import UsageError, write_json
+from .._command import UsageError, write_json
 
 
 def add_parser(subparsers):
