@@ -161,7 +161,8 @@ def test_declination_auto_at_the_recording_date(tmp_path, data_dir, capsys):
     pytest.importorskip("pyulog")
     pytest.importorskip("ahrs")
     from quatnav import io
-    from quatnav.cli.util import decimal_year, date_arg
+    from quatnav.cli.util import date_arg
+    from quatnav.core.magnetic import decimal_year
     import datetime
     f = data_dir / "px4" / "sample_logging_tagged_and_default_params.ulg"
     if not f.exists():
@@ -277,7 +278,8 @@ def test_wmm_declination_sign_and_size():
     Boulder, -10 to -14 deg in Boston, 2025-2030; a declination argument is degrees or auto."""
     pytest.importorskip("ahrs")
     import argparse
-    from quatnav.cli.util import declination_arg, wmm_declination
+    from quatnav.cli.util import declination_arg
+    from quatnav.core.magnetic import wmm_declination
     for lat, lon, lo, hi in ((47.4, 8.5, 2.5, 5.5), (40.0, -105.3, 6.5, 9.5), (42.4, -71.1, -14.5, -10.0)):
         d, note = wmm_declination(np.radians(lat), np.radians(lon), 0.0, year=2027.0)
         assert lo < np.degrees(d) < hi, (lat, lon, np.degrees(d))

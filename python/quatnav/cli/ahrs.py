@@ -19,7 +19,8 @@ import sys
 import numpy as np
 
 from .._command import UsageError, write_json
-from .util import date_arg, declination_arg, first_fix_declination
+from ..core.magnetic import first_fix_declination
+from .util import date_arg, declination_arg
 
 FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter"}
 

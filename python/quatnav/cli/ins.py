@@ -941,7 +941,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
             if len(neg):
                 raise InputError(f"GNSS {gnss}: line {lines_g[neg[0]]}: {'/'.join(cols)} must be positive")
     if declination is None:  # auto: the World Magnetic Model at the first fix
-        from .util import first_fix_declination
+        from ..core.magnetic import first_fix_declination
         params["declination"], texts = first_fix_declination(np.radians(d_g["lat"]), np.radians(d_g["lon"]), d_g["h"],
                                                              f"GNSS {gnss}", utc=d_g.get("utc"), date=date, warn=note)
         f = make_filter()
