@@ -13,7 +13,7 @@ import pytest
 
 import quatnav
 from quatnav import cli
-from quatnav.cli.compare import attitude_difference, slerp_at, stats
+from quatnav.evaluation.track_difference import attitude_difference, slerp_at, stats
 from quatnav.core import quaternion as Q
 from quatnav.demo import rotation_scenario
 

@@ -81,7 +81,7 @@ def test_log_and_compare_equal_api(walk, tmp_path):
                      str(d / "config.toml"), "--out", str(out)]) == 0
     assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
     got = json.loads(js.read_text())
-    from quatnav.cli.compare import compare
+    from quatnav.evaluation.track_difference import compare_tracks as compare
     from quatnav import io
     ref = compare(io.read(out, kind="reference"), io.read(d / "truth.csv", kind="reference"))
     for k in ("attitude_heading_deg", "attitude_inclination_deg", "position_horizontal_m", "velocity_horizontal_m_s"):

@@ -72,6 +72,6 @@ def test_bag_ahrs_run_equals_api(tmp_path, sim):
     np.testing.assert_allclose(df[["q_w", "q_x", "q_y", "q_z"]].to_numpy(), r.quat, atol=1e-6)
     assert cli.main(["compare", str(out), str(p), "--json", str(js)]) == 0  # against the bag's own orientation
     got = json.loads(js.read_text())
-    from quatnav.cli.compare import attitude_difference, stats
+    from quatnav.evaluation.track_difference import attitude_difference, stats
     d = attitude_difference(r.t, r.quat, T0 + sim.t, sim.q_nb)
     assert got["attitude_inclination_deg"]["rms"] == pytest.approx(stats(d["inclination_deg"])["rms"], abs=1e-4)

@@ -18,7 +18,7 @@ import pytest
 
 import quatnav
 from quatnav import cli, io
-from quatnav.cli.compare import compare
+from quatnav.evaluation.track_difference import compare_tracks as compare
 from quatnav.core import earth as E
 from quatnav.core import quaternion as Q
 

@@ -234,7 +234,7 @@ def plot_attitude(res, log, path):
     ax[1].plot(res.t, np.degrees(res.bias))
     ax[1].set_ylabel("gyro bias, deg/s")
     if ref is not None:
-        from .compare import attitude_difference
+        from ..evaluation.track_difference import attitude_difference
         d = attitude_difference(res.t, res.quat, ref.t, ref.quat)
         ax[2].plot(d["t"], d["inclination_deg"], label="inclination")
         ax[2].plot(d["t"], d["heading_deg"], label="heading")

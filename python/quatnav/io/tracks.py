@@ -80,7 +80,7 @@ def plot_nav(path, r, nav, gnss, log=None):
     ax[1, 0].plot(t, np.degrees(r.bias[nav]) * 3600)
     ax[1, 0].set_ylabel("gyro bias, deg/h")
     if ref is not None:
-        from ..cli.compare import attitude_difference
+        from ..evaluation.track_difference import attitude_difference
         d = attitude_difference(t, r.quat[nav], ref.t, ref.quat)
         ax[1, 1].plot(d["t"], d["inclination_deg"], label="inclination")
         ax[1, 1].plot(d["t"], d["heading_deg"], label="heading")
