@@ -12,6 +12,7 @@ import pytest
 import quatnav
 from quatnav import cli
 from quatnav.core import earth
+from quatnav.plausibility import AxesWarning, UnitWarning
 
 pytest.importorskip("pandas")
 from quatnav.sim.scenarios import make_scenario  # noqa: E402
@@ -299,8 +300,13 @@ def test_gap_is_coasted_and_reported_with_file_lines(walk, files, tmp_path, caps
     assert np.sqrt(np.mean(dn ** 2 + de ** 2)) < 3.0  # the fixes during the gap still hold the position
 
 
+def _text(w):
+    """A check's warning as its message (None: no warning)."""
+    return None if w is None else str(w)
+
+
 def test_no_warnings_on_the_simulated_scenarios():
-    from quatnav.cli.ins import plausibility_warnings
+    from quatnav.plausibility import plausibility_warnings
     for name in ("paper004_static", "paper004_turntable", "paper004_walk", "paper002_straight_then_circle"):
         s = make_scenario(name, seed=1)
         g = s.gps
@@ -358,15 +364,15 @@ def test_gnss_in_radians_and_times_that_do_not_overlap(files, tmp_path, capsys):
 
 
 def test_magnetometer_units():
-    from quatnav.cli.ins import check_magnetometer
+    from quatnav.plausibility import check_magnetometer
     rng = np.random.default_rng(0)
     m = rng.standard_normal((500, 3))
     m = 48.0 * m / np.linalg.norm(m, axis=1, keepdims=True)  # uT
     assert check_magnetometer(m) is None
     for scale, unit in ((1e-6, "tesla"), (0.01, "gauss"), (10.0, "milligauss"), (1000.0, "nanotesla")):
         w = check_magnetometer(m * scale)
-        assert w is not None and f"looks like {unit}" in w, (scale, w)
-    assert "check the unit" in check_magnetometer(m * 1e-3)
+        assert isinstance(w, UnitWarning) and f"looks like {unit}" in str(w), (scale, w)
+    assert "check the unit" in _text(check_magnetometer(m * 1e-3))
 
 
 @pytest.mark.data
@@ -375,7 +381,7 @@ def test_plausibility_on_real_logs(data_dir):
     (z up) and its file's unit (g) are named."""
     from quatnav.datasets import gnss_imu_walk as W
     from quatnav.datasets import navego
-    from quatnav.cli.ins import plausibility_warnings
+    from quatnav.plausibility import plausibility_warnings
     for sub in ("navego_synthetic", "gnss_imu_walk"):
         if not (data_dir / sub).is_dir():
             pytest.skip(f"{sub} not in {data_dir}")
@@ -385,9 +391,9 @@ def test_plausibility_on_real_logs(data_dir):
     ll = np.degrees(w.gnss_llh[:, :2]).T
     assert plausibility_warnings(w.imu_t, W.to_body(w.gyro_s), W.to_body(w.accel_s), w.gnss_t, *ll) == []
     raw = plausibility_warnings(w.imu_t, w.gyro_s, w.accel_s, w.gnss_t, *ll)
-    assert len(raw) == 1 and "gravity appears on +z" in raw[0]
+    assert len(raw) == 1 and isinstance(raw[0], AxesWarning) and "gravity appears on +z" in str(raw[0])
     in_g = plausibility_warnings(w.imu_t, w.gyro_s, w.accel_s / W.G0, w.gnss_t, *ll)
-    assert any("look like g, not m/s^2" in x for x in in_g)
+    assert any(isinstance(x, UnitWarning) and "look like g, not m/s^2" in str(x) for x in in_g)
 
 
 # --- what real logs need: mounting, time offset, initial state, magnetometer, odometer,
@@ -415,10 +421,10 @@ def test_upside_down_imu_warns_and_imu_rotation_fixes_it(walk, files, tmp_path, 
 
 
 def test_gnss_on_another_clock_names_the_offset(files, tmp_path, capsys):
-    from quatnav.cli.ins import check_clock, check_motion_start
+    from quatnav.plausibility import check_clock, check_motion_start
     # a 10 s log whose GNSS times are 18 s ahead (GPS time against UTC): no overlap, the offset named
     t10 = np.arange(0.0, 10.0, 0.01)
-    assert "GPS time against UTC" in check_clock(t10 + 1e9, np.arange(0.0, 10.0, 0.2) + 1e9 + 18.0)
+    assert "GPS time against UTC" in _text(check_clock(t10 + 1e9, np.arange(0.0, 10.0, 0.2) + 1e9 + 18.0))
     assert check_clock(t10, np.arange(0.0, 10.0, 0.2)) is None
     t = np.arange(0.0, 100.0, 0.01)
     # the motion seen 0.8 s later by the GNSS than by the gyro: within 1 s, no warning; 3 s: a warning
@@ -426,7 +432,7 @@ def test_gnss_on_another_clock_names_the_offset(files, tmp_path, capsys):
     gyro[t > 20.0, 2] = 0.5
     tg = np.arange(0.0, 100.0, 0.2)
     assert check_motion_start(t, gyro, tg, np.where(tg > 20.8, 1.5, 0.0)) is None
-    msg = check_motion_start(t, gyro, tg, np.where(tg > 23.0, 1.5, 0.0))
+    msg = _text(check_motion_start(t, gyro, tg, np.where(tg > 23.0, 1.5, 0.0)))
     import re
     offset = float(re.search(r"gps_time_offset = (\S+)", msg).group(1))
     assert abs(offset + 3.0) < 0.3, msg  # the GNSS sampling (0.2 s) and the smoothing (0.2 s) limit it
@@ -522,7 +528,7 @@ def test_motion_start_check_is_quiet_on_a_car_pulling_away_straight():
     """A car moving from t = 0, stopping at 40-48 s and pulling away straight: the GNSS sees the
     start at 48.5 s, the gyro only at the first turn; the specific force sees the start too, so no
     clock offset is suggested. Starts 30 s apart are not read as a clock offset either."""
-    from quatnav.cli.ins import check_motion_start
+    from quatnav.plausibility import check_motion_start
     t = np.arange(0.0, 120.0, 0.01)
     gyro = np.zeros((len(t), 3))
     gyro[(t > 80.0) & (t < 85.0), 2] = 0.4  # the first turn
@@ -534,7 +540,7 @@ def test_motion_start_check_is_quiet_on_a_car_pulling_away_straight():
     assert check_motion_start(t, gyro, tg, speed, accel=accel) is None
     assert check_motion_start(t, gyro, tg, speed) is None  # gyro only: 31 s apart, different events
     late = np.where((tg > 40.0) & (tg < 51.0), 0.0, 8.0)  # the GNSS 2.5 s late
-    msg = check_motion_start(t, gyro, tg, late, accel=accel)
+    msg = _text(check_motion_start(t, gyro, tg, late, accel=accel))
     assert msg is not None and "gps_time_offset = -2." in msg
 
 
@@ -543,7 +549,7 @@ def test_motion_start_check_ignores_a_stop_the_imu_sees_early():
     gently to a stop at 105 s: the braking looks still to the IMU, which sees the stop 4 s before
     the GNSS does. That is not the threshold's lag (which makes the GNSS stop early): with one
     clock no offset is suggested (it suggested about 2 s), with the GNSS 3 s late the start names it."""
-    from quatnav.cli.ins import check_motion_start
+    from quatnav.plausibility import check_motion_start
     t = np.arange(0.0, 130.0, 0.005)
     gyro = np.zeros((len(t), 3))
     gyro[(t > 80.0) & (t < 85.0), 2] = 0.4
@@ -556,7 +562,7 @@ def test_motion_start_check_ignores_a_stop_the_imu_sees_early():
     speed = np.where(tg > 101.0, np.maximum(1.2 - 0.3 * (tg - 101.0), 0.0), speed)
     speed[tg > 105.0] = 0.0
     assert check_motion_start(t, gyro, tg, speed, accel=accel) is None
-    msg = check_motion_start(t, gyro, tg + 3.0, speed, accel=accel)
+    msg = _text(check_motion_start(t, gyro, tg + 3.0, speed, accel=accel))
     assert msg is not None and "stops" not in msg and -3.5 < _offset_named(msg) < -2.9, msg
 
 
@@ -565,7 +571,7 @@ def test_motion_start_check_is_quiet_after_a_moving_start_with_a_rotated_imu():
     IMU mounted turned 90 deg in yaw and tilted: the specific force at the start of the log is not
     the one at rest, so the pull-away is measured against the steady second before it. With the
     GNSS on the IMU's clock: no warning; 3 s late: the offset named, to the detection lags."""
-    from quatnav.cli.ins import check_motion_start
+    from quatnav.plausibility import check_motion_start
     from quatnav.core import quaternion as quat
     rng = np.random.default_rng(3)
     t = np.arange(0.0, 120.0, 0.005)
@@ -582,7 +588,7 @@ def test_motion_start_check_is_quiet_after_a_moving_start_with_a_rotated_imu():
     speed = np.where((tg > 40.0) & (tg < 48.8), 0.0, 8.0)
     assert check_motion_start(t, gyro, tg, speed, accel=accel) is None
     late = np.where((tg > 40.0) & (tg < 51.8), 0.0, 8.0)  # the GNSS 3 s late
-    msg = check_motion_start(t, gyro, tg, late, accel=accel)
+    msg = _text(check_motion_start(t, gyro, tg, late, accel=accel))
     import re
     offset = float(re.search(r"gps_time_offset = (\S+)", msg).group(1))
     assert -3.5 < offset < -2.5, msg
@@ -599,14 +605,14 @@ def test_motion_start_check_cancels_the_speed_thresholds_lag(shift):
     ramping over 4 s to 1.2 m/s and back, so it crosses 0.5 m/s 1.67 s after the start and 1.67 s
     before the stop. The start alone suggested a 1.67 s offset on one clock; start and stop
     together find none, and the GNSS shifted by ``shift`` s is named to within the sampling."""
-    from quatnav.cli.ins import check_motion_start
+    from quatnav.plausibility import check_motion_start
     t = np.arange(0.0, 130.0, 0.01)
     gyro = np.zeros((len(t), 3))
     walking = (t > 10.0) & (t < 110.0)
     gyro[walking, 1] = 0.8 * np.sin(2 * np.pi * 1.8 * t[walking])  # the gait
     tg = np.arange(0.0, 130.0, 0.25)
     speed = np.clip(np.minimum(tg - 10.0, 110.0 - tg) / 4.0, 0.0, 1.0) * 1.2
-    msg = check_motion_start(t, gyro, tg + shift, speed)
+    msg = _text(check_motion_start(t, gyro, tg + shift, speed))
     if shift == 0.0:
         assert msg is None
     else:
@@ -615,7 +621,7 @@ def test_motion_start_check_cancels_the_speed_thresholds_lag(shift):
     # (the differences 8 s apart), so the start alone decides: 1.67 s late
     g2 = gyro.copy()
     g2[(t > 110.0) & (t < 116.0), 1] = 0.8 * np.sin(2 * np.pi * 1.8 * t[(t > 110.0) & (t < 116.0)])
-    msg = check_motion_start(t, g2, tg + shift, speed)
+    msg = _text(check_motion_start(t, g2, tg + shift, speed))
     assert "stops at" not in msg and abs(_offset_named(msg) + shift + 1.67) < 0.3, msg
 
 
@@ -623,7 +629,7 @@ def test_motion_start_check_on_the_real_walk(data_dir):
     """The real walk (RTK, one clock): the GNSS speed passes 0.5 m/s 1.3 s after the first step;
     no offset is suggested, and GNSS times shifted by -8 s (the case that was misread as 6.7 s)
     or +5 s are named to within 0.5 s."""
-    from quatnav.cli.ins import check_motion_start
+    from quatnav.plausibility import check_motion_start
     from quatnav.datasets import gnss_imu_walk as W
     if not (data_dir / "gnss_imu_walk").is_dir():
         pytest.skip("gnss_imu_walk not in the data folder")
@@ -632,7 +638,7 @@ def test_motion_start_check_on_the_real_walk(data_dir):
     speed = np.hypot(w.vel_n[:, 0], w.vel_n[:, 1])
     assert check_motion_start(w.imu_t, gyro, w.gnss_t, speed, accel=accel) is None
     for shift in (-8.0, 5.0):
-        msg = check_motion_start(w.imu_t, gyro, w.gnss_t + shift, speed, accel=accel)
+        msg = _text(check_motion_start(w.imu_t, gyro, w.gnss_t + shift, speed, accel=accel))
         assert abs(_offset_named(msg) + shift) < 0.5, msg
 
 
@@ -641,7 +647,7 @@ def test_box_mean_is_numpys_centred_convolution(n, w):
     """The smoothing of the motion-start check (cumulative sums) against ``np.convolve(...,
     mode="same")`` of a box, column by column, at both edges and for a window longer than the
     record."""
-    from quatnav.cli.ins import _box_mean
+    from quatnav.plausibility._signals import box_mean as _box_mean
     x = np.random.default_rng(n + w).normal(9.8, 1.0, (n, 3))
     ref = np.column_stack([np.convolve(x[:, c], np.ones(w) / w, mode="same")[:n] for c in range(3)])
     if w > n:  # numpy's "same" output then has w rows, centred on the record
@@ -676,12 +682,12 @@ def test_forward_axis_is_the_mounting_yaw(beta_deg):
     """The direction of travel from the accelerations is -beta for an IMU yawed by beta (tilted
     by 3 and -2 deg), within a degree; its warning names imu_rotation's yaw beta, and is quiet
     within 20 deg."""
-    from quatnav.cli.ins import check_forward_axis, forward_axis
+    from quatnav.plausibility import check_forward_axis, forward_axis
     t, accel, tg, v = _drive(np.radians(beta_deg), tilt=(np.radians(3.0), np.radians(-2.0)))
     ang, n, agree = forward_axis(t, accel, tg, v)
     err = (np.degrees(ang) + beta_deg + 180.0) % 360.0 - 180.0
     assert abs(err) < 1.0 and agree > 0.95 and n > 250, (np.degrees(ang), n, agree)
-    msg = check_forward_axis(t, accel, tg, v)
+    msg = _text(check_forward_axis(t, accel, tg, v))
     if beta_deg == 0.0:
         assert msg is None
     else:
@@ -693,7 +699,7 @@ def test_forward_axis_is_the_mounting_yaw(beta_deg):
 def test_forward_axis_needs_speed_and_agreement():
     """Below 3 m/s (a walker's GNSS speed: no course to speak of) there is no answer; a velocity
     of noise alone (no relation to the specific force) gives a low agreement and no warning."""
-    from quatnav.cli.ins import check_forward_axis, forward_axis
+    from quatnav.plausibility import check_forward_axis, forward_axis
     t, accel, tg, v = _drive(np.radians(90.0))
     assert forward_axis(t, accel, tg, v * 3.0 / np.hypot(v[:, 0], v[:, 1]).max()) is None
     rng = np.random.default_rng(1)

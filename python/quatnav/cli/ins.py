@@ -68,7 +68,7 @@ at most ``max_dt`` with the sample that ends the gap (by the file's convention t
 gap), without output rows for the inserted steps, and a warning names the file lines. IMU times
 whose median step exceeds ``max_dt`` are refused as a wrong unit (ms, us or ns are named when the
 step fits one). Inputs that look like the wrong unit or axes give one warning each on stderr
-(:func:`plausibility_warnings`): gyro in deg/s, accelerometer in g or mg, gravity not on -z at
+(:mod:`quatnav.plausibility`): gyro in deg/s, accelerometer in g or mg, gravity not on -z at
 rest, latitude/longitude in radians, GNSS and IMU time ranges that do not overlap.
 """
 from __future__ import annotations
@@ -81,9 +81,10 @@ import warnings
 
 import numpy as np
 
-from ..filters._base import accel_unit
+from .._command import InputError, UsageError, write_json
 from ..io.table import CsvError, read_table
-from .._command import UsageError, write_json
+from ..plausibility import check_heading_aids, check_imu_times, check_overlap, plausibility_warnings
+from ..plausibility.gnss import gnss_speed, gnss_velocity_ne
 from .util import date_arg, declination_arg
 
 IMU_COLUMNS = ("time", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z")
@@ -173,10 +174,6 @@ non-holonomic constraint (no lateral or vertical body velocity): nhc = true appl
   from when
 exit status: 0 on success, 1 when navigation never started (no output rows), 2 on an input
 error (one line on stderr naming the file, line and column)."""
-
-
-class InputError(UsageError, ValueError):
-    """A problem with an input file or the configuration (its message is the one-line report)."""
 
 
 def read_csv(path, required, optional=(), what="file"):
@@ -274,58 +271,8 @@ def _check_radians(rpy, where, pitch_limit):
                          f"{' (pitch within +-pi/2)' if pitch_limit else ''}; if these are degrees: [{rad}]")
 
 
-_UNITS = (("milliseconds", 1e-3), ("microseconds", 1e-6), ("nanoseconds", 1e-9))
 #: The most coasting steps inserted into one run (a longer gap is refused, not coasted).
 MAX_COAST_STEPS = 5_000_000
-
-
-def _lines_text(pairs, limit=3) -> str:
-    shown = ", ".join(pairs[:limit])
-    return shown + (f" and {len(pairs) - limit} more" if len(pairs) > limit else "")
-
-
-def check_imu_times(t, lines, max_dt, where="IMU"):
-    """Refuse IMU times in the wrong unit; return the gaps longer than ``max_dt``.
-
-    Returns
-    -------
-    gaps : list of (k, step)
-        Rows k (0-based) whose step ``t[k] - t[k-1]`` exceeds ``max_dt``.
-    warnings : list of str
-
-    Raises
-    ------
-    InputError
-        When the median step exceeds ``max_dt`` (the record would be all gaps): the message
-        names the unit the times look like (ms, us, ns) when the step fits one.
-    """
-    d = np.diff(t)
-    med = float(np.median(d))
-    warnings = []
-
-    def guess(step):
-        for name, f in _UNITS:
-            if 1e-5 <= step * f <= 0.25:
-                return name, 1.0 / (step * f)
-        return None, None
-    if med > max_dt:
-        unit, rate = guess(med)
-        hint = (f"the times look like {unit} (a {rate:.4g} Hz IMU): convert them to seconds" if unit
-                else "times must be in seconds")
-        raise InputError(f"{where}: median time step {med:g} s exceeds max_dt = {max_dt:g} s, implausible for an "
-                         f"IMU; {hint}")
-    if med > 0.1:
-        unit, rate = guess(med)
-        warnings.append(f"{where}: median time step {med:g} s ({1 / med:.3g} Hz) is slow for an IMU"
-                        + (f"; if the times are in {unit} ({rate:.4g} Hz), convert them to seconds" if unit else ""))
-    big = np.flatnonzero(d > max_dt)
-    gaps = [(int(k) + 1, float(d[k])) for k in big]
-    if gaps:
-        pairs = [f"lines {lines[k - 1]}-{lines[k]}: {step:g} s" for k, step in gaps]
-        warnings.append(f"{where}: {len(gaps)} gap{'s' if len(gaps) > 1 else ''} longer than max_dt = {max_dt:g} s "
-                        f"({_lines_text(pairs)}): coasted across in steps of at most max_dt with the sample that "
-                        "ends each gap; the error grows there")
-    return gaps, warnings
 
 
 def coast_gaps(t, gyro, accel, gaps, max_dt, lines=None, where="IMU"):
@@ -364,362 +311,6 @@ def coast_gaps(t, gyro, accel, gaps, max_dt, lines=None, where="IMU"):
         tt[j:j + m - 1] = t[k - 1] + frac * (t[k] - t[k - 1])
         original[j:j + m - 1] = False
     return tt, gyro[idx], accel[idx], original
-
-
-def _window(t, align_time):
-    """Rows in the alignment window [t0, t0 + align_time] (at least 10 when there are)."""
-    n = int(np.searchsorted(t, t[0] + max(align_time, 0.0), side="right"))
-    return slice(1, max(n, min(len(t), 11)))  # row 0 only fixes the start time
-
-
-def check_gyro(gyro, t, align_time, where="IMU"):
-    """A warning when the rates look like deg/s (or None)."""
-    w = _row_norms(np.asarray(gyro, float))
-    mx = float(np.max(np.abs(gyro)))
-    rest = float(np.median(w[_window(t, align_time)]))
-    med = float(np.median(w))
-    if mx > 40.0 or med > 1.5 or rest > 0.1:
-        why = (f"max |gyro| {mx:.4g} rad/s is beyond any MEMS gyro's range" if mx > 40.0 else
-               f"median |gyro| {med:.4g} rad/s is implausibly fast" if med > 1.5 else
-               f"median |gyro| {rest:.4g} over the first {align_time:g} s, where the filter levels at rest: as rad/s "
-               f"that is {math.degrees(rest):.3g} deg/s, far above a gyro bias")
-        return (f"{where}: gyro_x/y/z look like deg/s, not rad/s ({why}); multiply by pi/180"
-                + ("" if mx > 40.0 or med > 1.5 else ", or start the log at rest"))
-    return None
-
-
-def check_accel(accel, where="IMU"):
-    """A warning when the specific force looks like g or mg, or is far from gravity (or None)."""
-    unit, m = accel_unit(accel)
-    if unit == "g":
-        return (f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
-                "multiply by 9.80665")
-    if unit == "mg":
-        return (f"{where}: accel_x/y/z look like milli-g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
-                "multiply by 0.00980665")
-    if unit == "far":
-        return f"{where}: median |accel| {m:.4g} m/s^2, far from gravity (~9.8): check the unit of accel_x/y/z"
-    return None
-
-
-def check_gravity(accel, t, align_time, where="IMU"):
-    """A warning when gravity at rest is not on -z of the forward-right-down body frame (or None).
-
-    At rest a forward-right-down IMU measures the specific force (0, 0, -g); a mean over the
-    alignment window more than 60 deg away from -z names the axis it appears on.
-    """
-    f = np.mean(accel[_window(t, align_time)], axis=0)
-    n = float(np.linalg.norm(f))
-    if not n > 0.5:
-        return None
-    if -f[2] / n >= 0.5:  # within 60 deg of -z
-        return None
-    ax = int(np.argmax(np.abs(f)))
-    sign = "+" if f[ax] > 0 else "-"
-    at = f"mean specific force over the first {align_time:g} s ({f[0]:.2f}, {f[1]:.2f}, {f[2]:.2f}) m/s^2"
-    if ax == 2:
-        return (f"{where}: gravity appears on +z ({at}; forward-right-down at rest sees (0, 0, -9.8)): is the IMU "
-                "upside down, its z axis up (forward-left-up)? set imu_rotation in [filter] (e.g. [3.141593, 0, 0], "
-                "a roll of 180 deg); or the accelerometer gives gravity instead of specific force (negate all three)")
-    return (f"{where}: gravity appears on {sign}{'xyz'[ax]} ({at}; forward-right-down at rest sees (0, 0, -9.8)): "
-            "the IMU axes are not forward-right-down: set imu_rotation in [filter] (the rotation from the IMU axes to "
-            "forward-right-down), or it is not level at rest")
-
-
-def check_magnetometer(mag, where="magnetometer"):
-    """A warning when a magnetometer (N, 3) is not in uT: T, G, mG or nT are named (or None).
-
-    The Earth's field is 22-67 uT at the surface.
-    """
-    m = float(np.median(np.linalg.norm(np.asarray(mag, float), axis=1)))
-    for lo, hi, unit, factor in ((5e-6, 2e-4, "tesla", "1e6"), (0.1, 1.0, "gauss", "100"),
-                                 (100.0, 1000.0, "milligauss", "0.1"), (5e3, 2e5, "nanotesla", "0.001")):
-        if lo <= m <= hi:
-            return f"{where}: median |mag| {m:.4g} looks like {unit}, not uT; multiply by {factor}"
-    if not 5.0 <= m <= 200.0:
-        return f"{where}: median |mag| {m:.4g}, expected 22-67 uT for the Earth's field: check the unit"
-    return None
-
-
-def check_latlon(lat_deg, lon_deg, where="GNSS"):
-    """A warning when every fix lies within +-pi/2, +-pi "degrees" of (0, 0): radians (or None)."""
-    if len(lat_deg) and np.all(np.abs(lat_deg) <= math.pi / 2) and np.all(np.abs(lon_deg) <= math.pi) \
-            and np.max(np.abs(np.concatenate([lat_deg, lon_deg]))) > 1e-3:
-        return (f"{where}: every lat/lon is within +-1.571/+-3.142, i.e. they look like radians "
-                f"(lat {np.median(lat_deg):.4f}, lon {np.median(lon_deg):.4f}); the columns are degrees")
-    return None
-
-
-def check_overlap(t_imu, t_gnss, where="GNSS"):
-    """A warning when the GNSS and IMU time ranges do not overlap (or None)."""
-    if len(t_gnss) and (t_gnss[-1] < t_imu[0] or t_gnss[0] > t_imu[-1]):
-        return (f"{where} times {t_gnss[0]:g} to {t_gnss[-1]:g} s and IMU times {t_imu[0]:g} to {t_imu[-1]:g} s "
-                "do not overlap: the files must share one clock, in seconds")
-    return None
-
-
-#: Clock offsets that say which clocks two time columns are on: (seconds, what).
-_CLOCKS = ((18.0, "GPS time against UTC (18 leap seconds)"),
-           (315964800.0, "Unix time against GPS time (the GPS epoch, 1980-01-06)"),
-           (315964782.0, "Unix time against GPS time less the leap seconds"))
-
-
-def check_clock(t_imu, gnss_t, where="GNSS"):
-    """A warning naming the likely clocks when the GNSS times do not overlap the IMU's (or None):
-    a difference of 18 s (GPS time against UTC), of the GPS epoch in Unix time, a time of week
-    against a time since boot."""
-    gnss_t = np.asarray(gnss_t, float)
-    if not len(gnss_t) or not (gnss_t[-1] < t_imu[0] or gnss_t[0] > t_imu[-1]):
-        return None
-    d = float(np.median(gnss_t) - np.median(t_imu))
-    for off, what in _CLOCKS:
-        if abs(abs(d) - off) < 0.5 * (t_imu[-1] - t_imu[0]) + 1.0:
-            return (f"{where} times are {d:+.6g} s from the IMU's: {what}? give gps_time_offset = {-round(d):g} in "
-                    "[filter], or convert the times")
-    if 0.0 <= gnss_t[0] <= 604800.0 and t_imu[0] > 1e8:
-        return (f"{where} times look like a GPS time of week ({gnss_t[0]:.6g} s) and the IMU's like an absolute time "
-                f"({t_imu[0]:.6g} s): put both on one clock (gps_time_offset shifts the GNSS times)")
-    return None
-
-
-def motion_start(t, speed_or_rate, threshold):
-    """The first time the signal exceeds ``threshold`` after having been below it (or None)."""
-    x = np.asarray(speed_or_rate, float)
-    below = np.flatnonzero(x < threshold)
-    if not below.size:
-        return None
-    above = np.flatnonzero((x > threshold) & (np.arange(len(x)) > below[0]))
-    return float(t[above[0]]) if above.size else None
-
-
-def _row_dots(a, b):
-    """The dot product of each row of two (n, k) arrays."""
-    return np.einsum("ij,ij->i", a, b)
-
-
-def _row_norms(x):
-    """The norm of each row of an (n, 3) array: ``np.linalg.norm(x, axis=1)`` without its
-    temporaries (the motion-start check runs over every IMU row)."""
-    return np.sqrt(_row_dots(x, x))
-
-
-def _box_mean(x, w):
-    """The mean over ``w`` samples centred on each row, zeros outside (``np.convolve(x,
-    np.ones(w) / w, mode="same")`` column by column), from cumulative sums: O(N) whatever ``w``."""
-    x = np.asarray(x, float)
-    n = len(x)
-    c = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)])
-    h = (w - 1) // 2 + 1  # row i's window ends before row i + h
-    # rows a..b-1 have their whole window inside: slices; the edges clipped, by index
-    a, b = min(n, max(0, w - h)), max(0, n - h + 1)
-    a = min(a, b)
-    out = np.empty_like(c[1:])
-    out[a:b] = c[a + h:b + h] - c[a + h - w:b + h - w]
-    edge = np.r_[0:a, b:n]
-    out[edge] = c[np.minimum(edge + h, n)] - c[np.clip(edge + h - w, 0, n)]
-    return out / w
-
-
-def check_motion_start(t, gyro, gnss_t, gnss_speed, where="GNSS", imu="IMU", accel=None):
-    """A warning when the IMU and the GNSS see the start of the motion 1 to 10 s apart (their
-    clocks differ: gps_time_offset), or None. Motion in the IMU (smoothed over 0.2 s, after at
-    least 1 s still; the onset nearest the GNSS start): |gyro| above 0.3 rad/s or, given
-    ``accel``, the
-    specific force more than 0.5 m/s^2 from its mean over a steady second that ends 0.2 s
-    before (steady: a spread below 0.2 m/s^2 and a magnitude within 0.25 m/s^2 of the log's
-    median, i.e. gravity alone: a vehicle pulling away without turning, whatever its motion at
-    the start of the log or the IMU's mounting); in the GNSS the speed above 0.5 m/s after being
-    below it. Starts more than 10 s apart are taken for different events (a latency is below a
-    second; a clock offset of seconds or more shows in check_clock).
-
-    A threshold on the speed sees a start late and a stop early (a walker reaches 0.5 m/s about
-    a second after the first step), the IMU's activity sees both when they happen. Where the
-    motion that starts also stops (the GNSS speed below 0.5 m/s for a second, the IMU still for a
-    second, the two within 10 s), and the start's difference exceeds the stop's by 0 to 4 s (twice
-    the threshold's lag, within a GNSS interval), the offset is the mean of the two differences, in
-    which the lag cancels. A stop the IMU sees earlier than that (a vehicle braking gently after its
-    last turn looks still to it) is not used: the start alone gives the offset."""
-    if gnss_speed is None or len(gnss_t) < 3 or len(t) < 10:
-        return None
-    dt = float(np.median(np.diff(t)))
-    w = max(1, int(round(0.2 / dt)))
-    activity = _box_mean(_row_norms(np.asarray(gyro, float)), w) / 0.3
-    what = "|gyro| > 0.3 rad/s"
-    steady = None
-    if accel is not None and len(t) > 2 * w + 2:
-        fs = _box_mean(np.asarray(accel, float), w)
-        n = len(fs)
-        n1 = max(2, int(round(1.0 / dt)))  # the steady second, ending w samples before
-        c1 = np.vstack([np.zeros(3), np.cumsum(fs, axis=0)])
-        c2 = np.r_[0.0, np.cumsum(_row_dots(fs, fs))]
-        # row i: the second [i - w + 1 - n1, i - w + 1), past the smoothing's edge (from row w):
-        # rows i0 = 2 w - 1 + n1 on, as slices of the cumulative sums
-        i0 = min(n, 2 * w - 1 + n1)
-        hi, lo = slice(i0 - w + 1, n - w + 1), slice(i0 - w + 1 - n1, n - w + 1 - n1)
-        mean = np.zeros_like(fs)
-        mean[i0:] = (c1[hi] - c1[lo]) / n1
-        spread2 = np.zeros(n)
-        spread2[i0:] = (c2[hi] - c2[lo]) / n1 - _row_dots(mean[i0:], mean[i0:])
-        g = float(np.median(_row_norms(fs[w:-w])))
-        steady = (np.arange(n) >= i0) & (spread2 < 0.2 ** 2) & (np.abs(_row_norms(mean) - g) < 0.25)
-        dev = np.where(steady, _row_norms(fs - mean), 0.0)
-        activity = np.maximum(activity, dev / 0.5)
-        what += " or f 0.5 m/s^2 from a steady second before"
-    gnss_t = np.asarray(gnss_t, float)
-    tg = motion_start(gnss_t, gnss_speed, 0.5)
-    # the IMU onsets: above the threshold after at least 1 s still (below it, and steady); the
-    # stops: above it before at least 1 s still
-    above = activity > 1.0
-    still = ~above if steady is None else ~above & steady
-    n1 = round(1.0 / dt)
-    onsets = np.flatnonzero(above[1:] & (_still_run(still)[:-1] >= n1)) + 1
-    stops = np.flatnonzero(above[:-1] & (_still_run(~above[::-1])[::-1][1:] >= n1))  # steady only later
-    if tg is None or not onsets.size:
-        return None
-    ti = float(t[onsets[np.argmin(np.abs(t[onsets] - tg))]])
-    if abs(tg - ti) > 10.0:
-        return None
-    d, seen = tg - ti, f"starts at {tg:.3f} s in the GNSS and at {ti:.3f} s in the {imu}"
-    sg = _gnss_stop(gnss_t, np.asarray(gnss_speed, float), tg, 0.5, 1.0)
-    if sg is not None and stops.size:
-        si = float(t[stops[np.argmin(np.abs(t[stops] - sg))]])
-        # the same offset seen with the threshold's lag added at the start and taken off at the
-        # stop: (tg - ti) - (sg - si) = 2 lag >= 0, up to a GNSS interval of sampling. Over 4 s (a
-        # lag over 2 s): different events; below: a stop the IMU saw early (gentle braking)
-        lag2 = (tg - ti) - (sg - si)
-        tol = max(0.5, float(np.median(np.diff(gnss_t))))
-        if abs(sg - si) <= 10.0 and -tol <= lag2 <= 4.0:
-            d = 0.5 * (tg - ti + sg - si)
-            seen += f" and stops at {sg:.3f} s and {si:.3f} s"
-    if not 1.0 < abs(d) <= 10.0:
-        return None
-    return (f"{where}: the motion {seen} ({what}): "
-            f"the clocks may differ by {d:+.2f} s; if so give gps_time_offset = {-d:.2f} in [filter]")
-
-
-def _still_run(still):
-    """The number of consecutive True values ending at each element (0 where it is False)."""
-    idx = np.arange(len(still))
-    return idx - np.maximum.accumulate(np.where(still, -1, idx))
-
-
-def _gnss_stop(t, speed, after, threshold, hold):
-    """The first time after ``after`` that the speed falls below ``threshold`` and stays below
-    it for ``hold`` seconds (or None)."""
-    below = speed < threshold
-    for k in np.flatnonzero(below[1:] & ~below[:-1] & (t[1:] > after)) + 1:
-        end = np.searchsorted(t, t[k] + hold)
-        if end < len(t) and below[k:end + 1].all():
-            return float(t[k])
-    return None
-
-
-def _gnss_speed(d_g):
-    """Horizontal GNSS speed per fix (m/s): the given velocity, else the position differences."""
-    if "v_n" in d_g and np.isfinite(d_g["v_n"]).all():
-        return np.hypot(d_g["v_n"], d_g["v_e"])
-    r = _gnss_vel_ne(d_g)
-    return None if r is None else np.r_[0.0, np.hypot(r[1][:, 0], r[1][:, 1])]  # each on the later fix
-
-
-def _gnss_vel_ne(d_g):
-    """(times, (K, 2) north/east velocity) of the fixes: the given velocity, else the position
-    differences at the midpoints; None for fewer than 2 fixes."""
-    t = np.asarray(d_g["time"], float)
-    if len(t) < 2:
-        return None
-    if "v_n" in d_g and np.isfinite(d_g["v_n"]).all() and np.isfinite(d_g["v_e"]).all():
-        return t, np.column_stack([d_g["v_n"], d_g["v_e"]]).astype(float)
-    from ..core.earth import radii
-    lat, lon, h = np.radians(d_g["lat"]), np.radians(d_g["lon"]), np.asarray(d_g["h"], float)
-    dt = np.diff(t)
-    R_M, R_N = radii(lat[1:])
-    return 0.5 * (t[1:] + t[:-1]), np.column_stack([np.diff(lat) * (R_M + h[1:]) / dt,
-                                                    np.diff(lon) * (R_N + h[1:]) * np.cos(lat[1:]) / dt])
-
-
-def forward_axis(t, accel, gnss_t, vel_ne, span=1.0, min_speed=3.0):
-    """The direction of travel in the IMU's horizontal plane, from the accelerations: over each
-    ``span`` s between fixes while moving faster than ``min_speed`` (the course defined), the GNSS
-    velocity change gives the acceleration along and across the track (forward, right), the mean
-    specific force over the same interval, with the gravity direction (the log's mean specific
-    force) taken off, the same acceleration in the IMU axes. The least-squares rotation about the
-    down axis between the two is the angle of the direction of travel from the IMU's x axis
-    (positive towards y, i.e. to the right in forward-right-down).
-
-    Returns ``(angle_rad, intervals, agreement)`` (agreement: the fitted rotation's correlation,
-    1 for a perfect fit) or None when fewer than 10 intervals accelerate by 0.5 m/s^2 or more."""
-    t = np.asarray(t, float)
-    f = np.asarray(accel, float)
-    g = f.mean(axis=0)
-    if len(t) < 10 or not np.linalg.norm(g) > 5.0:
-        return None
-    down = -g / np.linalg.norm(g)
-    e1 = np.array([1.0, 0.0, 0.0]) - down[0] * down
-    if not np.linalg.norm(e1) > 0.3:  # x near vertical: no angle from it
-        return None
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(down, e1)  # e1, e2, down right-handed (x, y, z in forward-right-down)
-    tg = np.asarray(gnss_t, float)
-    v = np.asarray(vel_ne, float)
-    m = max(1, int(round(span / float(np.median(np.diff(tg))))))
-    i0, i1 = np.arange(len(tg) - m), np.arange(m, len(tg))
-    dtg = tg[i1] - tg[i0]
-    vm = 0.5 * (v[i0] + v[i1])
-    speed = np.hypot(vm[:, 0], vm[:, 1])
-    ok = ((np.hypot(v[i0, 0], v[i0, 1]) > min_speed) & (np.hypot(v[i1, 0], v[i1, 1]) > min_speed)
-          & (dtg < 1.5 * span + 1e-9) & (tg[i0] >= t[0]) & (tg[i1] <= t[-1]) & np.isfinite(vm).all(axis=1))
-    if ok.sum() < 10:
-        return None
-    i0, i1, dtg, vm, speed = i0[ok], i1[ok], dtg[ok], vm[ok], speed[ok]
-    a = (v[i1] - v[i0]) / dtg[:, None]
-    u = vm / speed[:, None]
-    q = np.column_stack([_row_dots(a, u), a[:, 1] * u[:, 0] - a[:, 0] * u[:, 1]])  # along, right of the track
-    c = np.vstack([np.zeros(3), np.cumsum(f, axis=0)])
-    k0, k1 = np.searchsorted(t, tg[i0]), np.searchsorted(t, tg[i1])
-    good = k1 > k0
-    fm = (c[k1[good]] - c[k0[good]]) / (k1[good] - k0[good])[:, None]
-    p = np.column_stack([fm @ e1, fm @ e2])
-    q = q[good]
-    strong = np.hypot(q[:, 0], q[:, 1]) >= 0.5
-    if strong.sum() < 10:
-        return None
-    cross = float(np.sum(q[:, 0] * p[:, 1] - q[:, 1] * p[:, 0]))
-    dot = float(np.sum(q[:, 0] * p[:, 0] + q[:, 1] * p[:, 1]))
-    agreement = float(np.hypot(cross, dot) / np.sqrt(np.sum(p * p) * np.sum(q * q)))
-    return float(np.arctan2(cross, dot)), int(len(q)), agreement
-
-
-def check_forward_axis(t, accel, gnss_t, vel_ne, where="IMU", limit_deg=20.0):
-    """A warning when the direction of travel (:func:`forward_axis`, agreement 0.7 or more) is more
-    than ``limit_deg`` from the body's x axis, naming the yaw of ``imu_rotation`` that would turn
-    it there (or None)."""
-    if vel_ne is None:
-        return None
-    r = forward_axis(t, accel, gnss_t, vel_ne)
-    if r is None:
-        return None
-    ang, n, agree = r
-    if agree < 0.7 or abs(np.degrees(ang)) <= limit_deg:
-        return None
-    return (f"{where}: the vehicle travels at {np.degrees(ang):+.0f} deg from the body x axis about down (from the "
-            f"accelerations of {n} one-second intervals against the GNSS velocity, agreement {agree:.2f}); the "
-            "alignment in motion, the odometer and the non-holonomic constraint take x as forward: if the IMU is "
-            f"mounted so, add a yaw of {-ang:.4f} rad to imu_rotation in [filter] (e.g. imu_rotation = "
-            f"[0, 0, {-ang:.4f}] for IMU axes otherwise forward-right-down)")
-
-
-def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), align_time=2.0,
-                          imu="IMU", gnss="GNSS", gnss_speed=None, gnss_vel=None) -> list:
-    """The warnings of the checks above for one run (each at most once). ``gnss_vel``: (times,
-    (K, 2) north/east velocity) of the GNSS (:func:`_gnss_vel_ne`) for the forward-axis check."""
-    gnss_t = np.asarray(gnss_t)
-    out = [check_gyro(gyro, t, align_time, imu), check_accel(accel, imu), check_gravity(accel, t, align_time, imu),
-           check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, gnss_t, gnss),
-           check_clock(t, gnss_t, gnss), check_motion_start(t, gyro, gnss_t, gnss_speed, gnss, imu, accel)]
-    if gnss_vel is not None:
-        out.append(check_forward_axis(t, accel, gnss_vel[0], gnss_vel[1], imu))
-    return [w for w in out if w]
 
 
 def _columns_of(log, what):
@@ -973,7 +564,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         gyro, accel, _ = apply_calibration_args(argparse.Namespace(calibration=calibration), gyro, accel)
     gaps, wt = check_imu_times(t, lines_i, max_dt, where=f"IMU {imu}")
     for w in wt:
-        note(w)
+        note(str(w))
     step = np.diff(t)[:, None] if increments else 1.0
     rot = np.asarray(f.params["imu_rotation"], float)
     rates = np.vstack([gyro[:1] * 0, gyro[1:] / step]) if increments else gyro
@@ -981,9 +572,9 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
     if not np.array_equal(rot, np.eye(3)):  # the checks look at the body axes
         rates, forces = rates @ rot.T, forces @ rot.T
     for w in plausibility_warnings(t, rates, forces, d_g["time"], d_g["lat"], d_g["lon"], align_time,
-                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}", gnss_speed=_gnss_speed(d_g),
-                                   gnss_vel=_gnss_vel_ne(d_g)):
-        note(w)
+                                   imu=f"IMU {imu}", gnss=f"GNSS {gnss}", gnss_speed=gnss_speed(d_g),
+                                   gnss_vel=gnss_velocity_ne(d_g)):
+        note(str(w))
     overlap = check_overlap(t, d_g["time"]) is None
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, lines_i, where=f"IMU {imu}")
     if increments and not original.all():  # a coasted gap shares its increments between its steps
@@ -1059,7 +650,7 @@ def run_files(imu, gnss, out, baro=None, compass=None, config=None, warn=None, l
         tracks.update(result=r, nav=nav, gnss=d_g)
     rej = {k: v for k, v in r.rejections.items() if v}
     for w in check_heading_aids(r):
-        note(w)
+        note(str(w))
     n_nav = int(nav.sum())
     n_diag = write_diagnostics(diagnostics, r) if diagnostics else None
     if nav.any():
@@ -1118,32 +709,6 @@ def _calibrate_mag(f, gyro, accel, t, imu_input, kw):
     q = np.where(settled[:, None], r0.quat, np.nan)
     rot = np.asarray(f.params["imu_rotation"], float)
     return mag_attitude_fit(q, kw["mag"] @ rot.T)
-
-
-def check_heading_aids(r, min_tested=50, max_rejected=0.2) -> list:
-    """Warnings for a magnetometer or compass whose headings the filter gated out in more than
-    ``max_rejected`` of the samples it tested (at least ``min_tested``): the aid disagrees with the
-    heading that the GNSS and the IMU give, and the part that passed the gate still pulls on it."""
-    out = []
-    for name, what, fix in (("mag", "magnetometer", "an uncalibrated hard-iron offset or a declination "
-                             "(--mag-calibrate fits both on this log; or quatnav calibrate mag with --calibration, "
-                             "--declination DEG or auto) or a field the vehicle disturbs (--no-mag)"),
-                            ("compass", "compass", "a declination (--declination DEG or auto), a compass mounted "
-                             "turned, or one the vehicle disturbs")):
-        a = r.aids.get(name)
-        if a is None:
-            continue
-        d = a.decisions()
-        tested = sum(d.get(k, 0) for k in ("accepted", "rejected", "inflated", "reset"))
-        bad = d.get("rejected", 0)
-        if tested < min_tested or not bad > max_rejected * tested:
-            continue
-        inn = np.asarray(a.innovation, float)[:, 0]
-        rms = float(np.degrees(np.sqrt(np.nanmean(inn[np.isfinite(inn)] ** 2))))
-        out.append(f"{what}: {bad} of {tested} headings gated out ({100 * bad / tested:.0f} %; innovations "
-                   f"{rms:.1f} deg RMS): it disagrees with the heading of the GNSS and the IMU, and the samples that "
-                   f"pass pull the heading towards it: {fix}")
-    return out
 
 
 def _nhc_start(r):
