@@ -56,7 +56,7 @@ def test_filter_parameters_use_each_filters_names_and_ins_run_reads_the_file(sim
     doc = tomllib.loads(p.read_text())
     assert doc["filter"] == fp["GpsInsFilter"] and doc["parameters"]["QuaternionEKF"] == fp["QuaternionEKF"]
     assert len(doc["allan"]["gyro"]["white"]) == 3
-    from quatnav.cli.ins import load_config
+    from quatnav.pipeline import load_config
     assert load_config(p) == fp["GpsInsFilter"]
 
 

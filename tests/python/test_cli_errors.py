@@ -265,10 +265,10 @@ def test_missing_extra_is_named(logs, tmp_path, args, block, extra):
 # --- not user errors -----------------------------------------------------------------------------
 _BUG = """import sys
 import numpy as np
-import quatnav.cli.ins as m
+import quatnav.pipeline.ins as m
 def broken(*a, **k):
     return np.zeros(3) + np.zeros(4)   # a ValueError from numpy: a bug, not the user's mistake
-m.run_files = broken
+m._run = broken
 from quatnav.cli import main
 sys.exit(main(sys.argv[1:]))
 """

@@ -172,7 +172,7 @@ def test_cli_writes_the_scale_columns(tmp_path):
     out = tmp_path / "out.csv"
     assert cli.main(["ins", "run", "--imu", str(imu), "--gnss", str(gnss), "--config", str(cfg),
                      "--out", str(out)]) == 0
-    from quatnav.cli.ins import OUTPUT_COLUMNS, SCALE_COLUMNS
+    from quatnav.pipeline import OUTPUT_COLUMNS, SCALE_COLUMNS
     with open(out) as fh:
         header = tuple(fh.readline().strip().split(","))
     assert header == OUTPUT_COLUMNS + SCALE_COLUMNS

@@ -66,7 +66,7 @@ def test_run_in_process_against_truth_and_api(walk, files, capsys):
     cap = capsys.readouterr()
     assert "wrote" in cap.out and cap.err == ""  # consistent input: no warning
     header, a = _read(out)
-    from quatnav.cli.ins import OUTPUT_COLUMNS
+    from quatnav.pipeline import OUTPUT_COLUMNS
     assert tuple(header) == OUTPUT_COLUMNS
     c = {n: a[:, i] for i, n in enumerate(header)}
     # same numbers as the Python API on the same data (the files' printed digits: the rest
@@ -224,7 +224,7 @@ def test_no_navigation_exits_1(files, tmp_path, capsys):
     fl = _bad(tmp_path, files, "gnss", [g[0], "-5.0" + g[1][g[1].index(","):]])
     assert cli.main(_args(fl, out)) == 1
     assert "navigation never started" in capsys.readouterr().out
-    from quatnav.cli.ins import OUTPUT_COLUMNS
+    from quatnav.pipeline import OUTPUT_COLUMNS
     with open(out) as fh:
         assert fh.read().splitlines() == [",".join(OUTPUT_COLUMNS)]
 
@@ -469,7 +469,7 @@ def test_initial_state_mag_odometer_increments_and_diagnostics(walk, files, tmp_
     assert summary["decisions"]["mag"].get("accepted", 0) > 100
     assert summary["decisions"]["odometer"].get("accepted", 0) > 100
     rows = list(csv.DictReader(open(diag)))
-    from quatnav.cli.ins import DIAGNOSTICS_COLUMNS
+    from quatnav.pipeline import DIAGNOSTICS_COLUMNS
     assert tuple(rows[0]) == DIAGNOSTICS_COLUMNS
     aids = {r["aid"] for r in rows}
     assert {"gps_pos", "gps_vel", "mag", "odometer"} <= aids

@@ -216,13 +216,18 @@ def main(argv=None) -> int:
     command = getattr(args, "_command", None)
     debug = os.environ.get("QUATNAV_TRACEBACK", "") not in ("", "0")
     with warnings.catch_warnings():
-        # The library's own warnings about the user's data as one line each, not source lines.
+        # The library's own warnings about the user's data as one line each, not source lines;
+        # each time it is issued (a command run twice in one process warns twice).
         from ..filters._base import AidWarning
         from ..filters.gpsins import NavigationWarning
+        from ..pipeline.recording import RECORDED
+        ours = (*RECORDED, AidWarning, NavigationWarning)
+        for category in ours:
+            warnings.simplefilter("always", category)
         shown = warnings.showwarning
 
         def one_line(message, category, *rest, **kw):
-            if issubclass(category, (AidWarning, NavigationWarning)):
+            if issubclass(category, ours):
                 print(f"{prog}: warning: {message}", file=sys.stderr)
             else:
                 shown(message, category, *rest, **kw)

@@ -74,23 +74,7 @@ def _run(args) -> int:
         print(f"{k:28s} {s['rms']:10.4g} {s['max']:10.4g} {s['p50']:10.4g} {s['p95']:10.4g} {s['n']:8d}")
     write_json(res, args)
     if args.plot:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(2, 1, figsize=(9, 5))
-        if "t_att" in series:
-            for k in ("heading", "inclination"):
-                ax[0].plot(series["t_att"], series[k], label=k)
-            ax[0].set_ylabel("attitude difference, deg")
-            ax[0].legend(fontsize=7)
-        if "t_pos" in series:
-            ax[1].plot(series["t_pos"], series["horizontal"], label="horizontal")
-            ax[1].plot(series["t_pos"], series["vertical"], label="vertical")
-            ax[1].set_ylabel("position difference, m")
-            ax[1].legend(fontsize=7)
-        ax[1].set_xlabel("t, s")
-        fig.tight_layout()
-        fig.savefig(args.plot, dpi=90)
-        plt.close(fig)
+        from ..pipeline.figures import plot_differences
+        plot_differences(series, args.plot)
         print(f"wrote {args.plot}")
     return 0

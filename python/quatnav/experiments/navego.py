@@ -18,12 +18,12 @@ Third-party evidence: :class:`quatnav.GpsInsFilter` on NaveGo's ADIS16405 IMU (2
 Reported: RMSE of N/E/D position (m), N/E/D velocity (m/s), roll/pitch/yaw (deg) over the whole
 run, the same for the GNSS fixes alone (position and velocity), and the gate rejections.
 
-Two more runs go through ``quatnav ins run`` (CSV files and a TOML config written to a temporary
-folder, :func:`quatnav.cli.ins.run_files`) with the filter's own alignment, **without**
+Two more runs go through the pipeline of ``quatnav ins run`` (:func:`quatnav.pipeline.run_ins`
+on the arrays as a :class:`quatnav.io.Log`) with the filter's own alignment, **without**
 ``ini_align``: ``cli_in_motion`` (GNSS position and velocity: the alignment in motion from the
-GNSS velocity change against the specific force) and ``cli_position_only`` (the velocity columns
-left out: the course between fixes). Their errors are scored from the CLI's output rows (from the
-start of navigation) against ``ref.mat`` the same way, and the attitude's also from 60 s after the
+GNSS velocity change against the specific force) and ``cli_position_only`` (the velocity left
+out: the course between fixes). Their errors are scored from the output rows (from the start of
+navigation) against ``ref.mat`` the same way, and the attitude's also from 60 s after the
 start of navigation (once the alignment's errors have settled); a run that navigates less than
 60 s (``--seconds``) has no such figure (``None``), and the report says why; a run too short to
 align has no figures at all (``rows`` 0).
@@ -163,37 +163,8 @@ def run_navego(directory=None, seconds=None, params=None, smooth=False):
     return out, arrays
 
 
-def _toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (tuple, list, np.ndarray)):
-        return "[" + ", ".join(_toml_value(x) for x in np.asarray(v, float).tolist()) + "]"
-    return repr(float(v))
-
-
-def write_cli_inputs(d, folder, params, velocity=True, seconds=None):
-    """The NaveGo run as ``quatnav ins run`` inputs in ``folder``: imu.csv, gnss.csv (velocity
-    columns only with ``velocity``) and config.toml ([filter] ``params``). Returns the paths."""
-    from pathlib import Path
-    folder = Path(folder)
-    n = len(d.imu_t) if seconds is None else int(np.searchsorted(d.imu_t, d.imu_t[0] + seconds, "right"))
-    imu = np.column_stack([d.imu_t[:n], d.gyro[:n], d.accel[:n]])
-    np.savetxt(folder / "imu.csv", imu, delimiter=",", comments="", fmt="%.17g",
-               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
-    gm = d.gnss_t <= d.imu_t[n - 1]
-    cols = [d.gnss_t[gm], np.degrees(d.gnss_llh[gm, 0]), np.degrees(d.gnss_llh[gm, 1]), d.gnss_llh[gm, 2]]
-    head = "time,lat,lon,h"
-    if velocity:
-        cols += list(d.gnss_vel[gm].T)
-        head += ",v_n,v_e,v_d"
-    np.savetxt(folder / "gnss.csv", np.column_stack(cols), delimiter=",", comments="", fmt="%.17g", header=head)
-    with open(folder / "config.toml", "w") as fh:
-        fh.write("[filter]\n" + "".join(f"{k} = {_toml_value(v)}\n" for k, v in params.items()))
-    return folder / "imu.csv", folder / "gnss.csv", folder / "config.toml"
-
-
 def cli_params(d) -> dict:
-    """The run's parameters for ``ins run``: the sensor profile (:func:`filter_params`), the
+    """The run's parameters for the ``ins run`` pipeline: the sensor profile (:func:`filter_params`), the
     alignment's own initial sigmas (the defaults), not ``ini_align_err``."""
     p = filter_params(d)
     for k in ("init_level_sigma", "init_yaw_sigma"):
@@ -201,31 +172,30 @@ def cli_params(d) -> dict:
     return p
 
 
-def run_cli(d, velocity=True, seconds=None, folder=None):
-    """NaveGo through ``quatnav ins run`` with the filter's own alignment (no ``ini_align``).
-    Returns (summary dict, arrays)."""
-    import tempfile
-
-    from ..cli import ins as ins_cli
-    with tempfile.TemporaryDirectory() as tmp:
-        work = folder or tmp
-        imu, gnss, cfg = write_cli_inputs(d, work, cli_params(d), velocity, seconds)
-        out_csv = f"{work}/out.csv"
-        msg, ok, summary = ins_cli.run_files(str(imu), str(gnss), out_csv, config=str(cfg))
-        tab = np.genfromtxt(out_csv, delimiter=",", names=True) if ok else None
-    if not ok:  # a run too short to align (--seconds): nothing to score
-        return {"message": msg, "alignment": summary["alignment"], "navigation_start_s": None, "rows": 0,
-                "decisions": summary["decisions"]}, None
-    t = np.atleast_1d(tab["time"])
+def run_pipeline(d, velocity=True, seconds=None):
+    """NaveGo through the pipeline of ``quatnav ins run`` (:func:`quatnav.pipeline.run_ins`) with
+    the filter's own alignment (no ``ini_align``). Returns (summary dict, arrays)."""
+    from .. import io
+    from ..pipeline import run_ins
+    n = len(d.imu_t) if seconds is None else int(np.searchsorted(d.imu_t, d.imu_t[0] + seconds, "right"))
+    gm = d.gnss_t <= d.imu_t[n - 1]
+    gnss = io.Gnss(t=d.gnss_t[gm], lat=d.gnss_llh[gm, 0], lon=d.gnss_llh[gm, 1], h=d.gnss_llh[gm, 2],
+                   vel_n=d.gnss_vel[gm] if velocity else None)
+    log = io.Log(source="NaveGo synthetic", imu=io.Imu(t=d.imu_t[:n], gyr=d.gyro[:n], acc=d.accel[:n]), gnss=gnss)
+    run = run_ins(log, params=cli_params(d))
+    if not run.navigated:  # a run too short to align (--seconds): nothing to score
+        s = run.summary()
+        return {"message": run.summary_line(), "alignment": s["alignment"], "navigation_start_s": None, "rows": 0,
+                "decisions": s["decisions"]}, None
+    nav, r = run.rows, run.result
+    t = r.t[nav]
     i = np.searchsorted(d.ref_t, t - 1e-9)
-    llh = np.column_stack([np.radians(tab["lat"]), np.radians(tab["lon"]), tab["h"]])
-    dp = ned_error(llh, d.ref_llh[i])
-    dv = np.column_stack([tab["v_n"], tab["v_e"], tab["v_d"]]) - d.ref_vel[i]
-    rpy = np.radians(np.column_stack([tab["roll"], tab["pitch"], tab["yaw"]]))
-    de = np.degrees(np.angle(np.exp(1j * (rpy - d.ref_rpy[i]))))
+    dp = ned_error(r.position[nav], d.ref_llh[i])
+    dv = r.velocity[nav] - d.ref_vel[i]
+    de = np.degrees(np.angle(np.exp(1j * (r.euler[nav] - d.ref_rpy[i]))))
     names = ("n", "e", "d")
     late = t >= t[0] + 60.0  # none in a run shorter than that: no figure rather than NaN
-    out = {"message": msg, "alignment": summary["alignment"], "navigation_start_s": float(t[0] - d.imu_t[0]),
+    out = {"message": run.summary_line(), "alignment": r.alignment, "navigation_start_s": float(t[0] - d.imu_t[0]),
            "rows": int(len(t)), "navigation_s": float(t[-1] - t[0]),
            "position_rmse_m": dict(zip(names, map(float, _rms(dp)))),
            "horizontal_rmse_m": float(_rms(np.hypot(dp[:, 0], dp[:, 1]))),
@@ -235,7 +205,7 @@ def run_cli(d, velocity=True, seconds=None, folder=None):
            "attitude_rmse_after_60s_deg": dict(zip(("roll", "pitch", "yaw"), map(float, _rms(de[late]))))
            if late.any() else None,
            "attitude_at_start_deg": dict(zip(("roll", "pitch", "yaw"), map(float, de[0]))),
-           "decisions": summary["decisions"]}
+           "decisions": {k: a.decisions() for k, a in r.aids.items()}}
     return out, dict(t=t, dp=dp, dv=dv, deul=de)
 
 
@@ -322,8 +292,8 @@ def run(args) -> int:
         from ..datasets import navego
         out, arrays = run_navego(args.data, args.seconds, smooth=True)
         d = navego.load(args.data)
-        out["cli_in_motion"], _ = run_cli(d, True, args.seconds)
-        out["cli_position_only"], _ = run_cli(d, False, args.seconds)
+        out["cli_in_motion"], _ = run_pipeline(d, True, args.seconds)
+        out["cli_position_only"], _ = run_pipeline(d, False, args.seconds)
     except FileNotFoundError as exc:
         raise UsageError(f"{exc} (use --data DIR or set QUATNAV_DATA to the folder that holds navego_synthetic/)") \
             from None
