@@ -10,7 +10,12 @@ quatnav_self_contained_headers).
 
 And the layout of the Python package (python/quatnav/): the command line is the package
 ``quatnav.cli`` (its ``main`` the ``quatnav`` script and ``python -m quatnav``), one module per tool
-inside it; no command-line module sits at the package top."""
+inside it; no command-line module sits at the package top; imports point down to it only: nothing
+outside ``cli/`` imports from it (the ``__main__`` modules, entry points above it, aside); what a
+command does is a library call of ``quatnav.pipeline``, ``quatnav.plausibility`` and the rest.
+
+And no product file (the package's Python modules, the C++ headers) is over 900 lines."""
+import ast
 import re
 from pathlib import Path
 
@@ -138,3 +143,54 @@ def test_the_package_top_holds_only_its_face_and_private_helpers():
     jobs = {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").is_file()}
     assert {"core", "filters", "reference", "sim", "io", "datasets", "calibration", "evaluation",
             "experiments", "cli"} <= jobs
+    assert {"pipeline", "plausibility"} <= jobs
+
+
+def cli_imports(path: Path, package: Path = PACKAGE) -> list:
+    """(line, module) of every import of ``quatnav.cli`` (or a module in it) in a module of the
+    package at ``path``: absolute, relative, and ``import quatnav.cli``."""
+    rel = path.relative_to(package.parent).with_suffix("").parts  # ("quatnav", "sub", "mod")
+    pkg = rel[:-1]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = list(pkg[:len(pkg) - node.level + 1]) if node.level else []
+            mod = ".".join(base + ([node.module] if node.module else []))
+            names = [mod] + [f"{mod}.{a.name}" for a in node.names]
+        for name in names:
+            if name == "quatnav.cli" or name.startswith("quatnav.cli."):
+                out.append((node.lineno, name))
+                break
+    return out
+
+
+def test_nothing_outside_the_command_line_imports_it():
+    """The arrows point down: the library (pipeline, plausibility, io, evaluation, experiments, ...)
+    never imports the command line; only the entry points (``__main__``) do."""
+    bad = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if "cli" in path.relative_to(PACKAGE).parts[:1] or path.name == "__main__.py":
+            continue
+        bad += [f"{path.relative_to(PACKAGE.parent)}:{line}: imports {mod}" for line, mod in cli_imports(path)]
+    assert not bad, "the library imports the command line (move what it needs below quatnav/cli/):\n" + "\n".join(bad)
+
+
+def test_the_import_checker_sees_every_spelling(tmp_path):
+    pkg = tmp_path / "quatnav"
+    (pkg / "io").mkdir(parents=True)
+    f = pkg / "io" / "x.py"
+    f.write_text("import numpy\nfrom ..cli.util import UsageError\nfrom .. import cli\nimport quatnav.cli.ins\n"
+                 "from quatnav.cli import main\nfrom ..cliff import y\nfrom . import table\n")
+    assert [line for line, _ in cli_imports(f, pkg)] == [2, 3, 4, 5]
+
+
+def test_no_product_file_is_over_900_lines():
+    """One file, one job: a module past about 800 lines is usually two."""
+    root = PACKAGE.parents[1]
+    files = sorted(PACKAGE.rglob("*.py")) + sorted((root / "cpp" / "include").rglob("*.hpp"))
+    sizes = {str(f.relative_to(root)): len(f.read_text().splitlines()) for f in files}
+    long = {f: n for f, n in sizes.items() if n > 900}
+    assert not long, f"files over 900 lines (split them by job): {long}"

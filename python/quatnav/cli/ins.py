@@ -1,4 +1,4 @@
-"""``quatnav ins run``: the GPS/INS filter of paper 004 (:class:`quatnav.GpsInsFilter`) on a user's logs:
+"""``quatnav ins run``: the GPS/INS filter :class:`quatnav.GpsInsFilter` (paper 004) on a user's logs:
 CSV files, or a PX4 ULog, ROS bag, RTKLIB ``.pos`` or NMEA file read by :mod:`quatnav.io`.
 
 ::
@@ -248,7 +248,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``quatnav ins run`` on an argparse subparsers object."""
     p = subparsers.add_parser("ins", help="GPS/INS navigation on your logs: CSV, ULog, ROS bag, .pos, NMEA "
                                    "(see 'quatnav ins run -h')",
-                              description="GPS/INS navigation (paper 004 filter) on CSV files or a PX4 ULog, "
+                              description="GPS/INS navigation (GpsInsFilter, paper 004) on CSV files or a PX4 ULog, "
                                           "ROS bag, RTKLIB .pos or NMEA log.")
     sub = p.add_subparsers(dest="ins_command", metavar="COMMAND")
     r = sub.add_parser("run", help="run the GPS/INS filter on a log, or on IMU and GNSS (and altimeter, compass, "

@@ -18,7 +18,8 @@ _A, _E2 = 6378137.0, 6.69437999014e-3  # WGS-84
 
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = "paper 004: GpsInsFilter on the simulated static, turntable or walk run; errors and drift over a GPS outage"
+SUMMARY = ("GpsInsFilter (loosely coupled GNSS/INS) on the simulated static, turntable or walk run: errors and drift "
+           "over a GPS outage (paper 004)")
 
 
 def add_arguments(parser) -> None:

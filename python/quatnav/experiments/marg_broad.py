@@ -29,7 +29,7 @@ FILTERS = ("marg", "marg_6d", "qekf")
 
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = "paper 001: MargFilter against the QuaternionEKF on the BROAD real-data trials (broad data)"
+SUMMARY = "MargFilter against the QuaternionEKF on the BROAD real-data trials (paper 001; broad data)"
 
 
 def add_arguments(parser) -> None:

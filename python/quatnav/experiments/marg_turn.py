@@ -36,8 +36,8 @@ VARIANTS = ("uncorrected", "gps_no_lever", "corrected", "corrected_no_declinatio
 
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = ("paper 001: MargFilter roll/pitch in a constant-rate turn before and after the GPS-acceleration "
-           "correction, over seeds")
+SUMMARY = ("MargFilter roll/pitch in a constant-rate turn before and after the GPS-acceleration correction, "
+           "over seeds (paper 001)")
 
 
 def add_arguments(parser) -> None:

@@ -39,8 +39,8 @@ STYLES = {"ukf": "-", "ekf": ":", "second_order": "-."}
 
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = ("paper 002: EKF, second-order and unscented time updates of NavFilter13 on the straight-then-circle "
-           "simulation (RMSE, NEES, cost)")
+SUMMARY = ("EKF, second-order and unscented time updates of NavFilter13 (velocity and attitude with GNSS velocity "
+           "and yaw) on the straight-then-circle simulation: RMSE, NEES, cost (paper 002)")
 
 
 def add_arguments(parser) -> None:

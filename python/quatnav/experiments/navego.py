@@ -36,7 +36,7 @@ _A, _E2 = 6378137.0, 6.69437999014e-3  # WGS-84
 
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = "paper 004 filter on NaveGo's synthetic ADIS16405 INS/GNSS run against its truth (navego_synthetic data)"
+SUMMARY = "GpsInsFilter on NaveGo's synthetic ADIS16405 INS/GNSS run against its truth (paper 004; navego_synthetic data)"
 
 
 def add_arguments(parser) -> None:

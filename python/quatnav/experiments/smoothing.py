@@ -23,7 +23,7 @@ import numpy as np
 PARTS = ("broad", "nav13")
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = "offline smoothing (smooth=True) against the causal filters: BROAD, paper 002 Monte Carlo"
+SUMMARY = "offline smoothing (smooth=True) against the causal filters: BROAD, NavFilter13 Monte Carlo (paper 002)"
 
 
 def add_arguments(parser) -> None:

@@ -37,7 +37,7 @@ NOISE_KEYS = ("gyro_noise", "acc_noise", "gyro_bias_noise", "acc_bias_noise")
 
 
 #: One line for ``quatnav experiment -h``.
-SUMMARY = "paper 004 filter on a real walk with RTK GNSS and simulated GNSS outages (gnss_imu_walk data)"
+SUMMARY = "GpsInsFilter on a real walk with RTK GNSS and simulated GNSS outages (paper 004; gnss_imu_walk data)"
 
 
 def add_arguments(parser) -> None:
