@@ -14,6 +14,8 @@ from .filters.marg import MargFilter, MargResult
 from .filters._base import NavResult
 from .filters.nav13 import NavFilter13, NavFilter13Result
 from .filters.gpsins import GpsInsFilter, GpsInsResult, NavigationWarning
+from .plausibility.categories import (AxesWarning, ClockWarning, GapWarning, PlausibilityWarning, RateWarning,
+                                      SaturationWarning, UnitWarning)
 
 
 
@@ -31,3 +33,5 @@ __all__ = ["Aid", "AidResult", "AidWarning", "FilterResult", "QuaternionEKF", "E
 __all__ += ["MargFilter", "MargResult"]
 __all__ += ["NavFilter13", "NavFilter13Result", "NavResult"]
 __all__ += ["GpsInsFilter", "GpsInsResult", "NavigationWarning"]
+__all__ += ["PlausibilityWarning", "UnitWarning", "AxesWarning", "ClockWarning", "RateWarning", "GapWarning",
+            "SaturationWarning"]

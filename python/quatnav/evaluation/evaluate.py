@@ -87,11 +87,16 @@ def run_algorithm(name: str, trial, params: dict | None = None):
     """
     gyr, acc, mag = trial.gyr, trial.acc, trial.mag
     if name in FILTERS:
+        import warnings
+
         import quatnav
         cls = getattr(quatnav, FILTERS[name])
         f = cls(**(params or {}))
-        res = f.run(gyr, acc, mag, dt=trial.dt, on_invalid="skip", **({"smooth": True} if name.endswith("-smoothed")
-                                                                        else {}))
+        with warnings.catch_warnings():
+            # BROAD's body frame is its sensor's own, z up (the reference is in the same frame)
+            warnings.simplefilter("ignore", quatnav.AxesWarning)
+            res = f.run(gyr, acc, mag, dt=trial.dt, on_invalid="skip",
+                        **({"smooth": True} if name.endswith("-smoothed") else {}))
         return np.asarray(res.quat, float), getattr(res, "att_sigma", None)
     if name in ("vqf", "vqf-offline"):
         import vqf

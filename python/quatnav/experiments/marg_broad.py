@@ -68,13 +68,17 @@ def errors_deg(q_est_ned, q_ref_enu, mask):
 
 
 def run_trial(tr: dict, gain: float = 1.0) -> dict:
-    from .. import MargFilter, QuaternionEKF
+    import warnings
+
+    from .. import AxesWarning, MargFilter, QuaternionEKF
     dt = 1.0 / tr["rate_hz"]
-    est = {
-        "marg": MargFilter(gain=gain).run(tr["gyr"], tr["acc"], tr["mag"], dt=dt).quat,
-        "marg_6d": MargFilter(gain=gain).run(tr["gyr"], tr["acc"], None, dt=dt).quat,
-        "qekf": QuaternionEKF().run(tr["gyr"], tr["acc"], tr["mag"], dt=dt).quat,
-    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AxesWarning)  # BROAD's body frame is its sensor's own, z up
+        est = {
+            "marg": MargFilter(gain=gain).run(tr["gyr"], tr["acc"], tr["mag"], dt=dt).quat,
+            "marg_6d": MargFilter(gain=gain).run(tr["gyr"], tr["acc"], None, dt=dt).quat,
+            "qekf": QuaternionEKF().run(tr["gyr"], tr["acc"], tr["mag"], dt=dt).quat,
+        }
     out = {}
     for name, q in est.items():
         inc, head = errors_deg(q, tr["quat_ref_enu"], tr["movement"])

@@ -524,6 +524,19 @@ def check_swapped(g: np.ndarray, a: np.ndarray) -> None:
                         "gyroscope first")
 
 
+def check_run_inputs(filt, gyr, acc, *, steps=None, t=None, axes: str = "up", rotation=None, rotation_fix=None,
+                     increments: bool = False) -> None:
+    """The plausibility checks of a filter's IMU input (:func:`quatnav.plausibility.check_imu`:
+    units, axes, saturation, rate and gaps, on a sample of the rows), issued as warnings of their
+    category to the caller of ``run``; the filter's ``gyro_range``, ``acc_range`` and ``max_dt``
+    tell which samples it handles itself."""
+    from ..plausibility.imu import warn_imu
+    p = filt._f.params
+    warn_imu(gyr, acc, steps=steps, t=t, where=f"{type(filt).__name__}.run", axes=axes, rotation=rotation,
+             rotation_fix=rotation_fix, increments=increments, gyro_range=float(getattr(p, "gyro_range", 0.0)),
+             acc_range=float(getattr(p, "acc_range", 0.0)), max_dt=float(getattr(p, "max_dt", np.inf)))
+
+
 def accel_unit(accel) -> tuple:
     """The unit a specific force (N, 3) appears to be in, from its median norm: ``"g"`` (0.5-2),
     ``"mg"`` (500-2000), ``"far"`` (neither those nor 6-14 m/s^2: far from gravity in any of

@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import _validate as V
 from ..core import quaternion as Q
-from ._base import Filter, FilterResult, marg_inputs, smoother_info, times_of
+from ._base import Filter, FilterResult, check_run_inputs, marg_inputs, smoother_info, times_of
 from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 
 __all__ = ["QuaternionEKF", "EulerEKF", "AttitudeResult"]
@@ -169,6 +169,7 @@ class _AttitudeFilter(Filter):
         n = g.shape[0]
         steps = V.time_steps(n, dt=dt, t=t, dtype=self.dtype,
                              max_dt=float(self._f.params.max_dt) if strict else None)
+        check_run_inputs(self, g, a, steps=steps)
         if smooth and self.n_states != 6:
             raise ValueError("smooth: QuaternionEKF(paper=True), the paper's 7-state filter, has no smoother; "
                              "the default error-state filter has")

@@ -20,8 +20,8 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from ._base import (AidResult, Filter, NavResult, accel_unit, aid_times, check_aid, check_imu_order, check_swapped,
-                    core, skipped_imu_rows, smoother_info, times_of, warn_aid_outside)
+from ._base import (AidResult, Filter, NavResult, accel_unit, aid_times, check_aid, check_imu_order, check_run_inputs,
+                    check_swapped, core, skipped_imu_rows, smoother_info, times_of, warn_aid_outside)
 from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "NavigationWarning", "GPSINS_FLAGS", "GPSINS_DECISIONS",
@@ -556,6 +556,8 @@ class GpsInsFilter(Filter):
         accel = V.vectors(acc, "acc", 3, n, self.dtype, finite=strict, like=like)
         if imu_input == "rate":
             check_swapped(gyro, accel)
+        check_run_inputs(self, gyro, accel, t=t, axes="frd", rotation=self.params["imu_rotation"],
+                         rotation_fix="the imu_rotation parameter", increments=imu_input == "increment")
         mag_a = None if mag is None else V.vectors(mag, "mag", 3, n, self.dtype, finite=strict, allow_nan_rows=True,
                                                    like=like)
         if strict:

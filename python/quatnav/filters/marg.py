@@ -17,7 +17,8 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from ._base import Filter, FilterResult, aid_times, check_aid, core, marg_inputs, times_of, warn_aid_outside
+from ._base import (Filter, FilterResult, aid_times, check_aid, check_run_inputs, core, marg_inputs, times_of,
+                    warn_aid_outside)
 from .tables import MARG_FLAGS, MARG_PARAMS
 
 __all__ = ["MargFilter", "MargResult", "MARG_FLAGS"]
@@ -200,6 +201,7 @@ class MargFilter(Filter):
         n = g.shape[0]
         steps = V.time_steps(n, dt=dt, t=t, dtype=np.float64,
                              max_dt=float(self._f.params.max_dt) if strict else None)
+        check_run_inputs(self, g, a, steps=steps)
         times = times_of(n, t, steps)
         aid = check_aid(gps_vel, "gps_vel")
         if aid is not None:

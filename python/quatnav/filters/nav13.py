@@ -16,8 +16,8 @@ import numpy as np
 
 from .. import _validate as V
 from ..core import quaternion as Q
-from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_swapped, core,
-                    no_mag, skipped_imu_rows, smoother_info, warn_aid_outside)
+from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_run_inputs, check_swapped,
+                    core, no_mag, skipped_imu_rows, smoother_info, warn_aid_outside)
 from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES
 
 __all__ = ["NavFilter13", "NavFilter13Result", "NAV13_FLAGS", "TIME_UPDATES", "initial_covariance"]
@@ -302,6 +302,7 @@ class NavFilter13(Filter):
         fb = V.vectors(acc, "acc", n=n, dtype=self.dtype, finite=strict)
         check_swapped(wb, fb)
         steps = V.time_steps(n, dt=dt, t=t, dtype=np.float64, max_dt=float(self._f.params.max_dt))
+        check_run_inputs(self, wb, fb, steps=steps, axes="frd")
         times = np.asarray(t, dtype=np.float64) if t is not None else np.cumsum(steps)
         vt, vv = self._measurements(check_aid(gps_vel, "gps_vel"), "gps_vel", 3, strict)
         yt, yv = self._measurements(check_aid(yaw, "yaw"), "yaw", 1, strict)

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._command import InputError
-from ..plausibility import GapWarning, check_imu_times
+from ..plausibility import check_imu, check_imu_times, checked_by_caller
 from .recording import PipelineWarning, issue, recorded
 
 __all__ = ["AhrsRun", "run_ahrs", "read_ahrs_log", "decimate", "FILTERS"]
@@ -137,7 +137,7 @@ def run_ahrs(log=None, *, imu=None, mag=None, no_mag: bool = False, filter: str 
     -------
     AhrsRun
     """
-    with recorded() as kept:
+    with recorded() as kept, checked_by_caller():  # the inputs are checked here, with the log's name
         run = _run(log, imu, mag, no_mag, filter, declination, date, rate, smooth, calibration)
     run.warnings = kept
     issue(kept)
@@ -164,10 +164,10 @@ def _run(log, imu, mag, no_mag, name, declination, date, rate, smooth, calibrati
     if len(log.imu.t) < 2:
         raise InputError(f"{log.source}: fewer than 2 IMU samples")
     # times in ms, us or ns are refused as ins run refuses them (the filters' max_dt is 1 s)
-    _, warns = check_imu_times(log.imu.t, np.arange(1, len(log.imu.t) + 1), 1.0, where=f"IMU {log.source}")
-    for w in warns:
-        if not isinstance(w, GapWarning):
-            warnings.warn(w)
+    check_imu_times(log.imu.t, np.arange(1, len(log.imu.t) + 1), 1.0, where=f"IMU {log.source}")
+    names = ("gyro_x/y/z", "accel_x/y/z") if log.format == "csv" else ("the gyro", "the accelerometer")
+    for w in check_imu(log.imu.gyr, log.imu.acc, t=log.imu.t, where=f"IMU {log.source}", axes="up", names=names):
+        warnings.warn(w)
     if smooth and name == "marg":
         raise InputError("--smooth: marg has no smoother; use --filter qekf or euler-ekf")
     if isinstance(declination, str):
@@ -197,7 +197,8 @@ def _filter_run(quatnav, log, name, declination, rate, smooth):
         if mag is not None and k > 1:
             n = len(t) * k
             m = mag[:n].reshape(-1, k, 3)
-            with np.errstate(all="ignore"):
+            with warnings.catch_warnings():  # a block without a magnetometer sample: NaN, no sample
+                warnings.simplefilter("ignore", RuntimeWarning)
                 mag = np.nanmean(m, axis=1) if np.isfinite(m).any() else None
     cls = getattr(quatnav, FILTERS[name])
     # QuaternionEKF refers its yaw to true north given the declination; MargFilter's declination

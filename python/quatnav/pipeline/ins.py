@@ -10,7 +10,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._command import InputError
-from ..plausibility import check_heading_aids, check_imu_times, check_overlap, plausibility_warnings
+from ..plausibility import (check_heading_aids, check_imu_times, check_overlap, checked_by_caller,
+                            plausibility_warnings)
 from ..plausibility.gnss import gnss_speed, gnss_velocity_ne
 from .coasting import coast_gaps
 from .config import load_config
@@ -217,7 +218,8 @@ def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None,
         line and column, or the parameter).
     """
     from ..filters.gpsins import NavigationWarning
-    with recorded(ignore=(NavigationWarning,)) as kept:  # the alignment says why it never navigated
+    # The alignment says why it never navigated; the inputs are checked here, with their files' names.
+    with recorded(ignore=(NavigationWarning,)) as kept, checked_by_caller():
         run = _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, params, initial, declination,
                    date, calibration, mag_calibrate, time_offset, executor, smooth, progress)
     run.warnings = kept

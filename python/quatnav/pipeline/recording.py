@@ -5,12 +5,10 @@ caller's warning filters decide what is shown, ignored or raised."""
 from __future__ import annotations
 
 import contextlib
-import sys
 import warnings
-from pathlib import Path
 
 from ..filters._base import AidWarning
-from ..plausibility.categories import PlausibilityWarning
+from ..plausibility.categories import PlausibilityWarning, issue
 
 __all__ = ["PipelineWarning", "recorded", "issue"]
 
@@ -23,7 +21,6 @@ class PipelineWarning(UserWarning):
 
 #: The categories a run records (the others pass through to the caller as they come).
 RECORDED = (PlausibilityWarning, AidWarning, PipelineWarning)
-_PACKAGE = str(Path(__file__).resolve().parents[1])
 
 
 @contextlib.contextmanager
@@ -50,13 +47,3 @@ def recorded(ignore=()):
 
         warnings.showwarning = keep
         yield kept
-
-
-def issue(messages) -> None:
-    """Issue warning objects to the first caller outside quatnav, as :func:`warnings.warn` would
-    from there (so that its filters and the line it names are the caller's)."""
-    level, frame = 2, sys._getframe(1)  # stacklevel 2: the caller of issue
-    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(_PACKAGE):
-        level, frame = level + 1, frame.f_back
-    for m in messages:
-        warnings.warn(m, stacklevel=level)

@@ -7,33 +7,58 @@ import numpy as np
 from ._signals import rest_window, row_dots
 from .categories import AxesWarning
 
-__all__ = ["check_gravity", "forward_axis", "check_forward_axis"]
+__all__ = ["check_gravity", "gravity_axes", "forward_axis", "check_forward_axis"]
 
 
-def check_gravity(accel, t, align_time, where="IMU"):
-    """A warning when gravity at rest is not on -z of the forward-right-down body frame (or None).
+def check_gravity(accel, t, align_time, where="IMU", mode="frd", fix="imu_rotation in [filter]"):
+    """An AxesWarning when gravity at rest is not on -z of the forward-right-down body frame (or
+    None).
 
-    At rest a forward-right-down IMU measures the specific force (0, 0, -g); a mean over the
-    alignment window more than 60 deg away from -z names the axis it appears on.
+    At rest a forward-right-down IMU measures the specific force (0, 0, -g). ``mode="frd"`` (a
+    navigation filter, which levels at rest): a mean over the first ``align_time`` s more than 60
+    deg away from -z names the axis it appears on. ``mode="up"`` (an attitude filter, which may
+    start in any orientation): only a mean within 45 deg of +z, a z axis that points up
+    (forward-left-up, as many IMUs and datasets give it; the roll then reads +-180 deg). ``fix``
+    names how the user turns the axes (``imu_rotation in [filter]``, a parameter, or None: the
+    samples themselves).
     """
-    f = np.mean(accel[rest_window(t, align_time)], axis=0)
+    win = rest_window(t, align_time)
+    return gravity_axes(np.asarray(accel[slice(win.start, min(win.stop, win.start + 4096))], dtype=np.float64),
+                        align_time, where, mode, fix)
+
+
+def gravity_axes(head, align_time, where="IMU", mode="frd", fix="imu_rotation in [filter]"):
+    """:func:`check_gravity` on the specific force of the first ``align_time`` s."""
+    f = np.mean(head, axis=0) if len(head) else np.full(3, np.nan)
     n = float(np.linalg.norm(f))
-    if not n > 0.5:
+    if not n > 0.5 or not np.isfinite(n):
         return None
+    at = f"mean specific force over the first {align_time:g} s ({f[0]:.2f}, {f[1]:.2f}, {f[2]:.2f}) m/s^2"
+    if mode == "up":
+        if f[2] / n < np.cos(np.radians(45.0)):
+            return None
+        return AxesWarning(
+            f"{where}: gravity appears on +z ({at}; forward-right-down at rest sees (0, 0, -9.8)): the IMU's z axis "
+            "points up (forward-left-up), so the roll reads +-180 deg; for forward-right-down negate y and z of the "
+            "gyro, accelerometer and magnetometer ([x, -y, -z]), or, if the IMU is mounted upside down on purpose, "
+            "ignore this (warnings.simplefilter('ignore', quatnav.AxesWarning))")
     if -f[2] / n >= 0.5:  # within 60 deg of -z
         return None
     ax = int(np.argmax(np.abs(f)))
     sign = "+" if f[ax] > 0 else "-"
-    at = f"mean specific force over the first {align_time:g} s ({f[0]:.2f}, {f[1]:.2f}, {f[2]:.2f}) m/s^2"
+    turn = (f"set {fix} (e.g. [3.141593, 0, 0], a roll of 180 deg)" if fix else
+            "turn the samples into forward-right-down ([x, -y, -z] for a roll of 180 deg)")
     if ax == 2:
         return AxesWarning(
             f"{where}: gravity appears on +z ({at}; forward-right-down at rest sees (0, 0, -9.8)): is the IMU "
-            "upside down, its z axis up (forward-left-up)? set imu_rotation in [filter] (e.g. [3.141593, 0, 0], "
-            "a roll of 180 deg); or the accelerometer gives gravity instead of specific force (negate all three)")
+            f"upside down, its z axis up (forward-left-up)? {turn}; or the accelerometer gives gravity instead of "
+            "specific force (negate all three)")
     return AxesWarning(
         f"{where}: gravity appears on {sign}{'xyz'[ax]} ({at}; forward-right-down at rest sees (0, 0, -9.8)): "
-        "the IMU axes are not forward-right-down: set imu_rotation in [filter] (the rotation from the IMU axes to "
-        "forward-right-down), or it is not level at rest")
+        "the IMU axes are not forward-right-down: "
+        + (f"set {fix} (the rotation from the IMU axes to forward-right-down)" if fix else
+           "turn the samples into forward-right-down")
+        + ", or it is not level at rest")
 
 
 def forward_axis(t, accel, gnss_t, vel_ne, span=1.0, min_speed=3.0):

@@ -9,8 +9,14 @@ Every message names the input, what was measured, and the fix.
 """
 from __future__ import annotations
 
+import sys
+import warnings
+from pathlib import Path
+
 __all__ = ["PlausibilityWarning", "UnitWarning", "AxesWarning", "ClockWarning", "RateWarning", "GapWarning",
-           "SaturationWarning"]
+           "SaturationWarning", "issue"]
+
+_PACKAGE = str(Path(__file__).resolve().parents[1])
 
 
 class PlausibilityWarning(UserWarning):
@@ -43,3 +49,13 @@ class GapWarning(RateWarning):
 
 class SaturationWarning(PlausibilityWarning):
     """Samples at the sensor's range (clipped): the filter then sees less than the motion."""
+
+
+def issue(messages) -> None:
+    """Issue warning objects to the first caller outside quatnav, as :func:`warnings.warn` would
+    from there (so that its filters and the line it names are the caller's)."""
+    level, frame = 2, sys._getframe(1)  # stacklevel 2: the caller of issue
+    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(_PACKAGE):
+        level, frame = level + 1, frame.f_back
+    for m in messages:
+        warnings.warn(m, stacklevel=level)

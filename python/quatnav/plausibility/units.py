@@ -1,5 +1,7 @@
-"""Units of the sensors and the fixes: a gyro in deg/s, an accelerometer in g or mg, a
-magnetometer in T, G, mG or nT, latitude and longitude in radians."""
+"""Units and ranges of the sensors and the fixes: a gyro in deg/s, an accelerometer in g or mg,
+a sensor clipped at its range, a magnetometer in T, G, mG or nT, latitude and longitude in
+radians. The IMU checks read a sample of the rows (:data:`SAMPLE_ROWS`), so that they cost about
+a nanosecond per sample on a long record."""
 from __future__ import annotations
 
 import math
@@ -8,41 +10,112 @@ import numpy as np
 
 from ..filters._base import accel_unit
 from ._signals import rest_window, row_norms
-from .categories import UnitWarning
+from .categories import SaturationWarning, UnitWarning
 
-__all__ = ["check_gyro", "check_accel", "check_magnetometer", "check_latlon"]
-
-
-def check_gyro(gyro, t, align_time, where="IMU"):
-    """A warning when the rates look like deg/s (or None)."""
-    w = row_norms(np.asarray(gyro, float))
-    mx = float(np.max(np.abs(gyro)))
-    rest = float(np.median(w[rest_window(t, align_time)]))
-    med = float(np.median(w))
-    if mx > 40.0 or med > 1.5 or rest > 0.1:
-        why = (f"max |gyro| {mx:.4g} rad/s is beyond any MEMS gyro's range" if mx > 40.0 else
-               f"median |gyro| {med:.4g} rad/s is implausibly fast" if med > 1.5 else
-               f"median |gyro| {rest:.4g} over the first {align_time:g} s, where the filter levels at rest: as rad/s "
-               f"that is {math.degrees(rest):.3g} deg/s, far above a gyro bias")
-        return UnitWarning(f"{where}: gyro_x/y/z look like deg/s, not rad/s ({why}); multiply by pi/180"
-                           + ("" if mx > 40.0 or med > 1.5 else ", or start the log at rest"))
-    return None
+__all__ = ["check_gyro", "gyro_unit", "check_accel", "check_saturation", "check_magnetometer", "check_latlon", "sample_rows",
+           "steady", "SAMPLE_ROWS"]
 
 
-def check_accel(accel, where="IMU"):
-    """A warning when the specific force looks like g or mg, or is far from gravity (or None)."""
-    unit, m = accel_unit(accel)
+#: The most rows the unit and saturation checks read (evenly spaced over the record), besides
+#: those of its first seconds: a median and a range are as plain in them as in every row.
+SAMPLE_ROWS = 4096
+
+
+def sample_rows(x, rows: int = SAMPLE_ROWS) -> np.ndarray:
+    """At most ``rows`` evenly spaced rows of ``x`` (every row of a shorter record), float64."""
+    x = np.asarray(x)
+    return np.asarray(x[::max(1, -(-len(x) // rows))], dtype=np.float64)
+
+
+def steady(accel, rel: float = 0.02) -> bool:
+    """Whether a specific force (n, 3) is steady, as at rest: at least 10 finite rows whose vector
+    varies (the norm of the per-axis standard deviations) by less than ``rel`` of its median norm,
+    in any unit. A rotation turns the vector (not about the vertical: a level turntable looks
+    still); BROAD's IMU at rest varies by 0.9 %."""
+    a = np.asarray(accel, dtype=np.float64)
+    a = a[np.isfinite(a).all(axis=1)] if a.ndim == 2 else a
+    if a.ndim != 2 or len(a) < 10:
+        return False
+    return bool(np.linalg.norm(np.std(a, axis=0)) < rel * np.median(row_norms(a)))
+
+
+def check_gyro(gyro, t, align_time=2.0, where="IMU", accel=None, name="gyro_x/y/z"):
+    """A UnitWarning when the rates look like deg/s (or None): beyond any MEMS gyro's range
+    (40 rad/s; a hand-held IMU reaches 25, BROAD's fast rotation), or more than 0.1 rad/s over
+    the first ``align_time`` s while the accelerometer ``accel`` says the IMU is still there (its
+    norm steady within 2 %; without ``accel``, taken as still): 0.1 rad/s is 5.7 deg/s, far above
+    a gyro bias, and a deg/s gyro at rest reads its bias and noise, 0.2 to 3 deg/s. The median
+    rate is no evidence: BROAD's fast combined motion has 5.3 rad/s."""
+    win = rest_window(t, align_time)
+    win = slice(win.start, min(win.stop, win.start + SAMPLE_ROWS))
+    head_a = None if accel is None else np.asarray(accel[win], dtype=np.float64)
+    return gyro_unit(sample_rows(gyro), np.asarray(gyro[win], dtype=np.float64), head_a, align_time, where, name)
+
+
+def gyro_unit(sample, head, head_accel, align_time, where, name="gyro_x/y/z"):
+    """:func:`check_gyro` on a sample of the rows and the rows of the first ``align_time`` s
+    (with the accelerometer's there, or None)."""
+    w = row_norms(sample)
+    w = w[np.isfinite(w)]
+    if not w.size:
+        return None
+    mx = float(w.max())
+    wr = row_norms(head)
+    wr = wr[np.isfinite(wr)]
+    still = head_accel is None or steady(head_accel)
+    rest = float(np.median(wr)) if still and wr.size else 0.0
+    if mx > 40.0:
+        why = f"max |gyro| {mx:.4g} rad/s is beyond any MEMS gyro's range"
+    elif rest > 0.1:
+        why = (f"median |gyro| {rest:.4g} over the first {align_time:g} s, where the "
+               + ("accelerometer says the IMU is still" if head_accel is not None else "filter levels at rest")
+               + f": as rad/s that is {math.degrees(rest):.3g} deg/s, far above a gyro bias")
+    else:
+        return None
+    verb = "look" if "/" in name else "looks"
+    return UnitWarning(f"{where}: {name} {verb} like deg/s, not rad/s ({why}); multiply by pi/180")
+
+
+def check_accel(accel, where="IMU", name="accel_x/y/z"):
+    """A UnitWarning when the specific force looks like g or mg, or is far from gravity (or
+    None), from the median norm of a sample of the rows (:func:`quatnav.filters._base.accel_unit`)."""
+    unit, m = accel_unit(sample_rows(accel))
+    verb = "look" if "/" in name else "looks"
     if unit == "g":
-        return UnitWarning(f"{where}: accel_x/y/z look like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
+        return UnitWarning(f"{where}: {name} {verb} like g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
                            "multiply by 9.80665")
     if unit == "mg":
         return UnitWarning(
-            f"{where}: accel_x/y/z look like milli-g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
+            f"{where}: {name} {verb} like milli-g, not m/s^2 (median |accel| {m:.4g}, expected ~9.8); "
             "multiply by 0.00980665")
     if unit == "far":
         return UnitWarning(
-            f"{where}: median |accel| {m:.4g} m/s^2, far from gravity (~9.8): check the unit of accel_x/y/z")
+            f"{where}: median |accel| {m:.4g} m/s^2, far from gravity (~9.8): check the unit of {name}")
     return None
+
+
+def check_saturation(x, where="IMU", name="gyro", limit_param="gyro_range", unit="rad/s", floor=2.0):
+    """A SaturationWarning (or None) when an axis holds its largest magnitude, at least
+    ``floor``, in three or more of a sample of the rows: a plateau at the sensor's range (clipped
+    samples), which no noisy signal makes (BROAD's IMU: once per axis). ``limit_param`` names the
+    filter parameter that makes it skip them."""
+    a = np.abs(sample_rows(x))
+    found = []
+    for k in range(3):
+        col = a[:, k][np.isfinite(a[:, k])]
+        if col.size:
+            m = float(col.max())
+            hits = int(np.count_nonzero(col == m))
+            if m >= floor and hits >= 3:
+                found.append((hits, k, m, col.size))
+    if not found:
+        return None
+    hits, k, m, n = max(found)
+    axes = "/".join("xyz"[f[1]] for f in sorted(found, key=lambda f: f[1]))
+    return SaturationWarning(
+        f"{where}: the {name} saturates: axis {'xyz'[k]} holds its largest magnitude {m:.6g} {unit} in {hits} of "
+        f"{n} sampled rows (a plateau at the sensor's range; axes {axes}); set {limit_param} = {m:.6g} so that the "
+        "filter skips the clipped samples instead of using them")
 
 
 def check_magnetometer(mag, where="magnetometer"):
