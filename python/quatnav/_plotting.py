@@ -75,3 +75,24 @@ def robust_limits(y, lo_pct: float = 0.5, hi_pct: float = 99.5, pad: float = 0.1
         return -m, m
     span = (hi - lo) or max(abs(hi), 1e-12)
     return lo - pad * span, hi + pad * span
+
+
+def time_axis(t, t0=None):
+    """Times for a figure's x axis, and its label: seconds since the first time when the times
+    are absolute (a GPS or Unix epoch, beyond 10^5 s, which an axis would print as an offset
+    like "+1.756402e9"), with that time in the label; else the times as they are."""
+    t = np.asarray(t, float)
+    if t0 is None:
+        finite = t[np.isfinite(t)]
+        t0 = float(finite[0]) if finite.size else 0.0
+    if abs(t0) < 1e5:
+        return t, "time [s]"
+    return t - t0, f"time since t = {t0:.3f} s [s]"
+
+
+def wrapped_nan(angle_deg, period=360.0):
+    """An angle series (deg, within +-period/2) with NaN put where it wraps, so that a line plot
+    draws no vertical stroke across the axis at +-180 deg."""
+    a = np.asarray(angle_deg, float).copy()
+    jumps = np.flatnonzero(np.abs(np.diff(a)) > period / 2) + 1
+    return np.insert(a, jumps, np.nan), jumps

@@ -23,7 +23,12 @@ inputs: any file quatnav.io.read knows; a CSV track has time and q_w..q_z (ahrs 
   or NMEA file gives positions. Both on one clock (seconds).
 output: a table of RMS, max, p50, p95 of: attitude total, heading, inclination (deg);
   horizontal and vertical position (m) and velocity (m/s) when both tracks have them.
---json FILE writes the figures; --plot FILE.png plots the differences over time.
+--ref-frame enu, --ref-body flu: REF's attitude is body to east-north-up (most motion-capture
+  systems, BROAD's opt_quat), its body forward-left-up (ROS); quatnav's is forward-right-down to
+  north-east-down. An attitude difference near 180 deg that one of them removes gets a warning
+  naming the options.
+--json FILE writes the figures; --plot FILE.png plots the differences over time (attitude,
+  position, velocity: the panels of what both tracks have).
 exit status: 0 on success, 2 on an input error (no common time span, no common quantity)."""
 
 
@@ -36,6 +41,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("run", metavar="RUN", help="the track to judge (e.g. the output of 'ahrs run')")
     p.add_argument("ref", metavar="REF", help="the reference (truth, or a log with its own estimate)")
     p.add_argument("--run-format", default="auto", help="format of RUN (default: detected)")
+    p.add_argument("--ref-frame", choices=("ned", "enu"), default="ned",
+                   help="navigation frame of REF's attitude, velocity and position: ned (default; quatnav's, PX4's) "
+                        "or enu (east-north-up: most motion-capture systems, BROAD's opt_quat, ROS)")
+    p.add_argument("--ref-body", choices=("frd", "flu"), default="frd",
+                   help="body axes of REF's attitude: frd (forward-right-down, default) or flu (forward-left-up, ROS)")
     p.add_argument("--ref-format", default="auto", help="format of REF (default: detected)")
     p.add_argument("--plot", metavar="FILE.png", help="plot the differences over time")
     p.add_argument("--json", metavar="FILE", help="write the figures as JSON ('-': to stdout)")
@@ -62,16 +72,22 @@ def _read_track(path, fmt):
 
 
 def _run(args) -> int:
+    from ..pipeline.recording import issue, recorded
     a = _read_track(args.run, args.run_format)
     b = _read_track(args.ref, args.ref_format)
-    res = compare_tracks(a, b)
+    with recorded() as kept:
+        res = compare_tracks(a, b, ref_frame=args.ref_frame, ref_body=args.ref_body)
+    issue(kept)
     series = res.pop("_series")
-    print(f"{args.run} against {args.ref}, common span {res['span'][0]:.3f} .. {res['span'][1]:.3f} s")
+    frames = "" if (args.ref_frame, args.ref_body) == ("ned", "frd") else \
+        f" (read as {args.ref_frame.upper()}, body {args.ref_body.upper()})"
+    print(f"{args.run} against {args.ref}{frames}, common span {res['span'][0]:.3f} .. {res['span'][1]:.3f} s")
     print(f"{'quantity':28s} {'rms':>10s} {'max':>10s} {'p50':>10s} {'p95':>10s} {'n':>8s}")
     for k, s in res.items():
-        if k == "span":
+        if not isinstance(s, dict):
             continue
         print(f"{k:28s} {s['rms']:10.4g} {s['max']:10.4g} {s['p50']:10.4g} {s['p95']:10.4g} {s['n']:8d}")
+    res["warnings"] = [str(w) for w in kept]
     write_json(res, args)
     if args.plot:
         from ..pipeline.figures import plot_differences

@@ -117,22 +117,26 @@ def plot_attitude(res, log, path):
 
 def plot_differences(series, path):
     """The differences of :func:`quatnav.evaluation.track_difference.compare_tracks` over time
-    (its ``_series``): heading and inclination; horizontal and vertical position."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(2, 1, figsize=(9, 5))
-    if "t_att" in series:
-        for k in ("heading", "inclination"):
-            ax[0].plot(series["t_att"], series[k], label=k)
-        ax[0].set_ylabel("attitude difference, deg")
-        ax[0].legend(fontsize=7)
-    if "t_pos" in series:
-        ax[1].plot(series["t_pos"], series["horizontal"], label="horizontal")
-        ax[1].plot(series["t_pos"], series["vertical"], label="vertical")
-        ax[1].set_ylabel("position difference, m")
-        ax[1].legend(fontsize=7)
-    ax[1].set_xlabel("t, s")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    (its ``_series``), one panel per quantity both tracks have: the attitude (heading,
+    inclination), the position and the velocity (horizontal, vertical)."""
+    from .._plotting import figure, save, time_axis
+    panels = [(k, v) for k, v in (
+        ("t_att", (("heading", "heading"), ("inclination", "inclination"), "attitude difference [deg]")),
+        ("t_pos", (("horizontal", "horizontal"), ("vertical", "vertical"), "position difference [m]")),
+        ("t_vel", (("velocity_horizontal", "horizontal"), ("velocity_vertical", "vertical"),
+                   "velocity difference [m/s]"))) if k in series]
+    t0 = min(float(series[k][0]) for k, _ in panels if len(series[k])) if panels else 0.0
+    fig = figure((9.0, 2.6 * max(1, len(panels))))
+    axes = [fig.add_subplot(len(panels), 1, 1)] if panels else []
+    axes += [fig.add_subplot(len(panels), 1, i + 1, sharex=axes[0]) for i in range(1, len(panels))]
+    for ax, (k, (one, two, label)) in zip(axes, panels):
+        t, xlabel = time_axis(series[k], t0)
+        for name, text in (one, two):
+            if name in series:
+                ax.plot(t, series[name], lw=0.8, label=text)
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8, loc="upper right")
+    if axes:
+        axes[-1].set_xlabel(xlabel)
+    save(fig, path, dpi=100)
