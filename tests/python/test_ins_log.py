@@ -66,7 +66,12 @@ def test_gnss_from_pos_equals_csv(walk, tmp_path):
     lon, lat, _ = (float(v) for v in coords[0].split(","))
     assert lat == pytest.approx(y["lat"][0], abs=1e-8) and lon == pytest.approx(y["lon"][0], abs=1e-8)
     pts = ET.parse(gpx).getroot().findall(".//{http://www.topografix.com/GPX/1/1}trkpt")
-    assert len(pts) == len(y) and pts[0].find("{http://www.topografix.com/GPX/1/1}time").text.startswith("2026-01-01")
+    # at the GNSS's rate (5 Hz, the IMU's 50 Hz); in UTC: the .pos file's GPST less 18 leap seconds
+    assert abs(len(pts) - (5 * (y["time"].iloc[-1] - y["time"].iloc[0]) + 2)) <= 2
+    import datetime
+    first = pts[0].find("{http://www.topografix.com/GPX/1/1}time").text
+    assert datetime.datetime.fromisoformat(first.replace("Z", "+00:00")).timestamp() == pytest.approx(
+        y["time"].iloc[0] - 18.0, abs=1e-3), first
     assert png.stat().st_size > 0
 
 

@@ -39,7 +39,8 @@ output (CSV, or Parquet when OUT ends in .parquet; needs pyarrow): time (s), q_w
   (the filter's one-sigma values, rad or rad/s), flags (bits), flag_names ('|'-separated).
 --plot FILE.png: attitude, biases and, when the log carries its own estimate (e.g. PX4's
   vehicle_attitude), the inclination and heading difference to it.
---json FILE writes a summary (rows, filter, magnetometer used, declination, samples per flag,
+--json FILE writes a summary (rows, filter, magnetometer: whether any of its samples was used and
+  magnetometer_rows: rows with a sample, used, rejected, skipped; declination, samples per flag,
   skipped rows, warnings, notes); --json - prints it
 exit status: 0 on success, 2 on an input error (one line on stderr)."""
 
@@ -117,8 +118,13 @@ def _run(args) -> int:
                    declination="auto" if args.declination is None else math.radians(args.declination), date=args.date,
                    rate=args.rate, smooth=args.smooth, calibration=getattr(args, "calibration", None))
     write_ahrs_table(ahrs_table(run.result), args.out)
-    print(f"wrote {args.out}: {len(run.result.t)} rows, {run.filter}{' smoothed' if args.smooth else ''}"
-          f"{'' if run.log.mag is not None else ' (no magnetometer: heading free)'}")
+    m = run.magnetometer
+    mag = (" (no magnetometer: heading free)" if run.log.mag is None else
+           f" (magnetometer: {m['used']} of {m['rows']} rows with a sample used"
+           + (f", {m['rejected']} rejected as disturbed" if m["rejected"] else "")
+           + (f", {m['skipped']} skipped" if m["skipped"] else "")
+           + ("; none used: heading free" if not m["used"] else "") + ")")
+    print(f"wrote {args.out}: {len(run.result.t)} rows, {run.filter}{' smoothed' if args.smooth else ''}{mag}")
     for note in run.log.notes:
         print(f"note: {note}")
     if args.plot:

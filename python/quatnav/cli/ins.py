@@ -121,9 +121,13 @@ other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by 
   stream; --format forces the format of the files.
 --out OUT.parquet writes Parquet (pyarrow) instead of CSV; a long run shows a progress bar on a
   terminal
---kml FILE, --gpx FILE write the track; --plot FILE.png plots track with GNSS fixes, attitude
-  with its 3-sigma band, biases, the difference to the log's own attitude estimate (e.g. PX4's)
-  when it has one, the position one-sigma, and every aid's innovation NIS over time (x: not applied)
+--kml FILE, --gpx FILE write the track at the GNSS's rate (--track-rate HZ: another); the GPX
+  times are UTC: the IMU's clock plus the offset the GNSS fixes' UTC times give (an RTKLIB .pos
+  in GPST: less the leap seconds; a ULog's time_utc_usec; a CSV utc column), else the clock taken
+  for Unix time when it is one (> 1e8 s), else none
+--plot FILE.png plots track with GNSS fixes, attitude with its 3-sigma band, biases, the
+  difference to the log's own attitude estimate (e.g. PX4's) when it has one, the position
+  one-sigma, and every aid's innovation NIS over time (x: not applied)
 --declination auto: the World Magnetic Model (ahrs.utils.WMM, the [peers] extra) at the first GNSS
   fix on the day of the recording: --date YYYY-MM-DD (or a decimal year), else the GNSS's first UTC
   time (a ULog's time_utc_usec, a .pos or NMEA date, a utc column), else today's, with a note; the
@@ -171,7 +175,7 @@ def _run(args) -> int:
                   odometer=args.odometer, no_mag=args.no_mag, fmt=args.format, config=args.config,
                   declination=declination, date=args.date, calibration=getattr(args, "calibration", None),
                   mag_calibrate=args.mag_calibrate, time_offset=args.estimate_time_offset, smooth=args.smooth,
-                  progress=progress)
+                  progress=progress, utc=bool(args.gpx))
     try:
         if bar:
             bar[0].set_description("ins run: write")
@@ -188,12 +192,15 @@ def _run(args) -> int:
     if run.navigated:
         from ..io import tracks as track_files
         r, nav = run.result, run.rows
+        rate = args.track_rate or run.gnss_rate
+        each = f"{rate:g} Hz" if rate else "every sample"
         if args.kml:
-            track_files.write_kml(args.kml, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
-            print(f"wrote {args.kml}")
+            n = track_files.write_kml(args.kml, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav], rate=rate)
+            print(f"wrote {args.kml}: {n} points ({each})")
         if args.gpx:
-            track_files.write_gpx(args.gpx, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav])
-            print(f"wrote {args.gpx}")
+            utc, clock = _gpx_times(run, r.t[nav])
+            n = track_files.write_gpx(args.gpx, r.t[nav], r.lat[nav], r.lon[nav], r.h[nav], rate=rate, utc=utc)
+            print(f"wrote {args.gpx}: {n} points ({each}); {clock}")
         if args.plot:
             from ..pipeline.figures import plot_nav
             plot_nav(args.plot, r, nav, run.inputs.gnss, log)
@@ -206,6 +213,18 @@ def _run(args) -> int:
                 summary["diagnostics_rows"] = n_diag
         write_json(summary, args)
     return 0 if run.navigated else 1
+
+
+
+def _gpx_times(run, t):
+    """The UTC times of the GPX points, and a sentence on where they come from."""
+    if run.utc_offset is not None:
+        return run.utc(t), (f"times in UTC: the IMU's clock {run.utc_offset:+.3f} s (from the GNSS fixes' UTC times, "
+                            "leap seconds included)")
+    if len(t) and t[0] > 1e8:
+        return t, ("times in UTC taking the IMU's clock for Unix time (the GNSS gives no UTC time: if the clock is GPS "
+                   "time, give the GNSS's utc column, UTC s since 1970)")
+    return None, "no times (the log's clock has no date, and the GNSS gives no UTC time: a utc column, UTC s since 1970)"
 
 
 def config_keys_text(width: int = 100) -> str:
@@ -231,6 +250,17 @@ def config_keys_text(width: int = 100) -> str:
     lines.append("[initial] keys (a given initial state instead of the alignment): euler = [roll, pitch, yaw] (rad) "
                  "or q_nb = [w, x, y, z]; v_n = [n, e, d] (m/s); acc_bias (m/s^2); gyro_bias (rad/s)")
     return "\n".join(lines)
+
+
+def _positive_hz(text: str) -> float:
+    """A rate in Hz above 0 (argparse type of --track-rate)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not (np.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"expected a rate in Hz above 0, got {text!r}")
+    return v
 
 
 def _offset_bounds(text: str) -> tuple:
@@ -300,7 +330,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "offset whose GNSS innovations are smallest (needs motion; prints the estimate and its "
                         "one-sigma); a negative LOW takes '=': --estimate-time-offset=-0.3,0.1")
     r.add_argument("--kml", metavar="FILE.kml", help="also write the track as KML (Google Earth)")
-    r.add_argument("--gpx", metavar="FILE.gpx", help="also write the track as GPX")
+    r.add_argument("--gpx", metavar="FILE.gpx", help="also write the track as GPX (times in UTC: from the GNSS fixes' "
+                   "UTC times, leap seconds included)")
+    r.add_argument("--track-rate", type=_positive_hz, metavar="HZ",
+                   help="points per second of --kml and --gpx (default: the GNSS's rate)")
     r.add_argument("--plot", metavar="FILE.png", help="also plot track with GNSS fixes, attitude, biases")
     r.set_defaults(func=_run)
     p.set_defaults(func=None)

@@ -284,12 +284,21 @@ class FilterResult:
 
     def __repr__(self) -> str:
         n = len(self.t)
-        span = f"t {self.t[0]:.6g}..{self.t[-1]:.6g} s" if n else "empty"
+        span = _span(self.t) if n else "empty"
         aids = ", ".join(f"{k}: {len(v.t)}" for k, v in self.aids.items()) or "none"
         flags = ", ".join(self.flags_seen()) or "none"
         kind = "smoothed, " if self.smoothed else ""
         return (f"<{type(self).__name__} of {self.filter}: {kind}{n} samples, {span}; aids {aids}; "
                 f"flags seen: {flags}>")
+
+
+def _span(t) -> str:
+    """``t 12.5..140 s`` for times from zero; for absolute times (a GPS or Unix epoch) to the
+    millisecond with the duration: ``t 1756402000.000..1756402134.500 s (134.5 s)``."""
+    t0, t1 = float(t[0]), float(t[-1])
+    if max(abs(t0), abs(t1)) < 1e5:
+        return f"t {t0:.6g}..{t1:.6g} s"
+    return f"t {t0:.3f}..{t1:.3f} s ({t1 - t0:.6g} s)"
 
 
 @dataclass(repr=False, eq=False)

@@ -8,8 +8,9 @@ by solution quality; the velocity columns (vn/ve/vu) when present.
 
 Times are seconds on the file's own scale counted from 1970-01-01 without leap seconds (a GPST
 file gives GPST seconds; week/tow files the same scale), so files on one clock line up.
-``gnss.utc`` is the same time in UTC (GPST less 18 leap seconds, JST less 9 h): the date of the
-recording.
+``gnss.utc`` is the same time in UTC (GPST less the leap seconds of its date,
+:mod:`quatnav.core.timescales`; JST less 9 h): the date of the recording, and the times of a GPX
+track.
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ import math
 import numpy as np
 
 from ..core import earth as E
+from ..core.timescales import gps_to_utc
 from .log import Gnss, Log
 
 __all__ = ["read_pos", "QUALITY", "ecef_to_geodetic"]
@@ -46,9 +48,8 @@ def ecef_to_geodetic(xyz):
     return lat, lon, h
 
 
-#: time scale of the file -> its offset from UTC, s (GPST: the leap seconds since 2017; a few
-#: seconds off before that, which does not matter to the date ``gnss.utc`` serves)
-_UTC_OFFSET = {"GPST": 18.0, "UTC": 0.0, "JST": 9 * 3600.0}
+#: time scale of the file -> its offset from UTC, s (GPST: the leap seconds of its date)
+_UTC_OFFSET = {"UTC": 0.0, "JST": 9 * 3600.0}
 
 
 def _time(tok0, tok1):
@@ -156,5 +157,5 @@ def read_pos(path) -> Log:
             sig_v = np.column_stack([c["sdvn"], c["sdve"], c["sdvu"]])
     g = Gnss(t=t, lat=np.asarray(lat, float), lon=np.asarray(lon, float), h=np.asarray(h, float), vel_n=vel,
              sigma=sigma, sigma_vel=sig_v, quality=q, weight=weight, quality_kind="rtklib",
-             utc=t - _UTC_OFFSET[timescale])
+             utc=gps_to_utc(t) if timescale == "GPST" else t - _UTC_OFFSET[timescale])
     return Log(source=str(path), format="rtklib-pos", gnss=g, notes=notes)

@@ -48,18 +48,25 @@ class AhrsRun:
     warnings: list = field(default_factory=list)
 
     @property
-    def magnetometer_samples(self) -> int:
-        """The rows with a magnetometer sample that was used (not flagged ``no_mag``)."""
-        if self.log.mag is None:
-            return 0
+    def magnetometer(self) -> dict:
+        """What the filter made of the magnetometer: ``rows`` (rows with a sample: the
+        magnetometer's own rate), ``used`` (of those, the updates it applied: not rejected by its
+        disturbance tests, nor skipped as invalid), ``rejected``, ``skipped``."""
         r = self.result
-        return int(len(r.t) - np.count_nonzero(r.flag("no_mag"))) if "no_mag" in r.FLAGS else int(len(r.t))
+        if self.log.mag is None:
+            return {"rows": 0, "used": 0, "rejected": 0, "skipped": 0}
+        rows = ~r.flag("no_mag")
+        rejected = int(np.count_nonzero(rows & r.flag("mag_rejected")))
+        skipped = int(np.count_nonzero(rows & r.flag("mag_skipped") & ~r.flag("mag_rejected")))
+        n = int(np.count_nonzero(rows))
+        return {"rows": n, "used": n - rejected - skipped, "rejected": rejected, "skipped": skipped}
 
     def summary(self) -> dict:
         """The run as a dict of plain values (``quatnav ahrs run --json``)."""
         res = self.result
         out = {"rows": int(len(res.t)), "imu_samples": int(len(self.log.imu.t)), "filter": self.filter,
-               "smoothed": res.smoothed, "magnetometer": self.log.mag is not None,
+               "smoothed": res.smoothed, "magnetometer": self.magnetometer["used"] > 0,
+               "magnetometer_rows": self.magnetometer,
                "declination_rad": self.declination, "rate_hz": self.rate,
                "flags": {n: int(np.count_nonzero(res.flag(n))) for n in res.flags_seen()},
                "skipped_rows": {k: int(len(v)) for k, v in res.skipped_rows.items()},

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._command import InputError
+from ..core.earth import radii
 from ..plausibility import (check_heading_aids, check_imu_times, check_overlap, checked_by_caller,
                             plausibility_warnings)
 from ..plausibility.gnss import gnss_speed, gnss_velocity_ne
@@ -54,6 +55,9 @@ class InsRun:
         With ``mag_calibrate``: the fit; ``mag_offset`` its offset in the magnetometer's axes.
     time_offset : TimeOffsetEstimate or None
         With ``time_offset``: the estimate of ``gps_time_offset`` the run used.
+    utc_offset : float or None
+        UTC minus the IMU's clock, s, from the GNSS fixes' UTC times (a log's, a CSV's ``utc``
+        column read with ``utc=True``); None where they give none.
     """
 
     result: object
@@ -67,6 +71,7 @@ class InsRun:
     mag_calibration: object = None
     mag_offset: np.ndarray | None = None
     time_offset: object = None
+    utc_offset: float | None = None
 
     @property
     def navigated(self) -> bool:
@@ -86,6 +91,41 @@ class InsRun:
         a = self.result.aids.get("nhc")
         ok = np.flatnonzero(a.accepted) if a is not None else []
         return float(a.t[ok[0]]) if len(ok) else None
+
+    @property
+    def gnss_rate(self) -> float | None:
+        """The GNSS's rate, Hz (the median interval of its fixes); None with fewer than two."""
+        t = np.asarray(self.inputs.gnss["time"], float)
+        return float(1.0 / np.median(np.diff(t))) if len(t) > 1 and np.median(np.diff(t)) > 0 else None
+
+    def utc(self, t) -> np.ndarray | None:
+        """UTC (s since 1970) of IMU times ``t``, from :attr:`utc_offset`; None without it."""
+        return None if self.utc_offset is None else np.asarray(t, float) + self.utc_offset
+
+    @property
+    def smoother_restarts(self) -> list:
+        """Where the smoothed solution restarts (``smooth=True``): the samples where the forward
+        pass inflated the covariance before a fix or reset the state to it; the backward pass
+        does not cross them, so the smoothed estimate may jump there. One dict each: ``t`` (s),
+        ``aid``, ``decision`` (inflated, reset), and the jump of the smoothed solution from the
+        sample before: ``position_m`` (horizontal), ``gyro_bias_deg_h`` (norm)."""
+        r = self.result
+        if not r.smoothed or not len(r.t):
+            return []
+        out = []
+        for name, a in r.aids.items():
+            d = getattr(a, "decision_names", None)
+            if d is None:
+                continue
+            for i in np.flatnonzero(np.isin(d, ("inflated", "reset"))):
+                k = int(np.clip(np.searchsorted(r.t, a.t[i], side="left"), 1, len(r.t) - 1))
+                r_m, r_n = radii(r.lat[k])
+                dn = (r.lat[k] - r.lat[k - 1]) * (r_m + r.h[k])
+                de = (r.lon[k] - r.lon[k - 1]) * (r_n + r.h[k]) * np.cos(r.lat[k])
+                db = np.degrees(np.linalg.norm(r.bias[k] - r.bias[k - 1])) * 3600.0
+                out.append({"t": float(a.t[i]), "aid": name, "decision": str(d[i]),
+                            "position_m": float(np.hypot(dn, de)), "gyro_bias_deg_h": float(db)})
+        return sorted(out, key=lambda x: x["t"])
 
     def table(self) -> tuple:
         """The output table: ``(names, columns, formats)`` (:func:`quatnav.pipeline.ins_table`)."""
@@ -123,6 +163,14 @@ class InsRun:
             msg += f"; non-holonomic constraint from t = {nhc_t:.1f} s"
         if r.smoothed and nav.any():
             msg += "; smoothed"
+            restarts = self.smoother_restarts
+            if restarts:
+                shown = ", ".join(f"{x['aid']} {x['decision']} at t = {x['t']:.1f} s" for x in restarts[:3])
+                more = f" and {len(restarts) - 3} more" if len(restarts) > 3 else ""
+                msg += (f", restarted at {len(restarts)} covariance inflation{'s' if len(restarts) > 1 else ''} or "
+                        f"reset{'s' if len(restarts) > 1 else ''} ({shown}{more}): the smoothed solution may jump there "
+                        f"(up to {max(x['position_m'] for x in restarts):.3g} m, "
+                        f"{max(x['gyro_bias_deg_h'] for x in restarts):.4g} deg/h of gyro bias)")
         return msg
 
     def summary(self) -> dict:
@@ -140,6 +188,10 @@ class InsRun:
                "alignment": r.alignment, "decisions": {k: a.decisions() for k, a in r.aids.items()},
                "warnings": [str(w) for w in self.warnings], "smoothed": r.smoothed, "nhc_start_s": self.nhc_start,
                "declination_rad": float(self.params["declination"])}
+        if r.smoothed:
+            out["smoother_restarts"] = self.smoother_restarts
+        if self.utc_offset is not None:
+            out["utc_minus_imu_clock_s"] = self.utc_offset
         fit = self.mag_calibration
         if fit is not None:
             out["mag_calibration"] = {
@@ -167,7 +219,7 @@ class InsRun:
 def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None, odometer=None, no_mag: bool = False,
             fmt: str = "auto", config=None, params: dict | None = None, initial: dict | None = None,
             declination=None, date: float | None = None, calibration=None, mag_calibrate: bool = False,
-            time_offset=None, executor=None, smooth: bool = False, progress=None) -> InsRun:
+            time_offset=None, executor=None, smooth: bool = False, progress=None, utc: bool = False) -> InsRun:
     """Run :class:`quatnav.GpsInsFilter` on a log as ``quatnav ins run`` does.
 
     Parameters
@@ -201,6 +253,9 @@ def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None,
         a thread per core) and run with it.
     smooth : bool
         The Rauch-Tung-Striebel smoothed solution (``GpsInsFilter.run(smooth=True)``).
+    utc : bool
+        Also read a CSV GNSS file's ``utc`` column (UTC s since 1970; logs give it always), for
+        :attr:`InsRun.utc_offset`.
     progress : callable, optional
         ``progress(done, total)``: called before the filter runs (``done = 0``) and after (``done``
         its steps), with ``total`` twice the steps (the other half: writing the rows).
@@ -221,14 +276,14 @@ def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None,
     # The alignment says why it never navigated; the inputs are checked here, with their files' names.
     with recorded(ignore=(NavigationWarning,)) as kept, checked_by_caller():
         run = _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, params, initial, declination,
-                   date, calibration, mag_calibrate, time_offset, executor, smooth, progress)
+                   date, calibration, mag_calibrate, time_offset, executor, smooth, progress, utc)
     run.warnings = kept
     issue(kept)
     return run
 
 
 def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, params, initial, declination, date,
-         calibration, mag_calibrate, time_offset, executor, smooth, progress) -> InsRun:
+         calibration, mag_calibrate, time_offset, executor, smooth, progress, utc) -> InsRun:
     import quatnav
 
     given = dict(initial or {})
@@ -259,7 +314,7 @@ def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, para
     f = make_filter()
     max_dt, align_time = float(f.params["max_dt"]), float(f.params["align_time"])
     inp = read_ins_inputs(log, imu=imu, gnss=gnss, baro=baro, compass=compass, mag=mag, odometer=odometer,
-                          no_mag=no_mag, fmt=fmt, utc=auto)
+                          no_mag=no_mag, fmt=fmt, utc=auto or utc)
     d_g = inp.gnss
     if auto:  # the World Magnetic Model at the first fix
         from ..core.magnetic import first_fix_declination
@@ -338,7 +393,8 @@ def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, para
     if progress is not None:
         progress(len(tt), 2 * len(tt))
     run = InsRun(result=r, rows=r.navigating & original, inputs=inp, params=f.params, notes=notes, gaps=gaps,
-                 overlap=overlap, mag_calibration=mag_fit, mag_offset=offset, time_offset=estimate)
+                 overlap=overlap, mag_calibration=mag_fit, mag_offset=offset, time_offset=estimate,
+                 utc_offset=_utc_offset(d_g, float(f.params["gps_time_offset"])))
     for w in check_heading_aids(r):
         warnings.warn(w)
     return run
@@ -391,3 +447,14 @@ def _calibrate_mag(f, gyro, accel, t, imu_input, kw):
     q = np.where(settled[:, None], r0.quat, np.nan)
     rot = np.asarray(f.params["imu_rotation"], float)
     return mag_attitude_fit(q, kw["mag"] @ rot.T)
+
+
+def _utc_offset(d_g, gps_time_offset):
+    """UTC minus the IMU's clock, s: the median over the fixes with a UTC time of that time less
+    the fix's time on the IMU's clock (its time plus ``gps_time_offset``); None without any."""
+    u = np.asarray(d_g.get("utc", ()), float)
+    if not u.size:
+        return None
+    d = u - (np.asarray(d_g["time"], float) + gps_time_offset)
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else None
