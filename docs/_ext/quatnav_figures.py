@@ -118,6 +118,8 @@ class QuatnavFigure(Figure):
             return [nodes.warning("", para)]
         self.arguments[0] = "/" + os.path.relpath(png, env.srcdir)
         self.options.setdefault("alt", f"figure made by {command_line(name)}")
+        # the page's width, and a link to the image at its own size (Sphinx links a scaled image)
+        self.options.setdefault("width", "100%")
         made_by = f"Made by `{command_line(name)}`."
         if self.content:  # the command ends the caption (the content's first paragraph)
             end = next((i for i, line in enumerate(self.content) if not line.strip()), len(self.content))

@@ -222,19 +222,22 @@ _AXIS_COLORS = {"roll": "#1b9e77", "pitch": "#d95f02", "yaw": "#7570b3"}
 
 
 def _plot(d: RotationData, attitude: dict, nav: dict | None, ins: dict | None, path: str):
-    """The demo's figure: left the attitude filters on the simulated rotation (roll, pitch, yaw
-    and gyro-bias errors), right NavFilter13's and GpsInsFilter's errors when those ran; the part
-    of each run that the printed RMSE leaves out is shaded. Returns the path written."""
+    """The demo's figure: at the top the attitude filters on the simulated rotation (roll, pitch,
+    yaw and gyro-bias errors), below NavFilter13's and GpsInsFilter's errors when those ran; the
+    part of each run that the printed RMSE leaves out is shaded. One column, 11 in wide: on a
+    documentation page (about 750 px wide) its 9-point text reads at 8.5 px, where two columns
+    side by side (17 in) read at 5.4. Returns the path written."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     from ._plotting import figure, legend_right, moving_rms, save
 
     right = bool(nav) or bool(ins)
-    fig = figure((17.0, 12.5) if right else (9.5, 11.0))
+    blocks = bool(nav) + bool(ins)
+    fig = figure((11.0, 10.0 + 4.8 * blocks) if right else (11.0, 10.0))
     if right:
-        left_fig, right_fig = fig.subfigures(1, 2, wspace=0.02)
-        rows = iter(right_fig.add_gridspec(2 * (bool(nav) + bool(ins)), 1))
+        left_fig, right_fig = fig.subfigures(2, 1, hspace=0.02, height_ratios=[10.0, 4.8 * blocks])
+        rows = iter(right_fig.add_gridspec(2 * blocks, 1))
     else:
         left_fig = fig
     excluded = Patch(color="0.88", label=f"not in the RMSE (first {SETTLE_S:.0f} s)")

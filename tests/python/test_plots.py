@@ -218,3 +218,103 @@ def test_scenario_overview_unwraps_yaw(tmp_path):
         _legends_outside(fig)
     finally:
         plt.close(fig)
+
+
+# --- the figures of ins run, ahrs run and the demo ---------------------------------------------------
+def _spy(monkeypatch):
+    """Record every figure saved (Figure.savefig) in a list."""
+    import matplotlib.figure
+    figs = []
+    save = matplotlib.figure.Figure.savefig
+
+    def spy(fig, path, *a, **k):
+        figs.append(fig)
+        return save(fig, path, *a, **k)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", spy)
+    return figs
+
+
+def _angle_axes_ok(ax):
+    """No line of the angles axes jumps by more than 180 deg between neighbouring points (the
+    stroke of a wrap through +-180), the axis stays within +-190 deg, and every band (3 sigma)
+    lies within +-180 deg."""
+    for line in ax.get_lines():
+        y = np.asarray(line.get_ydata(), float)
+        assert not (np.abs(np.diff(y)) > 180.0).any(), line.get_label()
+    lo, hi = ax.get_ylim()
+    assert -190.0 <= lo and hi <= 190.0
+    for band in ax.collections:
+        for path in band.get_paths():
+            assert np.abs(path.vertices[:, 1]).max() <= 180.0 + 1e-9
+
+
+def test_ins_run_figure(tmp_path, monkeypatch):
+    """A walk on an absolute clock whose heading wraps through +-180 and starts unknown (its
+    3-sigma band wider than the circle): the time axis in seconds since the start (no offset like
+    "+1.756e9"), the angles without wrap strokes, the bands clipped, x/y/z on the bias panels."""
+    import quatnav
+    from quatnav import io
+    from quatnav.pipeline import run_ins
+    from quatnav.pipeline.figures import plot_nav
+    from quatnav.sim.scenarios import make_scenario
+    s = make_scenario("paper004_walk", seed=0)
+    g = s.gps
+    t0 = 1.756402e9
+    log = io.Log(source="walk", imu=io.Imu(t=t0 + s.imu.t, gyr=s.imu.gyro, acc=s.imu.accel),
+                 gnss=io.Gnss(t=t0 + g.t_valid, lat=g.lat, lon=g.lon, h=g.h, vel_n=g.v_n))
+    run = run_ins(log)
+    r = run.result
+    # a heading through +-180 deg and a yaw sigma of 2 rad in the first 10 s (as before a course)
+    r.quat[:] = quatnav.core.quaternion.mul(np.array([0.0, 0.0, 0.0, 1.0]), r.quat)
+    r.sigma[r.t < t0 + 20.0, 8] = 2.0
+    figs = _spy(monkeypatch)
+    plot_nav(tmp_path / "nav.png", r, run.rows, run.inputs.gnss)
+    _png_ok(tmp_path / "nav.png", 1000, 800)
+    fig = figs[-1]
+    by_label = {ax.get_ylabel(): ax for ax in fig.axes}
+    att = by_label["attitude [deg] (band: 3 sigma)"]
+    yaw = np.degrees(r.euler[run.rows, 2])
+    assert (np.abs(np.diff(yaw)) > 180.0).any()  # it wraps: the test can fail
+    _angle_axes_ok(att)
+    for label in ("gyro bias [deg/h]", "accelerometer bias [m/s^2]"):
+        leg = by_label[label].get_legend()
+        assert [x.get_text() for x in leg.get_texts()] == ["x", "y", "z"], label
+    x = att.get_xlabel()
+    assert x.startswith("time since t = 1756402") and x.endswith("[s]"), x
+    fig.canvas.draw()
+    ticks = [tl.get_text() for tl in att.get_xticklabels()]
+    assert not any("e9" in tl or "+" in tl for tl in ticks) and att.xaxis.get_offset_text().get_text() == "", ticks
+
+
+def test_ahrs_run_figure(tmp_path, monkeypatch):
+    """ahrs run's figure: angles without wrap strokes, x/y/z on the gyro bias."""
+    import quatnav
+    from quatnav import io
+    from quatnav.pipeline.figures import plot_attitude
+    from quatnav.sim.scenarios import make_scenario
+    s = make_scenario("handheld_marg", seed=0)
+    res = quatnav.QuaternionEKF().run(s.imu.gyro, s.imu.accel, t=1.756402e9 + s.imu.t)
+    figs = _spy(monkeypatch)
+    plot_attitude(res, io.Log(), tmp_path / "a.png")
+    _png_ok(tmp_path / "a.png")
+    ax = figs[-1].axes
+    assert (np.abs(np.diff(np.degrees(res.euler[:, 2]))) > 180.0).any()
+    _angle_axes_ok(ax[0])
+    assert [x.get_text() for x in ax[1].get_legend().get_texts()] == ["x", "y", "z"]
+    assert ax[-1].get_xlabel().startswith("time since t = ")
+
+
+def test_demo_figure_reads_at_page_width(tmp_path, monkeypatch):
+    """One column 11 in wide (two columns made it 17 in: on a 750 px page its text was 5 px
+    high), no text smaller than 7.5 points."""
+    import matplotlib.text
+    import quatnav
+    from quatnav import demo
+    d = demo.rotation_scenario(n=1500)
+    res = {"QuaternionEKF": {"result": quatnav.QuaternionEKF().run(d.gyr, d.acc, d.mag, dt=d.dt)}}
+    figs = _spy(monkeypatch)
+    demo._plot(d, res, None, None, tmp_path / "demo.png")
+    fig = figs[-1]
+    assert fig.get_size_inches()[0] <= 11.0
+    sizes = [t.get_fontsize() for t in fig.findobj(matplotlib.text.Text) if t.get_text().strip()]
+    assert min(sizes) >= 7.5, min(sizes)
