@@ -111,3 +111,82 @@ def test_ins_run_takes_a_calibration(logs, tmp_path):
                                                                              np.eye(3)))
     p = run(*base, "--calibration", tmp_path / "good.toml")
     assert p.returncode in (0, 1) and "wrote" in p.stdout, p.stderr
+
+
+# --- real logs: any format, a real sensor's noise, one rest detector, hints in the command's syntax --
+ULOG = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "px4" / "sample_logging_tagged_and_default_params.ulg"
+
+
+@pytest.mark.data
+def test_calibrate_reads_a_ulog(tmp_path):
+    """The PX4 SITL log (11 s on the ground): 'calibrate mag' reads its magnetometer (it said
+    'not UTF-8 text') and finds it never turned; 'calibrate gyro' takes the bias over its rest."""
+    pytest.importorskip("pyulog")
+    if not ULOG.exists():
+        pytest.skip(f"no {ULOG}")
+    p = run("calibrate", "mag", ULOG, "--out", tmp_path / "c.toml")
+    assert p.returncode == 2 and "UTF-8" not in p.stderr and "rotate the sensor" in p.stderr, p.stderr
+    p = run("calibrate", "gyro", ULOG, "--out", tmp_path / "c.toml")
+    assert p.returncode == 0, p.stderr
+    g = tomllib.loads((tmp_path / "c.toml").read_text())["gyro"]
+    assert np.abs(g["offset"]).max() < 0.01  # a simulated gyro's bias, rad/s
+
+
+def test_a_real_accelerometers_poses_are_kept(tmp_path):
+    """Six poses with a consumer accelerometer's noise (0.05 m/s^2 per axis, BROAD's): all kept
+    (the fixed 0.05 m/s^2 of an ideal sensor rejected them); a pose with motion still rejected."""
+    rng = np.random.default_rng(3)
+    six = np.array([(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)], float)
+    acc = []
+    for f in six:
+        acc.append(np.tile(9.80665 * f + [0.1, -0.05, 0.2], (300, 1)) + rng.normal(scale=0.05, size=(300, 3)))
+        acc.append(rng.normal(scale=2.0, size=(100, 3)) + 9.80665 * f)
+    acc = np.concatenate(acc)
+    t = np.arange(len(acc)) * 0.01
+    gyr = rng.normal(scale=0.003, size=acc.shape)
+    np.savetxt(tmp_path / "acc.csv", np.column_stack([t, gyr, acc]), delimiter=",", comments="", fmt="%.9g",
+               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
+    p = run("calibrate", "acc", tmp_path / "acc.csv", "--out", tmp_path / "c.toml")
+    assert p.returncode == 0, p.stderr
+    assert "6 poses" in p.stdout and "rejected" not in p.stdout, p.stdout
+    a = tomllib.loads((tmp_path / "c.toml").read_text())["acc"]
+    np.testing.assert_allclose(a["offset"], [0.1, -0.05, 0.2], atol=0.02)
+
+
+def test_no_rest_hint_in_the_commands_syntax(tmp_path):
+    rng = np.random.default_rng(4)
+    t = np.arange(3000) * 0.01
+    gyr = rng.normal(scale=1.0, size=(len(t), 3))
+    acc = rng.normal(scale=3.0, size=(len(t), 3)) + [0.0, 0.0, -9.81]
+    np.savetxt(tmp_path / "m.csv", np.column_stack([t, gyr, acc]), delimiter=",", comments="", fmt="%.9g",
+               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
+    p = run("calibrate", "gyro", tmp_path / "m.csv", "--out", tmp_path / "c.toml")
+    assert p.returncode == 2 and "give --rest T0 T1" in p.stderr and "rest=(" not in p.stderr, p.stderr
+
+
+@pytest.mark.data
+def test_broad_rest_found_where_ahrs_run_sees_rest(data_dir, tmp_path):
+    """BROAD trial 02 (still for its first 40 s, gyro std 0.0017 rad/s): 'calibrate gyro' found no
+    rest; now the longest, and QuaternionEKF's own rest detection (ahrs run's at_rest) agrees on
+    it."""
+    import scipy.io
+    d = data_dir / "broad"
+    trials = sorted(d.glob("02_*.mat")) if d.is_dir() else []
+    if not trials:
+        pytest.skip(f"no BROAD trial 02 in {d}")
+    raw = scipy.io.loadmat(trials[0])
+    g, a = np.asarray(raw["imu_gyr"], float), np.asarray(raw["imu_acc"], float)
+    t = np.arange(len(g)) / float(np.squeeze(raw["sampling_rate"]))
+    np.savetxt(tmp_path / "imu.csv", np.column_stack([t, g, a]), delimiter=",", comments="", fmt="%.9g",
+               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z")
+    p = run("calibrate", "gyro", tmp_path / "imu.csv", "--out", tmp_path / "c.toml", "--json", tmp_path / "c.json")
+    assert p.returncode == 0, p.stderr
+    import json
+    t0, t1 = json.loads((tmp_path / "c.json").read_text())["rest"]
+    assert t1 - t0 > 30.0
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = quatnav.QuaternionEKF().run(g, a, t=t)
+    inside = (t >= t0 + 2.0) & (t <= t1)  # after the detector's rest_time
+    assert r.flag("at_rest")[inside].mean() > 0.9

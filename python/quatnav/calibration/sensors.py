@@ -374,13 +374,16 @@ def _tri_unpack(p):
 
 def accelerometer(poses: ArrayLike | None = None, *, acc: ArrayLike | None = None, t: ArrayLike | None = None,
                   gyr: ArrayLike | None = None, g: float = STANDARD_GRAVITY, model: str | None = None,
-                  still_std: float = 0.05, min_duration_s: float = 1.0) -> SensorCalibration:
+                  still_std: float | None = None, min_duration_s: float = 1.0) -> SensorCalibration:
     """Accelerometer bias, scale factors and misalignment from static poses.
 
     Give either ``poses`` (a list of (N_i, 3) arrays, one per static orientation) or a whole log
     ``acc`` with ``t`` (and ``gyr`` if available), from which the static poses are found by
-    :func:`rest_segments`. A pose whose per-axis standard deviation exceeds ``still_std`` is
-    rejected (the sensor moved) and reported in ``info["rejected"]``.
+    :func:`rest_segments` (its thresholds from the sensor's own noise, as ``quatnav allan
+    --rest-only`` and :func:`gyroscope` find rest). A pose whose per-axis standard deviation
+    exceeds ``still_std`` (m/s^2) is rejected (the sensor moved) and reported in
+    ``info["rejected"]``; None: four times the median of the poses' own, at least 0.05 (a real
+    IMU's noise is that already: BROAD's at rest, 0.05 per axis, was rejected by a fixed 0.05).
 
     Models (``calibrated = matrix @ (raw - offset)``):
 
@@ -405,12 +408,16 @@ def accelerometer(poses: ArrayLike | None = None, *, acc: ArrayLike | None = Non
         if acc is None or t is None:
             raise ValueError("accelerometer: give poses, or acc and t to find the static poses")
         acc = _as_n3(acc, "acc", 2)
-        segs = rest_segments(t, acc, gyr, acc_std=max(still_std * 2, 0.05), min_duration_s=min_duration_s)
+        segs = rest_segments(t, acc, gyr, acc_std=None if still_std is None else max(still_std * 2, 0.05),
+                             gyr_std=None, min_duration_s=min_duration_s)
         poses = [acc[a:b] for a, b in segs]
     poses = [_as_n3(p, f"poses[{i}]", 1) for i, p in enumerate(poses)]
+    stds = [float(p.std(axis=0).max()) if len(p) > 1 else 0.0 for p in poses]
+    if still_std is None:
+        still_std = max(0.05, 4.0 * float(np.median(stds))) if stds else 0.05
     means, rejected = [], []
     for i, p in enumerate(poses):
-        s = float(p.std(axis=0).max()) if len(p) > 1 else 0.0
+        s = stds[i]
         if s > still_std:
             rejected.append({"pose": i, "std": s})
         else:
@@ -461,7 +468,7 @@ def accelerometer(poses: ArrayLike | None = None, *, acc: ArrayLike | None = Non
 def gyroscope(gyr: ArrayLike, t: ArrayLike, *, acc: ArrayLike | None = None,
               rotations: Sequence[tuple[float, float, ArrayLike]] | None = None,
               rates: Sequence[tuple[float, float, ArrayLike]] | None = None,
-              rest: tuple[float, float] | None = None, gyr_std: float = 0.02, acc_std: float = 0.05,
+              rest: tuple[float, float] | None = None, gyr_std: float | None = None, acc_std: float | None = None,
               min_duration_s: float = 1.0) -> SensorCalibration:
     """Gyroscope bias from rest, and scale/misalignment from known rotations.
 
@@ -484,6 +491,10 @@ def gyroscope(gyr: ArrayLike, t: ArrayLike, *, acc: ArrayLike | None = None,
         A rest interval to use for the bias instead of the automatic detection (the longest
         segment of :func:`rest_segments`). A turn at a constant rate is as still as rest to a
         variance test: when the log has turntable segments longer than its rest, give ``rest``.
+    gyr_std, acc_std : float, optional
+        The thresholds of :func:`rest_segments` (rad/s, m/s^2); None (default): from the sensor's
+        own noise, as ``quatnav allan --rest-only`` and :func:`accelerometer` find rest (fixed
+        ones for an ideal sensor found no rest in BROAD's trials, still for 40 s).
 
     Returns
     -------

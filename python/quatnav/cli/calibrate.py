@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -17,20 +18,40 @@ MAG = ("mag_x", "mag_y", "mag_z")
 
 EPILOG = """\
 LOG: a CSV with a header row: time (s), gyro_x..z (rad/s), accel_x..z (m/s^2) and, for 'mag',
-mag_x..z (any unit; rows with an empty mag are skipped). The fitted sensor's table is written to
---out; the other tables of an existing file are kept, so one file collects all three.
+mag_x..z (any unit; rows with an empty mag are skipped); or any log 'ahrs run --log' reads (a PX4
+ULog, a ROS bag: its IMU and magnetometer). The fitted sensor's table is written to --out; the
+other tables of an existing file are kept, so one file collects all three.
+rest: 'gyro' takes the bias over the longest rest and 'acc' finds its static poses with one rest
+detector, the one of 'allan --rest-only' (quatnav.calibration.rest_segments: windows of 0.5 s
+whose deviation is below 1.5 times that of the log's quietest 1 %, thresholds scaled to the
+sensor's own noise); 'acc' rejects a pose whose per-axis std exceeds --still-std.
 
 calibrated = matrix @ (raw - offset); see docs/CALIBRATION.md.
 examples:
   quatnav calibrate mag rotations.csv --out cal.toml --model full --plot mag.png
   quatnav calibrate acc six_poses.csv --out cal.toml
-  quatnav calibrate gyro rest.csv --out cal.toml
+  quatnav calibrate gyro rest.csv --out cal.toml            (or --rest T0 T1: the interval, s)
+  quatnav calibrate mag flight.ulg --out cal.toml
   quatnav ins run --imu imu.csv --gnss gnss.csv --calibration cal.toml --out nav.csv"""
 
 
-def read_log(path, mag=False):
-    """(t, gyr, acc, mag or None) of an IMU CSV log; a bad file raises UsageError."""
+def read_log(path, mag=False, fmt="auto"):
+    """(t, gyr, acc, mag or None) of a log: an IMU CSV (its errors name the line and column), or
+    any file ``quatnav.io.read`` knows (PX4 ULog, ROS bag, ...: what ``ahrs run --log`` reads;
+    the magnetometer then at its own times, ``t`` the IMU's); a bad file raises UsageError."""
+    from .. import io
     from ..io.table import CsvError, read_table
+    kind = io.detect(path) if fmt == "auto" and Path(path).exists() else ("csv" if fmt == "auto" else fmt)
+    if kind != "csv":
+        log = io.read(path, format=kind)
+        log.require("imu")
+        m = None
+        if mag:
+            if log.mag is None:
+                raise UsageError(f"LOG {path}: no magnetometer in this {log.format} log (needed by 'calibrate mag'; it "
+                                 f"has: {', '.join(log.streams())})")
+            m = np.asarray(log.mag.values, float)
+        return log.imu.t, log.imu.gyr, log.imu.acc, m
     try:
         tab = read_table(path, IMU, MAG, what="LOG", min_rows=2)
     except CsvError as e:
@@ -49,7 +70,7 @@ def read_log(path, mag=False):
 
 def _fit(args):
     from .. import calibration as cal
-    t, gyr, acc, mag = read_log(args.log, mag=args.sensor == "mag")
+    t, gyr, acc, mag = read_log(args.log, mag=args.sensor == "mag", fmt=args.format)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -65,8 +86,9 @@ def _fit(args):
                 rest = tuple(args.rest) if args.rest else None
                 res = cal.gyroscope(gyr, t, acc=acc, rest=rest)
                 raw = gyr
-        except ValueError as e:
-            raise UsageError(f"LOG {args.log}: {e}") from None
+        except ValueError as e:  # the library's hint in the command's syntax
+            raise UsageError(f"LOG {args.log}: {str(e).replace('give rest=(t0, t1)', 'give --rest T0 T1 (s)')}") \
+                from None
     return res, raw, [str(w.message) for w in caught]
 
 
@@ -135,13 +157,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("sensor", choices=("mag", "acc", "gyro"),
                    help="mag: ellipsoid fit of a log of rotations; acc: static poses (found in the log); "
                         "gyro: bias from the longest rest")
-    p.add_argument("log", metavar="LOG", help="IMU CSV log")
+    p.add_argument("log", metavar="LOG", help="IMU log: CSV, or any format 'ahrs run --log' reads (PX4 ULog, ROS bag)")
+    p.add_argument("--format", default="auto", help="format of LOG: auto (default), csv, ulog, rosbag")
     p.add_argument("--out", required=True, metavar="CAL.toml", help="calibration file to write or update")
     p.add_argument("--model", help="mag: offset, diagonal, full (default); acc: diagonal, triangular, six_position "
                                    "(default: triangular with 9 or more poses, else diagonal)")
     p.add_argument("--g", type=float, default=9.80665, help="acc: local gravity, m/s^2 (default 9.80665)")
-    p.add_argument("--still-std", type=float, default=0.05,
-                   help="acc: a pose whose per-axis std exceeds this (m/s^2) is rejected as moving (default 0.05)")
+    p.add_argument("--still-std", type=float, default=None,
+                   help="acc: a pose whose per-axis std exceeds this (m/s^2) is rejected as moving (default: four "
+                        "times the poses' median, at least 0.05: a real IMU's noise)")
     p.add_argument("--rest", type=float, nargs=2, metavar=("T0", "T1"),
                    help="gyro: rest interval (s) instead of the automatic rest detection")
     p.add_argument("--plot", metavar="PNG", help="also draw raw and calibrated samples (matplotlib)")
@@ -171,7 +195,7 @@ def _allan(args) -> int:
     from .. import calibration as cal
     from ..calibration.noise import motion_evidence, noise_parameters, plot_allan
     prog = getattr(args, "_prog", "quatnav allan")
-    t, gyr, acc, _ = read_log(args.log)
+    t, gyr, acc, _ = read_log(args.log, fmt=args.format)
     dt = np.diff(t)
     if np.max(dt) > 1.5 * np.median(dt):
         i = int(np.argmax(dt))
@@ -223,7 +247,8 @@ def add_allan_parser(subparsers) -> argparse.ArgumentParser:
                                           "white noise (ARW/VRW), bias instability and rate random walk; the "
                                           "filter noise parameters they give, written as TOML.",
                               epilog=ALLAN_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("log", metavar="LOG", help="IMU CSV log at rest")
+    p.add_argument("log", metavar="LOG", help="IMU log at rest: CSV, or any format 'ahrs run --log' reads")
+    p.add_argument("--format", default="auto", help="format of LOG: auto (default), csv, ulog, rosbag")
     p.add_argument("--out", required=True, metavar="NOISE.toml", help="noise parameter file to write")
     p.add_argument("--rest-only", action="store_true", help="use the longest rest segment of the log only")
     p.add_argument("--plot", metavar="PNG", help="also draw the Allan deviation with the fitted lines")
