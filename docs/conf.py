@@ -31,6 +31,7 @@ extensions = [
     "sphinx.ext.viewcode",
     "quatnav_docstrings",
     "quatnav_figures",
+    "quatnav_cli",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}

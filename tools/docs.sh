@@ -14,6 +14,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 source tools/setup_env.sh   # $PY, pip_quiet
+# A relative interpreter (PYTHON=.venv/bin/python) is the repository's: the checks below run it
+# from other folders.
+case "$PY" in
+  /*) ;;
+  */*) PY="$ROOT/$PY" ;;
+esac
 OUT=build/docs/html
 
 # Requirement lists of pyproject.toml: "docs" (the extra) or "dependencies".

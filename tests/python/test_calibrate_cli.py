@@ -190,3 +190,29 @@ def test_broad_rest_found_where_ahrs_run_sees_rest(data_dir, tmp_path):
         r = quatnav.QuaternionEKF().run(g, a, t=t)
     inside = (t >= t0 + 2.0) & (t <= t1)  # after the detector's rest_time
     assert r.flag("at_rest")[inside].mean() > 0.9
+
+
+def test_allan_says_when_the_floor_was_not_reached(tmp_path):
+    """White noise only (the deviation falls to the longest tau): the bias instability is an
+    upper bound, and the command says so; with a random walk the floor shows, and no warning."""
+    import json
+    rng = np.random.default_rng(0)
+    n, fs = 60000, 100.0
+    t = np.arange(n) / fs
+    hdr = "time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z"
+    white = 1e-3 * rng.standard_normal((n, 3))
+    acc_rw = np.cumsum(2e-4 * rng.standard_normal((n, 3)), axis=0) + [0.0, 0.0, -9.81]
+    for name, gyr, expect in (("white", white, False), ("walk", white + np.cumsum(2e-5 * rng.standard_normal((n, 3)),
+                                                                                  axis=0), True)):
+        f = tmp_path / f"{name}.csv"
+        np.savetxt(f, np.column_stack([t, gyr, acc_rw + 2e-3 * rng.standard_normal((n, 3))]), delimiter=",",
+                   header=hdr, comments="", fmt="%.9g")
+        p = run("allan", f, "--out", tmp_path / "n.toml", "--json", tmp_path / "n.json")
+        assert p.returncode == 0, p.stderr
+        got = json.loads((tmp_path / "n.json").read_text())
+        assert [a["floor_reached"] for a in got["gyro"]] == [expect] * 3
+        if expect:
+            assert "floor was not reached" not in p.stderr, p.stderr
+        else:
+            assert "gyro x, gyro y, gyro z still falls at the longest tau" in p.stderr
+            assert "bias instability <= " in p.stdout

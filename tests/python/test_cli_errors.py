@@ -322,3 +322,22 @@ def test_ins_run_gap_too_long_to_coast(logs, tmp_path):
     imu = _imu_with_times(tmp_path, "imu.csv", t)
     line = error_line(quatnav_cli("ins", "run", "--imu", imu, "--gnss", logs / "gnss.csv", "--out", tmp_path / "o.csv"))
     assert "coasting steps" in line and "lines 501-502" in line and "split the log" in line, line
+
+
+def test_a_misspelled_config_key_gets_a_suggestion(logs, tmp_path):
+    """One short line with the key it most likely meant (it was 1,249 characters listing every
+    parameter)."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[filter]\nlever_arm = [0.1, 0.0, 0.0]\n")
+    line = error_line(quatnav_cli("ins", "run", "--imu", logs / "imu.csv", "--gnss", logs / "gnss.csv", "--config",
+                                  cfg, "--out", tmp_path / "o.csv"))
+    assert "unknown parameter 'lever_arm' (did you mean 'lever_arm_b'" in line and len(line) - len(str(cfg)) < 200, line
+    cfg.write_text("[inital]\neuler = [0.0, 0.0, 0.0]\n")
+    line = error_line(quatnav_cli("ins", "run", "--imu", logs / "imu.csv", "--gnss", logs / "gnss.csv", "--config",
+                                  cfg, "--out", tmp_path / "o.csv"))
+    assert "did you mean 'initial'" in line, line
+
+
+def test_ins_run_help_says_whose_position_it_writes():
+    h = quatnav_cli("ins", "run", "-h").stdout
+    assert "the IMU's position and velocity, not the" in h and "antenna's" in h

@@ -54,7 +54,9 @@ def _rel_err(n, m):
 class AxisNoise:
     """Allan read-outs of one axis, in the signal's unit: ``white`` (/sqrt(Hz)),
     ``bias_instability`` (at ``tau_bias_instability`` s), ``rate_random_walk`` (/s/sqrt(Hz), NaN
-    when not seen), and the relative standard error of each (``*_rel_err``)."""
+    when not seen), and the relative standard error of each (``*_rel_err``).
+    ``floor_reached``: False when the deviation still falls at the longest tau of the log, so
+    that ``bias_instability`` is only an upper bound (the log is too short to show the floor)."""
 
     white: float
     white_rel_err: float
@@ -63,6 +65,7 @@ class AxisNoise:
     bias_instability_rel_err: float
     rate_random_walk: float
     rate_random_walk_rel_err: float
+    floor_reached: bool = True
 
 
 def fit_allan(taus: ArrayLike, adev: ArrayLike, n_samples: int, rate_hz: float,
@@ -99,7 +102,7 @@ def fit_allan(taus: ArrayLike, adev: ArrayLike, n_samples: int, rate_hz: float,
     else:
         rrw, rrw_err = float("nan"), float("nan")
     return AxisNoise(white, white_err, float(adev[i_min] / 0.664), float(taus[i_min]),
-                     float(_rel_err(n_samples, m[i_min])), rrw, rrw_err)
+                     float(_rel_err(n_samples, m[i_min])), rrw, rrw_err, floor_reached=i_min < len(taus) - 1)
 
 
 @dataclass

@@ -225,11 +225,22 @@ def _allan(args) -> int:
             fh.write(model.to_toml())
     except OSError as e:
         raise UsageError(f"--out {args.out}: cannot write ({e.strerror})") from None
+    short = []
     for s, unit in (("gyro", "rad/s"), ("acc", "m/s^2")):
         for axis, a in zip("xyz", getattr(model, s)):
-            print(f"{s} {axis}: white {a.white:.3g} {unit}/sqrt(Hz) (+-{a.white_rel_err:.0%}), bias instability "
-                  f"{a.bias_instability:.3g} {unit} at {a.tau_bias_instability:.3g} s, rate random walk "
+            bi = (f"bias instability {a.bias_instability:.3g} {unit} at {a.tau_bias_instability:.3g} s" if a.floor_reached
+                  else f"bias instability <= {a.bias_instability:.3g} {unit} (no floor up to {a.tau_bias_instability:.3g} s)")
+            print(f"{s} {axis}: white {a.white:.3g} {unit}/sqrt(Hz) (+-{a.white_rel_err:.0%}), {bi}, rate random walk "
                   f"{a.rate_random_walk:.3g} {unit}/s/sqrt(Hz)")
+            if not a.floor_reached:
+                short.append((f"{s} {axis}", a.tau_bias_instability))
+    if short and not moving:  # (a moving log's figures mean nothing: its warning says so)
+        warned.append(f"LOG {args.log}: the Allan deviation of {', '.join(n for n, _ in short)} still falls at the "
+                      f"longest tau ({max(tau for _, tau in short):.3g} s of a {model.duration:.3g} s log): the "
+                      "bias-instability "
+                      "floor was not reached, and the figure given is only an upper bound; record at rest for longer "
+                      "(the floor of a MEMS gyro is typically at 10-1000 s)")
+        print(f"{prog}: warning: {warned[-1]}", file=sys.stderr)
     print(f"{len(t)} samples, {model.duration:.1f} s at {rate:.4g} Hz; wrote {args.out}")
     if args.plot:
         print(f"wrote {plot_allan(model, args.plot)}")

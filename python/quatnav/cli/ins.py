@@ -56,7 +56,8 @@ pitch, yaw, rad) or ``q_nb``, ``v_n`` (m/s), ``acc_bias`` (m/s^2), ``gyro_bias``
     v_n = [10.0, 3.0, 0.0]       # m/s
 
 The output has one row per IMU sample from the start of navigation: ``time`` (s), ``lat lon``
-(deg), ``h`` (m), ``v_n v_e v_d`` (m/s), ``roll pitch yaw`` (deg, ZYX), ``accel_bias_x_m_s2 ..z``,
+(deg), ``h`` (m), ``v_n v_e v_d`` (m/s) of the IMU (not of the antenna, which is ``lever_arm_b``
+from it), ``roll pitch yaw`` (deg, ZYX), ``accel_bias_x_m_s2 ..z``,
 ``gyro_bias_x_deg_h ..z``, then the one-sigma columns ``sigma_n sigma_e sigma_d`` (m),
 ``sigma_vn sigma_ve sigma_vd`` (m/s), ``sigma_psi_n_deg sigma_psi_e_deg sigma_psi_d_deg``
 (attitude error about the NED axes), ``sigma_accel_bias_x_m_s2 ..z``, ``sigma_gyro_bias_x_deg_h
@@ -102,7 +103,8 @@ config (TOML): a [filter] table of quatnav.GpsInsFilter parameters in SI units a
   e.g. lever_arm_b = [0.1, 0.0, -0.1], gps_pos_sigma_h = 2.5, imu_rotation = [3.141593, 0, 0]
   (every key below), and optionally [initial], a given initial state
 output (CSV), one row per IMU sample once navigating:
-  time, lat, lon (deg), h (m), v_n, v_e, v_d (m/s), roll, pitch, yaw (deg),
+  time, lat, lon (deg), h (m), v_n, v_e, v_d (m/s): the IMU's position and velocity, not the
+  antenna's (the antenna is lever_arm_b from the IMU, in the body frame); roll, pitch, yaw (deg),
   accel_bias_{x,y,z}_m_s2, gyro_bias_{x,y,z}_deg_h, sigma_n, sigma_e, sigma_d (m),
   sigma_vn, sigma_ve, sigma_vd (m/s), sigma_psi_{n,e,d}_deg,
   sigma_accel_bias_{x,y,z}_m_s2, sigma_gyro_bias_{x,y,z}_deg_h; with scale_factors = true also

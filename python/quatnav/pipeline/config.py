@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from .._command import InputError
+from .._validate import did_you_mean
 
 __all__ = ["load_config"]
 
@@ -34,7 +35,8 @@ def load_config(path, initial: dict | None = None) -> dict:
     # a noise file of 'quatnav allan' also holds [parameters.NAME] (other filters) and [allan] (read-outs)
     unknown = [k for k in doc if k not in ("filter", "initial", "parameters", "allan")]
     if unknown:
-        raise InputError(f"config {path}: unknown table or key {unknown[0]!r} (expected a [filter] table)")
+        raise InputError(f"config {path}: unknown table or key {unknown[0]!r}"
+                         f"{did_you_mean(unknown[0], ('filter', 'initial'))} (expected a [filter] table)")
     params = doc.get("filter", {})
     if not isinstance(params, dict):
         raise InputError(f"config {path}: 'filter' must be a table")
@@ -44,7 +46,8 @@ def load_config(path, initial: dict | None = None) -> dict:
                                                            for x in v)
     for k, v in params.items():
         if k not in PARAM_NAMES:
-            raise InputError(f"config {path}: [filter] unknown parameter {k!r} (known: {', '.join(PARAM_NAMES)})")
+            raise InputError(f"config {path}: [filter] unknown parameter {k!r}{did_you_mean(k, PARAM_NAMES)}; the "
+                             "parameters with their units and defaults: quatnav ins run -h")
         kind = kinds[k]
         if kind == "vec3":
             if not numbers(v, 3):
@@ -69,7 +72,8 @@ def load_config(path, initial: dict | None = None) -> dict:
     sizes = {"euler": 3, "q_nb": 4, "v_n": 3, "acc_bias": 3, "gyro_bias": 3}
     for k, v in init.items():
         if k not in sizes:
-            raise InputError(f"config {path}: [initial] unknown key {k!r} (known: {', '.join(sizes)})")
+            raise InputError(f"config {path}: [initial] unknown key {k!r}{did_you_mean(k, sizes)} (known: "
+                             f"{', '.join(sizes)})")
         if not numbers(v, sizes[k]):
             raise InputError(f"config {path}: [initial] {k} must be a list of {sizes[k]} numbers")
     if "euler" in init:
