@@ -75,7 +75,14 @@ def test_calibrate_plot_and_json(logs, tmp_path):
     p = run("calibrate", "mag", d / "log.csv", "--out", tmp_path / "c.toml", "--model", "offset",
             "--plot", tmp_path / "m.png", "--json", tmp_path / "m.json")
     assert p.returncode == 0, p.stderr
-    assert (tmp_path / "m.png").stat().st_size > 1000 and (tmp_path / "m.json").exists()
+    import json
+    import matplotlib.image as mpimg
+    img = mpimg.imread(tmp_path / "m.png")
+    assert img.shape[1] >= 800 and len(np.unique((img[..., :3] * 255).astype(np.uint8).reshape(-1, 3), axis=0)) > 50
+    got = json.loads((tmp_path / "m.json").read_text())
+    saved = tomllib.loads((tmp_path / "c.toml").read_text())["mag"]
+    assert got["sensor"] == "mag" and got["model"] == "offset" and got["warnings"] == []
+    np.testing.assert_allclose(got["offset"], saved["offset"], rtol=1e-12)
 
 
 @pytest.mark.parametrize("args, expect", [

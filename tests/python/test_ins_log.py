@@ -72,7 +72,7 @@ def test_gnss_from_pos_equals_csv(walk, tmp_path):
     first = pts[0].find("{http://www.topografix.com/GPX/1/1}time").text
     assert datetime.datetime.fromisoformat(first.replace("Z", "+00:00")).timestamp() == pytest.approx(
         y["time"].iloc[0] - 18.0, abs=1e-3), first
-    assert png.stat().st_size > 0
+    _figure_ok(png, 1000, 800)  # the six panels of plot_nav at 12 x 10 in
 
 
 def test_log_and_compare_equal_api(walk, tmp_path):
@@ -297,3 +297,11 @@ def test_wmm_declination_sign_and_size():
     for bad in ("east", "nan", "200"):
         with pytest.raises(argparse.ArgumentTypeError):
             declination_arg(bad)
+
+
+def _figure_ok(path, min_w, min_h):
+    """A PNG of a real figure: its size, and more than a few colours (not blank)."""
+    import matplotlib.image as mpimg
+    img = mpimg.imread(path)
+    assert img.shape[1] >= min_w and img.shape[0] >= min_h, img.shape
+    assert len(np.unique((img[..., :3] * 255).astype(np.uint8).reshape(-1, 3), axis=0)) > 50, "blank figure"

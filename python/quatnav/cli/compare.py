@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import argparse
 
-from .._command import UsageError, write_json
+from .._command import write_json
 from ..evaluation.track_difference import compare_tracks
 
 EPILOG = """\
@@ -53,28 +53,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _read_track(path, fmt):
-    from .. import io
-    if str(path).lower().endswith(".parquet"):
-        import pandas as pd
-        import tempfile, os
-        try:
-            df = pd.read_parquet(path)
-        except ImportError:
-            raise UsageError(f"{path}: reading Parquet needs pyarrow: pip install 'quatnav[logs]'") from None
-        with tempfile.TemporaryDirectory() as d:
-            p = os.path.join(d, "track.csv")
-            df.to_csv(p, index=False)
-            log = io.read(p, format="csv", kind="reference")
-        log.source = str(path)
-        return log
-    return io.read(path, format=fmt)
-
-
 def _run(args) -> int:
     from ..pipeline.recording import issue, recorded
-    a = _read_track(args.run, args.run_format)
-    b = _read_track(args.ref, args.ref_format)
+    from .. import io
+    a = io.read(args.run, format=args.run_format)
+    b = io.read(args.ref, format=args.ref_format)
     with recorded() as kept:
         res = compare_tracks(a, b, ref_frame=args.ref_frame, ref_body=args.ref_body)
     issue(kept)

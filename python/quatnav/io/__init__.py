@@ -18,7 +18,8 @@ __all__ = ["Log", "Imu", "Mag", "Gnss", "Baro", "Compass", "Reference", "read", 
 
 #: format name -> what it reads
 FORMATS = {"rtklib": "RTKLIB .pos solution", "ulog": "PX4 ULog (pyulog)", "nmea": "NMEA 0183 GGA/RMC/VTG",
-           "csv": "CSV with named columns", "rosbag": "ROS 1 .bag / ROS 2 bag folder (rosbags)"}
+           "csv": "CSV with named columns", "rosbag": "ROS 1 .bag / ROS 2 bag folder (rosbags)",
+           "parquet": "Parquet with the named columns of a CSV (pyarrow): the output of ins run, ahrs run"}
 
 
 def detect(path) -> str:
@@ -33,6 +34,8 @@ def detect(path) -> str:
     from .ulog import looks_like_ulog
     if looks_like_ulog(head):
         return "ulog"
+    if head.startswith(b"PAR1"):
+        return "parquet"
     if head.startswith(b"#ROSBAG V2.0"):
         return "rosbag"
     ext = p.suffix.lower()
@@ -50,7 +53,7 @@ def detect(path) -> str:
     if looks_like_nmea(text):
         return "nmea"
     by_ext = {".pos": "rtklib", ".ulg": "ulog", ".nmea": "nmea", ".gps": "nmea", ".csv": "csv", ".txt": "csv",
-              ".bag": "rosbag", ".mcap": "rosbag", ".db3": "rosbag"}
+              ".bag": "rosbag", ".mcap": "rosbag", ".db3": "rosbag", ".parquet": "parquet"}
     if ext in by_ext:
         return by_ext[ext]
     if "," in text or ";" in text:
@@ -96,6 +99,8 @@ def read(path, format: str = "auto", **options) -> Log:
             return read_csv(path, **options)
         except CsvError as e:
             raise ValueError(str(e)) from None
+    if fmt == "parquet":
+        return _read_parquet(path, **options)
     if fmt == "rosbag":
         try:
             from .rosbag import read_bag
@@ -103,3 +108,24 @@ def read(path, format: str = "auto", **options) -> Log:
             raise ValueError(f"{path}: reading ROS bags is not available ({e})") from None
         return read_bag(path, **options)
     raise ValueError(f"{path}: unknown format {fmt!r} (known: {', '.join(FORMATS)})")
+
+
+def _read_parquet(path, kind=None) -> Log:
+    """A Parquet file of named columns, read as the CSV of the same columns would be."""
+    import tempfile
+    try:
+        import pandas as pd
+        df = pd.read_parquet(path)
+    except ImportError:
+        raise ValueError(f"{path}: reading Parquet needs pandas and pyarrow: pip install 'quatnav[logs]'") from None
+    from .csvfile import read_csv
+    from .table import CsvError
+    with tempfile.TemporaryDirectory() as d:
+        p = os.path.join(d, "table.csv")
+        df.to_csv(p, index=False, float_format="%.17g")
+        try:
+            log = read_csv(p, kind=kind)
+        except CsvError as e:
+            raise ValueError(str(e).replace(p, str(path))) from None
+    log.source, log.format = str(path), "parquet"
+    return log
