@@ -1,7 +1,7 @@
 """Quaternion and rotation helpers (numpy, vectorized over leading axes).
 
 Conventions used everywhere in quatnav (the same text is in README.md and
-``cpp/include/quatnav/types.hpp``):
+``cpp/include/quatnav/core/types.hpp``):
 
 * Quaternions are Hamilton, scalar first: ``q = [w, x, y, z]``.
 * ``q_nb`` rotates body-frame vectors into the navigation frame:

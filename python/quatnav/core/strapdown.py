@@ -40,7 +40,7 @@ from . import earth
 __all__ = ["StrapdownState", "STATUS_OK", "STATUS_NON_FINITE", "STATUS_INVALID_DT",
            "STATUS_NUMERICAL_FAILURE", "strapdown_step", "strapdown_run"]
 
-# The same names as quatnav::Status in cpp/include/quatnav/types.hpp.
+# The same names as quatnav::Status in cpp/include/quatnav/core/types.hpp.
 STATUS_OK = "ok"
 STATUS_NON_FINITE = "non_finite"
 STATUS_INVALID_DT = "invalid_dt"

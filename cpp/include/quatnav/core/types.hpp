@@ -1,6 +1,6 @@
 // quatnav: type aliases and the step status shared by every filter.
 //
-// Conventions (stated once here, in README.md and in quatnav/conventions.py):
+// Conventions (stated once here, in README.md and in python/quatnav/core/quaternion.py):
 //  * Quaternions are Hamilton, scalar first: q = [w, x, y, z] in every array.
 //  * q_nb rotates body-frame vectors into the navigation frame: v_n = q_nb * v_b * conj(q_nb),
 //    i.e. v_n = C_nb v_b with C_nb = to_rotmat(q_nb).
