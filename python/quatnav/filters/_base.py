@@ -21,16 +21,12 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _validate as V
+from ..plausibility.categories import AidWarning
+from ..plausibility.units import accel_unit  # noqa: F401  (GpsInsFilter's run names a unit with it)
 from ..core import quaternion as Q
 from .tables import STATUS_NAMES
 
 __all__ = ["Aid", "AidResult", "AidWarning", "FilterResult", "NavResult", "Filter", "core"]
-
-
-class AidWarning(UserWarning):
-    """An aid given to ``run`` whose times all lie before or all after the IMU's: the filter does
-    not use it where it was measured (most often the two are on different clocks, e.g. Unix time
-    and time since boot)."""
 
 
 def warn_aid_outside(owner: str, name: str, aid_t: np.ndarray, start: float, end: float,
@@ -544,21 +540,6 @@ def check_run_inputs(filt, gyr, acc, *, steps=None, t=None, axes: str = "up", ro
     warn_imu(gyr, acc, steps=steps, t=t, where=f"{type(filt).__name__}.run", axes=axes, rotation=rotation,
              rotation_fix=rotation_fix, increments=increments, gyro_range=float(getattr(p, "gyro_range", 0.0)),
              acc_range=float(getattr(p, "acc_range", 0.0)), max_dt=float(getattr(p, "max_dt", np.inf)))
-
-
-def accel_unit(accel) -> tuple:
-    """The unit a specific force (N, 3) appears to be in, from its median norm: ``"g"`` (0.5-2),
-    ``"mg"`` (500-2000), ``"far"`` (neither those nor 6-14 m/s^2: far from gravity in any of
-    them) or None (m/s^2); and that median. Non-finite rows are left out."""
-    a = np.asarray(accel, float)
-    with np.errstate(invalid="ignore", over="ignore"):
-        n = np.sqrt(np.einsum("ij,ij->i", a, a))
-    n = n[np.isfinite(n)]
-    if not n.size:
-        return None, float("nan")
-    m = float(np.median(n))
-    unit = "g" if 0.5 <= m <= 2.0 else "mg" if 500.0 <= m <= 2000.0 else None if 6.0 <= m <= 14.0 else "far"
-    return unit, m
 
 
 def no_mag(mag, filter_name: str) -> None:

@@ -7,8 +7,7 @@ from __future__ import annotations
 import contextlib
 import warnings
 
-from ..filters._base import AidWarning
-from ..plausibility.categories import PlausibilityWarning, issue
+from ..plausibility.categories import AidWarning, PlausibilityWarning, issue
 
 __all__ = ["PipelineWarning", "recorded", "issue"]
 

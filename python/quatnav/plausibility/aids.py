@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..filters._base import AidWarning
+from .categories import AidWarning
 
 __all__ = ["check_heading_aids"]
 

@@ -14,7 +14,7 @@ import warnings
 from pathlib import Path
 
 __all__ = ["PlausibilityWarning", "UnitWarning", "AxesWarning", "ClockWarning", "RateWarning", "GapWarning",
-           "SaturationWarning", "issue"]
+           "SaturationWarning", "AidWarning", "issue"]
 
 _PACKAGE = str(Path(__file__).resolve().parents[1])
 
@@ -49,6 +49,14 @@ class GapWarning(RateWarning):
 
 class SaturationWarning(PlausibilityWarning):
     """Samples at the sensor's range (clipped): the filter then sees less than the motion."""
+
+
+class AidWarning(UserWarning):
+    """An aid the filter cannot use as given: given to ``run`` with times all before or all after
+    the IMU's (most often the two are on different clocks, e.g. Unix time and time since boot),
+    or a heading aid the filter gated out in most samples (an uncalibrated or disturbed
+    magnetometer). ``quatnav.AidWarning``; kept apart from :class:`PlausibilityWarning`, which
+    judges the input alone, where this judges it against the filter's other sensors."""
 
 
 def issue(messages) -> None:

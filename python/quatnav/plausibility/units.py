@@ -8,12 +8,26 @@ import math
 
 import numpy as np
 
-from ..filters._base import accel_unit
 from ._signals import rest_window, row_norms
 from .categories import SaturationWarning, UnitWarning
 
-__all__ = ["check_gyro", "gyro_unit", "check_accel", "check_saturation", "check_magnetometer", "check_latlon", "sample_rows",
+__all__ = ["accel_unit", "check_gyro", "gyro_unit", "check_accel", "check_saturation", "check_magnetometer", "check_latlon", "sample_rows",
            "steady", "SAMPLE_ROWS"]
+
+
+def accel_unit(accel) -> tuple:
+    """The unit a specific force (N, 3) appears to be in, from its median norm: ``"g"`` (0.5-2),
+    ``"mg"`` (500-2000), ``"far"`` (neither those nor 6-14 m/s^2: far from gravity in any of
+    them) or None (m/s^2); and that median. Non-finite rows are left out."""
+    a = np.asarray(accel, float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        n = np.sqrt(np.einsum("ij,ij->i", a, a))
+    n = n[np.isfinite(n)]
+    if not n.size:
+        return None, float("nan")
+    m = float(np.median(n))
+    unit = "g" if 0.5 <= m <= 2.0 else "mg" if 500.0 <= m <= 2000.0 else None if 6.0 <= m <= 14.0 else "far"
+    return unit, m
 
 
 #: The most rows the unit and saturation checks read (evenly spaced over the record), besides
