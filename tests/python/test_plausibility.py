@@ -101,6 +101,27 @@ def test_no_warnings_on_the_simulated_scenarios():
                 assert w == [], (name, axes, [str(x) for x in w])
 
 
+def test_a_level_turntable_is_not_taken_for_deg_s():
+    """A rotation about the vertical keeps the accelerometer steady at any rate (a level
+    turntable, a car circling): 0.3 rad/s about z from the first sample is rad/s, and not named.
+    The same IMU in deg/s with a 0.3 deg/s bias about each horizontal axis is named, as is a
+    still IMU in deg/s (bias and noise about every axis) whose accelerometer is tilted."""
+    rng = np.random.default_rng(3)
+    t = np.arange(1000) * 0.01
+    acc = np.array([0.0, 0.0, -G0]) + 0.02 * rng.standard_normal((1000, 3))
+    gyr = np.array([0.0, 0.0, 0.3]) + 0.002 * rng.standard_normal((1000, 3))
+    w = _caught(lambda: quatnav.QuaternionEKF().run(gyr, acc, t=t))
+    assert [x for x in w if issubclass(x.category, quatnav.UnitWarning)] == []
+    for axes in ("up", "frd"):
+        assert check_imu(gyr, acc, steps=0.01, axes=axes) == []
+    deg = np.degrees(gyr) + np.array([0.3, -0.3, 0.0]) + 0.05 * rng.standard_normal((1000, 3))
+    assert [type(x) for x in check_imu(deg, acc, steps=0.01)] == [quatnav.UnitWarning]
+    tilt = np.array([[1, 0, 0], [0, np.cos(0.4), -np.sin(0.4)], [0, np.sin(0.4), np.cos(0.4)]])
+    still = np.radians([1.0, -1.5, 0.5]) + 0.001 * rng.standard_normal((1000, 3))  # MEMS biases
+    assert check_imu(still, acc @ tilt.T, steps=0.01) == []
+    assert [type(x) for x in check_imu(np.degrees(still), acc @ tilt.T, steps=0.01)] == [quatnav.UnitWarning]
+
+
 def test_a_clipped_sensor_and_missing_samples(handheld):
     s = handheld
     assert np.abs(s.imu.gyro).max() > 2.5  # the clips below bite

@@ -55,11 +55,13 @@ def steady(accel, rel: float = 0.02) -> bool:
 
 def check_gyro(gyro, t, align_time=2.0, where="IMU", accel=None, name="gyro_x/y/z"):
     """A UnitWarning when the rates look like deg/s (or None): beyond any MEMS gyro's range
-    (40 rad/s; a hand-held IMU reaches 25, BROAD's fast rotation), or more than 0.1 rad/s over
-    the first ``align_time`` s while the accelerometer ``accel`` says the IMU is still there (its
-    norm steady within 2 %; without ``accel``, taken as still): 0.1 rad/s is 5.7 deg/s, far above
-    a gyro bias, and a deg/s gyro at rest reads its bias and noise, 0.2 to 3 deg/s. The median
-    rate is no evidence: BROAD's fast combined motion has 5.3 rad/s."""
+    (40 rad/s; a hand-held IMU reaches 25, BROAD's fast rotation), or more than 0.1 rad/s about
+    a horizontal axis over the first ``align_time`` s while the accelerometer ``accel`` says the
+    IMU is still there (its vector steady within 2 %; without ``accel``, taken as still, and the
+    whole rate counts): 0.1 rad/s is 5.7 deg/s, far above a gyro bias, and a deg/s gyro at rest
+    reads its bias and noise, 0.2 to 3 deg/s on each axis. The rate about the vertical is left
+    out because a level turntable or a circling car turns about it with a steady accelerometer.
+    The median rate is no evidence: BROAD's fast combined motion has 5.3 rad/s."""
     win = rest_window(t, align_time)
     win = slice(win.start, min(win.stop, win.start + SAMPLE_ROWS))
     head_a = None if accel is None else np.asarray(accel[win], dtype=np.float64)
@@ -74,14 +76,22 @@ def gyro_unit(sample, head, head_accel, align_time, where, name="gyro_x/y/z"):
     if not w.size:
         return None
     mx = float(w.max())
+    still = head_accel is None or steady(head_accel)
+    if still and head_accel is not None:
+        # Only the rate about a horizontal axis must turn a steady accelerometer: a rotation about
+        # the vertical (a level turntable, a car circling) keeps it steady at any rate.
+        a = head_accel[np.isfinite(head_accel).all(axis=1)]
+        up = a.mean(axis=0)
+        up = up / np.linalg.norm(up)
+        head = head - np.outer(head @ up, up)
     wr = row_norms(head)
     wr = wr[np.isfinite(wr)]
-    still = head_accel is None or steady(head_accel)
     rest = float(np.median(wr)) if still and wr.size else 0.0
     if mx > 40.0:
         why = f"max |gyro| {mx:.4g} rad/s is beyond any MEMS gyro's range"
     elif rest > 0.1:
-        why = (f"median |gyro| {rest:.4g} over the first {align_time:g} s, where the "
+        what = "median |gyro|" if head_accel is None else "median rate about a horizontal axis"
+        why = (f"{what} {rest:.4g} over the first {align_time:g} s, where the "
                + ("accelerometer says the IMU is still" if head_accel is not None else "filter levels at rest")
                + f": as rad/s that is {math.degrees(rest):.3g} deg/s, far above a gyro bias")
     else:
