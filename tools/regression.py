@@ -885,8 +885,10 @@ def _other_libm_run(cases) -> dict | None:
     import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         f = Path(tmp) / "outputs.pkl"
+        import quatnav
+        here = str(Path(quatnav.__file__).resolve().parents[1])  # the quatnav this process runs
         env = dict(os.environ, GLIBC_TUNABLES="glibc.cpu.hwcaps=-AVX2,-FMA",
-                   PYTHONPATH=os.pathsep.join([str(REPO / "python")] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
+                   PYTHONPATH=os.pathsep.join([here] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
         subprocess.run([sys.executable, str(Path(__file__).resolve()), "--dump", str(f),
                         "--cases", ",".join(c.name for c in cases)], env=env, check=True)
         with open(f, "rb") as fh:
@@ -1264,5 +1266,6 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.path.insert(0, str(REPO / "python"))  # the source tree's quatnav, not an installed one
+    if any((REPO / "python" / "quatnav").glob("_core.*")):  # a built source tree's quatnav
+        sys.path.insert(0, str(REPO / "python"))                # before an installed one
     sys.exit(main())
