@@ -4,11 +4,11 @@
 // target tests/fuzz/fuzz_filters.cpp, here on a fixed random corpus so that every ctest run, also
 // under ASan + UBSan, exercises them).
 //
-// One executable, one unit per filter family (attitude.cpp, marg.cpp, navigation.cpp,
+// One executable, one unit per filter family (attitude.cpp, marg.cpp, nav13.cpp, gpsins.cpp,
 // covariance.cpp), so that they compile in parallel and each stays small under ASan. The
 // NavFilter13 helpers are instantiated for each time update in its own unit (nav13_ekf.cpp,
 // nav13_second_order.cpp, nav13_ukf.cpp); the `extern template` declarations below keep the
-// unit that calls them (navigation.cpp) from compiling them again.
+// unit that calls them (nav13.cpp) from compiling them again.
 #pragma once
 
 // Before any Eigen header, in every unit of the executable alike: this header comes first.
