@@ -7,9 +7,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/setup_env.sh
-pip_build ".[sim,eval]"
+timed "main job: pip install .[sim,eval] (builds the extension)" pip_build ".[sim,eval]"
 mkdir -p out
-"$PY" -m quatnav demo --plot out/demo.png "$@"
+timed "main job: quatnav demo" "$PY" -m quatnav demo --plot out/demo.png "$@"
 if [ ! -s out/demo.png ]; then
   echo "quatnav: the demo did not write out/demo.png" >&2
   exit 1

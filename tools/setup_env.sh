@@ -3,6 +3,7 @@
 # environment unless one was already active or PYTHON was given) and these functions exist:
 #   apt_install PKG...        install Debian packages that are missing (root or sudo)
 #   pip_quiet ARGS...         pip install, printing one line per package set
+#   timed, in_background, wait_background, print_timings: the stage timings of tools/stages.sh
 #   pip_build ARGS...         pip install that builds quatnav: prints the compiler's progress
 #                             lines ([n/N] Building ...) and a status line every 15 s. The build
 #                             requirements go into the environment and the build runs there
@@ -13,6 +14,7 @@
 # Environment: PYTHON (use this interpreter as it is, no virtual environment),
 #              QUATNAV_VENV (default .venv in the repository).
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/stages.sh"
 export DEBIAN_FRONTEND=noninteractive
 export PIP_DISABLE_PIP_VERSION_CHECK=1
 
@@ -105,3 +107,4 @@ pip_build() {
   echo "   built and installed in $((SECONDS - start)) s"
   rm -f "$log"
 }
+
