@@ -14,6 +14,14 @@ void bind_gpsins_f64(py::module_& m) {
         return names;
       },
       "Names of quatnav::GpsInsDecision by code (what GpsInsFilter did with an aiding sample).");
+  m.def(
+      "gnss_solution_names",
+      [] {
+        py::list names;
+        for (int k = 0; k < quatnav::kGnssSolutions; ++k) names.append(quatnav::to_string(quatnav::GnssSolution(k)));
+        return names;
+      },
+      "Names of quatnav::GnssSolution by code (the receiver's solution kind of a GNSS fix).");
 }
 
 }  // namespace quatnav_py

@@ -15,6 +15,11 @@
 
 namespace quatnav_py {
 
+/// A solution kind from its code (quatnav::GnssSolution); an unknown code is Unknown.
+inline quatnav::GnssSolution gnss_solution(int kind) {
+  return kind >= 0 && kind < quatnav::kGnssSolutions ? quatnav::GnssSolution(kind) : quatnav::GnssSolution::Unknown;
+}
+
 /// The counters as {aid kind: {"accepted", "rejected", "skipped", "inflated", "resets"}}.
 inline py::dict counters_dict(const quatnav::GpsInsCounters& c) {
   py::dict d;
@@ -131,19 +136,19 @@ template <class S, bool SF> void bind_gpsins_filter(py::module_& m) {
       .def("update_mag", [](F& f, const V3& m_imu) { return f.update_mag(m_imu); }, py::arg("m"))
       .def("update_odometer", [](F& f, S speed) { return f.update_odometer(speed); }, py::arg("speed"))
       .def("update_gps_position",
-           [](F& f, double lat, double lon, double h, const V3& sig, S age) {
-             return f.update_gps_position(lat, lon, h, sig, age);
+           [](F& f, double lat, double lon, double h, const V3& sig, S age, int kind) {
+             return f.update_gps_position(lat, lon, h, sig, age, gnss_solution(kind));
            },
-           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("sigma"), py::arg("age") = S(0))
+           py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("sigma"), py::arg("age") = S(0), py::arg("solution") = 0)
       .def("update_gps_velocity", [](F& f, const V3& v, const V3& sig, S age) { return f.update_gps_velocity(v, sig, age); },
            py::arg("v_n"), py::arg("sigma"), py::arg("age") = S(0))
       .def("update_gps",
-           [](F& f, double lat, double lon, double h, const V3& v, const V3& ps, const V3& vs, S age) {
-             const GpsResult<S> r = f.update_gps(lat, lon, h, v, ps, vs, age);
+           [](F& f, double lat, double lon, double h, const V3& v, const V3& ps, const V3& vs, S age, int kind) {
+             const GpsResult<S> r = f.update_gps(lat, lon, h, v, ps, vs, age, gnss_solution(kind));
              return py::make_tuple(r.pos, r.vel);
            },
            py::arg("lat"), py::arg("lon"), py::arg("h"), py::arg("v_n"), py::arg("pos_sigma"), py::arg("vel_sigma"),
-           py::arg("age") = S(0))
+           py::arg("age") = S(0), py::arg("solution") = 0)
       .def("update_baro",
            [](F& f, double h) {
              const BaroResult<S> r = f.update_baro(h);
@@ -157,7 +162,8 @@ template <class S, bool SF> void bind_gpsins_filter(py::module_& m) {
              bool increments, const carray<double>& gps_t, const carray<double>& gps_llh, const carray<S>& gps_vel,
              const carray<S>& gps_pos_sigma, const carray<S>& gps_vel_sigma, const carray<double>& baro_t,
              const carray<double>& baro_h, const carray<double>& compass_t, const carray<S>& compass_yaw,
-             const carray<double>& odo_t, const carray<S>& odo_speed, bool smooth, std::size_t segment) {
+             const carray<double>& odo_t, const carray<S>& odo_speed, bool smooth, std::size_t segment,
+             const py::object& solution_obj) {
             const py::ssize_t n = t.ndim() == 1 ? t.shape(0) : -1;
             if (n < 0) throw py::value_error("t: expected shape (N,)");
             require_shape<S>(gyro, "gyro", n, 3);
@@ -168,6 +174,12 @@ template <class S, bool SF> void bind_gpsins_filter(py::module_& m) {
             require_shape<S>(gps_vel, "gps_vel", ng, 3);
             require_shape<S>(gps_pos_sigma, "gps_pos_sigma", ng, 3);
             require_shape<S>(gps_vel_sigma, "gps_vel_sigma", ng, 3);
+            py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> solution;
+            if (!solution_obj.is_none()) {
+              solution = solution_obj.cast<py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>>();
+              if (solution.ndim() != 1 || solution.shape(0) != ng)
+                throw py::value_error("gps_solution: expected shape (len(gps_t),)");
+            }
             if (baro_h.ndim() != 1 || baro_h.shape(0) != nb) throw py::value_error("baro_h: expected shape (len(baro_t),)");
             require_shape<S>(compass_yaw, "compass_yaw", nc, -1);
             const py::ssize_t no = odo_t.shape(0);
@@ -195,6 +207,7 @@ template <class S, bool SF> void bind_gpsins_filter(py::module_& m) {
             io.gps_vel = gps_vel.data();
             io.gps_pos_sigma = gps_pos_sigma.data();
             io.gps_vel_sigma = gps_vel_sigma.data();
+            io.gps_solution = solution_obj.is_none() ? nullptr : solution.data();
             io.ng = std::size_t(ng);
             io.baro_t = baro_t.data();
             io.baro_h = baro_h.data();
@@ -310,7 +323,7 @@ template <class S, bool SF> void bind_gpsins_filter(py::module_& m) {
           py::arg("t"), py::arg("gyro"), py::arg("accel"), py::arg("mag"), py::arg("increments"), py::arg("gps_t"),
           py::arg("gps_llh"), py::arg("gps_vel"), py::arg("gps_pos_sigma"), py::arg("gps_vel_sigma"), py::arg("baro_t"),
           py::arg("baro_h"), py::arg("compass_t"), py::arg("compass_yaw"), py::arg("odo_t"), py::arg("odo_speed"),
-          py::arg("smooth") = false, py::arg("segment") = std::size_t(256),
+          py::arg("smooth") = false, py::arg("segment") = std::size_t(256), py::arg("gps_solution") = py::none(),
           "Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; "
           "each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also "
           "'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, "

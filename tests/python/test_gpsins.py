@@ -79,6 +79,64 @@ def test_decision_names_are_the_compiled_ones():
     assert tuple(core().gpsins_decision_names()) == GPSINS_DECISIONS == DECISIONS
 
 
+def test_gnss_solution_names_are_the_compiled_ones():
+    from quatnav.filters._base import core
+    from quatnav.filters.tables import GNSS_SOLUTIONS
+    assert tuple(core().gnss_solution_names()) == GNSS_SOLUTIONS
+
+
+def test_receiver_quality_codes_map_to_solution_kinds():
+    from quatnav.filters.gpsins import gnss_solution
+    names = quatnav.filters.gpsins.GNSS_SOLUTIONS
+    kinds = lambda q, fmt: [names[c] for c in gnss_solution(q, fmt)]  # noqa: E731
+    assert kinds([1, 2, 4, 5, 7], "rtklib") == ["rtk_fixed", "rtk_float", "dgnss", "single", "unknown"]
+    assert kinds([4, 5, 2, 1, 0], "nmea-gga") == ["rtk_fixed", "rtk_float", "dgnss", "single", "unknown"]
+    assert kinds([6, 5, 3], "px4-fix_type") == ["rtk_fixed", "rtk_float", "single"]
+    assert kinds([1, 2], "some-other-format") == ["unknown", "unknown"]
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_solution_kind_sets_the_position_sigma_floor(dtype):
+    """A fix reported at 5 mm: its variance in the innovation covariance is the floor of its
+    solution kind squared, the kind's own parameter (each set apart here), in C++ and in the
+    numpy twin; a kind that is not one is refused and leaves the filter untouched."""
+    floors = dict(unknown=0.011, rtk_fixed=0.011, rtk_float=0.2, dgnss=0.7, single=2.5)
+    params = dict(gps_pos_sigma_min=0.011, gps_float_sigma_min=0.2, gps_dgnss_sigma_min=0.7,
+                  gps_single_sigma_min=2.5, gps_time_sigma=0.0, dtype=dtype)
+    lat, lon, h = 0.7, 0.2, 100.0
+
+    def innovation_cov(kind, cls=quatnav.GpsInsFilter):
+        f = cls(**params) if cls is quatnav.GpsInsFilter else cls(**{k: v for k, v in params.items() if k != "dtype"})
+        if cls is quatnav.GpsInsFilter:
+            f.set_initial(euler=[0.0, 0.0, 0.3], v_n=[0.0, 0.0, 0.0])
+        else:
+            f.set_initial(quatnav.core.quaternion.from_euler([0.0, 0.0, 0.3]), v_n=[0.0, 0.0, 0.0])
+        sig = np.full(3, 0.005)
+        f.update_gps(lat, lon, h, [0.0, 0.0, 0.0], sig, [0.05] * 3)  # starts navigation
+        for _ in range(10):
+            f.predict([0.0, 0.0, 0.0], [0.0, 0.0, -9.81], 0.01)
+        if cls is quatnav.GpsInsFilter:
+            return f, f.update_gps(lat, lon, h, None, sig, None, solution=kind)[0].innovation_cov
+        return f, f.update_gps(lat, lon, h, [np.nan] * 3, sig, [np.nan] * 3,
+                               solution=quatnav.filters.gpsins.GNSS_SOLUTIONS.index(kind))[0].innovation_cov
+
+    _, s0 = innovation_cov("unknown")
+    rtol = 1e-5 if dtype == np.float32 else 1e-9
+    for kind, floor in floors.items():
+        f, s = innovation_cov(kind)
+        np.testing.assert_allclose(np.diag(s - s0), floor ** 2 - floors["unknown"] ** 2, rtol=rtol, atol=1e-9)
+        _, s_ref = innovation_cov(kind, R.GpsInsFilter)
+        np.testing.assert_allclose(s, s_ref, rtol=1e-4 if dtype == np.float32 else 1e-9, atol=1e-9)
+    before = f.covariance.copy(), f.llh.copy(), f.counters
+    with pytest.raises(ValueError, match="gps_solution"):
+        f.update_gps(lat, lon, h, None, np.full(3, 0.005), None, solution="rtk")
+    with pytest.raises(ValueError, match="gps_solution"):
+        f.update_gps(lat, lon, h, None, np.full(3, 0.005), None, solution=7)
+    np.testing.assert_array_equal(f.covariance, before[0])
+    np.testing.assert_array_equal(f.llh, before[1])
+    assert f.counters == before[2]
+
+
 def test_gnss_time_offset_and_age():
     """A GNSS latency: fixes stamped 0.2 s after their time of validity. Given gps_time_offset =
     -0.2 the result equals the run with the true times; a fix between IMU samples is applied with

@@ -108,14 +108,16 @@ def test_given_initial_state(car):
         quatnav.GpsInsFilter().set_initial()
 
 
-@pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial", "nhc_auto"])
+@pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial", "nhc_auto", "solutions"])
 def test_cpp_matches_reference_step_by_step(car, case):
     s = car
     n = 2500 if case != "static_mag_zupt" else 2000
     t0 = 0.0 if case == "static_mag_zupt" else 12.0
     gyr, acc, t = _cut(s, t0)
     gyr, acc, t = gyr[:n], acc[:n], t[:n]
-    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto"))
+    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto", "solutions"))
+    if case == "solutions":  # every solution kind in turn, each with its own sigma floor
+        kw["gps_solution"] = np.arange(len(kw["gps_pos"].t)) % 5
     # nhc_auto: the constraint by evidence (the default), after 5 s of it instead of 20.
     params = dict(lever_arm_b=_lever(s), nhc=True) if case != "nhc_auto" else dict(lever_arm_b=_lever(s),
                                                                                      nhc_auto_time=5.0)
@@ -151,8 +153,12 @@ def test_cpp_matches_reference_step_by_step(car, case):
     if case == "static_mag_zupt":
         assert r.aids["zupt"].accepted.sum() > 50 and r.alignment["heading"] == "magnetometer"
         assert r.aids["mag"].accepted.sum() > 100
-    if case in ("velocity", "positions", "nhc_auto"):
+    if case in ("velocity", "positions", "nhc_auto", "solutions"):
         assert r.aids["nhc"].accepted.sum() > 100
+    if case == "solutions":
+        # the floors moved the run: the same fixes as unknown kind give another covariance
+        same = f.__class__(**params).run(gyr, acc, t=t, **{k: v for k, v in kw.items() if k != "gps_solution"})
+        assert np.abs(same.sigma[nav, :3] / r.sigma[nav, :3] - 1).max() > 0.1
     if case == "nhc_auto":  # not before the evidence: 5 s of aided motion after the start of navigation
         assert r.aids["nhc"].t[0] - r.t[nav][0] > 5.0
 

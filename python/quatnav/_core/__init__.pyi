@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'first_zero_norm_row', 'flag_table', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'first_zero_norm_row', 'flag_table', 'gnss_solution_names', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -3647,6 +3647,22 @@ class GpsInsParams_f64:
     def gate_zupt(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gps_dgnss_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma of a DGNSS, SBAS or PPP solution [m]
+        """
+    @gps_dgnss_sigma_min.setter
+    def gps_dgnss_sigma_min(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_float_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma of an RTK-float solution [m]
+        """
+    @gps_float_sigma_min.setter
+    def gps_float_sigma_min(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gps_pos_sigma_h(self) -> float:
         """
         horizontal one-sigma of a GPS position (per-fix sigma overrides) [m]
@@ -3657,7 +3673,7 @@ class GpsInsParams_f64:
     @property
     def gps_pos_sigma_min(self) -> float:
         """
-        floor of a GPS position one-sigma (given or per fix) [m]
+        floor of a GPS position one-sigma (given or per fix) of an RTK-fixed solution or one of unknown kind [m]
         """
     @gps_pos_sigma_min.setter
     def gps_pos_sigma_min(self, arg1: typing.Any) -> None:
@@ -3669,6 +3685,14 @@ class GpsInsParams_f64:
         """
     @gps_pos_sigma_v.setter
     def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_single_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma of a single (standalone) solution [m]
+        """
+    @gps_single_sigma_min.setter
+    def gps_single_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_time_offset(self) -> float:
@@ -4058,7 +4082,7 @@ class GpsInsFilter_f64:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[16, 16]"]) -> str:
         ...
-    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256, gps_solution: typing.Any = None) -> dict:
         """
         Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
         """
@@ -4076,9 +4100,9 @@ class GpsInsFilter_f64:
         ...
     def update_constraints(self) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64, GpsInsUpdate2_f64]:
         ...
-    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64]:
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64]:
         ...
-    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> GpsInsUpdate3_f64:
         ...
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
         ...
@@ -4469,6 +4493,22 @@ class GpsInsParams_f32:
     def gate_zupt(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gps_dgnss_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma of a DGNSS, SBAS or PPP solution [m]
+        """
+    @gps_dgnss_sigma_min.setter
+    def gps_dgnss_sigma_min(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_float_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma of an RTK-float solution [m]
+        """
+    @gps_float_sigma_min.setter
+    def gps_float_sigma_min(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gps_pos_sigma_h(self) -> float:
         """
         horizontal one-sigma of a GPS position (per-fix sigma overrides) [m]
@@ -4479,7 +4519,7 @@ class GpsInsParams_f32:
     @property
     def gps_pos_sigma_min(self) -> float:
         """
-        floor of a GPS position one-sigma (given or per fix) [m]
+        floor of a GPS position one-sigma (given or per fix) of an RTK-fixed solution or one of unknown kind [m]
         """
     @gps_pos_sigma_min.setter
     def gps_pos_sigma_min(self, arg1: typing.Any) -> None:
@@ -4491,6 +4531,14 @@ class GpsInsParams_f32:
         """
     @gps_pos_sigma_v.setter
     def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_single_sigma_min(self) -> float:
+        """
+        floor of a GPS position one-sigma of a single (standalone) solution [m]
+        """
+    @gps_single_sigma_min.setter
+    def gps_single_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_time_offset(self) -> float:
@@ -4880,7 +4928,7 @@ class GpsInsFilter_f32:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[16, 16]"]) -> str:
         ...
-    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256, gps_solution: typing.Any = None) -> dict:
         """
         Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
         """
@@ -4898,9 +4946,9 @@ class GpsInsFilter_f32:
         ...
     def update_constraints(self) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32, GpsInsUpdate2_f32]:
         ...
-    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32]:
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32]:
         ...
-    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> GpsInsUpdate3_f32:
         ...
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
         ...
@@ -4985,7 +5033,7 @@ class GpsInsFilterScale_f64:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[22, 22]"]) -> str:
         ...
-    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256, gps_solution: typing.Any = None) -> dict:
         """
         Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
         """
@@ -5003,9 +5051,9 @@ class GpsInsFilterScale_f64:
         ...
     def update_constraints(self) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64, GpsInsUpdate2_f64]:
         ...
-    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64]:
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[GpsInsUpdate3_f64, GpsInsUpdate3_f64]:
         ...
-    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> GpsInsUpdate3_f64:
         ...
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f64:
         ...
@@ -5090,7 +5138,7 @@ class GpsInsFilterScale_f32:
         ...
     def reset(self, q_nb: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[4, 1]"], v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, acc_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], gyro_bias: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], P: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[22, 22]"]) -> str:
         ...
-    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256) -> dict:
+    def run(self, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gyro: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], mag: typing.Any, increments: bool, gps_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_llh: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], gps_vel: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], gps_vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], baro_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], baro_h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], compass_yaw: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], odo_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], odo_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], smooth: bool = False, segment: typing.SupportsInt | typing.SupportsIndex = 256, gps_solution: typing.Any = None) -> dict:
         """
         Batch run in C++ with the GIL released (see quatnav::gpsins_batch). Returns a dict of arrays; each aid's report is a dict (innovation, nis, status, decision, inflation). With smooth, also 'smoothed': the Rauch-Tung-Striebel estimates (llh, v_n, q_nb, acc_bias, gyro_bias, sigma, baro_offset; acc_scale, gyro_scale with the scale-factor states) and the smoother's 'info' (nav/gps_ins/smoother.hpp).
         """
@@ -5108,9 +5156,9 @@ class GpsInsFilterScale_f32:
         ...
     def update_constraints(self) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32, GpsInsUpdate2_f32]:
         ...
-    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32]:
+    def update_gps(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], pos_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], vel_sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[GpsInsUpdate3_f32, GpsInsUpdate3_f32]:
         ...
-    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
+    def update_gps_position(self, lat: typing.SupportsFloat | typing.SupportsIndex, lon: typing.SupportsFloat | typing.SupportsIndex, h: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0, solution: typing.SupportsInt | typing.SupportsIndex = 0) -> GpsInsUpdate3_f32:
         ...
     def update_gps_velocity(self, v_n: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float32, "[3, 1]"], age: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> GpsInsUpdate3_f32:
         ...
@@ -5186,6 +5234,10 @@ def first_zero_norm_row(a: typing.Annotated[numpy.typing.ArrayLike, numpy.float6
 def flag_table() -> list:
     """
     The per-sample flags of every filter: a list of (name, bit mask, meaning).
+    """
+def gnss_solution_names() -> list:
+    """
+    Names of quatnav::GnssSolution by code (the receiver's solution kind of a GNSS fix).
     """
 def gpsins_decision_names() -> list:
     """

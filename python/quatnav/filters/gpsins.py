@@ -22,10 +22,10 @@ import numpy as np
 from .. import _validate as V
 from ._base import (AidResult, Filter, NavResult, accel_unit, aid_times, check_aid, check_imu_order, check_run_inputs,
                     check_swapped, core, skipped_imu_rows, smoother_info, times_of, warn_aid_outside)
-from .tables import GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
+from .tables import GNSS_SOLUTIONS, GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "NavigationWarning", "GPSINS_FLAGS", "GPSINS_DECISIONS",
-           "STATE_NAMES", "SCALE_STATE_NAMES", "PARAM_NAMES"]
+           "GNSS_SOLUTIONS", "SOLUTION_CODES", "STATE_NAMES", "SCALE_STATE_NAMES", "PARAM_NAMES", "gnss_solution"]
 
 #: Names of the 16 error states, in order (units: m, m/s, rad, m/s^2, rad/s, m).
 STATE_NAMES = ("dp_n", "dp_e", "dp_d", "dv_n", "dv_e", "dv_d", "psi_n", "psi_e", "psi_d",
@@ -35,6 +35,44 @@ SCALE_STATE_NAMES = STATE_NAMES + ("sa_x", "sa_y", "sa_z", "sg_x", "sg_y", "sg_z
 
 #: Parameter names (the table ``quatnav.filters.tables.GPSINS_PARAMS``: units and defaults).
 PARAM_NAMES = tuple(p.name for p in GPSINS_PARAMS)
+
+
+#: The receivers' solution quality codes by format (``quatnav.io.Gnss.quality_kind``) as
+#: :data:`GNSS_SOLUTIONS` names: RTKLIB's Q, NMEA GGA's fix quality, PX4's fix_type, ROS
+#: NavSatStatus (whose GBAS fix may be RTK fixed or float: unknown).
+SOLUTION_CODES = {
+    "rtklib": {1: "rtk_fixed", 2: "rtk_float", 3: "dgnss", 4: "dgnss", 5: "single", 6: "dgnss"},
+    "nmea-gga": {1: "single", 2: "dgnss", 3: "single", 4: "rtk_fixed", 5: "rtk_float", 9: "dgnss"},
+    "px4-fix_type": {2: "single", 3: "single", 4: "dgnss", 5: "rtk_float", 6: "rtk_fixed"},
+    "navsatstatus": {0: "single", 1: "dgnss"},
+}
+
+
+def gnss_solution(quality, quality_kind: str) -> np.ndarray:
+    """The solution kind of each fix (codes of :data:`GNSS_SOLUTIONS`, for ``run(...,
+    gps_solution=)``) from a receiver's quality codes ``quality`` (K,) in the format
+    ``quality_kind`` (a key of :data:`SOLUTION_CODES`, as ``quatnav.io.Gnss.quality_kind``);
+    unknown codes and formats give ``unknown`` (the floor ``gps_pos_sigma_min``)."""
+    table = SOLUTION_CODES.get(quality_kind, {})
+    q = np.asarray(quality).reshape(-1)
+    return np.array([GNSS_SOLUTIONS.index(table.get(int(c), "unknown")) for c in q], dtype=np.uint8)
+
+
+def _solutions(x, n: int):
+    """``gps_solution`` as (n,) uint8 codes (names of GNSS_SOLUTIONS or codes), or None."""
+    if x is None:
+        return None
+    a = np.asarray(x)
+    if a.shape != (n,):
+        raise ValueError(f"gps_solution: expected shape ({n},) (one per gps_pos fix), got {a.shape}")
+    if a.dtype.kind in "OUS":
+        bad = [v for v in a if v not in GNSS_SOLUTIONS]
+        if bad:
+            raise ValueError(f"gps_solution: unknown kind {bad[0]!r}; known: {', '.join(GNSS_SOLUTIONS)}")
+        return np.array([GNSS_SOLUTIONS.index(v) for v in a], dtype=np.uint8)
+    if a.dtype.kind not in "iu" or (n and (a.min() < 0 or a.max() >= len(GNSS_SOLUTIONS))):
+        raise ValueError(f"gps_solution: expected codes 0..{len(GNSS_SOLUTIONS) - 1} or names {GNSS_SOLUTIONS}")
+    return a.astype(np.uint8)
 
 
 class NavigationWarning(UserWarning):
@@ -389,9 +427,10 @@ class GpsInsFilter(Filter):
             raise ValueError(f"dt: {d} s exceeds max_dt={self._f.params.max_dt} s")
         return self._f.predict(V.vector(gyr, "gyr", 3, self.dtype), V.vector(acc, "acc", 3, self.dtype), d)
 
-    def update_gps(self, lat, lon, h, v_n=None, pos_sigma=None, vel_sigma=None, age=0.0):
+    def update_gps(self, lat, lon, h, v_n=None, pos_sigma=None, vel_sigma=None, age=0.0, solution="unknown"):
         """One GPS fix (rad, rad, m; NED m/s or None), valid ``age`` seconds before the filter's
-        time. Returns (position result, velocity result), each with its ``decision`` code
+        time, of the receiver's solution kind ``solution`` (a name of :data:`GNSS_SOLUTIONS` or its
+        code: it sets the floor of the position one-sigma). Returns (position result, velocity result), each with its ``decision`` code
         (:data:`GPSINS_DECISIONS`) and ``inflation``."""
         nan3 = np.full(3, np.nan, self.dtype)
         la, lo, hh = V.angle(_finite(lat, "lat"), "lat", np.pi / 2), _finite(lon, "lon"), _finite(h, "h")
@@ -402,7 +441,7 @@ class GpsInsFilter(Filter):
         vs = nan3 if vel_sigma is None else _sigmas(np.reshape(V._numeric(vel_sigma, "vel_sigma"), (1, -1))
                                                     if np.ndim(vel_sigma) == 1 else vel_sigma, "vel_sigma", 1,
                                                     self.dtype)[0]
-        return self._f.update_gps(la, lo, hh, v, ps, vs, _finite(age, "age"))
+        return self._f.update_gps(la, lo, hh, v, ps, vs, _finite(age, "age"), int(_solutions([solution], 1)[0]))
 
     @property
     def at_rest(self) -> bool:
@@ -471,7 +510,7 @@ class GpsInsFilter(Filter):
     # --- batch --------------------------------------------------------------------------------
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
             odometer=None, outages=(), imu_input: str = "rate", on_invalid: str = "raise",
-            smooth: bool = False) -> GpsInsResult:
+            smooth: bool = False, gps_solution=None) -> GpsInsResult:
         """Run over an IMU record and aiding records at their own times (C++ loop, GIL released).
 
         Parameters
@@ -506,6 +545,13 @@ class GpsInsFilter(Filter):
             ``declination`` parameter is added).
         odometer : Aid, optional
             ``Aid(t, speed)``: odometer times (O,), s, and speeds along the body x axis (O,), m/s.
+        gps_solution : (K,) array_like, optional
+            The receiver's solution kind of each ``gps_pos`` fix, names of
+            :data:`GNSS_SOLUTIONS` (``"rtk_fixed"``, ``"rtk_float"``, ``"dgnss"``, ``"single"``,
+            ``"unknown"``) or their codes (:func:`gnss_solution` maps RTKLIB's Q, NMEA's fix
+            quality, PX4's fix_type): it sets the floor of the fix's one-sigma
+            (``gps_pos_sigma_min``, ``gps_float_sigma_min``, ``gps_dgnss_sigma_min``,
+            ``gps_single_sigma_min``). None: every fix ``unknown``.
         outages : sequence of (t_start, t_end), optional
             GPS fixes with t_start <= t < t_end are dropped (simulated outages), e.g.
             ``[(20.0, 30.0)]``; None or empty: none.
@@ -588,6 +634,7 @@ class GpsInsFilter(Filter):
         gps_vel_v = _rows(None if vel is None else vel.value, "gps_vel.value", ng, 3, self.dtype, True, strict)
         gps_pos_sigma = _sigmas(None if pos is None else pos.sigma, "gps_pos.sigma", ng, self.dtype)
         gps_vel_sigma = _sigmas(None if vel is None else vel.sigma, "gps_vel.sigma", ng, self.dtype)
+        solution = _solutions(gps_solution, ng)
         out = _outages(outages)
         if len(out):
             gps_llh = gps_llh.copy()
@@ -606,7 +653,8 @@ class GpsInsFilter(Filter):
             warn_aid_outside("GpsInsFilter", name, at, float(t[0]), float(t[-1]))
         odo_v = _rows(np.zeros(0) if o is None else o.value, "odometer.value", len(odo_t), 1, self.dtype, False, strict)
         d = self._f.run(t, gyro, accel, mag_a, imu_input == "increment", gps_t, gps_llh, gps_vel_v, gps_pos_sigma,
-                        gps_vel_sigma, baro_t, baro_h, compass_t, compass_yaw, odo_t, odo_v, bool(smooth))
+                        gps_vel_sigma, baro_t, baro_h, compass_t, compass_yaw, odo_t, odo_v, bool(smooth),
+                        gps_solution=solution)
         flags = d["flags"]
         skipped = skipped_imu_rows(flags, GPSINS_FLAGS, drop_first=True)  # sample 0 only fixes the start time
         refused = [STATUS_NAMES.index(x) for x in ("non_finite", "numerical_failure", "solve_failed", "invalid_argument")]

@@ -17,7 +17,7 @@ import numpy as np
 
 from .. import _validate as V
 
-__all__ = ["STATUS_NAMES", "FLAGS", "Flag", "Status", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "GPSINS_DECISIONS", "QEKF_PARAMS",
+__all__ = ["STATUS_NAMES", "FLAGS", "Flag", "Status", "ATTITUDE_FLAGS", "MARG_FLAGS", "NAV13_FLAGS", "GPSINS_FLAGS", "GPSINS_DECISIONS", "GNSS_SOLUTIONS", "QEKF_PARAMS",
            "EULER_PARAMS", "MARG_PARAMS", "NAV13_PARAMS", "GPSINS_PARAMS", "FLAG_TABLES", "PARAM_TABLES"]
 
 #: ``quatnav::Status`` names by code (the ``status`` arrays of :class:`~quatnav.AidResult`);
@@ -73,6 +73,8 @@ GPSINS_FLAGS = _subset("aligning", "levelled", "navigating", "initialized", "pre
 #: What GpsInsFilter did with each aiding sample (``quatnav::GpsInsDecision``), by code: the
 #: ``decision`` arrays of its aids' reports; a test checks them against the compiled module.
 GPSINS_DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned")
+#: ``quatnav::GnssSolution`` names by code: the receiver's solution kind of a GNSS fix.
+GNSS_SOLUTIONS = ("unknown", "rtk_fixed", "rtk_float", "dgnss", "single")
 
 
 @dataclass(frozen=True)
@@ -373,7 +375,12 @@ GPSINS_PARAMS = (
     _p("gate_gps_vel", 21.108, "1 (chi-square, 3 dof)", "NIS gate of the GPS velocity (0: off)", "pos0"),
     _p("gate_baro", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the altimeter (0: off)", "pos0"),
     _p("gate_compass", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the compass (0: off)", "pos0"),
-    _p("gps_pos_sigma_min", 0.01, "m", "floor of a GPS position one-sigma (given or per fix)", "pos0"),
+    _p("gps_pos_sigma_min", 0.01, "m", "floor of a GPS position one-sigma (given or per fix) of an RTK-fixed "
+       "solution or one of unknown kind", "pos0"),
+    _p("gps_float_sigma_min", 0.3, "m", "floor of a GPS position one-sigma of an RTK-float solution", "pos0"),
+    _p("gps_dgnss_sigma_min", 0.6, "m", "floor of a GPS position one-sigma of a DGNSS, SBAS or PPP solution", "pos0"),
+    _p("gps_single_sigma_min", 1.5, "m", "floor of a GPS position one-sigma of a single (standalone) solution",
+       "pos0"),
     _p("gps_vel_sigma_min", 0.01, "m/s", "floor of a GPS velocity one-sigma (given or per fix)", "pos0"),
     _p("gps_time_offset", 0.0, "s", "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)",
        "real"),

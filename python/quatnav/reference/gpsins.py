@@ -34,7 +34,7 @@ from .gpsins_model import (ALIGNING, BA, BG, BO, DECISIONS, DEFAULTS, KINDS, LEV
                            POS, SA, SG, VEL, ATT, GpsInsParams, Result, _baro_height, _baro_vd, _compass,
                            _corrected, _from_euler, _gps_position, _gps_velocity, _mag_heading, _new_state,
                            _nhc, _nhc_evidence, _odometer, _qc_diag, _reset_position, _reset_velocity, _result,
-                           _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gpsins_F, inject)
+                           _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_sigma_floor, gpsins_F, inject)
 from .gpsins_smoother import GpsInsRtsModel, run_smoothed  # noqa: F401
 from .kalman import kalman_correct
 from .lowpass import lowpass_weight
@@ -552,7 +552,7 @@ class GpsInsFilter:
         return q, v, max(2 * sh / T + a * T / 2, p.init_vel_sigma), max(2 * sh / dist, p.init_yaw_sigma), ls
 
     def update_gps_position(self, lat, lon, h, sigma, age=0.0, v0_n=(np.nan, np.nan, np.nan),
-                            vel_sigma=(np.nan, np.nan, np.nan)):
+                            vel_sigma=(np.nan, np.nan, np.nan), solution=0):
         if not (math.isfinite(lat) and math.isfinite(lon) and math.isfinite(h) and math.isfinite(age)) \
                 or abs(lat) > math.pi / 2:
             return self._count("gps_pos", _result("non_finite", 3))
@@ -560,7 +560,8 @@ class GpsInsFilter:
         if not (np.all(np.isfinite(sig)) and sig.min() > 0):
             return self._count("gps_pos", _result("invalid_argument", 3))
         p = self.p
-        psig = np.maximum(sig, p.gps_pos_sigma_min)
+        floor = gnss_sigma_floor(p, solution)
+        psig = np.maximum(sig, floor)
         v0_n = np.asarray(v0_n, float)
         if self.s.phase == ALIGNING:
             st = self._align_in_motion(lat, lon, h, psig, v0_n, self._vel_sigma(vel_sigma))
@@ -578,7 +579,7 @@ class GpsInsFilter:
                 st = self._start(lat, lon, h, psig, s.nav.q_nb, v0, p.init_vel_sigma, p.init_level_sigma,
                                  p.init_yaw_sigma, s.align_method, s.heading_source)
             return _result(st, 3, "aligned")
-        y, H, R = _gps_position(self.s, self.p, lat, lon, h, sig, age)
+        y, H, R = _gps_position(self.s, self.p, lat, lon, h, sig, age, floor)
         return self._apply("gps_pos", y, H, R, self.p.gate_gps_pos, True,
                            lambda s, R: _reset_position(s, self.p, (lat, lon, h), R))
 
@@ -604,7 +605,7 @@ class GpsInsFilter:
         return self._apply("gps_vel", y, H, R, self.p.gate_gps_vel, True,
                            lambda s, R: _reset_velocity(s, self.p, v_n, R))
 
-    def update_gps(self, lat, lon, h, v_n, pos_sigma, vel_sigma, age=0.0):
+    def update_gps(self, lat, lon, h, v_n, pos_sigma, vel_sigma, age=0.0, solution=0):
         """Returns ``(pos_result, vel_result)`` (see the C++ ``update_gps``)."""
         v = np.asarray(v_n, float)
         have_vel = not np.all(np.isnan(v))
@@ -612,9 +613,9 @@ class GpsInsFilter:
         if self.s.phase != NAVIGATING:
             if have_vel:
                 vel = self.update_gps_velocity(v, vel_sigma, age)
-            pos = self.update_gps_position(lat, lon, h, pos_sigma, age, v, vel_sigma)
+            pos = self.update_gps_position(lat, lon, h, pos_sigma, age, v, vel_sigma, solution)
             return pos, vel
-        pos = self.update_gps_position(lat, lon, h, pos_sigma, age, v, vel_sigma)
+        pos = self.update_gps_position(lat, lon, h, pos_sigma, age, v, vel_sigma, solution)
         if have_vel:
             vel = self.update_gps_velocity(v, vel_sigma, age)
         return pos, vel
@@ -666,12 +667,12 @@ class GpsInsFilter:
 
     # --- batch (quatnav.reference.gpsins_batch) ---------------------------------------------
     def run(self, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
-            odometer=None, outages=(), imu_input="rate", smooth=False, observer=None):
+            odometer=None, outages=(), imu_input="rate", smooth=False, observer=None, gps_solution=None):
         """The loop of ``quatnav::gpsins_batch`` with the public ``run``'s signature
         (:func:`quatnav.reference.gpsins_batch.run`)."""
         return gpsins_batch.run(self, gyr, acc, mag, t=t, dt=dt, gps_pos=gps_pos, gps_vel=gps_vel, baro=baro,
                                 compass=compass, odometer=odometer, outages=outages, imu_input=imu_input,
-                                smooth=smooth, observer=observer)
+                                smooth=smooth, observer=observer, gps_solution=gps_solution)
 
     def _loop(self, t, gyro, accel, **kw):
         """The batch loop over arrays (:func:`quatnav.reference.gpsins_batch.batch_loop`)."""

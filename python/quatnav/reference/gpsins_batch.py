@@ -15,7 +15,7 @@ from .gpsins_smoother import run_smoothed
 
 
 def run(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
-        odometer=None, outages=(), imu_input="rate", smooth=False, observer=None):
+        odometer=None, outages=(), imu_input="rate", smooth=False, observer=None, gps_solution=None):
     """The loop of ``quatnav::gpsins_batch`` in Python with the public ``run``'s signature
     (:meth:`quatnav.GpsInsFilter.run`): IMU first, times as ``t`` or ``dt``, the aids as
     ``Aid(t, value[, sigma])`` (anything with ``.t``, ``.value`` and optionally ``.sigma``),
@@ -30,7 +30,7 @@ def run(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, b
     product of its steps' transitions) and ``after_sample(k, f)`` after all its steps (the
     smoother's record)."""
     aids = dict(gps_pos=gps_pos, gps_vel=gps_vel, baro=baro, compass=compass, odometer=odometer,
-                outages=outages, imu_input=imu_input)
+                outages=outages, imu_input=imu_input, gps_solution=gps_solution)
     if smooth:
         out, sm = run_smoothed(f, gyr, acc, mag, t=t, dt=dt, observer=observer, **aids)
         return {**out, **sm, "forward": out}
@@ -45,6 +45,7 @@ def run(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, b
         kw["gps_t"] = np.asarray(gps_pos.t, float)
         kw["gps_llh"] = np.array(gps_pos.value, float)
         kw["gps_pos_sigma"] = getattr(gps_pos, "sigma", None)
+        kw["gps_solution"] = gps_solution
         for o in outages:
             kw["gps_llh"][(kw["gps_t"] >= o[0]) & (kw["gps_t"] < o[1])] = np.nan
     if gps_vel is not None:
@@ -64,7 +65,7 @@ def run(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, b
 
 def batch_loop(f, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_sigma=None,
           gps_vel_sigma=None, baro_t=(), baro_h=None, compass_t=(), compass_yaw=None, mag=None,
-          odo_t=(), odo_speed=None, increments=False, observer=None):
+          odo_t=(), odo_speed=None, increments=False, observer=None, gps_solution=None):
     """The batch loop over arrays (:meth:`run` unpacks its aids into them)."""
     p = f.p
     t = np.asarray(t, float)
@@ -78,6 +79,7 @@ def batch_loop(f, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_
     gps_vel = nan3 if gps_vel is None else np.asarray(gps_vel, float)
     gps_pos_sigma = nan3 if gps_pos_sigma is None else np.asarray(gps_pos_sigma, float)
     gps_vel_sigma = nan3 if gps_vel_sigma is None else np.asarray(gps_vel_sigma, float)
+    gps_solution = np.zeros(ng, int) if gps_solution is None else np.asarray(gps_solution, int)
 
     def report(rows, cols, m):
         return {"innovation": np.full((rows, cols * m), np.nan), "nis": np.full((rows, cols), np.nan),
@@ -145,7 +147,8 @@ def batch_loop(f, t, gyro, accel, gps_t=(), gps_llh=None, gps_vel=None, gps_pos_
                     write(out["gps"], ig, 0, _result("non_finite", 3, "skipped"))
                 else:
                     rs = f.update_gps(float(llh[0]), float(llh[1]), float(llh[2]), gps_vel[ig],
-                                         gps_pos_sigma[ig], gps_vel_sigma[ig], t[k] - gps_t[ig])
+                                         gps_pos_sigma[ig], gps_vel_sigma[ig], t[k] - gps_t[ig],
+                                         int(gps_solution[ig]))
                     for c, r in enumerate(rs):
                         write(out["gps"], ig, c, r)
                 ig += 1

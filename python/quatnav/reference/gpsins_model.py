@@ -264,8 +264,15 @@ def _nav_acceleration(s, C):
     return C @ s.f_b + np.array([0.0, 0.0, float(earth.gravity(s.nav.lat, s.nav.h))])
 
 
-def _gps_position(s, p, lat, lon, h, sigma, age):
-    """INS antenna position, taken back by ``age`` with the antenna velocity, minus the fix."""
+def gnss_sigma_floor(p, kind):
+    """Floor of a fix's one-sigma for the solution kind (a GNSS_SOLUTIONS code; detail::gnss_sigma_floor)."""
+    return {2: p.gps_float_sigma_min, 3: p.gps_dgnss_sigma_min, 4: p.gps_single_sigma_min}.get(int(kind),
+                                                                                            p.gps_pos_sigma_min)
+
+
+def _gps_position(s, p, lat, lon, h, sigma, age, floor):
+    """INS antenna position, taken back by ``age`` with the antenna velocity, minus the fix (its
+    one-sigma at least ``floor``)."""
     C = Q.to_rotmat(s.nav.q_nb)
     l_n = C @ p.lever_arm_b
     v_ant = _antenna_velocity(s, p, C)
@@ -276,7 +283,7 @@ def _gps_position(s, p, lat, lon, h, sigma, age):
     H[:, VEL:VEL + 3] = -age * np.eye(3)
     H[:, ATT:ATT + 3] = -Q.skew(l_n) + age * Q.skew(v_ant - s.nav.v_n)
     H[:, BG:BG + 3] = -age * C @ Q.skew(p.lever_arm_b)
-    R = np.diag(np.maximum(sigma, p.gps_pos_sigma_min) ** 2)
+    R = np.diag(np.maximum(sigma, floor) ** 2)
     R = R + p.gps_time_sigma ** 2 * np.outer(v_ant, v_ant) + p.lever_arm_sigma ** 2 * np.eye(3)
     return y, H, R
 

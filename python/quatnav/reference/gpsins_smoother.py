@@ -107,7 +107,7 @@ class _Both:
 
 
 def run_smoothed(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_vel=None, baro=None, compass=None,
-                 odometer=None, outages=(), imu_input="rate", observer=None):
+                 odometer=None, outages=(), imu_input="rate", observer=None, gps_solution=None):
     """:meth:`GpsInsFilter.run` (the same arguments) followed by the backward pass. Returns
     ``(out, smoothed)``: the forward dict and ``{"llh", "v_n", "q_nb", "acc_bias", "gyro_bias",
     "sigma", "baro_offset"}`` (and ``"acc_scale", "gyro_scale"`` with the scale factors), the
@@ -115,7 +115,7 @@ def run_smoothed(f, gyr, acc, mag=None, *, t=None, dt=None, gps_pos=None, gps_ve
     told of every sample (after the smoother's record)."""
     rec = _GpsInsRecorder(GpsInsRtsModel(f))
     out = f.run(gyr, acc, mag, t=t, dt=dt, gps_pos=gps_pos, gps_vel=gps_vel, baro=baro, compass=compass,
-                odometer=odometer, outages=outages, imu_input=imu_input,
+                odometer=odometer, outages=outages, imu_input=imu_input, gps_solution=gps_solution,
                 observer=rec if observer is None else _Both(rec, observer))
     keys = ("llh", "v_n", "q_nb", "acc_bias", "gyro_bias", "sigma", "baro_offset")
     sm = {k: np.array(out[k], dtype=float, copy=True)

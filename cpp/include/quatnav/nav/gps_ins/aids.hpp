@@ -57,6 +57,16 @@ template <class S, bool SF> Vec3<S> nav_acceleration(const GpsInsState<S, SF>& s
   return C * s.f_b + Vec3<S>(S(0), S(0), S(earth::gravity<double>(s.nav.lat, s.nav.h)));
 }
 
+/// The floor of a GNSS position's one-sigma (m, each NED axis) for the receiver's solution kind.
+template <class S> S gnss_sigma_floor(const GpsInsParams<S>& p, GnssSolution kind) {
+  switch (kind) {
+    case GnssSolution::RtkFloat: return p.gps_float_sigma_min;
+    case GnssSolution::Dgnss: return p.gps_dgnss_sigma_min;
+    case GnssSolution::Single: return p.gps_single_sigma_min;
+    default: return p.gps_pos_sigma_min;
+  }
+}
+
 /// After a reset of the 3 states from K0 to a fix: their covariance block is the fix's R and their
 /// cross terms with every other state are zero.
 template <int K0, class S, bool SF> void reset_block(GpsInsState<S, SF>& s, const Mat3<S>& R) {
@@ -72,7 +82,8 @@ template <int K0, class S, bool SF> void reset_block(GpsInsState<S, SF>& s, cons
 /// reset(state, params, R), which puts the state on the fix.
 namespace gpsins_aid {
 
-/// GPS antenna position (lat, lon rad; h m) with its NED one-sigma (m), valid `age` seconds before
+/// GPS antenna position (lat, lon rad; h m) with its NED one-sigma (m) and the floor of that
+/// one-sigma (detail::gnss_sigma_floor of the fix's solution kind), valid `age` seconds before
 /// the filter's time: the INS antenna position p + C_nb l_b, taken back by age with the antenna
 /// velocity v_ant = v + C_nb (w x l_b), minus the fix, in NED metres about the fix;
 /// H = [I, -age I, -[(C_nb l_b) x] + age [(C_nb (w x l_b)) x], 0, -age C_nb [l_b x], 0].
@@ -83,6 +94,7 @@ template <class S> struct GpsPosition {
   double lat, lon, h;
   Vec3<S> sigma;
   S age;
+  S floor;
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_pos; }
   template <bool SF, int N>
   void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
@@ -96,7 +108,7 @@ template <class S> struct GpsPosition {
     m.H.template block<3, 3>(0, gpsins::kVel) = -age * Mat3<S>::Identity();
     m.H.template block<3, 3>(0, gpsins::kAtt) = -quat::skew<S>(l_n) + age * quat::skew<S>(Vec3<S>(v_ant - s.nav.v_n));
     m.H.template block<3, 3>(0, gpsins::kBg) = -age * C * quat::skew<S>(p.lever_arm_b);
-    m.R = sigma.cwiseMax(p.gps_pos_sigma_min).cwiseAbs2().asDiagonal();
+    m.R = sigma.cwiseMax(floor).cwiseAbs2().asDiagonal();
     m.R += (p.gps_time_sigma * p.gps_time_sigma) * v_ant * v_ant.transpose();
     m.R.diagonal().array() += p.lever_arm_sigma * p.lever_arm_sigma;  // C diag(s^2) C^T = s^2 I
   }

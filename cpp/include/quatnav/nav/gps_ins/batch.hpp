@@ -41,7 +41,8 @@ template <class S> struct GpsInsAidOut {
 /// Inputs (row-major; aiding pointers may be null with count 0):
 ///   t (n), gyro (n x 3, rad/s or rad), accel (n x 3, m/s^2 or m/s), mag (n x 3, any unit, or null);
 ///   gps_t (ng), gps_llh (ng x 3: lat, lon rad, h m; double), gps_vel (ng x 3, m/s or NaN),
-///   gps_pos_sigma (ng x 3, m, NaN: parameters), gps_vel_sigma (ng x 3, m/s, NaN: parameters);
+///   gps_pos_sigma (ng x 3, m, NaN: parameters), gps_vel_sigma (ng x 3, m/s, NaN: parameters),
+///   gps_solution (ng, GnssSolution codes, or null: all Unknown; a code out of range: Unknown);
 ///   baro_t (nb), baro_h (nb, m); compass_t (nc), compass_yaw (nc, rad); odo_t (no), odo_speed (no, m/s).
 /// Outputs (any may be null): llh (n x 3, double), v_n (n x 3), q_nb (n x 4), acc_bias,
 ///   gyro_bias (n x 3), acc_scale, gyro_scale (n x 3; scale-factor states only), sigma (n x 16, or
@@ -61,6 +62,7 @@ template <class S> struct GpsInsBatchIo {
   const S* gps_vel = nullptr;
   const S* gps_pos_sigma = nullptr;
   const S* gps_vel_sigma = nullptr;
+  const std::uint8_t* gps_solution = nullptr;
   std::size_t ng = 0;
   const double* baro_t = nullptr;
   const double* baro_h = nullptr;
@@ -243,7 +245,10 @@ void gpsins_batch(GpsInsFilter<S, SF>& f, const GpsInsBatchIo<S>& io, Observer&&
                                             : Vec3<S>::Constant(nan);
         const Vec3<S> vs = io.gps_vel_sigma ? Vec3<S>(Eigen::Map<const Vec3<S>>(io.gps_vel_sigma + 3 * ig))
                                             : Vec3<S>::Constant(nan);
-        const GpsResult<S> r = f.update_gps(llh[0], llh[1], llh[2], vel, ps, vs, S(tk - gps_time(ig)));
+        const GnssSolution kind = io.gps_solution && io.gps_solution[ig] < kGnssSolutions
+                                      ? GnssSolution(io.gps_solution[ig])
+                                      : GnssSolution::Unknown;
+        const GpsResult<S> r = f.update_gps(llh[0], llh[1], llh[2], vel, ps, vs, S(tk - gps_time(ig)), kind);
         detail::gpsins_out_write(io.report.gps, ig, 2, 0, r.pos);
         detail::gpsins_out_write(io.report.gps, ig, 2, 1, r.vel);
         fl |= detail::gpsins_update_flags(r.pos, gf::kGpsPosUsed, gf::kGpsPosRejected);

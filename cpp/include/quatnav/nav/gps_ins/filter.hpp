@@ -358,11 +358,14 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   }
 
   /// GPS antenna position: lat, lon (rad), h (m), one-sigma NED (m; NaN entries: parameters),
-  /// valid `age` seconds before the filter's time (0: now). While Levelled with a heading known,
-  /// the first fix starts navigation (at zero velocity; update_gps starts with the fix's velocity).
-  GpsInsUpdate<S, 3> update_gps_position(double lat, double lon, double h, const Vec3<S>& sigma, S age = S(0)) {
+  /// valid `age` seconds before the filter's time (0: now), of the receiver's solution kind `kind`
+  /// (which sets the floor of the one-sigma, detail::gnss_sigma_floor). While Levelled with a
+  /// heading known, the first fix starts navigation (at zero velocity; update_gps starts with the
+  /// fix's velocity).
+  GpsInsUpdate<S, 3> update_gps_position(double lat, double lon, double h, const Vec3<S>& sigma, S age = S(0),
+                                         GnssSolution kind = GnssSolution::Unknown) {
     const Vec3<S> nan3 = Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN());
-    return position_update(lat, lon, h, sigma, age, nan3, nan3);
+    return position_update(lat, lon, h, sigma, age, nan3, nan3, kind);
   }
 
   /// GPS antenna velocity (NED, m/s) with per-axis one-sigma (m/s; NaN: parameters), valid `age`
@@ -400,17 +403,17 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
 
   /// A GPS fix: velocity first (it may give the heading), then position (which may start
   /// navigation), then, when navigation was already running, the velocity update. Non-finite
-  /// velocity means "no velocity in this fix". `age`: as update_gps_position.
+  /// velocity means "no velocity in this fix". `age`, `kind`: as update_gps_position.
   GpsResult<S> update_gps(double lat, double lon, double h, const Vec3<S>& v_n, const Vec3<S>& pos_sigma,
-                          const Vec3<S>& vel_sigma, S age = S(0)) {
+                          const Vec3<S>& vel_sigma, S age = S(0), GnssSolution kind = GnssSolution::Unknown) {
     GpsResult<S> r;
     const bool have_vel = !std::isnan(v_n[0]) || !std::isnan(v_n[1]) || !std::isnan(v_n[2]);
     if (st_.phase != GpsInsPhase::Navigating) {
       if (have_vel) r.vel = update_gps_velocity(v_n, vel_sigma, age);
-      r.pos = position_update(lat, lon, h, pos_sigma, age, v_n, vel_sigma);
+      r.pos = position_update(lat, lon, h, pos_sigma, age, v_n, vel_sigma, kind);
       return r;
     }
-    r.pos = position_update(lat, lon, h, pos_sigma, age, v_n, vel_sigma);
+    r.pos = position_update(lat, lon, h, pos_sigma, age, v_n, vel_sigma, kind);
     if (have_vel) r.vel = update_gps_velocity(v_n, vel_sigma, age);
     return r;
   }
@@ -511,7 +514,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   }
 
   GpsInsUpdate<S, 3> position_update(double lat, double lon, double h, const Vec3<S>& sigma, S age,
-                                     const Vec3<S>& v0_n, const Vec3<S>& vel_sigma) {
+                                     const Vec3<S>& v0_n, const Vec3<S>& vel_sigma, GnssSolution kind) {
     GpsInsUpdate<S, 3> res;
     if (!std::isfinite(lat) || !std::isfinite(lon) || !std::isfinite(h) || !std::isfinite(age) ||
         std::abs(lat) > 1.5707963267948966) {
@@ -523,7 +526,8 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::InvalidArgument;
       return count(GpsInsAid::GpsPos, res);
     }
-    const Vec3<S> psig = sig.cwiseMax(params_.gps_pos_sigma_min);
+    const S floor = detail::gnss_sigma_floor(params_, kind);
+    const Vec3<S> psig = sig.cwiseMax(floor);
     if (st_.phase == GpsInsPhase::Aligning) {
       res.status = align_in_motion(lat, lon, h, psig, v0_n, gps_vel_sigma(vel_sigma));
       if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
@@ -547,7 +551,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
       return res;
     }
-    return apply(gpsins_aid::GpsPosition<S>{lat, lon, h, sig, age});
+    return apply(gpsins_aid::GpsPosition<S>{lat, lon, h, sig, age, floor});
   }
 
   // Alignment in motion at a fix (gps_ins/alignment.hpp): NotInitialized while the window

@@ -46,9 +46,14 @@ namespace quatnav {
   X(S, gate_gps_vel, S(21.108), "1 (chi-square, 3 dof)", "NIS gate of the GPS velocity (0: off)")       \
   X(S, gate_baro, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the altimeter (0: off)")             \
   X(S, gate_compass, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the compass (0: off)")            \
-  /* What the GNSS model leaves out enters R: a floor on the fix's one-sigma, the uncertainty of its \
-     time on the IMU clock (times the antenna's velocity or acceleration), the lever arm's. */         \
-  X(S, gps_pos_sigma_min, S(0.01), "m", "floor of a GPS position one-sigma (given or per fix)")         \
+  /* What the GNSS model leaves out enters R: a floor on the fix's one-sigma set by the receiver's \
+     solution kind (GnssSolution), the uncertainty of its time on the IMU clock (times the antenna's \
+     velocity or acceleration), the lever arm's. */                                                   \
+  X(S, gps_pos_sigma_min, S(0.01), "m",                                                                 \
+    "floor of a GPS position one-sigma (given or per fix) of an RTK-fixed solution or one of unknown kind") \
+  X(S, gps_float_sigma_min, S(0.3), "m", "floor of a GPS position one-sigma of an RTK-float solution") \
+  X(S, gps_dgnss_sigma_min, S(0.6), "m", "floor of a GPS position one-sigma of a DGNSS, SBAS or PPP solution") \
+  X(S, gps_single_sigma_min, S(1.5), "m", "floor of a GPS position one-sigma of a single (standalone) solution") \
   X(S, gps_vel_sigma_min, S(0.01), "m/s", "floor of a GPS velocity one-sigma (given or per fix)")        \
   X(S, gps_time_offset, S(0), "s",                                                                      \
     "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)")                 \
@@ -153,6 +158,23 @@ inline const char* to_string(GpsInsDecision d) {
     case GpsInsDecision::Reset: return "reset";
     case GpsInsDecision::Skipped: return "skipped";
     case GpsInsDecision::Aligned: return "aligned";
+  }
+  return "unknown";
+}
+
+/// The receiver's solution kind of a GNSS fix (RTKLIB's Q, NMEA GGA's fix quality, PX4's
+/// fix_type; quatnav.filters.gpsins.gnss_solution maps them): it sets the floor of the fix's
+/// one-sigma (gps_pos_sigma_min, gps_float_sigma_min, gps_dgnss_sigma_min, gps_single_sigma_min).
+/// The Python names: quatnav.filters.tables.GNSS_SOLUTIONS (tested equal).
+enum class GnssSolution : std::uint8_t { Unknown = 0, RtkFixed = 1, RtkFloat = 2, Dgnss = 3, Single = 4 };
+inline constexpr int kGnssSolutions = 5;
+inline const char* to_string(GnssSolution k) {
+  switch (k) {
+    case GnssSolution::Unknown: return "unknown";
+    case GnssSolution::RtkFixed: return "rtk_fixed";
+    case GnssSolution::RtkFloat: return "rtk_float";
+    case GnssSolution::Dgnss: return "dgnss";
+    case GnssSolution::Single: return "single";
   }
   return "unknown";
 }
