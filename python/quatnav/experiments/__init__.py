@@ -21,6 +21,7 @@ EXPERIMENTS: dict[str, str] = {
     "gpsins": ".gpsins",
     "navego": ".navego",
     "walk-rtk": ".walk_rtk",
+    "gpsins-car": ".gpsins_car",
     "smoothing": ".smoothing",
 }
 

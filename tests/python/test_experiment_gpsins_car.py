@@ -1,0 +1,44 @@
+"""The simulated-car experiment (``quatnav experiment gpsins-car``): its consistency figure is 1
+for errors drawn from the filter's own sigmas, its outage drift is the error at the end of each
+window, and one drive gives every figure the Monte Carlo sums up."""
+from types import SimpleNamespace
+
+import numpy as np
+
+from quatnav.experiments import gpsins_car as X
+
+
+def test_nees_is_one_for_errors_drawn_from_the_sigmas():
+    rng = np.random.default_rng(0)
+    n = 20000
+    t = np.arange(n) * 0.01
+    sigma = np.exp(rng.normal(0.0, 1.0, (n, 16)))
+    e = rng.standard_normal((n, 9)) * sigma[:, :9]
+    r = SimpleNamespace(t=t, navigating=np.ones(n, bool), sigma=sigma)
+    errs = {"dp": e[:, 0:3], "dv": e[:, 3:6], "psi": e[:, 6:9]}
+    v = X.nees_per_run(r, errs, t0=1.0, every=0.01)
+    assert all(0.9 < x < 1.1 for x in v.values()), v
+    errs2 = {k: 1.5 * x for k, x in errs.items()}  # 1.5x over-confident: 2.25
+    assert X.nees_per_run(r, errs2, t0=1.0, every=0.01)["all"] > 2.0
+
+
+def test_outage_drift_is_the_error_before_the_first_fix_after():
+    t = np.arange(0.0, 100.0, 0.01)
+    dp = np.zeros((len(t), 3))
+    dp[:, 0] = np.where((t >= 20) & (t < 50), (t - 20) * 0.5, 0.0)  # grows 0.5 m/s in the outage
+    r = SimpleNamespace(t=t)
+    d = X.outage_drift(None, r, {"dp": dp}, [(20.0, 50.0)])
+    np.testing.assert_allclose(d, [14.995], atol=1e-9)
+
+
+def test_one_drive_gives_every_figure():
+    res = X.run_seed(0)["defaults"]
+    assert len(res["30"]["drift_m"]) == 4 and len(res["60"]["drift_m"]) == 3
+    assert all(np.isfinite(res["30"]["drift_m"])) and all(np.isfinite(res["60"]["drift_m"]))
+    rej = res["all"]["rejected"]
+    from quatnav.sim.car import car_rtk
+    q = car_rtk(seed=0).gps.quality
+    assert [rej[k]["fixes"] for k in ("fixed", "float", "single")] == [int((q == c).sum()) for c in (1, 2, 5)]
+    assert 0.0 < res["all"]["horizontal_rms_m"] < 2.0 and res["all"]["navigating_from_s"] < 60.0
+    summary = X.summarize([{"defaults": res}], ("defaults",))["defaults"]
+    assert summary["30"]["drift_worst_m"] == max(res["30"]["drift_m"])
