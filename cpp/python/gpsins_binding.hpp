@@ -30,6 +30,7 @@ inline py::dict counters_dict(const quatnav::GpsInsCounters& c) {
     e["skipped"] = c.skipped[k];
     e["inflated"] = c.inflated[k];
     e["resets"] = c.resets[k];
+    e["weighted"] = c.weighted[k];
     d[quatnav::kGpsInsAidNames[k]] = e;
   }
   return d;

@@ -137,6 +137,76 @@ def test_solution_kind_sets_the_position_sigma_floor(dtype):
     assert f.counters == before[2]
 
 
+def _navigating(cls=quatnav.GpsInsFilter, dtype=np.float64, **params):
+    """A filter navigating at rest at (0.7, 0.2, 100) after a 5 mm fix and 0.5 s of time updates
+    (C++ or, with cls=R.GpsInsFilter, the numpy twin)."""
+    params = dict(gps_time_sigma=0.0, **params)
+    if cls is quatnav.GpsInsFilter:
+        f = cls(dtype=dtype, **params)
+        f.set_initial(euler=[0.0, 0.0, 0.3], v_n=[0.0, 0.0, 0.0])
+    else:
+        f = cls(**params)
+        f.set_initial(quatnav.core.quaternion.from_euler([0.0, 0.0, 0.3]), v_n=[0.0, 0.0, 0.0])
+    f.update_gps(0.7, 0.2, 100.0, [0.0, 0.0, 0.0], [0.005] * 3, [0.05] * 3)
+    for _ in range(50):
+        f.predict([0.0, 0.0, 0.0], [0.0, 0.0, -9.81], 0.01)
+    return f
+
+
+def _fix(f, north_m, sigma):
+    """A position fix ``north_m`` north of (0.7, 0.2, 100) with one-sigma ``sigma`` (3,): the
+    update's result and its decision's name, for the C++ filter or the twin."""
+    lat = 0.7 + north_m / 6.37e6
+    if isinstance(f, quatnav.GpsInsFilter):
+        r = f.update_gps(lat, 0.2, 100.0, None, sigma, None)[0]
+        return r, quatnav.filters.gpsins.GPSINS_DECISIONS[r.decision]
+    r = f.update_gps(lat, 0.2, 100.0, [np.nan] * 3, sigma, [np.nan] * 3)[0]
+    return r, r.decision
+
+
+def _llh_cov(f):
+    if isinstance(f, quatnav.GpsInsFilter):
+        return np.asarray(f.llh), f.covariance
+    return np.array([f.s.nav.lat, f.s.nav.lon, f.s.nav.h]), f.s.P
+
+
+@pytest.mark.parametrize("cls", [quatnav.GpsInsFilter, R.GpsInsFilter])
+def test_robust_weighting_raises_the_variance_of_far_components(cls):
+    """A fix 4 sigma off north (sigma: the innovation's, from P and the fix's): the gate passes it, and it is applied as a fix whose north variance is raised by |z| / k (Huber;
+    the same correction as a plain update with that sigma), reported ``weighted``. One within k
+    is applied as it came; a gross outlier is still gated out, the state untouched."""
+    k = 2.5
+    f = _navigating(cls, gps_robust_k=k, gps_pos_sigma_min=0.001)
+    sig = float(np.sqrt(_llh_cov(f)[1][0, 0]))  # the fix as good as the INS: a gain of about 1/2
+    s_n = float(np.sqrt(_llh_cov(f)[1][0, 0] + sig ** 2))
+    r, decision = _fix(f, 4 * s_n, [sig] * 3)
+    z = np.abs(r.innovation) / np.sqrt(np.diag(r.innovation_cov))
+    assert z[0] > 1.5 * k and np.all(z[1:] < 1.0), z  # north far, east and down not
+    assert decision == "weighted"
+    if cls is quatnav.GpsInsFilter:
+        assert f.counters["gps_pos"]["weighted"] == 1 and f.counters["gps_pos"]["accepted"] == 1
+    else:
+        assert f.s.counters["gps_pos"]["weighted"] == 1 and f.s.counters["gps_pos"]["accepted"] == 1
+    plain = _navigating(cls, gps_robust_k=0.0, gps_pos_sigma_min=0.001)
+    _fix(plain, 4 * s_n, [sig * np.sqrt(z[0] / k), sig, sig])
+    np.testing.assert_allclose(_llh_cov(f)[0], _llh_cov(plain)[0], rtol=0, atol=1e-14)
+    np.testing.assert_allclose(_llh_cov(f)[1], _llh_cov(plain)[1], rtol=1e-9, atol=1e-18)
+    unweighted = _navigating(cls, gps_robust_k=0.0, gps_pos_sigma_min=0.001)
+    _fix(unweighted, 4 * s_n, [sig] * 3)
+    moved = lambda g: (_llh_cov(g)[0][0] - 0.7) * 6.37e6  # noqa: E731
+    assert 0.2 * moved(unweighted) < moved(f) < 0.9 * moved(unweighted)  # pulled less far north
+    # within k: applied as it came
+    g1, g0 = _navigating(cls, gps_robust_k=k), _navigating(cls, gps_robust_k=0.0)
+    assert _fix(g1, 0.5 * s_n, [sig] * 3)[1] == "accepted"
+    _fix(g0, 0.5 * s_n, [sig] * 3)
+    np.testing.assert_array_equal(_llh_cov(g1)[0], _llh_cov(g0)[0])
+    # a gross outlier: gated, nothing changes
+    before = [x.copy() for x in _llh_cov(g1)]
+    assert _fix(g1, 100 * s_n, [sig] * 3)[1] == "rejected"
+    np.testing.assert_array_equal(_llh_cov(g1)[0], before[0])
+    np.testing.assert_array_equal(_llh_cov(g1)[1], before[1])
+
+
 def test_gnss_time_offset_and_age():
     """A GNSS latency: fixes stamped 0.2 s after their time of validity. Given gps_time_offset =
     -0.2 the result equals the run with the true times; a fix between IMU samples is applied with

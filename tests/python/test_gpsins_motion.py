@@ -108,19 +108,22 @@ def test_given_initial_state(car):
         quatnav.GpsInsFilter().set_initial()
 
 
-@pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial", "nhc_auto", "solutions"])
+@pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial", "nhc_auto", "solutions",
+                                  "robust"])
 def test_cpp_matches_reference_step_by_step(car, case):
     s = car
     n = 2500 if case != "static_mag_zupt" else 2000
     t0 = 0.0 if case == "static_mag_zupt" else 12.0
     gyr, acc, t = _cut(s, t0)
     gyr, acc, t = gyr[:n], acc[:n], t[:n]
-    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto", "solutions"))
+    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto", "solutions", "robust"))
     if case == "solutions":  # every solution kind in turn, each with its own sigma floor
         kw["gps_solution"] = np.arange(len(kw["gps_pos"].t)) % 5
     # nhc_auto: the constraint by evidence (the default), after 5 s of it instead of 20.
     params = dict(lever_arm_b=_lever(s), nhc=True) if case != "nhc_auto" else dict(lever_arm_b=_lever(s),
                                                                                      nhc_auto_time=5.0)
+    if case == "robust":  # Huber weighting of the GNSS aids, with a threshold that weights many fixes
+        params["gps_robust_k"] = 1.0
     f = quatnav.GpsInsFilter(**params)
     ref = R.GpsInsFilter(**params)
     mag = None
@@ -153,7 +156,9 @@ def test_cpp_matches_reference_step_by_step(car, case):
     if case == "static_mag_zupt":
         assert r.aids["zupt"].accepted.sum() > 50 and r.alignment["heading"] == "magnetometer"
         assert r.aids["mag"].accepted.sum() > 100
-    if case in ("velocity", "positions", "nhc_auto", "solutions"):
+    if case == "robust":
+        assert r.counters["gps_pos"]["weighted"] > 10 and r.counters["gps_vel"]["weighted"] > 10, r.counters
+    if case in ("velocity", "positions", "nhc_auto", "solutions", "robust"):
         assert r.aids["nhc"].accepted.sum() > 100
     if case == "solutions":
         # the floors moved the run: the same fixes as unknown kind give another covariance

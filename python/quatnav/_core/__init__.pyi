@@ -3687,6 +3687,14 @@ class GpsInsParams_f64:
     def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gps_robust_k(self) -> float:
+        """
+        Huber threshold of the GNSS aids: an innovation component beyond it (in its sigmas) is down-weighted (0: off) [1]
+        """
+    @gps_robust_k.setter
+    def gps_robust_k(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gps_single_sigma_min(self) -> float:
         """
         floor of a GPS position one-sigma of a single (standalone) solution [m]
@@ -4531,6 +4539,14 @@ class GpsInsParams_f32:
         """
     @gps_pos_sigma_v.setter
     def gps_pos_sigma_v(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_robust_k(self) -> float:
+        """
+        Huber threshold of the GNSS aids: an innovation component beyond it (in its sigmas) is down-weighted (0: off) [1]
+        """
+    @gps_robust_k.setter
+    def gps_robust_k(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_single_sigma_min(self) -> float:

@@ -88,8 +88,9 @@ class GpsInsAidResult(AidResult):
     Attributes
     ----------
     decision : (K,) uint8 ndarray
-        Code of :data:`GPSINS_DECISIONS` (``decision_names``): ``accepted``, ``rejected`` (an
-        isolated outlier), ``inflated`` (applied after the covariance was inflated: the INS had
+        Code of :data:`GPSINS_DECISIONS` (``decision_names``): ``accepted``, ``weighted``
+        (applied with its far components down-weighted: ``gps_robust_k``), ``rejected`` (a gross
+        outlier, isolated), ``inflated`` (applied after the covariance was inflated: the INS had
         drifted), ``reset`` (the state put on the fix), ``skipped`` (invalid), ``aligned`` (used
         by the alignment), ``none`` (no update).
     inflation : (K,) ndarray
@@ -138,8 +139,9 @@ class GpsInsResult(NavResult):
     ----------
     counters : dict
         Per measurement kind (gps_pos, gps_vel, baro, baro_vd, compass): accepted, rejected by
-        the gate, skipped as invalid, ``inflated`` (applied after a covariance inflation) and
-        ``resets`` (the state put on the fix).
+        the gate, skipped as invalid, ``inflated`` (applied after a covariance inflation),
+        ``resets`` (the state put on the fix) and ``weighted`` (applied down-weighted, counted in
+        accepted too).
     baro_offset : (N,) ndarray
         The altimeter offset estimate (its reading minus the ellipsoidal height), m; NaN until
         the first altimeter sample in navigation.

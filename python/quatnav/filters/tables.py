@@ -72,7 +72,7 @@ GPSINS_FLAGS = _subset("aligning", "levelled", "navigating", "initialized", "pre
 
 #: What GpsInsFilter did with each aiding sample (``quatnav::GpsInsDecision``), by code: the
 #: ``decision`` arrays of its aids' reports; a test checks them against the compiled module.
-GPSINS_DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned")
+GPSINS_DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned", "weighted")
 #: ``quatnav::GnssSolution`` names by code: the receiver's solution kind of a GNSS fix.
 GNSS_SOLUTIONS = ("unknown", "rtk_fixed", "rtk_float", "dgnss", "single")
 
@@ -386,6 +386,8 @@ GPSINS_PARAMS = (
        "real"),
     _p("gps_time_sigma", 0.005, "s", "one-sigma of the GNSS time on the IMU clock", "pos0"),
     _p("lever_arm_sigma", 0.0, "m", "one-sigma of each lever-arm component", "pos0"),
+    _p("gps_robust_k", 0.0, "1", "Huber threshold of the GNSS aids: an innovation component beyond it (in its "
+       "sigmas) is down-weighted (0: off)", "pos0"),
     _p("inflate_after", 1.0, "1", "consecutive gate rejections of a GNSS aid after which the next failing fix "
        "inflates the covariance (0: never)", "pos0"),
     _p("inflate_max", 1e4, "1", "largest covariance inflation; a fix that needs more resets the state to it"),

@@ -23,7 +23,7 @@ def check_heading_aids(r, min_tested=50, max_rejected=0.2) -> list:
         if a is None:
             continue
         d = a.decisions()
-        tested = sum(d.get(k, 0) for k in ("accepted", "rejected", "inflated", "reset"))
+        tested = sum(d.get(k, 0) for k in ("accepted", "rejected", "inflated", "reset", "weighted"))
         bad = d.get("rejected", 0)
         if tested < min_tested or not bad > max_rejected * tested:
             continue

@@ -34,7 +34,8 @@ from .gpsins_model import (ALIGNING, BA, BG, BO, DECISIONS, DEFAULTS, KINDS, LEV
                            POS, SA, SG, VEL, ATT, GpsInsParams, Result, _baro_height, _baro_vd, _compass,
                            _corrected, _from_euler, _gps_position, _gps_velocity, _mag_heading, _new_state,
                            _nhc, _nhc_evidence, _odometer, _qc_diag, _reset_position, _reset_velocity, _result,
-                           _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_sigma_floor, gpsins_F, inject)
+                           _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_sigma_floor, gpsins_F, huber_scales,
+                           inject)
 from .gpsins_smoother import GpsInsRtsModel, run_smoothed  # noqa: F401
 from .kalman import kalman_correct
 from .lowpass import lowpass_weight
@@ -353,27 +354,41 @@ class GpsInsFilter:
             res.decision = "skipped"
         if res.decision == "inflated":
             c["inflated"] += 1
+        if res.decision == "weighted":
+            c["weighted"] += 1
         if res.decision == "reset":
             c["resets"] += 1
         return res
 
-    def _correct_commit(self, P, H, R, y, gate):
+    def _correct_commit(self, P, H, R, y, gate, robust_k=0.0):
+        """Correct, inject, commit; with robust_k > 0 a correction the gate passed is made again
+        with R raised where the innovation lies beyond robust_k sigmas (huber_scales). Returns
+        (status, S, nis, weighted) with the S and NIS the gate saw."""
         status, dx, P_new, S, nis = kalman_correct(P, H, R, y, gate)
+        weighted = False
+        if status == "ok" and robust_k > 0:
+            d = huber_scales(y, S, robust_k)
+            if d is not None:
+                status, dx, P_new, _, _ = kalman_correct(P, H, d[:, None] * R * d[None, :], y, 0.0)
+                weighted = True
         if status == "ok":
             s = self.s.copy()
             s.P = P_new
             self._inject(s, dx)
             self.s = s
-        return status, S, nis
+        return status, S, nis, weighted
 
     def _apply(self, kind, y, H, R, gate, adaptive=False, reset=None):
-        """Gate; for a GNSS aid outlier isolation, inflation or reset, adaptation; correction."""
+        """Gate; for a GNSS aid robust weighting, outlier isolation, inflation or reset,
+        adaptation; correction."""
         p, m = self.p, len(y)
         y = np.asarray(y, float)
-        status, S, nis = self._correct_commit(self.s.P, H, R, y, gate)
+        status, S, nis, weighted = self._correct_commit(self.s.P, H, R, y, gate, p.gps_robust_k if adaptive else 0.0)
         res = Result(status, y, S, nis)
         if status == "ok":
             self.s.reject_run[kind] = 0
+            if weighted:
+                res.decision = "weighted"
             if adaptive:
                 self._adapt(nis / m)
             return self._count(kind, res)

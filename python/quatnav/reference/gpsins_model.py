@@ -21,7 +21,7 @@ from .lowpass import lowpass
 ALIGNING, LEVELLED, NAVIGATING = 0, 1, 2
 KINDS = ("gps_pos", "gps_vel", "baro", "baro_vd", "compass", "mag", "zupt", "zaru", "nhc", "odometer")
 #: ``quatnav::GpsInsDecision`` names by code.
-DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned")
+DECISIONS = ("none", "accepted", "rejected", "inflated", "reset", "skipped", "aligned", "weighted")
 N = 16
 POS, VEL, ATT, BA, BG, BO = 0, 3, 6, 9, 12, 15
 #: With the scale factors: 22 states, the accelerometer's (SA) and the gyro's (SG) after the 16.
@@ -208,7 +208,7 @@ class _State:
     mag_ref_n: int = 0
     reject_run: dict = field(default_factory=lambda: {k: 0 for k in KINDS})
     counters: dict = field(default_factory=lambda: {k: {"accepted": 0, "rejected": 0, "skipped": 0, "inflated": 0,
-                                                        "resets": 0} for k in KINDS})
+                                                        "resets": 0, "weighted": 0} for k in KINDS})
 
     def copy(self):
         return replace(self, nav=self.nav.copy(), acc_bias=self.acc_bias.copy(), gyro_bias=self.gyro_bias.copy(),
@@ -268,6 +268,16 @@ def gnss_sigma_floor(p, kind):
     """Floor of a fix's one-sigma for the solution kind (a GNSS_SOLUTIONS code; detail::gnss_sigma_floor)."""
     return {2: p.gps_float_sigma_min, 3: p.gps_dgnss_sigma_min, 4: p.gps_single_sigma_min}.get(int(kind),
                                                                                             p.gps_pos_sigma_min)
+
+
+def huber_scales(y, S, k):
+    """Huber's weights as variance factors (detail::huber_scales): per component of y the factor
+    sqrt(|z| / k) of its standard deviation where |z| = |y_i| / sqrt(S_ii) > k (else 1), or None
+    when every component is within k."""
+    z = np.abs(y) / np.sqrt(np.diag(S))
+    if not np.any(z > k):
+        return None
+    return np.where(z > k, np.sqrt(z / k), 1.0)
 
 
 def _gps_position(s, p, lat, lon, h, sigma, age, floor):

@@ -56,6 +56,10 @@
 //
 // One gated correction path (GpsInsFilter::apply) for every aid: the chi-square gate of the aid
 // (0 switches it off), then for the GNSS aids:
+//   robust weighting (Huber; gps_robust_k > 0, off by default): a fix the gate passes is
+//     applied with the variance of each innovation component z_i (in its own sigmas) beyond
+//     gps_robust_k raised by |z_i| / k (decision Weighted): a fix a little off counts less; the
+//     gate sees the fix as it came;
 //   outlier isolation: a fix that fails its gate after one that passed is rejected;
 //   inflation: a fix that fails its gate after inflate_after failures in a row says that the
 //     INS, not the fix, is off (seen on a real walk with cm-level RTK fixes: with a gate alone,

@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "../../core/earth.hpp"
+#include "../../core/kalman.hpp"
 #include "../../core/quaternion.hpp"
 #include "../../core/types.hpp"
 #include "model.hpp"
@@ -67,6 +68,42 @@ template <class S> S gnss_sigma_floor(const GpsInsParams<S>& p, GnssSolution kin
   }
 }
 
+/// Huber's weights of an innovation y with covariance S: each component z_i = y_i / sqrt(S_ii)
+/// beyond k (> 0) gets the weight k / |z_i|, which the correction applies by raising R to
+/// D R D with D = diag(sqrt(|z_i| / k)) (1 elsewhere). False when every component is within k.
+template <class S, int M> bool huber_scales(const Vec<S, M>& y, const Mat<S, M, M>& Sm, S k, Vec<S, M>& d) {
+  bool any = false;
+  for (int i = 0; i < M; ++i) {
+    const S z = std::abs(y[i]) / std::sqrt(Sm(i, i));
+    d[i] = S(1);
+    if (z > k) {
+      d[i] = std::sqrt(z / k);
+      any = true;
+    }
+  }
+  return any;
+}
+
+/// The robust weighting of a correction the gate passed (res.status Ok; robust_k > 0): when a
+/// component of the innovation lies beyond robust_k sigmas (huber_scales), the correction of P0
+/// is made again into P and dx with R raised to D R D. res keeps what the gate saw but takes the
+/// status of the new correction. True when the weighted correction was made.
+template <class Aid, class S, int N>
+bool gpsins_huber_correct(const Mat<S, N, N>& P0, const AidMeasurement<S, Aid::M, N>& m, S robust_k, Mat<S, N, N>& P,
+                          Vec<S, N>& dx, UpdateResult<S, Aid::M>& res) {
+  constexpr int M = Aid::M;
+  Vec<S, M> d;
+  if (res.status != Status::Ok || !(robust_k > S(0)) || !huber_scales<S, M>(m.y, res.innovation_cov, robust_k, d))
+    return false;
+  const Mat<S, M, M> Rw = d.asDiagonal() * m.R * d.asDiagonal();
+  UpdateResult<S, M> rw;
+  P = P0;
+  dx.setZero();
+  kalman_correct<S, N, M, Aid::C0, Aid::NC>(P, m.H, Rw, m.y, dx, rw, S(0));
+  res.status = rw.status;
+  return rw.status == Status::Ok;
+}
+
 /// After a reset of the 3 states from K0 to a fix: their covariance block is the fix's R and their
 /// cross terms with every other state are zero.
 template <int K0, class S, bool SF> void reset_block(GpsInsState<S, SF>& s, const Mat3<S>& R) {
@@ -94,7 +131,7 @@ template <class S> struct GpsPosition {
   double lat, lon, h;
   Vec3<S> sigma;
   S age;
-  S floor;
+  S floor = S(0);
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_pos; }
   template <bool SF, int N>
   void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {

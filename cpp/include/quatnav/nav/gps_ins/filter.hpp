@@ -740,20 +740,26 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       r.decision = GpsInsDecision::Skipped;
     }
     if (r.decision == GpsInsDecision::Inflated) ++st_.counters.inflated[k];
+    if (r.decision == GpsInsDecision::Weighted) ++st_.counters.weighted[k];
     if (r.decision == GpsInsDecision::Reset) ++st_.counters.resets[k];
     return r;
   }
 
   /// The Kalman correction of an aid with the covariance P (its H nonzero only in the piece's
   /// columns), injected into the nominal state and committed; the status says what happened.
+  /// With robust_k > 0 a correction the gate passed is made again with R raised where the
+  /// innovation's components lie beyond robust_k of their sigmas (detail::huber_scales;
+  /// *weighted says so); res keeps the innovation, its covariance and NIS the gate saw.
   template <class Aid>
   Status correct_and_commit(const Mat16& P0, const AidMeasurement<S, Aid::M, kStates>& m, S gate,
-                            UpdateResult<S, Aid::M>& res) {
+                            UpdateResult<S, Aid::M>& res, S robust_k = S(0), bool* weighted = nullptr) {
     Mat16 P = P0;
     Vec16 dx = Vec16::Zero();
     // kalman_correct refuses an infinite NIS (a finite reading near the float maximum, a height
     // of 1e300 m) with NumericalFailure.
     kalman_correct<S, kStates, Aid::M, Aid::C0, Aid::NC>(P, m.H, m.R, m.y, dx, res, gate);
+    const bool w = detail::gpsins_huber_correct<Aid>(P0, m, robust_k, P, dx, res);
+    if (weighted) *weighted = w;
     return inject_and_commit(
         res, P,
         [&] {
@@ -787,9 +793,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     aid.measure(st_, params_, m);
     GpsInsUpdate<S, M> res;
     std::uint32_t& run = st_.reject_run[std::size_t(Aid::kind)];
-    const Status st = correct_and_commit<Aid>(st_.P, m, Aid::gate(params_), res);
+    bool weighted = false;
+    const Status st = correct_and_commit<Aid>(st_.P, m, Aid::gate(params_), res,
+                                              Aid::kAdaptive ? params_.gps_robust_k : S(0), &weighted);
     if (st == Status::Ok) {
       run = 0;
+      if (weighted) res.decision = GpsInsDecision::Weighted;
       if constexpr (Aid::kAdaptive) adapt(res.nis / S(M));
       return count(Aid::kind, res);
     }
