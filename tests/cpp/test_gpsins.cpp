@@ -64,6 +64,41 @@ TYPED_TEST(GpsInsTest, NoHeapAndNavigatesAtRest) {
   EXPECT_TRUE(s.P.allFinite());
 }
 
+TYPED_TEST(GpsInsTest, NoHeapWithRobustWeightingAndSolutionKinds) {
+  // GNSS fixes a few centimetres off in turn, of every solution kind, with the Huber weighting on:
+  // every step without the heap; fixes weighted; each kind's floor in the innovation covariance.
+  using S = TypeParam;
+  GpsInsParams<S> p;
+  p.gps_robust_k = S(1);
+  p.gps_time_sigma = S(0);
+  GpsInsFilter<S> f(p);
+  const double lat = 0.6, lon = 2.2, h = 50.0;
+  const Vec3<S> f_b(S(0), S(0), S(-9.80)), w_b(S(1e-5), S(-2e-5), S(3e-5));
+  const Vec3<S> sig(S(0.005), S(0.005), S(0.005)), vsig(S(0.1), S(0.1), S(0.1));
+  S cov[kGnssSolutions] = {};
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int k = 0; k < 2000; ++k) {
+    f.predict(w_b, f_b, S(0.02));
+    if (k % 5 == 0) f.update_compass(S(0.3));
+    if (k % 10 == 2) {
+      const GnssSolution kind = GnssSolution(k / 10 % kGnssSolutions);
+      const double off = (k / 10 % 3 == 0 ? 0.03 : -0.01) / 6.4e6;
+      const GpsResult<S> r = f.update_gps(lat + off, lon, h, Vec3<S>::Zero(), sig, vsig, S(0), kind);
+      if (r.pos.status == Status::Ok) cov[int(kind)] = r.pos.innovation_cov(1, 1);
+    }
+  }
+  Eigen::internal::set_is_malloc_allowed(true);
+  ASSERT_TRUE(f.navigating());
+  EXPECT_GT(f.state().counters.weighted[std::size_t(GpsInsAid::GpsPos)], 10u);
+  EXPECT_GT(f.state().counters.accepted[std::size_t(GpsInsAid::GpsPos)], 100u);
+  // the east innovation variance: the INS part plus the kind's floor squared
+  EXPECT_GT(cov[int(GnssSolution::Single)], p.gps_single_sigma_min * p.gps_single_sigma_min);
+  EXPECT_GT(cov[int(GnssSolution::Dgnss)], p.gps_dgnss_sigma_min * p.gps_dgnss_sigma_min);
+  EXPECT_GT(cov[int(GnssSolution::RtkFloat)], p.gps_float_sigma_min * p.gps_float_sigma_min);
+  EXPECT_LT(cov[int(GnssSolution::RtkFixed)], p.gps_float_sigma_min * p.gps_float_sigma_min);
+  EXPECT_LT(cov[int(GnssSolution::Unknown)], p.gps_float_sigma_min * p.gps_float_sigma_min);
+}
+
 TYPED_TEST(GpsInsTest, BadInputLeavesStateUntouched) {
   using S = TypeParam;
   GpsInsFilter<S> f = run_static<S>(600);
