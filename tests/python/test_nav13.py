@@ -263,33 +263,6 @@ def test_time_update_cost_helper_reports_all_policies():
     assert set(POLICIES) <= set(d) and all(d[k] > 0 for k in POLICIES)
 
 
-@pytest.mark.slow
-def test_nees_within_chi_square_bounds_on_paper002_scenario():
-    """Monte Carlo of paper002_straight_then_circle with initial errors drawn from P0: the average
-    NEES of the 12-dimensional error state lies within the two-sided 99% chi-square bounds at
-    (nearly) every checked time, for every time update.
-
-    The filter's accelerometer noise is 5x the paper's 30 ug per sample: with the paper's value the
-    NEES grows to ~1.5-2x its expectation by 200 s, the excess in the vertical velocity and
-    accelerometer-bias states, cause not yet identified (docs/NAV13.md). (Before the rotation
-    correction of the velocity increment, nav_filter13.hpp eq. 12, this needed 10x; with it, 10x
-    is conservative: mean ANEES 8.3-9.1 for the three time updates, below the lower bound at
-    16-42% of the times.)"""
-    chi2 = pytest.importorskip("scipy.stats").chi2
-    pytest.importorskip("quatnav.sim")
-    from quatnav.experiments import nav13 as X
-    runs = 8
-    mc = X.monte_carlo(runs, seed=100, mode="gaussian", with_nees=True, decimate=500, accel_noise_scale=5.0)
-    t = mc["t"]
-    check = t >= 10.0
-    lo, hi = chi2.ppf([0.005, 0.995], 12 * runs) / runs
-    for tu in POLICIES:
-        anees = mc[tu]["nees"].mean(axis=0)[check]
-        inside = np.mean((anees > lo) & (anees < hi))
-        assert inside >= 0.8, f"{tu}: ANEES {np.round(anees, 2)} outside [{lo:.1f}, {hi:.1f}] too often"
-        assert 0.5 * 12 < anees.mean() < 1.5 * 12, f"{tu}: mean ANEES {anees.mean():.2f}"
-
-
 def test_experiment_cli_writes_table_and_claims(tmp_path):
     """``quatnav experiment nav13`` on one run: the JSON holds every policy's RMSE per window, the
     cost of each time update and the evaluated claims; the figure is written."""

@@ -1,7 +1,7 @@
 """NavFilter13's Rauch-Tung-Striebel smoother (nav/nav13_smoother.hpp, docs/SMOOTHING.md): the C++
 smoothed run against the numpy twin step by step for every time update, a refused time update
-kept, the error-state sigmas never above the forward ones, the NEES of the smoothed estimates
-within chi-square bounds, the result's API and float32."""
+kept, the error-state sigmas never above the forward ones, the result's API and float32. The NEES
+of the smoothed estimates: test_nav13_consistency.py."""
 from __future__ import annotations
 
 import numpy as np
@@ -11,6 +11,8 @@ import quatnav
 from quatnav.core import quaternion as Q
 from quatnav.filters.nav13 import initial_covariance
 from quatnav.reference import nav13 as R
+
+from _consistency import chi2_interval
 
 LAT, LON, H = np.radians(36.37), np.radians(127.36), 50.0
 POLICIES = ("ekf", "second_order", "ukf")
@@ -128,34 +130,6 @@ def test_smoothed_result_api_and_float32():
     np.testing.assert_allclose(out[np.float32].att_sigma, out[np.float64].att_sigma, rtol=2e-2)
 
 
-@pytest.mark.slow
-def test_smoothed_nees_within_chi_square_bounds_on_paper002_scenario():
-    """Monte Carlo of paper002_straight_then_circle with initial errors drawn from P0 (the setting
-    of test_nav13's forward NEES test, accelerometer noise 5x the paper's): the average NEES of
-    the smoothed 12-dimensional error state lies within the two-sided 99% chi-square bounds at
-    (nearly) every checked time, and the smoothed sigmas are never above the forward ones."""
-    chi2 = pytest.importorskip("scipy.stats").chi2
-    from quatnav.experiments import nav13 as X
-    from quatnav.sim import make_scenario
-    runs, decimate = 8, 500
-    lo, hi = chi2.ppf([0.005, 0.995], 12 * runs) / runs
-    for tu in POLICIES:
-        nees = []
-        for r in range(runs):
-            scn = make_scenario(X.SCENARIO, seed=100 + r)
-            start = X.initial_state(scn, "gaussian", np.random.default_rng([100 + r, 2]))
-            res = X.run_filter(scn, tu, start, return_covariance=True, accel_noise_scale=5.0, smooth=True)
-            _sigmas_not_above(res, res.forward)
-            sel = slice(decimate - 1, None, decimate)
-            err = X.errors(scn, res)
-            sub = type(res)(**{**res.__dict__, "x": res.x[sel], "P": res.P[sel], "quat": res.quat[sel]})
-            nees.append(X.nees(sub, {"state": err["state"][sel]}))
-        anees = np.mean(nees, axis=0)
-        inside = np.mean((anees > lo) & (anees < hi))
-        assert inside >= 0.8, f"{tu}: smoothed ANEES {np.round(anees, 2)} outside [{lo:.1f}, {hi:.1f}] too often"
-        assert 0.5 * 12 < anees.mean() < 1.5 * 12, f"{tu}: mean smoothed ANEES {anees.mean():.2f}"
-
-
 def test_smoothing_experiment_cli(tmp_path, capsys):
     """``quatnav experiment smoothing --parts nav13 --runs 1``: the JSON holds each time update's
     smoothed and forward figures, the smoothed attitude errors below the forward ones (the gyro
@@ -166,11 +140,17 @@ def test_smoothing_experiment_cli(tmp_path, capsys):
     assert cli.main(["experiment", "smoothing", "--parts", "nav13", "--runs", "1", "--json", str(out)]) == 0
     import json
     d = json.loads(out.read_text())["nav13"]
+    # The ANEES of one run (mean over its samples of a 12-dof NEES): its samples are correlated
+    # (the bias errors persist), so the two-sided 99 % chi-square interval of one 12-dof sample,
+    # 12 * [0.26, 2.36] = [3.1, 28.3]. (The experiment keeps 5x the paper's accelerometer noise and its 2000 ug
+    # initial bias one-sigma, where the vertical bias is optimistic, docs/NAV13.md: measured
+    # 10.6-25.1 forward and smoothed.)
+    lo, hi = 12 * np.array(chi2_interval(12))
     for tu in POLICIES:
         s, f = d[tu]["smoothed"], d[tu]["forward"]
         for a in ("roll", "pitch", "yaw"):
             assert s["rpy_rmse_deg"][a] < f["rpy_rmse_deg"][a]
-        assert 0 < s["anees"] < 100
+        assert lo < s["anees"] < hi and lo < f["anees"] < hi, (tu, s["anees"], f["anees"], lo, hi)
     capsys.readouterr()
     assert cli.main(["experiment", "smoothing", "--parts", "bogus"]) == 2
     err = capsys.readouterr().err.strip()

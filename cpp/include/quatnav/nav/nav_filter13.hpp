@@ -57,6 +57,13 @@
 //    Q_k = dt G diag(sigma_a^2 I, sigma_g^2 I) G^T with G of eq. (11) (the 4x3 block is
 //    1/2 Xi(q)), plus optional bias random walks (0 by default, eq. 7).
 //
+// Known limitation (docs/NAV13.md, "Consistency"): in straight, unaccelerated motion a horizontal
+// accelerometer-bias error db_h is compensated by a tilt error and unobservable; the second-order
+// term -C (dtheta x db_a) of eq. (1) then puts |db_h|^2 / (2 g) into the vertical channel, where it
+// is taken for the vertical bias (4 ug on average for 2000 ug per axis). No Gaussian time update
+// (EKF, the second-order mean of eq. 16-17, UKF) represents it: the vertical-bias one-sigma is
+// optimistic by about that much while db_h is large and unobservable.
+//
 // Time updates (template parameter TU):
 //  * TimeUpdate::Ekf          x+ = f_d(x), P+ = F P F^T + G Q G^T             (eq. 19-20)
 //  * TimeUpdate::SecondOrder  x+ = f_d(x) + 1/2 sum_ij P_ij d2f_d/dx_i dx_j     (eq. 16-17)
