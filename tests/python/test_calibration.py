@@ -256,4 +256,10 @@ def test_handheld_marg_heading_after_calibration_matches_the_undistorted_run():
     np.testing.assert_allclose(c.offset, hard, atol=0.1e-6)
     raw, calibrated, clean = heading_rmse(mag.mag), heading_rmse(c.apply(mag.mag)), heading_rmse(mag.mag - hard)
     assert raw > clean + 1.0
-    assert abs(calibrated - clean) < 0.5, (raw, calibrated, clean)
+    # A residual offset e moves the measured heading by at most |e| / B_h (B_h the horizontal
+    # field), so by the triangle inequality of the RMSE the calibrated run is within that of the
+    # undistorted one (0.01 deg added for the filter's own nonlinearity). Measured: |e| = 0.048 uT,
+    # bound 0.10 deg, difference 0.001 deg (the bound was 0.5 deg, twice the error itself).
+    b_h = np.linalg.norm(scn.mag.field_n[:2])
+    bound = np.degrees(np.linalg.norm(c.offset - hard) / b_h) + 0.01
+    assert abs(calibrated - clean) < bound, (raw, calibrated, clean, bound)
