@@ -67,7 +67,7 @@ EULER = "cpp/include/quatnav/attitude/euler_ekf.hpp"
 MARG = "cpp/include/quatnav/attitude/marg_filter.hpp"
 STRAP = "cpp/include/quatnav/nav/strapdown.hpp"
 GPSINS_AIDS = "cpp/include/quatnav/nav/gps_ins/aids.hpp"
-GPSINS = "cpp/include/quatnav/nav/gps_ins.hpp"
+GPSINS_BATCH = "cpp/include/quatnav/nav/gps_ins/batch.hpp"
 QUAT = "cpp/include/quatnav/core/quaternion.hpp"
 
 MUTATIONS: list[Mutation] = [
@@ -179,7 +179,7 @@ MUTATIONS: list[Mutation] = [
        "    m.R.diagonal().setConstant(p.zupt_sigma * p.zupt_sigma);",
        "    m.R.diagonal().setConstant(S(2) * p.zupt_sigma * p.zupt_sigma);",
        cpp=("test_gpsins_aids",), py=("tests/python/test_gpsins.py", "tests/python/test_gpsins_motion.py")),
-    _m("batch: the compass applied one IMU sample early", "gpsins", GPSINS,
+    _m("batch: the compass applied one IMU sample early", "gpsins", GPSINS_BATCH,
        "      for (; ic < io.nc && io.compass_t[ic] <= tk; ++ic) {",
        "      for (; ic < io.nc && io.compass_t[ic] <= tk + (k + 1 < io.n ? io.t[k + 1] - tk : 0.0); ++ic) {",
        py=("tests/python/test_gpsins.py",)),
