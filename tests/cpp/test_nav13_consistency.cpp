@@ -16,7 +16,7 @@
 // SamplesPerRun, 200 runs, EKF and UKF alike): the per-run means of the attitude NEES vary as 7.5
 // independent 3-dof samples would, those of the velocity as 19.5, and the means over the 200 runs
 // are 1.006 and 0.994; kMeff = 6 (80 % of the attitude's, for the estimate's 10 % standard error)
-// keeps the interval conservative. kRuns * 3 * kMeff = 306 dof: the interval [0.81, 1.21] rejects
+// keeps the interval conservative. kRuns * 3 * kMeff = 306 dof: the interval [0.80, 1.22] rejects
 // 1.5x either way with probability >= 99 %. With QUATNAV_TEST_VARIANCE_SCALE = 1/1.5 or 1.5 (the filter's Q, R and
 // P0 scaled) both tests fail (docs/DEVELOPING.md, "Mutations").
 #include <gtest/gtest.h>
