@@ -5,6 +5,8 @@
 * :mod:`quatnav.sim.sensors`: IMU, magnetometer, GPS, altimeter and compass models whose
   parameters are in datasheet units, converted in :mod:`quatnav.sim.units`;
 * :mod:`quatnav.sim.scenarios`: named scenarios (:func:`make_scenario`, :func:`list_scenarios`);
+  :mod:`quatnav.sim.fast_scenarios` the fast-motion ones of the attitude benchmark
+  (:data:`FAST_MOTION`), built from the segments of :mod:`quatnav.sim.motion`;
 * :mod:`quatnav.sim.allan`: overlapping Allan deviation and ARW / bias-instability read-outs;
 * :mod:`quatnav.sim.io`: ``.npz`` and CSV save/load; :mod:`quatnav.sim.plot`: overview plot.
 
@@ -14,6 +16,8 @@ SI units and radians, Euler ZYX ``[roll, pitch, yaw]``.
 
 from .allan import AllanReadout, allan_deviation, allan_readout
 from .io import load_csv, load_npz, save_csv, save_npz
+from .fast_scenarios import FAST_MOTION
+from .motion import LimbSwing, Pendulum, Running, Shaking, Vibration
 from .scenarios import Scenario, list_scenarios, make_scenario
 from .sensors import (AccelSpec, BaroSpec, CompassSpec, GpsSpec, GyroSpec, ImuSpec,
                       MagDisturbance, MagSpec, simulate_baro, simulate_compass, simulate_gps,
@@ -36,5 +40,5 @@ __all__ = [
     "CompassSpec", "simulate_imu", "simulate_mag", "simulate_gps", "simulate_baro",
     "simulate_compass", "Scenario", "make_scenario", "list_scenarios", "allan_deviation",
     "allan_readout", "AllanReadout", "save_npz", "load_npz", "save_csv", "load_csv",
-    "plot_scenario",
+    "plot_scenario", "FAST_MOTION", "Pendulum", "LimbSwing", "Running", "Shaking", "Vibration",
 ]

@@ -424,6 +424,16 @@ _DESCRIPTIONS = {
 }
 
 
+def _register_fast_motion():
+    from .fast_scenarios import FAST_SCENARIOS
+    for name, (fn, text) in FAST_SCENARIOS.items():
+        _REGISTRY[name] = fn
+        _DESCRIPTIONS[name] = text
+
+
+_register_fast_motion()
+
+
 def list_scenarios():
     """Names of the registered scenarios, sorted."""
     return sorted(_REGISTRY)
