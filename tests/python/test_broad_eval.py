@@ -184,8 +184,12 @@ def test_cli_eval_broad(synthetic_dir, tmp_path, capsys):
     assert rc == 0
     import json
     data = json.loads(out.read_text())
-    assert "qekf" in data["mean"]
-    assert (plots / "groups_total_rmse.png").exists()
+    mean = data["datasets"][d.name]["mean"]
+    assert set(mean) == {"qekf 9D", "qekf 6D"} and data["align"] == "both"
+    assert mean["qekf 9D"]["total"] == pytest.approx(
+        np.mean([t["results"]["qekf 9D"]["total"] for t in data["trials"].values()]))
+    assert (plots / "summary.png").exists()
+    assert len(list(plots.glob("error_*.png"))) == 2
     assert "mean total" in capsys.readouterr().out
 
 

@@ -80,7 +80,7 @@ def _imu_with_times(d, name, t):
     (("ins",), "give a command (run"),
     (("ins", "run", "--imu", "x.csv"), "required: --out"),
     (("ins", "run", "--imu", "x.csv", "--out", "o.csv"), "give --imu IMU and --gnss GNSS, or --log FILE"),
-    (("eval",), "give a command (broad"),
+    (("eval",), "give a source (broad, sim"),
     (("experiment",), "give a command"),
     (("experiment", "nope"), "invalid choice: 'nope'"),
     (("experiment", "nav13", "--runs", "0"), "--runs: expected a positive integer, got 0"),

@@ -1,82 +1,42 @@
-"""Real-data attitude accuracy: quatnav's filters and the peer libraries on BROAD, side by side.
+"""``quatnav eval``: the attitude benchmark from the command line, and the BROAD-only API it grew from.
 
-``quatnav eval broad DIR [--filters qekf,euler-ekf,marg] [--peers vqf,imufusion,madgwick]
-[--json FILE] [--plot DIR]`` runs every selected algorithm on every trial of DIR in the same run
-and prints, per trial, per group and on average, BROAD's total / heading / inclination RMSE over
-the movement phases (:mod:`quatnav.evaluation.metrics`), and for quatnav's filters the fraction of samples
-whose attitude error lies within the filter's own 3 sigma.
+``quatnav eval [SOURCE ...] [--filters ...] [--peers ...] [--modes 9d,6d] [--align both|heading|none]
+[--json FILE] [--plot DIR] [--jobs N]`` runs :func:`quatnav.evaluation.benchmark.benchmark` once on
+the sources (``broad``, ``sim``, ``sim:NAME[:SEED]``, a folder of trial files, a trial file; see
+:mod:`quatnav.datasets.trials` for the format of a user's own reference data) and prints its tables.
+``quatnav eval broad DIR`` reads the BROAD trials of DIR.
 
-Every algorithm runs with its default parameters, one parameter set for all trials, online
-(causal) except the offline ones: ``qekf-smoothed`` and ``euler-ekf-smoothed`` (quatnav's filter
-with the Rauch-Tung-Striebel backward pass, ``run(..., smooth=True)``, docs/SMOOTHING.md) and
-``vqf-offline`` (``vqf.offlineVQF``, VQF's acausal mode). How each peer is fed (checked on the data: each mapping gives the peer's errors within
-a fraction of a degree of the reference, any other mapping gives tens of degrees):
-
-* ``vqf``: ``vqf.VQF(Ts)`` 9D, gyro rad/s, acc m/s^2, mag as is; ``quat9D`` is ENU (earth
-  frame y = magnetic north), converted with :func:`quatnav.core.quaternion.enu_to_ned`.
-  ``vqf-offline``: ``vqf.offlineVQF(gyr, acc, mag, Ts)``, fed and converted the same way.
-* ``imufusion``: ``imufusion.Ahrs`` with ``convention = CONVENTION_NED``, sample period set,
-  gyro in deg/s, acc in g; its quaternion is then NED directly.
-* ``madgwick``: ``ahrs.filters.Madgwick`` (default gain), gyro rad/s, acc m/s^2, mag; its earth
-  frame is NWU (x north, z up): ``q_nb = [0, 1, 0, 0] * q_nwu_b``.
-
-Peers are optional: a peer whose package is not installed is skipped with a note.
+The functions below keep the BROAD-only interface of earlier versions (9D, BROAD's own figures
+without alignment, results keyed by estimator): :func:`evaluate`, :func:`evaluate_trial`,
+:func:`format_table`, :func:`plot_results`. Estimators and how the peers are fed:
+:mod:`quatnav.evaluation.algorithms`.
 
 BROAD: D. Laidig, M. Caruso, A. Cereatti, T. Seel, Data 6(7), 2021, doi:10.3390/data6070072,
 CC BY 4.0.
 """
 from __future__ import annotations
 
-import importlib
 import os
-import sys
 from concurrent.futures import Executor
 from pathlib import Path
 
 import numpy as np
 
 from . import metrics as M
-from ..core import quaternion as Q
+from .algorithms import ALGORITHMS, _CLASSES, available, run_algorithm as _run
 
 __all__ = ["FILTERS", "PEERS", "run_algorithm", "evaluate_trial", "evaluate", "format_table",
            "available", "add_parser", "plot_results"]
 
 #: quatnav's own filters (name -> class name in :mod:`quatnav`); a name ending in ``-smoothed``
 #: runs the filter with ``smooth=True`` (offline).
-FILTERS = {"qekf": "QuaternionEKF", "euler-ekf": "EulerEKF", "marg": "MargFilter",
-           "qekf-smoothed": "QuaternionEKF", "euler-ekf-smoothed": "EulerEKF"}
+FILTERS = dict(_CLASSES)
 #: Peer libraries (name -> Python module that must be importable).
-PEERS = {"vqf": "vqf", "imufusion": "imufusion", "madgwick": "ahrs", "vqf-offline": "vqf"}
-
-_Q_NED_NWU = np.array([0.0, 1.0, 0.0, 0.0])  # rotates NWU vectors into NED (180 deg about x)
-
-
-def available(name: str) -> tuple[bool, str]:
-    """Whether algorithm ``name`` can run here, and a note when it cannot."""
-    if name in FILTERS:
-        import quatnav
-        if hasattr(quatnav, FILTERS[name]):
-            return True, ""
-        return False, f"{name}: quatnav.{FILTERS[name]} is not available in this build; skipped"
-    if name in PEERS:
-        try:
-            importlib.import_module(PEERS[name])
-            return True, ""
-        except ImportError:
-            return False, f"{name}: package {PEERS[name]!r} is not installed; skipped"
-    raise ValueError(f"unknown algorithm {name!r}; known: {', '.join([*FILTERS, *PEERS])}")
+PEERS = {a.name: a.module for a in ALGORITHMS.values() if not a.quatnav}
 
 
 def run_algorithm(name: str, trial, params: dict | None = None):
-    """Run one algorithm on one trial.
-
-    Parameters
-    ----------
-    name : str
-        A key of :data:`FILTERS` or :data:`PEERS`.
-    trial : quatnav.datasets.broad.Trial
-    params : dict, optional
-        Keyword parameters of a quatnav filter (ignored for peers: they run with defaults).
+    """Run one estimator on one trial in 9D (:func:`quatnav.evaluation.algorithms.run_algorithm`).
 
     Returns
     -------
@@ -85,80 +45,27 @@ def run_algorithm(name: str, trial, params: dict | None = None):
     att_sigma : (N, 3) ndarray or None
         The filter's body-frame attitude one-sigma, rad (quatnav filters only).
     """
-    gyr, acc, mag = trial.gyr, trial.acc, trial.mag
-    if name in FILTERS:
-        import warnings
-
-        import quatnav
-        cls = getattr(quatnav, FILTERS[name])
-        f = cls(**(params or {}))
-        with warnings.catch_warnings():
-            # BROAD's body frame is its sensor's own, z up (the reference is in the same frame)
-            warnings.simplefilter("ignore", quatnav.AxesWarning)
-            res = f.run(gyr, acc, mag, dt=trial.dt, on_invalid="skip",
-                        **({"smooth": True} if name.endswith("-smoothed") else {}))
-        return np.asarray(res.quat, float), getattr(res, "att_sigma", None)
-    if name in ("vqf", "vqf-offline"):
-        import vqf
-        g, a, m = np.ascontiguousarray(gyr), np.ascontiguousarray(acc), np.ascontiguousarray(mag)
-        out = vqf.offlineVQF(g, a, m, trial.dt) if name == "vqf-offline" else vqf.VQF(trial.dt).updateBatch(g, a, m)
-        return Q.enu_to_ned(out["quat9D"]), None
-    if name == "imufusion":
-        import imufusion
-        ahrs = imufusion.Ahrs()
-        s = imufusion.AhrsSettings()
-        s.convention = imufusion.CONVENTION_NED
-        s.sample_rate = int(round(trial.rate))
-        ahrs.set_settings(s)
-        ahrs.set_sample_period(trial.dt)
-        gd, ag = np.degrees(gyr), acc / 9.80665
-        q = np.empty((len(trial), 4))
-        for k in range(len(trial)):
-            ahrs.update(gd[k], ag[k], mag[k])
-            q[k] = ahrs.get_quaternion()
-        return q, None
-    if name == "madgwick":
-        import ahrs
-        mw = ahrs.filters.Madgwick(gyr=gyr, acc=acc, mag=mag, frequency=trial.rate)
-        return Q.mul(_Q_NED_NWU, np.asarray(mw.Q, float)), None
-    raise ValueError(f"unknown algorithm {name!r}")
+    return _run(name, trial, "9D", params)
 
 
 def evaluate_trial(trial, name: str, params: dict | None = None, keep_series: bool = False) -> dict:
-    """BROAD figures of one algorithm on one trial (degrees), plus 3-sigma consistency if any."""
-    quat, sig = run_algorithm(name, trial, params)
-    out = M.attitude_rmse_deg(quat, trial.quat_ref, trial.movement)
-    if sig is not None:
-        out["within_3sigma"] = M.sigma_consistency(quat, trial.quat_ref, sig, trial.movement)
+    """BROAD figures of one estimator on one trial in 9D (degrees, no alignment), plus 3-sigma
+    consistency if any (:func:`quatnav.evaluation.benchmark.evaluate_run` with ``align="none"``)."""
+    from .benchmark import evaluate_run
+    out = evaluate_run(trial, name, "9D", params, align="none", keep_series=keep_series)
+    for k in ("align_heading_deg", "align_body_deg", "series_heading_deg", "series_t"):
+        out.pop(k, None)
     if keep_series:
-        e = M.error_quat(quat, trial.quat_ref)
-        out["series_total_deg"] = np.degrees(M.total_error(e))
-        out["series_movement"] = np.asarray(trial.movement, bool)
         out["series_rate_hz"] = float(trial.rate)
     return out
-
-
-def _job(path: str, name: str, params, keep_series: bool):
-    from ..datasets import broad
-    trial = broad.load_trial(path)
-    return trial.name, name, evaluate_trial(trial, name, params, keep_series)
-
-
-def _progress(total: int, enabled: bool):
-    if not enabled:
-        return None
-    try:
-        from tqdm import tqdm
-        # disable=None: no bar when stderr is not a terminal (logs, CI, pipes)
-        return tqdm(total=total, unit="run", file=sys.stderr, disable=None)
-    except ImportError:  # pragma: no cover
-        return None
 
 
 def evaluate(directory=None, filters=("qekf",), peers=("vqf", "imufusion", "madgwick"),
              params: dict | None = None, executor: Executor | None = None, progress: bool = False,
              keep_series: bool = False) -> dict:
-    """Run filters and peers on every trial of a BROAD folder.
+    """Run filters and peers in 9D on every trial of a BROAD folder (BROAD's figures, no
+    alignment; :func:`quatnav.evaluation.benchmark.benchmark` with ``modes=("9D",)``,
+    ``align="none"``).
 
     Parameters
     ----------
@@ -182,64 +89,40 @@ def evaluate(directory=None, filters=("qekf",), peers=("vqf", "imufusion", "madg
         "groups": {group: {alg: {"total": ...}}}, "mean": {alg: figures}, "notes": [...]}``.
     """
     from ..datasets import broad
+    from .benchmark import benchmark
     directory = Path(directory) if directory is not None else broad.default_dir()
-    files = broad.list_trials(directory)
-    if not files:
+    if not broad.list_trials(directory):
         raise FileNotFoundError(f"directory: no BROAD trials (.mat/.hdf5) in {directory}")
-    info = broad.load_trial_info(directory)
     notes, algs = [], []
     for name in [*filters, *peers]:
-        ok, note = available(name)
-        if ok:
-            algs.append(name)
-        else:
-            notes.append(note)
-    params = params or {}
-    jobs = [(str(f), a, params.get(a), keep_series) for f in files for a in algs]
-    bar = _progress(len(jobs), progress)
-    raw = []
-    if executor is None:
-        for j in jobs:
-            raw.append(_job(*j))
-            if bar:
-                bar.update(1)
-    else:
-        futures = [executor.submit(_job, *j) for j in jobs]
-        for fut in futures:
-            raw.append(fut.result())
-            if bar:
-                bar.update(1)
-    if bar:
-        bar.close()
-    trials: dict = {}
-    for f in files:
-        groups = info.get("trials", {}).get(f.stem, {}).get("groups", [])
-        trials[f.stem] = {"groups": list(groups), "results": {}}
-    for tname, a, res in raw:
-        trials[tname]["results"][a] = res
-    keys = ("total", "heading", "inclination", "within_3sigma")
+        if name not in FILTERS and name not in PEERS:
+            raise ValueError(f"unknown algorithm {name!r}; known: {', '.join([*FILTERS, *PEERS])}")
+        ok, note = _available_legacy(name)
+        (algs.append(name) if ok else notes.append(note))
+    res = benchmark([str(directory)], algs, ("9D",), params=params, align="none", executor=executor,
+                    keep_series=keep_series, progress=progress)
+    trials = {}
+    for t in res.trials.values():
+        results = {r.rsplit(" ", 1)[0]: v for r, v in t["results"].items()}
+        for v in results.values():
+            if keep_series:
+                v["series_rate_hz"] = t["rate_hz"]
+        trials[t["name"]] = {"groups": list(t["groups"]), "results": results}
+    ds = res.datasets[0]
+    groups = {g: {"trials": [res.trials[k]["name"] for k in d["trials"]],
+                  **{r.rsplit(" ", 1)[0]: v for r, v in d.items() if r != "trials"}}
+              for g, d in res.groups(ds).items()}
+    return {"algorithms": [r.rsplit(" ", 1)[0] for r in res.runs], "trials": trials, "groups": groups,
+            "mean": {r.rsplit(" ", 1)[0]: v for r, v in res.mean(ds).items()}, "notes": notes + res.notes,
+            "directory": str(directory)}
 
-    def mean_over(names, a):
-        out = {}
-        for k in keys:
-            vals = [trials[t]["results"][a][k] for t in names if k in trials[t]["results"][a]]
-            if vals:
-                out[k] = float(np.mean(vals))
-        return out
 
-    groups_present = []
-    for g in info.get("groups", []):
-        members = [t for t in trials if g["name"] in trials[t]["groups"]]
-        if members and g["name"] != "all_trials":
-            groups_present.append((g["name"], members))
-    return {
-        "algorithms": algs,
-        "trials": trials,
-        "groups": {g: {"trials": m, **{a: mean_over(m, a) for a in algs}} for g, m in groups_present},
-        "mean": {a: mean_over(list(trials), a) for a in algs},
-        "notes": notes,
-        "directory": str(directory),
-    }
+def _available_legacy(name):
+    """:func:`available`; a name added to :data:`FILTERS` / :data:`PEERS` that the benchmark does
+    not know is skipped with a note."""
+    if name in ALGORITHMS:
+        return available(name)
+    return False, f"{name}: not an estimator of quatnav.evaluation.algorithms; skipped"
 
 
 def format_table(results: dict, metric: str = "total") -> str:
@@ -351,7 +234,7 @@ def _split(s: str) -> list[str]:
     return [x.strip() for x in s.split(",") if x.strip()] if s else []
 
 
-def _names(option: str, value: str, known: dict) -> list[str]:
+def _names(option: str, value: str, known) -> list[str]:
     """Names of a comma list option; ``none`` (or an empty list) selects nothing."""
     names = _split(value)
     if [n.lower() for n in names] == ["none"]:
@@ -383,58 +266,128 @@ def _broad_dir(arg) -> Path:
     return d
 
 
-def _cmd_broad(args) -> int:
+def _sources(words) -> list:
+    """The sources of ``quatnav eval``: ``broad`` (alone: the default BROAD folder; followed by a
+    folder: that folder), ``sim``, ``sim:NAME[:SEED]``, folders and files."""
+    from .._command import UsageError
+    words = list(words)
+    if not words:
+        raise UsageError("give a source (broad, sim, sim:NAME[:SEED], a folder of trial files or a trial file; "
+                         "see 'quatnav eval -h')")
+    out = []
+    i = 0
+    while i < len(words):
+        w = words[i]
+        if w == "broad":
+            nxt = words[i + 1] if i + 1 < len(words) else None
+            if nxt is not None and nxt not in ("broad", "sim") and not nxt.startswith("sim:"):
+                out.append(str(_broad_dir(nxt)))
+                i += 2
+                continue
+            out.append(str(_broad_dir(None)))
+        elif w == "sim" or w.startswith("sim:"):
+            out.append(w)
+        else:
+            p = Path(w)
+            if not p.exists():
+                raise UsageError(f"{w}: no such file or folder (a source is broad, sim, sim:NAME[:SEED], a folder "
+                                 "of trial files or a trial file)")
+            out.append(w)
+        i += 1
+    return out
+
+
+def _cmd_eval(args) -> int:
     from .._command import UsageError, write_json
+    from .algorithms import MODES
+    from .benchmark import benchmark
     filters = _names("--filters", args.filters, FILTERS)
     peers = _names("--peers", args.peers, PEERS)
     if not filters and not peers:
         raise UsageError("--filters and --peers select nothing to run; give at least one filter or peer")
     if args.jobs < 1:
         raise UsageError(f"--jobs: expected a positive integer, got {args.jobs}")
-    directory = _broad_dir(args.dir)
+    modes = [m.upper() for m in _split(args.modes)]
+    if not modes or any(m not in MODES for m in modes):
+        raise UsageError(f"--modes {args.modes}: expected a comma list of 9d, 6d")
+    sources = _sources(args.source)
     executor = None
     if args.jobs > 1:
         from concurrent.futures import ProcessPoolExecutor
         executor = ProcessPoolExecutor(max_workers=args.jobs)
     try:
-        res = evaluate(directory, filters, peers, executor=executor, progress=not args.quiet,
-                       keep_series=bool(args.plot))
+        res = benchmark(sources, [*filters, *peers], modes, align=args.align, ref_frame=args.ref_frame,
+                        executor=executor, keep_series=bool(args.plot), cache_dir=args.cache, progress=not args.quiet)
     finally:
         if executor is not None:
             executor.shutdown()
-    if not res["algorithms"]:
-        raise UsageError("none of the selected algorithms can run here (" + "; ".join(res["notes"]) + ")")
-    print(format_table(res))
-    write_json(_jsonable(res), args)
+    if not res.runs:
+        raise UsageError("none of the selected estimators can run here (" + "; ".join(res.notes) + ")")
+    print(res.table())
+    write_json(res.to_dict(), args)
     if args.plot:
-        for p in plot_results(res, args.plot):
+        for p in res.plot(args.plot):
             print(f"wrote {p}")
-    print("BROAD: Laidig, Caruso, Cereatti, Seel, Data 6(7), 2021, doi:10.3390/data6070072 (CC BY 4.0)")
+    if any("broad" in d.lower() for d in res.datasets):
+        print("BROAD: Laidig, Caruso, Cereatti, Seel, Data 6(7), 2021, doi:10.3390/data6070072 (CC BY 4.0)")
     return 0
 
 
+EVAL_EPILOG = """\
+sources:
+  broad            the BROAD trials in $QUATNAV_DATA/broad ('broad DIR': the BROAD trials in DIR)
+  sim              the simulated fast-motion set (quatnav.sim.FAST_MOTION: pendulum, limb swing,
+                   running, shaking, gyro saturation, scale factors and misalignment, vibration)
+  sim:NAME[:SEED]  one simulated scenario (quatnav simulate --list)
+  FOLDER, FILE     your own trials: CSV (columns time gyro_x gyro_y gyro_z accel_x accel_y accel_z
+                   [mag_x mag_y mag_z] q_w q_x q_y q_z [movement], '# ref_frame: ENU' or NED),
+                   HDF5 or .mat (the same names: time or rate, gyro, accel, mag, quat, movement,
+                   ref_frame); SI units, the reference quat sensor (or marker) to earth; see
+                   quatnav.datasets.trials
+
+Every estimator runs with its defaults, one parameter set for all trials. Before scoring, each
+estimate gets the best constant rotations on each side (--align both: a heading offset between
+the earth frames and a rotation between the sensor's and the reference's body frames; the same
+fit for every estimator); --align none gives BROAD's own figures. Errors: total, heading and
+inclination RMSE over the scored samples (the movement mask), per trial, per group and per data set.
+
+examples:
+  quatnav eval broad sim --jobs 2 --json bench.json --plot bench/
+  quatnav eval my_trials/ --ref-frame ENU --modes 6d --peers vqf
+  quatnav eval broad --align none --modes 9d --filters qekf --peers vqf
+
+QUATNAV_DATA: the folder of the shared datasets (default ../shared/data next to the source tree).
+Reading .mat needs scipy, HDF5 h5py: pip install 'quatnav[eval]'; peers: pip install
+'quatnav[peers]' (a missing peer is skipped with a note)."""
+
+
 def add_parser(sub) -> None:
-    """Register ``quatnav eval broad ...`` on the CLI's subparsers."""
-    p = sub.add_parser("eval", help="evaluate filters on real datasets (see 'quatnav eval broad -h')")
-    evsub = p.add_subparsers(dest="dataset", metavar="DATASET")
-    b = evsub.add_parser("broad", help="BROAD benchmark: filters and peers side by side",
-                         description="BROAD benchmark (real IMU data with optical truth): quatnav's filters and "
-                                     "the peer libraries on every trial of DIR, BROAD's RMSE over the movement "
-                                     "phases per trial, per group and on average.",
-                         epilog="DIR defaults to $QUATNAV_DATA/broad (QUATNAV_DATA: the folder of the shared "
-                                "datasets; default ../shared/data next to the source tree). Needs scipy to read "
-                                "the .mat files: pip install 'quatnav[eval]'; peers: pip install 'quatnav[peers]' "
-                                "(a missing peer is skipped with a note).")
-    b.add_argument("dir", nargs="?", default=None, metavar="DIR",
-                   help="folder of the BROAD trial files (default: $QUATNAV_DATA/broad)")
-    b.add_argument("--filters", default="qekf",
-                   help="comma list of %s, or none (default: qekf)" % ",".join(FILTERS))
-    b.add_argument("--peers", default="vqf,imufusion,madgwick",
-                   help="comma list of %s, or none (default: vqf,imufusion,madgwick; missing packages are "
-                        "skipped)" % ",".join(PEERS))
-    b.add_argument("--json", default=None, metavar="FILE", help="write the results to this JSON file ('-': stdout)")
-    b.add_argument("--plot", default=None, metavar="DIR", help="write plots into this folder")
-    b.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
-    b.add_argument("--quiet", action="store_true", help="no progress bar")
-    b.set_defaults(func=_cmd_broad)
-    p.set_defaults(func=None)
+    """Register ``quatnav eval SOURCE ...`` on the CLI's subparsers."""
+    import argparse
+    from .benchmark import DEFAULT_ALGORITHMS
+    p = sub.add_parser("eval", help="attitude benchmark: filters and peers on BROAD, simulated fast motion or "
+                                    "your own reference data",
+                       description="Run quatnav's attitude filters and the peer libraries in 9D and 6D on every "
+                                   "trial of the sources and score them against the reference: per trial, per "
+                                   "group and per data set.",
+                       epilog=EVAL_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("source", nargs="*", metavar="SOURCE", help="broad, sim, sim:NAME[:SEED], a folder or a file")
+    default_filters = ",".join(a for a in DEFAULT_ALGORITHMS if a in FILTERS)
+    default_peers = ",".join(a for a in DEFAULT_ALGORITHMS if a in PEERS)
+    p.add_argument("--filters", default=default_filters,
+                   help=f"comma list of {','.join(FILTERS)}, or none (default: {default_filters})")
+    p.add_argument("--peers", default=default_peers,
+                   help=f"comma list of {','.join(PEERS)}, or none (default: {default_peers}; missing "
+                        "packages are skipped)")
+    p.add_argument("--modes", default="9d,6d", help="comma list of 9d (with the magnetometer), 6d (default 9d,6d)")
+    p.add_argument("--align", choices=M.ALIGNMENTS, default="both",
+                   help="constant rotations fitted per estimate before scoring (default both)")
+    p.add_argument("--ref-frame", choices=("NED", "ENU"), type=str.upper, default=None,
+                   help="earth frame of the references of trial files that do not say it")
+    p.add_argument("--json", default=None, metavar="FILE", help="write the results to this JSON file ('-': stdout)")
+    p.add_argument("--plot", default=None, metavar="DIR", help="write figures into this folder")
+    p.add_argument("--cache", default=None, metavar="DIR",
+                   help="keep the peers' estimates in this folder and reuse them in later runs")
+    p.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_eval)
