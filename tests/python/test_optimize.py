@@ -84,7 +84,9 @@ def test_tune_command_user_errors():
     for args, expect in ((["--param", "gyro_noise=1:0.1"], "0 < LOW < HIGH"),
                          (["--param", "gyro_noise"], "NAME=LOW:HIGH"),
                          ([], "at least one --param"),
-                         (["/nonexistent", "--param", "gyro_noise=1e-3:1e-1"], "no BROAD trials")):
+                         (["/nonexistent", "--param", "gyro_noise=1e-3:1e-1"], "/nonexistent: no such file or folder"),
+                         (["--param", "gyro_noise=1e-3:1e-1", "--set", "acc_sigma=x"], "--set acc_sigma=x"),
+                         (["--param", "gyro_noise=1e-3:1e-1", "--set", "nope=1"], "--set")):
         p = subprocess.run([sys.executable, "-m", "quatnav", "tune", *args], capture_output=True, text=True,
                            env=env, timeout=120)
         assert p.returncode == 2 and expect in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
@@ -194,3 +196,91 @@ def test_tune_help_examples_name_real_parameters():
         names = {p.name for p in cls.PARAMS}
         for p in re.findall(r"--param (\w+)=", ex):
             assert p in names, (ex, p)
+
+
+def _cli(*args, env=None, timeout=300):
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import quatnav
+    e = dict(os.environ, PYTHONPATH=str(Path(quatnav.__file__).resolve().parents[1]), **(env or {}))
+    return subprocess.run([sys.executable, "-m", "quatnav", "tune", *map(str, args)], capture_output=True, text=True,
+                          env=e, timeout=timeout)
+
+
+def test_default_data_folder_is_not_the_installation(tmp_path):
+    """Without QUATNAV_DATA an installed package looks in ./shared/data, never inside itself; no data
+    there is one line with exit status 2 that says what to give."""
+    import quatnav.datasets as D
+    from pathlib import Path
+    site = tmp_path / "venv" / "lib" / "python3.11" / "site-packages" / "quatnav" / "datasets" / "__init__.py"
+    monkey = Path(D.__file__)
+    try:
+        D.__file__ = str(site)
+        import os
+        old = os.environ.pop("QUATNAV_DATA", None)
+        cwd = os.getcwd()
+        os.chdir(tmp_path)
+        try:
+            assert D.data_dir() == tmp_path / "shared" / "data"
+        finally:
+            os.chdir(cwd)
+            if old is not None:
+                os.environ["QUATNAV_DATA"] = old
+    finally:
+        D.__file__ = str(monkey)
+    p = _cli("--param", "acc_sigma=0.1:1", env={"QUATNAV_DATA": str(tmp_path / "none")})
+    line = p.stderr.strip()
+    assert p.returncode == 2 and len(line.splitlines()) == 1, p.stderr
+    assert "no trials in" in line and "QUATNAV_DATA" in line and "give the folder" in line, line
+
+
+def test_tune_attitude_on_own_trials(tmp_path):
+    """quatnav tune on a user's trials in the generic format (the benchmark's metric)."""
+    import json
+    from test_benchmark import make_trial
+    from quatnav.datasets.trials import save_trial
+    for i in range(2):
+        save_trial(make_trial(n=1500, seed=i, name=f"t{i}"), tmp_path / f"t{i}.csv", ref_frame="ENU")
+    js = tmp_path / "r.json"
+    p = _cli(tmp_path, "--mode", "6d", "--param", "acc_sigma=0.05:2", "--method", "lhs", "--budget", "3",
+             "--set", "gyro_noise=0.005", "--json", js)
+    assert p.returncode == 0, p.stderr
+    got = json.loads(js.read_text())
+    assert got["target"] == "attitude" and got["unit"] == "deg" and sorted(got["per_log"]) == ["t0", "t1"]
+    assert got["params"]["gyro_noise"] == 0.005 and 0.05 <= got["params"]["acc_sigma"] <= 2
+    from quatnav.evaluation.optimize import attitude_metric
+    from quatnav.evaluation.benchmark import resolve_sources
+    spec = resolve_sources([tmp_path / "t0.csv"])[0]
+    direct = attitude_metric(mode="6D")({"acc_sigma": got["params"]["acc_sigma"], "gyro_noise": 0.005}, spec)
+    assert got["per_log"]["t0"] == pytest.approx(direct)
+
+
+def test_tune_gnss_ins_on_own_log(tmp_path):
+    """A user's GNSS/INS log (IMU and GNSS CSV files) scored against its own GNSS at held-out outages."""
+    import json
+    from quatnav.evaluation.optimize import held_out_outages, log_outage_error
+    from quatnav.sim import make_scenario
+    s = make_scenario("paper004_walk", seed=0)
+    imu, g = s.imu, s.gps
+    np.savetxt(tmp_path / "imu.csv", np.column_stack([imu.t, imu.gyro, imu.accel]), delimiter=",",
+               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z", comments="", fmt="%.17g")
+    np.savetxt(tmp_path / "gnss.csv", np.column_stack([g.t_stamp, np.degrees(g.lat), np.degrees(g.lon), g.h, g.v_n]),
+               delimiter=",", header="time,lat,lon,h,v_n,v_e,v_d", comments="", fmt="%.17g")
+    outs = held_out_outages(g.t_stamp, 2, 8.0)
+    assert len(outs) == 2 and outs[0][0] >= g.t_stamp[0] + 30 and outs[-1][1] <= g.t_stamp[-1] - 8.0
+    log = f"{tmp_path / 'imu.csv'}+{tmp_path / 'gnss.csv'}"
+    lever = tuple(float(x) for x in s.params["gps"]["lever_arm_b_m"])
+    e = log_outage_error({"lever_arm_b": lever}, log, 2, 8.0)
+    assert 0.05 < e < 10.0  # meters of drift in 8 s outages of a MEMS IMU, not zero, not lost
+    assert log_outage_error({"lever_arm_b": lever, "acc_noise": 3.0}, log, 2, 8.0) != e
+    js = tmp_path / "g.json"
+    p = _cli("--target", "gnss-ins", "--logs", log, "--outages", "2", "--outage-length", "8", "--set",
+             "lever_arm_b=" + ",".join(map(str, lever)), "--param", "gps_vel_sigma=0.02:1", "--method", "lhs",
+             "--budget", "2", "--json", js)
+    assert p.returncode == 0, p.stderr
+    assert list(json.loads(js.read_text())["per_log"]) == [log]
+    q = _cli("--target", "gnss-ins", "--logs", tmp_path / "imu.csv", "--param", "gps_vel_sigma=0.02:1")
+    assert q.returncode == 2 and "no GNSS data" in q.stderr and len(q.stderr.strip().splitlines()) == 1, q.stderr

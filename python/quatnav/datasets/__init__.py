@@ -15,8 +15,15 @@ __all__ = ["data_dir"]
 
 
 def data_dir() -> Path:
-    """The shared data folder: ``$QUATNAV_DATA`` if set, else ``<repo>/../shared/data``."""
+    """The shared data folder: ``$QUATNAV_DATA`` if set; else, when quatnav runs from its source
+    tree (``<repo>/python/quatnav``), ``<repo>/../shared/data``; else ``./shared/data`` below the
+    current folder. An installed package never looks inside its own installation (a virtual
+    environment holds no data)."""
     env = os.environ.get("QUATNAV_DATA")
     if env:
         return Path(env)
-    return Path(__file__).resolve().parents[3].parent / "shared" / "data"
+    here = Path(__file__).resolve()
+    repo = here.parents[3]  # <repo>/python/quatnav/datasets/__init__.py
+    if here.parents[2].name == "python" and (repo / "pyproject.toml").is_file():
+        return repo.parent / "shared" / "data"
+    return Path.cwd() / "shared" / "data"

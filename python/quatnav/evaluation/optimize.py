@@ -2,7 +2,9 @@
 
 :func:`optimize` minimizes the mean over logs of a metric (BROAD's RMSE, a heading RMSE on a
 simulated run, the GNSS/INS horizontal RMS of :func:`gnss_ins_metric`, any
-``evaluate(params, log) -> float``) over chosen parameters within bounds.
+``evaluate(params, log) -> float``; on a user's own logs :func:`attitude_metric` (trials with a
+reference, :mod:`quatnav.datasets.trials`) and :func:`gnss_ins_metric` (a GNSS/INS log scored
+against its own GNSS during held-out outages)) over chosen parameters within bounds.
 Two methods:
 
 * ``"powell"`` (default): :func:`scipy.optimize.minimize` with Powell's method, bounded, in
@@ -30,8 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["optimize", "OptimizationResult", "broad_metric", "scenario_heading_metric", "gnss_ins_metric",
-           "parse_gnss_ins_log", "SerialExecutor"]
+__all__ = ["optimize", "OptimizationResult", "broad_metric", "attitude_metric", "scenario_heading_metric",
+           "gnss_ins_metric", "held_out_outages", "log_outage_error", "parse_gnss_ins_log", "SerialExecutor"]
 
 
 class SerialExecutor(Executor):
@@ -58,6 +60,20 @@ def broad_metric(filter="qekf", metric="total"):
     """``evaluate(params, path)``: BROAD's ``metric`` RMSE (deg, movement phases) of ``filter``
     (a key of :data:`quatnav.evaluation.evaluate.FILTERS`) on the trial file ``path``."""
     return functools.partial(_broad, filter=filter, metric=metric)
+
+
+def _attitude(params, spec, filter="qekf", mode="9D", metric="total", align="both"):
+    from .benchmark import evaluate_run, load_source_trial
+    return float(evaluate_run(load_source_trial(spec), filter, mode, dict(params), align)[metric])
+
+
+def attitude_metric(filter="qekf", mode="9D", metric="total", align="both"):
+    """``evaluate(params, spec)``: the ``metric`` RMSE (deg, scored samples) of ``filter`` in ``mode``
+    on one trial after the benchmark's alignment ``align``
+    (:func:`quatnav.evaluation.benchmark.evaluate_run`); ``spec`` is one of
+    :func:`quatnav.evaluation.benchmark.resolve_sources` (a user's trial file, a BROAD trial, a
+    simulated scenario)."""
+    return functools.partial(_attitude, filter=filter, mode=mode, metric=metric, align=align)
 
 
 @functools.lru_cache(maxsize=16)
@@ -90,10 +106,14 @@ def scenario_heading_metric(filter="QuaternionEKF"):
 
 def parse_gnss_ins_log(text):
     """A log of :func:`gnss_ins_metric` from its text: ``walk``, ``walk-degraded``, ``navego``,
-    ``sim:NAME[:SEED]`` (e.g. ``sim:paper004_walk:2``); a tuple is returned as it is."""
+    ``sim:NAME[:SEED]`` (e.g. ``sim:paper004_walk:2``), or the path of a user's own log with IMU
+    and GNSS (any format :func:`quatnav.io.read` reads; files joined by ``+``, ``imu.csv+gnss.csv``,
+    merge); a tuple is returned as it is."""
     if isinstance(text, tuple):
         return text
     t = str(text).strip()
+    if all(Path(x).is_file() for x in t.split("+")):
+        return ("file", t)
     if t in ("walk", "walk-rtk"):
         return ("walk", "rtk")
     if t == "walk-degraded":
@@ -107,7 +127,7 @@ def parse_gnss_ins_log(text):
                 return ("sim", parts[1], int(parts[2]) if len(parts) == 3 else 0)
             except ValueError:
                 pass
-    raise ValueError(f"log {text!r}: expected walk, walk-degraded, navego or sim:NAME[:SEED]")
+    raise ValueError(f"log {text!r}: expected walk, walk-degraded, navego, sim:NAME[:SEED] or the path of a log file")
 
 
 @functools.lru_cache(maxsize=8)
@@ -144,8 +164,73 @@ def _sim_horizontal(params, name, seed, skip_s=0.0):
     return float(np.sqrt(np.mean(d[:, 0] ** 2 + d[:, 1] ** 2)))
 
 
-def _gnss_ins(params, log, seconds=None, directory=None):
+@functools.lru_cache(maxsize=8)
+def _read_log(path):
+    """A user's log: one file, or files joined by ``+`` (``imu.csv+gnss.csv``) whose streams merge."""
+    from .. import io
+    logs = [io.read(p) for p in str(path).split("+")]
+    log = logs[0]
+    for other in logs[1:]:
+        log = log.merge(other)
+    log.require("imu", "gnss")
+    return log
+
+
+def held_out_outages(t_gnss, count: int = 3, length: float = 10.0, start: float | None = None):
+    """``count`` GNSS outages of ``length`` s spread evenly over a log whose fixes are at ``t_gnss``:
+    the first begins a third of the log in (at the latest 60 s after the first fix, the filter's
+    alignment first; or at ``start``), the last ends ``length`` s before the last fix. Returns the
+    ``(t_start, t_end)`` pairs (fewer when the log is too short for them)."""
+    t = np.asarray(t_gnss, float)
+    t0, t1 = float(t[0]), float(t[-1])
+    first = t0 + min(60.0, (t1 - t0) / 3.0) if start is None else float(start)
+    last = t1 - 2.0 * length
+    if count < 1 or last < first:
+        return []
+    starts = [first] if count == 1 else list(np.linspace(first, last, count))
+    out = []
+    for a in starts:
+        if not out or a >= out[-1][1]:
+            out.append((float(a), float(a) + float(length)))
+    return out
+
+
+def log_outage_error(params, path, outages: int = 3, outage_length: float = 10.0) -> float:
+    """The horizontal RMS error (m) of :class:`quatnav.GpsInsFilter` with ``params`` at the GNSS
+    fixes held out in :func:`held_out_outages` of a user's log (IMU and GNSS; any format of
+    :func:`quatnav.io.read`): the filter runs on the other fixes (``run(outages=...)``) and its
+    antenna position (the IMU's plus the lever arm turned by the attitude) is compared with each
+    held-out fix. ``inf`` when the filter is not navigating during the outages."""
+    import quatnav
+    from ..core import earth as E
+    from ..core import quaternion as Q
+    log = _read_log(str(path))
+    g, imu = log.gnss, log.imu
+    llh = np.column_stack([g.lat, g.lon, g.h])
+    kw = {"gps_pos": quatnav.Aid(g.t, llh, g.sigma)}
+    if g.vel_n is not None:
+        kw["gps_vel"] = quatnav.Aid(g.t, g.vel_n, g.sigma_vel)
+    outs = held_out_outages(g.t, outages, outage_length)
+    if not outs:
+        raise ValueError(f"{path}: too short for {outages} outages of {outage_length} s")
+    f = quatnav.GpsInsFilter(**dict(params))
+    r = f.run(imu.gyr, imu.acc, t=imu.t, outages=outs, on_invalid="skip", **kw)
+    held = np.zeros(len(g.t), bool)
+    for a, b in outs:
+        held |= (g.t >= a) & (g.t < b)
+    k = np.clip(np.searchsorted(r.t, g.t[held]), 0, len(r.t) - 1)
+    if not held.any() or not np.all(r.navigating[k]):
+        return float("inf")
+    lever = np.asarray(f.params.get("lever_arm_b", (0.0, 0.0, 0.0)), float)
+    d = E.geodetic_to_ned(r.lat[k], r.lon[k], r.h[k], g.lat[held], g.lon[held], g.h[held])
+    d = d + Q.rotate(r.quat[k], np.broadcast_to(lever, (len(k), 3)))
+    return float(np.sqrt(np.mean(d[:, 0] ** 2 + d[:, 1] ** 2)))
+
+
+def _gnss_ins(params, log, seconds=None, directory=None, outages=3, outage_length=10.0):
     log = parse_gnss_ins_log(log)
+    if log[0] == "file":
+        return log_outage_error(params, log[1], outages, outage_length)
     if log[0] == "walk":
         from ..experiments.walk_rtk import run_walk
         run = log[1]
@@ -160,7 +245,7 @@ def _gnss_ins(params, log, seconds=None, directory=None):
     return _sim_horizontal(params, log[1], log[2])
 
 
-def gnss_ins_metric(seconds=None, directory=None):
+def gnss_ins_metric(seconds=None, directory=None, outages=3, outage_length=10.0):
     """``evaluate(params, log)``: the horizontal position RMS (m) of :class:`quatnav.GpsInsFilter`
     with ``params`` on ``log``:
 
@@ -173,11 +258,15 @@ def gnss_ins_metric(seconds=None, directory=None):
     * ``"sim:NAME[:SEED]"``: a simulated scenario with GNSS (``paper004_walk``,
       ``paper001_constant_turn``, ...) against its truth.
 
+    * the path of a user's own log (IMU and GNSS): scored against its own GNSS at the fixes of
+      ``outages`` held-out outages of ``outage_length`` s (:func:`log_outage_error`).
+
     ``seconds`` shortens the real logs (their first seconds); ``directory`` is the shared data
     folder (default: ``QUATNAV_DATA`` or ``../shared/data``). Picklable, for process pools and
     dask. A run that never navigates scores ``inf``.
     """
-    return functools.partial(_gnss_ins, seconds=seconds, directory=directory)
+    return functools.partial(_gnss_ins, seconds=seconds, directory=directory, outages=outages,
+                             outage_length=outage_length)
 
 
 @dataclass
@@ -327,18 +416,28 @@ def optimize(evaluate, logs, bounds: dict, *, base: dict | None = None, method: 
 TUNE_EPILOG = """\
 examples:
   quatnav tune --param gyro_noise=1e-4:1e-1 --param acc_sigma=0.01:1 --budget 40 --jobs 2
-  quatnav tune DIR --filter marg --param gain=0.1:10 --method lhs --budget 64
+  quatnav tune my_trials/ --ref-frame ENU --mode 6d --param acc_sigma=0.05:2 --jobs 2
+  quatnav tune broad sim --filter marg --param gain=0.1:10 --method lhs --budget 64
   quatnav tune --param mag_sigma=0.02:3 --scheduler tcp://host:8786 --json best.json
   quatnav tune --target gnss-ins --logs walk-degraded,navego,sim:paper004_walk \\
                --param gyro_noise=1e-4:1e-2 --param acc_noise=1e-3:1e-1 --jobs 2
+  quatnav tune --target gnss-ins --logs flight.ulg,imu.csv+gnss.csv --outages 4 --outage-length 15 \\
+               --set lever_arm_b=0.2,0,-0.1 --param gps_pos_sigma_h=0.5:10
 
---target broad (default): each evaluation runs every BROAD trial with the attitude filter
---filter and takes the mean of BROAD's RMSE (deg) over the movement phases.
+--target attitude (default): each evaluation runs an attitude filter (--filter) in --mode on every
+trial of the SOURCEs and takes the mean of the --metric RMSE (deg) over the scored samples, after
+the benchmark's alignment (--align; quatnav eval -h): broad (default: $QUATNAV_DATA/broad), sim,
+sim:NAME[:SEED], or your own trials with a reference (a folder or files; CSV, HDF5 or .mat, see
+quatnav.datasets.trials).
 --target gnss-ins: each evaluation runs quatnav.GpsInsFilter (its parameter names, SI units) on
 every log of --logs and takes the mean horizontal position RMS (m): walk (the real walk, RTK,
 scored at the fixed epochs), walk-degraded (the walk fed GNSS with 2.5 m of noise, scored against
 RTK), navego (NaveGo's synthetic run against its truth), sim:NAME[:SEED] (a simulated scenario
-with GNSS against its truth); --seconds N uses the first N s of the real logs.
+with GNSS against its truth), or the path of your own log with IMU and GNSS (any format 'ins run
+--log' reads; IMU.csv+GNSS.csv for two files): scored against its own GNSS at the fixes of --outages held-out outages of
+--outage-length s; SOURCE is then the shared data folder of the named logs, --seconds N uses the
+first N s of the real ones.
+--set NAME=VALUE fixes a parameter (a vector as comma-separated numbers) for every evaluation.
 Logs run in parallel with --jobs N or on a dask.distributed cluster with --scheduler. The report
 gives the best parameters, the figure per log, and the change of the mean when each parameter
 moves by -+10 % (a flat optimum: the parameter hardly matters there)."""
@@ -356,6 +455,31 @@ def _parse_param(text):
     return name.strip(), (lo, hi)
 
 
+def _parse_set(text):
+    from .._command import UsageError
+    name, sep, value = str(text).partition("=")
+    if not sep or not name.strip():
+        raise UsageError(f"--set {text}: expected NAME=VALUE (e.g. lever_arm_b=0.2,0,-0.1)")
+    vals = []
+    for v in value.split(","):
+        v = v.strip()
+        if v.lower() in ("true", "false"):
+            vals.append(v.lower() == "true")
+            continue
+        try:
+            vals.append(float(v))
+        except ValueError:
+            raise UsageError(f"--set {text}: {v!r} is not a number") from None
+    return name.strip(), (vals[0] if len(vals) == 1 else tuple(vals))
+
+
+def _no_data_hint(what, where) -> str:
+    import os
+    src = "$QUATNAV_DATA" if os.environ.get("QUATNAV_DATA") else "the default data folder"
+    return (f"no {what} in {where} ({src}): give the folder (or files) to tune on, or set QUATNAV_DATA to the folder "
+            "that holds the shared data")
+
+
 def _targets(args):
     """(filter class, logs, their labels, evaluate, unit) of ``quatnav tune``'s --target."""
     import quatnav
@@ -367,30 +491,48 @@ def _targets(args):
             logs = [parse_gnss_ins_log(x) for x in labels]
         except ValueError as e:
             raise UsageError(f"--logs: {e}") from None
-        root = Path(args.dir) if args.dir else data_dir()
+        if len(args.source) > 1:
+            raise UsageError("--target gnss-ins takes one SOURCE, the shared data folder of the named logs "
+                             "(your own logs go to --logs)")
+        directory = args.source[0] if args.source else None
+        root = Path(directory) if directory else data_dir()
         for lab, lg in zip(labels, logs):
             sub = {"walk": "gnss_imu_walk", "navego": "navego_synthetic"}.get(lg[0])
             if sub and not (root / sub).is_dir():
-                raise UsageError(f"--logs {lab}: no {sub} folder in {root} (give DIR, the shared data folder)")
+                raise UsageError(f"--logs {lab}: no {sub} folder in {root} (give SOURCE, the shared data folder, or "
+                                 "set QUATNAV_DATA)")
             if lg[0] == "sim":
                 from ..sim import list_scenarios
                 if lg[1] not in list_scenarios():
                     raise UsageError(f"--logs {lab}: unknown scenario {lg[1]!r} (quatnav simulate --list)")
-        return (quatnav.GpsInsFilter, logs, labels, gnss_ins_metric(seconds=args.seconds, directory=args.dir),
-                "m")
-    from ..datasets import broad
+            if lg[0] == "file":
+                try:
+                    _read_log(lg[1])
+                except (ValueError, OSError) as e:
+                    raise UsageError(f"--logs {lab}: {e}") from None
+        evaluate = gnss_ins_metric(seconds=args.seconds, directory=directory, outages=args.outages,
+                                   outage_length=args.outage_length)
+        return quatnav.GpsInsFilter, logs, labels, evaluate, "m"
+    from .benchmark import resolve_sources
     from .evaluate import FILTERS
-    directory = args.dir or broad.default_dir()
+    from ..datasets import broad
+    sources = list(args.source) or ["broad"]
     try:
-        paths = [str(p) for p in broad.list_trials(directory)]
-    except (FileNotFoundError, NotADirectoryError):
-        paths = []
+        specs = resolve_sources(sources, args.ref_frame)
+    except FileNotFoundError as e:
+        where = e.filename or str(broad.default_dir())
+        raise UsageError(_no_data_hint("trials", where) if sources == ["broad"] else f"{where}: {e.strerror}") from None
+    except ValueError as e:
+        raise UsageError(str(e)) from None
     if args.trials:
-        paths = [p for p in paths if any(t in p for t in args.trials.split(","))]
-    if not paths:
-        raise UsageError(f"no BROAD trials in {directory}" + (f" matching {args.trials!r}" if args.trials else ""))
-    return (getattr(quatnav, FILTERS[args.filter]), paths, [Path(p).stem for p in paths],
-            broad_metric(args.filter, args.metric), "deg")
+        keys = [x for x in args.trials.split(",") if x]
+        specs = [sp for sp in specs if any(k in str(sp[1]) for k in keys)]
+    if not specs:
+        raise UsageError(f"no trials in {', '.join(sources)}" + (f" matching {args.trials!r}" if args.trials else ""))
+    mode = args.mode.upper()
+    labels = [Path(sp[1]).stem if sp[0] == "file" else f"{sp[1]}:{sp[2]}" for sp in specs]
+    evaluate = attitude_metric(args.filter, mode, args.metric, args.align)
+    return getattr(quatnav, FILTERS[args.filter]), specs, labels, evaluate, "deg"
 
 
 def _tune(args) -> int:
@@ -398,11 +540,18 @@ def _tune(args) -> int:
     if not args.param:
         raise UsageError("give at least one --param NAME=LOW:HIGH")
     bounds = dict(_parse_param(p) for p in args.param)
+    base = dict(_parse_set(p) for p in (args.set or []))
+    if args.outages < 1 or not args.outage_length > 0:
+        raise UsageError("--outages and --outage-length must be positive")
     cls, logs, labels, evaluate, unit = _targets(args)
     try:
         cls(**{k: float(np.sqrt(lo * hi)) for k, (lo, hi) in bounds.items()})
     except (TypeError, ValueError) as e:
         raise UsageError(f"--param: {e}") from None
+    try:
+        cls(**base)
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"--set: {e}") from None
     if args.scheduler:
         from distributed import Client
         client = Client(args.scheduler)
@@ -413,14 +562,15 @@ def _tune(args) -> int:
     else:
         ex, close = None, (lambda: None)
     try:
-        r = optimize(evaluate, logs, bounds, method=args.method, budget=args.budget, executor=ex, seed=args.seed)
+        r = optimize(evaluate, logs, bounds, base=base, method=args.method, budget=args.budget, executor=ex,
+                     seed=args.seed)
     finally:
         close()
     print(r.summary())
     for lab, v in zip(labels, r.per_log):
         print(f"  {lab}: {v:.4g} {unit}")
     if args.json:
-        write_json({"target": args.target, "params": r.params, "score": r.score, "unit": unit,
+        write_json({"target": "attitude" if args.target == "broad" else args.target, "params": r.params, "score": r.score, "unit": unit,
                     "per_log": dict(zip(labels, r.per_log)),
                     "flatness": {k: list(v) for k, v in r.flatness.items()}, "evaluations": r.evaluations,
                     "method": r.method}, args)
@@ -431,24 +581,37 @@ def add_parser(subparsers):
     """Register ``quatnav tune`` on an argparse subparsers object."""
     import argparse
     from .evaluate import FILTERS
-    p = subparsers.add_parser("tune", help="optimize filter parameters on BROAD or GNSS/INS logs (Powell or Latin "
-                                           "hypercube)",
-                              description="Minimize a mean metric over logs within bounds, in log-space: BROAD's RMSE "
-                                          "of an attitude filter, or the horizontal RMS of the GNSS/INS filter; bounded "
-                                          "Powell (default) or a seeded Latin-hypercube search.",
+    from .metrics import ALIGNMENTS
+    p = subparsers.add_parser("tune", help="optimize filter parameters on your own logs, BROAD, simulated runs or "
+                                           "GNSS/INS logs (Powell or Latin hypercube)",
+                              description="Minimize a mean metric over logs within bounds, in log-space: the attitude "
+                                          "error of an attitude filter on trials with a reference, or the horizontal "
+                                          "error of the GNSS/INS filter; bounded Powell (default) or a seeded "
+                                          "Latin-hypercube search.",
                               epilog=TUNE_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("dir", nargs="?", default=None, metavar="DIR",
-                   help="folder of BROAD trials, or with --target gnss-ins the shared data folder (default: the "
-                        "shared data)")
-    p.add_argument("--target", choices=("broad", "gnss-ins"), default="broad",
-                   help="broad (attitude filters on BROAD, default) or gnss-ins (GpsInsFilter, horizontal RMS)")
-    p.add_argument("--logs", metavar="A,B", help="with --target gnss-ins: walk, walk-degraded, navego, sim:NAME[:SEED] "
-                                                 "(default walk-degraded,navego)")
+    p.add_argument("source", nargs="*", metavar="SOURCE",
+                   help="attitude: broad (default), sim, sim:NAME[:SEED], folders or files of trials; gnss-ins: the "
+                        "shared data folder of the named --logs (default $QUATNAV_DATA)")
+    p.add_argument("--target", choices=("attitude", "broad", "gnss-ins"), default="attitude",
+                   help="attitude (an attitude filter on trials with a reference, default; broad: the same) or "
+                        "gnss-ins (GpsInsFilter, horizontal RMS)")
+    p.add_argument("--logs", metavar="A,B", help="with --target gnss-ins: walk, walk-degraded, navego, sim:NAME[:SEED], "
+                                                 "or paths of your own logs (default walk-degraded,navego)")
+    p.add_argument("--outages", type=int, default=3, help="with --target gnss-ins on your own logs: held-out GNSS "
+                                                          "outages per log (default 3)")
+    p.add_argument("--outage-length", type=float, default=10.0, help="their length, s (default 10)")
     p.add_argument("--seconds", type=float, help="with --target gnss-ins: only the first seconds of the real logs")
-    p.add_argument("--filter", choices=sorted(FILTERS), default="qekf", help="filter to tune (default qekf)")
+    p.add_argument("--filter", choices=sorted(FILTERS), default="qekf", help="attitude filter to tune (default qekf)")
+    p.add_argument("--mode", choices=("9d", "6d", "9D", "6D"), default="9d",
+                   help="attitude: with the magnetometer (9d, default) or without (6d)")
+    p.add_argument("--align", choices=ALIGNMENTS, default="both",
+                   help="attitude: the benchmark's alignment before scoring (default both)")
+    p.add_argument("--ref-frame", choices=("NED", "ENU"), type=str.upper, default=None,
+                   help="attitude: earth frame of the references of trial files that do not say it")
     p.add_argument("--param", action="append", metavar="NAME=LOW:HIGH", help="a parameter and its bounds (repeat)")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", help="a fixed parameter (repeat)")
     p.add_argument("--metric", choices=("total", "heading", "inclination"), default="total",
-                   help="BROAD RMSE averaged over the trials (default total)")
+                   help="attitude: the RMSE averaged over the trials (default total)")
     p.add_argument("--method", choices=("powell", "lhs"), default="powell", help="search method (default powell)")
     p.add_argument("--budget", type=int, default=40, help="most evaluations (lhs: candidates), default 40")
     p.add_argument("--trials", metavar="A,B", help="only trials whose file name contains one of these")
