@@ -6,6 +6,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
+import quatnav
 import quatnav.cli
 from quatnav.core import quaternion as Q
 from quatnav.datasets import trials as T
@@ -233,6 +234,27 @@ def test_cli_eval_on_own_trials(tmp_path, capsys):
     data = json.loads(out.read_text())
     assert data["runs"] == ["qekf 6D"] and data["trials"][f"{tmp_path.name}/mine"]["results"]["qekf 6D"]["total"] < 2
     assert "6D: total RMSE" in capsys.readouterr().out
+
+
+def test_cli_eval_checks_a_trial_file_once(tmp_path, capsys):
+    """A user's trial in deg/s and g: one warning line each, named by the file (not one per run);
+    the run goes on."""
+    tr = make_trial(n=1500, seed=7)
+    tr.gyr, tr.acc = np.degrees(tr.gyr), tr.acc / 9.80665
+    T.save_trial(tr, tmp_path / "units.csv")
+    with pytest.warns(quatnav.UnitWarning) as w:
+        T.load_trial(tmp_path / "units.csv")
+    assert sorted(str(x.message).split(": ", 1)[1][:14] for x in w) == ["accel looks li", "gyro looks lik"]
+    rc = quatnav.cli.main(["eval", str(tmp_path / "units.csv"), "--filters", "qekf,marg", "--peers", "none",
+                           "--quiet"])
+    assert rc == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if ": warning: " in ln]
+    assert len(lines) == 2 and all("units.csv" in ln for ln in lines), lines
+    assert "gyro looks like deg/s" in lines[0] and "accel looks like g" in lines[1], lines
+    good = make_trial(n=600, seed=8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert T.check_trial(good) == []
 
 
 @pytest.mark.parametrize("args, expect", [

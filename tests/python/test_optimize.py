@@ -282,5 +282,19 @@ def test_tune_gnss_ins_on_own_log(tmp_path):
              "--budget", "2", "--json", js)
     assert p.returncode == 0, p.stderr
     assert list(json.loads(js.read_text())["per_log"]) == [log]
+    # an IMU in g: one warning named by the file, before the evaluations, which do not repeat it
+    import warnings
+    import quatnav
+    from quatnav.evaluation.optimize import log_warnings
+    assert log_warnings(log) == []
+    np.savetxt(tmp_path / "imu_g.csv", np.column_stack([imu.t, imu.gyro, imu.accel / 9.80665]), delimiter=",",
+               header="time,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z", comments="", fmt="%.17g")
+    log_g = f"{tmp_path / 'imu_g.csv'}+{tmp_path / 'gnss.csv'}"
+    w = log_warnings(log_g)
+    assert [type(x) for x in w] == [quatnav.UnitWarning] and "imu_g.csv" in str(w[0]) and "like g" in str(w[0])
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        log_outage_error({"lever_arm_b": lever}, log_g, 2, 8.0)
+    assert not [r for r in rec if issubclass(r.category, quatnav.PlausibilityWarning)], [str(r.message) for r in rec]
     q = _cli("--target", "gnss-ins", "--logs", tmp_path / "imu.csv", "--param", "gps_vel_sigma=0.02:1")
     assert q.returncode == 2 and "no GNSS data" in q.stderr and len(q.stderr.strip().splitlines()) == 1, q.stderr

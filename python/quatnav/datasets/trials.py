@@ -34,7 +34,8 @@ field              meaning
 The reference's body frame may differ from the sensor's by a constant rotation (the markers'
 frame), and its earth frame from the filters' by a constant heading: the benchmark
 (:mod:`quatnav.evaluation.benchmark`) fits both. :func:`check_reference` tells a reference
-whose vertical disagrees with the accelerometer (the usual sign of an ENU reference read as NED).
+whose vertical disagrees with the accelerometer (the usual sign of an ENU reference read as NED);
+:func:`check_trial` adds the IMU's units, saturation and clock (:func:`quatnav.plausibility.check_imu`).
 """
 from __future__ import annotations
 
@@ -46,9 +47,10 @@ from pathlib import Path
 import numpy as np
 
 from ..core import quaternion as Q
+from ..plausibility.categories import PlausibilityWarning
 
 __all__ = ["Trial", "ReferenceWarning", "load_trial", "load_folder", "list_trial_files", "check_reference",
-           "save_trial", "TRIAL_SUFFIXES"]
+           "check_trial", "save_trial", "TRIAL_SUFFIXES"]
 
 #: File suffixes read as trials.
 TRIAL_SUFFIXES = (".mat", ".h5", ".hdf5", ".csv", ".txt")
@@ -56,7 +58,7 @@ _FRAMES = ("NED", "ENU")
 _BROAD_KEYS = ("imu_gyr", "imu_acc", "opt_quat", "sampling_rate")
 
 
-class ReferenceWarning(UserWarning):
+class ReferenceWarning(PlausibilityWarning):
     """A trial's reference looks inconsistent with its IMU data (frame, axes, clock)."""
 
 
@@ -261,8 +263,9 @@ def load_trial(path, *, ref_frame: str | None = None, groups=None, dataset: str 
     dataset : str, optional
         The data set's name (default: the folder's name).
     check : bool
-        Run :func:`check_reference` and warn (:class:`ReferenceWarning`) when the reference's
-        vertical disagrees with the accelerometer.
+        Run :func:`check_trial` and warn: a :class:`ReferenceWarning` when the reference's vertical
+        disagrees with the accelerometer, the IMU's units, saturation and clock as
+        :func:`quatnav.plausibility.check_imu` does.
 
     Returns
     -------
@@ -294,7 +297,7 @@ def load_trial(path, *, ref_frame: str | None = None, groups=None, dataset: str 
     trial = Trial(path.stem, d["gyr"], d["acc"], d["mag"], np.asarray(d["t"], float), q, np.asarray(mov, bool),
                   list(groups), dataset if dataset is not None else path.parent.name, str(path))
     if check:
-        check_reference(trial, warn=True)
+        check_trial(trial)
     return trial
 
 
@@ -358,14 +361,44 @@ def check_reference(trial: Trial, *, warn: bool = False, max_residual_deg: float
     out["residual_deg"] = residual(q[idx])
     # the other frame: NED <-> ENU is the same map both ways
     out["other_frame_residual_deg"] = residual(Q.enu_to_ned(q[idx]))
-    if warn and out["residual_deg"] > max_residual_deg:
-        better = out["other_frame_residual_deg"] < max_residual_deg
-        hint = (" read as the other earth frame (NED <-> ENU) it agrees within "
-                f"{out['other_frame_residual_deg']:.1f} deg: give the other ref_frame") if better else \
-            " check the reference's frames and the accelerometer's axes and unit"
-        warnings.warn(f"{trial.name}: the reference's vertical disagrees with the accelerometer by "
-                      f"{out['residual_deg']:.1f} deg (median over {out['samples']} quasi-static samples);{hint}",
-                      ReferenceWarning, stacklevel=2)
+    w = _reference_warning(trial, out, max_residual_deg)
+    if warn and w is not None:
+        warnings.warn(w, stacklevel=2)
+    return out
+
+
+def _reference_warning(trial: Trial, out: dict, max_residual_deg: float):
+    """The :class:`ReferenceWarning` of a result of :func:`check_reference` (or None)."""
+    if not out["residual_deg"] > max_residual_deg:
+        return None
+    better = out["other_frame_residual_deg"] < max_residual_deg
+    hint = (" read as the other earth frame (NED <-> ENU) it agrees within "
+            f"{out['other_frame_residual_deg']:.1f} deg: give the other ref_frame") if better else \
+        " check the reference's frames and the accelerometer's axes and unit"
+    return ReferenceWarning(f"{trial.name}: the reference's vertical disagrees with the accelerometer by "
+                            f"{out['residual_deg']:.1f} deg (median over {out['samples']} quasi-static "
+                            f"samples);{hint}")
+
+
+def check_trial(trial: Trial, *, warn: bool = True, max_residual_deg: float = 15.0) -> list:
+    """The plausibility warnings of a trial: its IMU's units (a gyro in deg/s, an accelerometer in
+    g), saturation and clock (:func:`quatnav.plausibility.check_imu`; not the axes, since the
+    reference is given in the sensor's own frame or a constant rotation away), then the
+    reference's vertical (:func:`check_reference`). With ``warn`` they are also issued
+    (:func:`warnings.warn`, to the first caller outside quatnav).
+
+    Returns
+    -------
+    list of quatnav.PlausibilityWarning
+    """
+    from ..plausibility import check_imu
+    from ..plausibility.categories import issue
+    where = f"trial {trial.source or trial.name}"
+    out = check_imu(trial.gyr, trial.acc, t=trial.t, where=where, axes="none", names=("gyro", "accel"))
+    ref = _reference_warning(trial, check_reference(trial), max_residual_deg)
+    out += [ref] if ref is not None else []
+    if warn:
+        issue(out)
     return out
 
 

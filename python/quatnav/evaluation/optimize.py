@@ -63,8 +63,11 @@ def broad_metric(filter="qekf", metric="total"):
 
 
 def _attitude(params, spec, filter="qekf", mode="9D", metric="total", align="both"):
+    from ..plausibility import checked_by_caller
     from .benchmark import evaluate_run, load_source_trial
-    return float(evaluate_run(load_source_trial(spec), filter, mode, dict(params), align)[metric])
+    trial = load_source_trial(spec)
+    with checked_by_caller():  # the trials are checked once (_check_inputs), not in every evaluation
+        return float(evaluate_run(trial, filter, mode, dict(params), align)[metric])
 
 
 def attitude_metric(filter="qekf", mode="9D", metric="total", align="both"):
@@ -213,8 +216,10 @@ def log_outage_error(params, path, outages: int = 3, outage_length: float = 10.0
     outs = held_out_outages(g.t, outages, outage_length)
     if not outs:
         raise ValueError(f"{path}: too short for {outages} outages of {outage_length} s")
+    from ..plausibility import checked_by_caller
     f = quatnav.GpsInsFilter(**dict(params))
-    r = f.run(imu.gyr, imu.acc, t=imu.t, outages=outs, on_invalid="skip", **kw)
+    with checked_by_caller():  # the log is checked once (log_warnings), not in every evaluation
+        r = f.run(imu.gyr, imu.acc, t=imu.t, outages=outs, on_invalid="skip", **kw)
     held = np.zeros(len(g.t), bool)
     for a, b in outs:
         held |= (g.t >= a) & (g.t < b)
@@ -225,6 +230,24 @@ def log_outage_error(params, path, outages: int = 3, outage_length: float = 10.0
     d = E.geodetic_to_ned(r.lat[k], r.lon[k], r.h[k], g.lat[held], g.lon[held], g.h[held])
     d = d + Q.rotate(r.quat[k], np.broadcast_to(lever, (len(k), 3)))
     return float(np.sqrt(np.mean(d[:, 0] ** 2 + d[:, 1] ** 2)))
+
+
+def log_warnings(path, imu_rotation=None) -> list:
+    """The plausibility warnings of a user's GNSS/INS log (:func:`log_outage_error`'s ``path``),
+    named by the file: the IMU's units, axes (in the body axes of ``imu_rotation``, (3, 3)),
+    saturation and clock, the GNSS's units and clocks
+    (:func:`quatnav.plausibility.plausibility_warnings`, as ``quatnav ins run`` checks its logs)."""
+    from ..plausibility import gnss_speed, gnss_velocity_ne, plausibility_warnings
+    log = _read_log(str(path))
+    g, imu = log.gnss, log.imu
+    rot = np.eye(3) if imu_rotation is None else np.asarray(imu_rotation, float).reshape(3, 3)
+    d_g = {"time": g.t, "lat": np.degrees(g.lat), "lon": np.degrees(g.lon), "h": g.h}
+    if g.vel_n is not None:
+        d_g["v_n"], d_g["v_e"] = g.vel_n[:, 0], g.vel_n[:, 1]
+    return plausibility_warnings(imu.t, imu.gyr @ rot.T, imu.acc @ rot.T, g.t, d_g["lat"], d_g["lon"],
+                                 imu=f"IMU {path}", gnss=f"GNSS {path}", gnss_speed=gnss_speed(d_g),
+                                 gnss_vel=gnss_velocity_ne(d_g),
+                                 rotation_fix="imu_rotation with --set imu_rotation=ROLL,PITCH,YAW (rad)")
 
 
 def _gnss_ins(params, log, seconds=None, directory=None, outages=3, outage_length=10.0):
@@ -535,6 +558,24 @@ def _targets(args):
     return getattr(quatnav, FILTERS[args.filter]), specs, labels, evaluate, "deg"
 
 
+def _check_inputs(args, cls, logs, base) -> None:
+    """The plausibility warnings of the user's own inputs, once each, named by their files: the
+    trial files of --target attitude (:func:`quatnav.datasets.trials.check_trial`), the logs of
+    --target gnss-ins (:func:`log_warnings`); the evaluations then run without them."""
+    from ..plausibility.categories import issue
+    if args.target == "gnss-ins":
+        rot = cls(**base).params["imu_rotation"]
+        for lg in logs:
+            if lg[0] == "file":
+                issue(log_warnings(lg[1], rot))
+        return
+    from ..datasets.trials import check_trial
+    from .benchmark import load_source_trial
+    for sp in logs:
+        if sp[0] == "file":
+            check_trial(load_source_trial(sp))
+
+
 def _tune(args) -> int:
     from .._command import UsageError, write_json
     if not args.param:
@@ -552,6 +593,7 @@ def _tune(args) -> int:
         cls(**base)
     except (TypeError, ValueError) as e:
         raise UsageError(f"--set: {e}") from None
+    _check_inputs(args, cls, logs, base)
     if args.scheduler:
         from distributed import Client
         client = Client(args.scheduler)

@@ -38,14 +38,16 @@ __all__ = ["PlausibilityWarning", "UnitWarning", "AxesWarning", "ClockWarning", 
 
 
 def plausibility_warnings(t, gyro, accel, gnss_t=(), lat_deg=(), lon_deg=(), align_time=2.0,
-                          imu="IMU", gnss="GNSS", gnss_speed=None, gnss_vel=None) -> list:
+                          imu="IMU", gnss="GNSS", gnss_speed=None, gnss_vel=None,
+                          rotation_fix="imu_rotation in [filter]") -> list:
     """The warnings of the checks of one GNSS/INS run, in the body's axes (each at most once):
     :func:`check_imu` (a navigation filter's axes; the clock is :func:`check_imu_times`'s), then
     the GNSS's units and clocks. ``gnss_vel``: (times, (K, 2) north/east velocity) of the GNSS
-    (:func:`gnss_velocity_ne`) for the forward-axis check."""
+    (:func:`gnss_velocity_ne`) for the forward-axis check; ``rotation_fix``: how the user turns
+    the IMU's axes (named by the axes warning)."""
     gnss_t = np.asarray(gnss_t)
     out = check_imu(gyro, accel, t=t, where=imu, rest_time=align_time, axes="frd",
-                    rotation_fix="imu_rotation in [filter]", names=("gyro_x/y/z", "accel_x/y/z"), clock=False)
+                    rotation_fix=rotation_fix, names=("gyro_x/y/z", "accel_x/y/z"), clock=False)
     out += [check_latlon(np.asarray(lat_deg), np.asarray(lon_deg), gnss), check_overlap(t, gnss_t, gnss),
             check_clock(t, gnss_t, gnss), check_motion_start(t, gyro, gnss_t, gnss_speed, gnss, imu, accel)]
     if gnss_vel is not None:
