@@ -109,7 +109,7 @@ def resolve_sources(sources, ref_frame: str | None = None) -> list:
     return specs
 
 
-@functools.lru_cache(maxsize=8)
+@functools.lru_cache(maxsize=64)
 def _load_cached(spec):
     from ..datasets.simulated import scenario_trial
     from ..datasets.trials import load_trial

@@ -12,7 +12,7 @@ import numpy as np
 from .._validate import did_you_mean
 from ..core import quaternion as Q
 from ..filters.tables import EULER_PARAMS, FLAGS, QEKF_PARAMS
-from .kalman import kalman_correct
+from .kalman import kalman_correct, kalman_correct_rows
 from .parts import AccFilter, MagDisturbance, Rest
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED
@@ -309,14 +309,18 @@ class QuaternionEKF(_Base):
             return SimpleNamespace(status=status)
         if self.rest.update(acc, self.bias, self.dt_last):
             self._update_zero_rate()
-        res = self.acc.update(acc, self.dt_last, self._max_bias_var(), lambda a: self._update3(
-            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, self.p.acc_gate)))
+        res = self.acc.update(acc, self.dt_last, self._max_bias_var(), lambda a: self._update_gravity(
+            a.acc, self.p.acc_sigma + a.sigma_add, a.gate(gate, self.p.acc_gate)))
         if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res
 
     def _max_bias_var(self):
         return 0.0  # the 7-state filter keeps acc_lp_tau (acc_lp_bias_sigma: error-state filter only)
+
+    def _update_gravity(self, acc, sigma, gate):
+        """The accelerometer's rows 1-3 of eq. (12) (the 7-state filter: the paper's update)."""
+        return self._update3(acc, *GRAVITY_REF, sigma, gate)
 
     def _update_zero_rate(self):
         self.flags |= FLAG_AT_REST
@@ -503,6 +507,27 @@ class QuaternionESKF(QuaternionEKF):
         rx, rz, ry = self.mag_reference()
         return np.array([rx, ry, rz])
 
+    @staticmethod
+    def heading_free(u, rows):
+        """The gain of the accelerometer rows (quaternion_eskf.hpp): the first ``rows`` rows' gains
+        projected off the body-frame vertical ``u`` in the attitude and the bias block."""
+        def gain(i, k):
+            if i >= rows:
+                return k
+            k = k.copy()
+            k[:3] -= u * (u @ k[:3])
+            k[3:] -= u * (u @ k[3:])
+            return k
+        return gain
+
+    def _update_gravity(self, acc, sigma, gate):
+        """The accelerometer update as a Schmidt-Kalman update: no heading, no vertical bias."""
+        status, a = _unit(acc)
+        if status != "ok":
+            return SimpleNamespace(status=status)
+        h, H = self.direction_model(self.q, np.array([0.0, 0.0, -1.0]))
+        return self._correct(H, np.eye(3) * sigma**2, a - h, gate, gain=self.heading_free(-h, 3))
+
     def _update3(self, v, rx, rz, sigma, gate, ry=0.0):
         status, u = _unit(v)
         if status != "ok":
@@ -520,7 +545,8 @@ class QuaternionESKF(QuaternionEKF):
         ha, Ha = self.direction_model(self.q, np.array([0.0, 0.0, -1.0]))
         hm, Hm = self.direction_model(self.q, self._mag_reference_vector())
         R = np.diag([self.p.acc_sigma**2] * 3 + [self.p.mag_sigma**2] * 3)
-        res = self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate)
+        res = self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate,
+                            gain=self.heading_free(-ha, 3))
         if res.status != "ok":
             self.mag.ref = before
         return res
@@ -555,8 +581,11 @@ class QuaternionESKF(QuaternionEKF):
         self._inject(K * y, 0.5 * (P + P.T))
         return res
 
-    def _correct(self, H, R, y, gate):
-        status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
+    def _correct(self, H, R, y, gate, gain=None):
+        if gain is None:
+            status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
+        else:
+            status, dx, P, S, nis = kalman_correct_rows(self.P, H, np.diag(R), y, gate, gain)
         res = SimpleNamespace(status=status, innovation=y, innovation_cov=S, nis=nis)
         if status == "ok":
             self._inject(dx, P)
@@ -689,8 +718,16 @@ class EulerEKF(_Base):
             r = self.rest.zero_rate_variance(self.p.gyro_noise, self.dt_last)
             self._correct(H, np.eye(3) * r, self.rest.zero_rate_innovation(self.bias), 0.0)
         max_bias_var = float(np.max(np.diag(self.P)[3:]))
+        up = Q.rotate_inv(self.quat, np.array([0.0, 0.0, 1.0]))
+        sin_pitch = np.sin(self.euler[1])
+
+        def heading_free(i, k):  # euler_ekf.hpp: a tilt about a horizontal axis, a horizontal bias
+            k = k.copy()
+            k[2] = sin_pitch * k[0]
+            k[3:] -= up * (up @ k[3:])
+            return k
         res = self.acc.update(acc, self.dt_last, max_bias_var, lambda a: self._update3(
-            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0)))
+            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0), gain=heading_free))
         if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res
@@ -708,7 +745,7 @@ class EulerEKF(_Base):
             self.flags |= FLAG_MAG_REJECTED
         return res
 
-    def _update3(self, v, rx, rz, sigma, gate):
+    def _update3(self, v, rx, rz, sigma, gate, gain=None):
         status, u = _unit(v)
         if status != "ok":
             return SimpleNamespace(status=status)
@@ -717,10 +754,13 @@ class EulerEKF(_Base):
         H = np.zeros((3, 6))
         for i in range(3):
             H[:, i] = dC[i] @ r
-        return self._correct(H, np.eye(3) * sigma**2, u - C @ r, gate)
+        return self._correct(H, np.eye(3) * sigma**2, u - C @ r, gate, gain)
 
-    def _correct(self, H, R, y, gate):
-        status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
+    def _correct(self, H, R, y, gate, gain=None):
+        if gain is None:
+            status, dx, P, S, nis = kalman_correct(self.P, H, R, y, gate)
+        else:
+            status, dx, P, S, nis = kalman_correct_rows(self.P, H, np.diag(R), y, gate, gain)
         res = SimpleNamespace(status=status, innovation=y, innovation_cov=S, nis=nis)
         if status != "ok":
             return res

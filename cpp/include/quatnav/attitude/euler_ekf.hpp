@@ -14,6 +14,17 @@
 // kSingular) reports it: results there are not to be trusted. This is the parametrization's
 // fault, not the data's; the quaternion EKF has no such point.
 //
+// The accelerometer update is the Schmidt-Kalman update of QuaternionESKF (quaternion_eskf.hpp:
+// gravity carries no heading information): it corrects the attitude by a rotation about a
+// horizontal axis of the navigation frame only, and the bias in the horizontal plane only. In
+// ZYX angles a navigation-frame rotation by [a_x, a_y, a_z] changes them by cos(pitch) d_roll =
+// cos(yaw) a_x + sin(yaw) a_y, d_pitch = -sin(yaw) a_x + cos(yaw) a_y, d_yaw = a_z +
+// sin(pitch) d_roll: a tilt correction (a_z = 0) moves the yaw by sin(pitch) d_roll, so the
+// gain's heading part a_z = k_yaw - sin(pitch) k_roll is removed by k_yaw <- sin(pitch) k_roll
+// (along e_yaw, the rotation about the vertical); the bias gain is projected off the body-frame
+// vertical. h = C_bn(e) [0, 0, -1] does not depend on the yaw nor on the bias, so both removed
+// directions are in the null space of H and the NIS is the optimal update's.
+//
 // The robustness parts (parts/*.hpp) as in QuaternionESKF: rest detection with its zero-rate
 // measurement of the bias block (H = [0 I]), the accelerometer part (low-pass in a gyro-carried
 // frame, norm rejection, adaptive noise, recovery; the low-pass time constant follows the
@@ -279,7 +290,13 @@ template <class S> class EulerEKF {
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
     return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
-      return update3(in.acc, S(0), S(-1), params_.acc_sigma + in.sigma_add, in.gate(gate, S(0)));
+      const Vec3<S> up = quat::rotate_inv(quat(), Vec3<S>(S(0), S(0), S(1)));  // the vertical, body frame
+      const S sin_pitch = std::sin(st_.euler[1]);
+      return update3(in.acc, S(0), S(-1), params_.acc_sigma + in.sigma_add, in.gate(gate, S(0)),
+                     [&](int, Vec<S, 6>& k) {
+                       k[2] = sin_pitch * k[0];
+                       k.template tail<3>() -= up * up.dot(k.template tail<3>());
+                     });
     });
   }
 
@@ -327,7 +344,8 @@ template <class S> class EulerEKF {
     return Status::Ok;
   }
 
-  UpdateResult<S, 3> update3(const Vec3<S>& v, S rx, S rz, S sigma, S gate) {
+  template <class Gain = OptimalGain>
+  UpdateResult<S, 3> update3(const Vec3<S>& v, S rx, S rz, S sigma, S gate, const Gain& gain = Gain{}) {
     UpdateResult<S, 3> res;
     if (!st_.initialized) return res;
     Vec3<S> u;
@@ -336,7 +354,7 @@ template <class S> class EulerEKF {
     Vec3<S> h;
     Mat3<S> H;
     detail::euler_measurement(st_.euler, rx, rz, h, H);
-    correct<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
+    correct<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate, gain);
     return res;
   }
 
@@ -344,11 +362,12 @@ template <class S> class EulerEKF {
   /// diag(r): every measurement of this filter has uncorrelated components, so the rows are
   /// scalar sequential Joseph updates (kalman_correct_diagonal: the joint update of
   /// kalman_correct up to rounding, the same NIS), on one working copy of P; then the state.
-  template <int M, int C0, int NC>
-  void correct(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res, S gate) {
+  template <int M, int C0, int NC, class Gain = OptimalGain>
+  void correct(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res, S gate,
+               const Gain& gain = Gain{}) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    if (kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate) != Status::Ok) return;
+    if (kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain) != Status::Ok) return;
     if (!all_finite(P)) {
       res.status = Status::NumericalFailure;
       return;

@@ -21,6 +21,21 @@
 // processed as scalar sequential Joseph updates (kalman_correct_diagonal). After injecting
 // dtheta the covariance is reset to the new nominal attitude (G = I - [dtheta/2 x]).
 //
+// The accelerometer carries no heading information: gravity is the vertical, and a rotation
+// about it (u = C_bn e_z, the vertical in the body frame) leaves h unchanged (H u = 0). Its
+// optimal gain still turns the heading and the earth-vertical gyro bias through the
+// correlations of P (the heading error grows from the vertical bias; the tilt errors from the
+// horizontal bias), and every linear acceleration the model takes for gravity then moves the
+// heading and invents a vertical bias: on BROAD's 6D runs the accelerometer updates turned the
+// heading by 6-20 deg over a trial. The accelerometer update is therefore a Schmidt-Kalman
+// ("consider") update: its gain is projected off u in both blocks, k <- [(I - u u^T) k_a;
+// (I - u u^T) k_b], so it corrects the tilt and the horizontal bias only (as VQF, which
+// estimates the bias in motion in the horizontal plane of the earth frame). The Joseph form
+// keeps P the covariance of the error for this gain, and since u is in the null space of H the
+// innovation, its covariance and the NIS are those of the optimal update. The heading and the
+// vertical bias are corrected by the magnetometer, by the zero-rate measurement at rest, and
+// as the body turns (the bias part that was vertical becomes horizontal).
+//
 // One covariance health check per sample: after the time update the error covariance is tested
 // (an LDL^T of P - cov_floor I) and floored only when that fails (covariance.hpp). The updates
 // keep P symmetric by construction (joseph_update_scalar writes both halves once).
@@ -116,6 +131,20 @@ bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2
   v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
   return true;
 }
+
+/// The gain of the accelerometer rows (the top of the file): the first `rows` rows' gains
+/// projected off the body-frame vertical `u` (unit) in the attitude and in the bias block, so
+/// that they turn neither the heading nor the earth-vertical gyro bias; later rows (the
+/// magnetometer's in a joint update) keep theirs.
+template <class S> struct HeadingFreeRows {
+  Vec3<S> u;
+  int rows;
+  void operator()(int row, Vec<S, 6>& k) const {
+    if (row >= rows) return;
+    k.template head<3>() -= u * u.dot(k.template head<3>());
+    k.template tail<3>() -= u * u.dot(k.template tail<3>());
+  }
+};
 
 /// The covariance reset after injecting dtheta: the error of q+ = q * exp(dtheta) is
 /// dtheta+ = G (dtheta_true - dtheta), G = I - [dtheta/2 x] to first order, so
@@ -226,7 +255,7 @@ template <class S> class QuaternionESKF {
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
     return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
-      return update3(in.acc, Vec3<S>(S(0), S(0), S(-1)), params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
+      return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
     });
   }
 
@@ -266,7 +295,7 @@ template <class S> class QuaternionESKF {
     y << a - ha, m - hm;
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
-    apply_correction<6, 0, 3>(H, r, y, res, gate);
+    apply_correction<6, 0, 3>(H, r, y, res, gate, detail::HeadingFreeRows<S>{Vec3<S>(-ha), 3});
     if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
@@ -329,6 +358,21 @@ template <class S> class QuaternionESKF {
     return res;
   }
 
+  /// The accelerometer's gravity update (the top of this file): the direction model of
+  /// r = [0, 0, -1] with the gain projected off the vertical u = -h.
+  UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
+    UpdateResult<S, 3> res;
+    Vec3<S> a;
+    res.status = detail::unit_vector(v, a);
+    if (res.status != Status::Ok) return res;
+    Vec3<S> h;
+    Mat3<S> H;
+    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
+    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(a - h), res, gate,
+                              detail::HeadingFreeRows<S>{Vec3<S>(-h), 3});
+    return res;
+  }
+
   UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate) {
     UpdateResult<S, 3> res;
     Vec3<S> u;
@@ -368,12 +412,12 @@ template <class S> class QuaternionESKF {
 
   /// Scalar sequential Joseph updates of the rows of H, given by its NC nonzero columns from C0
   /// on, on one working copy of P (tested for finiteness once, in commit()).
-  template <int M, int C0, int NC>
+  template <int M, int C0, int NC, class Gain = OptimalGain>
   void apply_correction(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
-                        S gate) {
+                        S gate, const Gain& gain = Gain{}) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate);
+    kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain);
     commit(res, P, dx);
   }
 

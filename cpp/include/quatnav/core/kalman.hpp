@@ -279,6 +279,11 @@ template <class S, int N, int M, int C0 = 0, int NC = N>
 Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,
                                Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0));
 
+/// The gain of kalman_correct_diagonal_in_place as computed: the optimal one.
+struct OptimalGain {
+  template <class K> void operator()(int /*row*/, K& /*k*/) const {}
+};
+
 /// kalman_correct_diagonal on a scratch covariance, for a filter that already works on a copy
 /// of its own (it saves two N x N copies and a finiteness test of P per correction).
 /// Hc: the NC nonzero columns of H (from column C0 on). On Ok, Pw holds the corrected covariance
@@ -286,9 +291,17 @@ Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec
 /// statuses are those of kalman_correct_diagonal but for one test left to the caller: a
 /// non-finite Pw is not checked here (dx and the NIS are), so the caller must test Pw before
 /// keeping it.
-template <class S, int N, int M, int C0, int NC>
+///
+/// `gain(i, k)` may change the gain k (N) of row i before it is used: a Schmidt-Kalman
+/// ("consider") update that must not correct some directions of the state projects them out.
+/// The Joseph form keeps Pw the covariance of the error for any gain. When the directions taken
+/// out of k lie in the null space of H (h_j^T k unchanged for every row j), the innovations
+/// e_i, the pivots s_i, the NIS and the innovation covariance are those of the optimal update,
+/// and the rows in turn give the same result as the projected joint gain.
+template <class S, int N, int M, int C0, int NC, class Gain = OptimalGain>
 Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& Hc, const Vec<S, M>& r,
-                                        const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0)) {
+                                        const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0),
+                                        const Gain& gain = Gain{}) {
   static_assert(C0 >= 0 && NC >= 1 && C0 + NC <= N, "H columns out of range");
   res.innovation = y;
   if (!all_finite(Hc) || !all_finite(r) || !all_finite(y)) {
@@ -317,7 +330,8 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
     for (int j = i + 1; j < M; ++j) L(j, i) = Hc.row(j).dot(a.template segment<NC>(C0)) * inv_s;
     const S e = y[i] - h.dot(dxw.template segment<NC>(C0));
     nis += e * e * inv_s;
-    const Vec<S, N> k = a * inv_s;
+    Vec<S, N> k = a * inv_s;
+    gain(i, k);
     dxw.noalias() += k * e;
     joseph_update_scalar<S, N>(Pw, k, a, si);
   }
