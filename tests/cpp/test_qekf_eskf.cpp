@@ -232,12 +232,17 @@ TYPED_TEST(Eskf, AccelerometerTurnsNeitherHeadingNorVerticalBias) {
   // quaternion_eskf.hpp), and its NIS and innovation covariance are the optimal update's.
   using S = TypeParam;
   const Clean c = clean_rotation(20.0, Vec3<double>(0.01, -0.02, 0.015));
-  QuaternionESKF<S> f(QuaternionEKFParams<S>::paper());  // no low-pass: the sample is used as it is
+  auto p = QuaternionEKFParams<S>::paper();  // no low-pass: the sample is used as it is
+  p.acc_tilt_only = true;
+  QuaternionESKF<S> f(p);
   ASSERT_EQ(f.initialize(c.acc[0].cast<S>()), Status::Ok);
   for (std::size_t k = 1; k < c.q.size(); ++k) {
     f.predict(c.gyr[k].cast<S>(), S(c.dt));
     f.update_acc(c.acc[k].cast<S>());
   }
+  p.acc_tilt_only = false;  // the same state with the paper's optimal gain
+  QuaternionESKF<S> optimal(p);
+  ASSERT_EQ(optimal.set_state(f.state()), Status::Ok);
   const Quat<S> q0 = f.quat();
   const Vec3<S> b0 = f.bias();
   const Mat<S, 6, 6> P0 = f.covariance();
@@ -253,6 +258,11 @@ TYPED_TEST(Eskf, AccelerometerTurnsNeitherHeadingNorVerticalBias) {
   EXPECT_LT(std::abs(double(e[3] / e[0])), tol);               // the heading did not
   EXPECT_LT(std::abs(double(u.dot(f.bias() - b0))), tol * 1e-2);  // nor the vertical bias
   EXPECT_GT((f.bias() - b0).norm(), S(1e-7));                  // the horizontal one did
+  const auto ro = optimal.update_acc(acc);
+  ASSERT_EQ(ro.status, Status::Ok);
+  const Quat<S> eo = quat::mul(optimal.quat(), quat::conj(q0));
+  EXPECT_GT(std::abs(double(eo[3] / eo[0])), 100 * tol + 1e-6);  // acc_tilt_only = false: it turns
+  EXPECT_NEAR(double(ro.nis), double(r.nis), sizeof(S) == 4 ? 1e-4 : 1e-12);  // with the same NIS
   // NIS and S as the optimal joint update of the same rows (dense, in double)
   Vec3<double> h = quat::rotate_inv(Quat<double>(q0.template cast<double>()), Vec3<double>(0, 0, -1));
   Mat<double, 3, 6> H = Mat<double, 3, 6>::Zero();

@@ -252,6 +252,12 @@ class QuaternionEKF(_AttitudeFilter):
         The magnetometer corrects heading only (a scalar update of the heading of the field's
         horizontal projection, gain projected on the yaw direction): it never tilts roll and
         pitch. False: the paper's 3-row magnetometer update.
+    acc_tilt_only : bool, default True [False]
+        The accelerometer corrects the tilt and the horizontal gyro bias only: gravity carries
+        no heading information, so its update (a Schmidt-Kalman update, gain projected off the
+        vertical) never turns the heading nor the earth-vertical gyro bias, which linear
+        accelerations taken for gravity would otherwise move (the 6D heading drift). False: the
+        optimal gain of the paper, which turns them through the correlations of the covariance.
     gravity : float, default 9.81
         Magnitude of gravity, m/s^2.
     acc_adapt : float, default 0
@@ -356,6 +362,8 @@ class EulerEKF(_AttitudeFilter):
     Parameters as :class:`QuaternionEKF` (including ``gyro_range``, ``acc_range`` and
     ``cov_floor``, here a floor on the eigenvalues of P itself) plus ``singular_cos`` (default 0.02);
     ``init_att_sigma`` is the one-sigma of each Euler angle. The noise defaults are the paper's.
+    ``acc_tilt_only`` (default True, False with ``paper=True``) as QuaternionEKF's: the
+    accelerometer turns neither the yaw nor the vertical gyro bias.
 
     The robustness parts are QuaternionEKF's, with the same names and defaults except
     ``acc_lp_tau`` (1 s here, 3 s there: this filter learns its gyro bias more slowly, and the

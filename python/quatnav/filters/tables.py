@@ -235,6 +235,12 @@ def _mag_part(ref_samples=100, norm_tol=0.05, dip_tol=0.05, settle_time=0.0, ref
     )
 
 
+def _acc_tilt_only():
+    """The accelerometer's Schmidt-Kalman update (quaternion_eskf.hpp, euler_ekf.hpp)."""
+    return _p("acc_tilt_only", True, "-", "the accelerometer corrects the tilt and the horizontal gyro bias only "
+              "(false: the optimal gain)", "bool")
+
+
 def _rest_part(detection=True, gyr_th=0.03, acc_th=0.5, time=1.5, tau=0.5, rate_noise=0.02):
     """Rest detection (parts/rest.hpp)."""
     return (
@@ -264,6 +270,7 @@ QEKF_PARAMS = (
     _p("declination", 0.0, "rad", "magnetic declination, east of true north (0: x is magnetic north)",
        "angle", limits=(-_PI, _PI)),
     _p("mag_heading_only", True, "-", "the magnetometer corrects heading only (false: 3-row update)", "bool"),
+    _acc_tilt_only(),
     _p("acc_gate", 0.0, "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)", "pos0"),
     _p("mag_gate", 9.0, "1 (chi-square)", "NIS gate of the magnetometer update (0: off)", "pos0"),
     *_acc_part(),
@@ -286,6 +293,7 @@ EULER_PARAMS = (
     _p("singular_cos", 0.02, "1", "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it"),
     *_ranges(),
     _cov_floor(1e-12),
+    _acc_tilt_only(),
     *_acc_part(lp_tau=1.0),
     *_mag_part(),
     *_rest_part(),

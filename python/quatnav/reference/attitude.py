@@ -171,7 +171,8 @@ class QuaternionEKF(_Base):
     defaults = table_defaults(QEKF_PARAMS)
     #: QuaternionEKFParams::paper(): the plain filter of paper 000 (a test compares it with the C++).
     paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_sigma=0.05, mag_sigma=0.1,
-                           init_att_sigma=0.05, init_gyro_bias_sigma=0.01, mag_heading_only=False, acc_adapt=0.0,
+                           init_att_sigma=0.05, init_gyro_bias_sigma=0.01, mag_heading_only=False,
+                           acc_tilt_only=False, acc_adapt=0.0,
                            acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
                            acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
                            mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
@@ -510,7 +511,7 @@ class QuaternionESKF(QuaternionEKF):
     @staticmethod
     def heading_free(u, rows):
         """The gain of the accelerometer rows (quaternion_eskf.hpp): the first ``rows`` rows' gains
-        projected off the body-frame vertical ``u`` in the attitude and the bias block."""
+        projected off the body-frame vertical ``u`` in the attitude and the bias block (``acc_tilt_only``)."""
         def gain(i, k):
             if i >= rows:
                 return k
@@ -526,7 +527,8 @@ class QuaternionESKF(QuaternionEKF):
         if status != "ok":
             return SimpleNamespace(status=status)
         h, H = self.direction_model(self.q, np.array([0.0, 0.0, -1.0]))
-        return self._correct(H, np.eye(3) * sigma**2, a - h, gate, gain=self.heading_free(-h, 3))
+        return self._correct(H, np.eye(3) * sigma**2, a - h, gate,
+                             gain=self.heading_free(-h, 3 if self.p.acc_tilt_only else 0))
 
     def _update3(self, v, rx, rz, sigma, gate, ry=0.0):
         status, u = _unit(v)
@@ -546,7 +548,7 @@ class QuaternionESKF(QuaternionEKF):
         hm, Hm = self.direction_model(self.q, self._mag_reference_vector())
         R = np.diag([self.p.acc_sigma**2] * 3 + [self.p.mag_sigma**2] * 3)
         res = self._correct(np.vstack([Ha, Hm]), R, np.concatenate([a - ha, m - hm]), gate,
-                            gain=self.heading_free(-ha, 3))
+                            gain=self.heading_free(-ha, 3 if self.p.acc_tilt_only else 0))
         if res.status != "ok":
             self.mag.ref = before
         return res
@@ -605,7 +607,7 @@ class EulerEKF(_Base):
 
     defaults = table_defaults(EULER_PARAMS)
     #: EulerEKFParams::paper(): the robustness parts off (a test compares it with the C++).
-    paper_overrides = dict(acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
+    paper_overrides = dict(acc_tilt_only=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
                            acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
                            mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
@@ -727,7 +729,8 @@ class EulerEKF(_Base):
             k[3:] -= up * (up @ k[3:])
             return k
         res = self.acc.update(acc, self.dt_last, max_bias_var, lambda a: self._update3(
-            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0), gain=heading_free))
+            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0),
+            gain=heading_free if self.p.acc_tilt_only else None))
         if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res

@@ -23,7 +23,8 @@
 // gain's heading part a_z = k_yaw - sin(pitch) k_roll is removed by k_yaw <- sin(pitch) k_roll
 // (along e_yaw, the rotation about the vertical); the bias gain is projected off the body-frame
 // vertical. h = C_bn(e) [0, 0, -1] does not depend on the yaw nor on the bias, so both removed
-// directions are in the null space of H and the NIS is the optimal update's.
+// directions are in the null space of H and the NIS is the optimal update's. acc_tilt_only =
+// false (paper()) restores the optimal gain.
 //
 // The robustness parts (parts/*.hpp) as in QuaternionESKF: rest detection with its zero-rate
 // measurement of the bias block (H = [0 I]), the accelerometer part (low-pass in a gyro-carried
@@ -65,6 +66,8 @@ namespace quatnav {
   X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
   /* here a floor on the eigenvalues of P itself (covariance.hpp) */                                  \
   X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")         \
+  X(bool, acc_tilt_only, true, "-",                                                                      \
+    "the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain)")    \
   X(AccFilterParams<S>, acc, detail::euler_acc_defaults<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
   X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
   X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
@@ -87,6 +90,7 @@ template <class S> struct EulerEKFParams {
   /// The plain baseline of paper 000: the same noise values, every robustness part off.
   static EulerEKFParams paper() {
     EulerEKFParams p;
+    p.acc_tilt_only = false;
     AccFilter<S>::off(p.acc);
     MagDisturbance<S>::off(p.mag);
     Rest<S>::off(p.rest);
@@ -294,6 +298,7 @@ template <class S> class EulerEKF {
       const S sin_pitch = std::sin(st_.euler[1]);
       return update3(in.acc, S(0), S(-1), params_.acc_sigma + in.sigma_add, in.gate(gate, S(0)),
                      [&](int, Vec<S, 6>& k) {
+                       if (!params_.acc_tilt_only) return;
                        k[2] = sin_pitch * k[0];
                        k.template tail<3>() -= up * up.dot(k.template tail<3>());
                      });

@@ -75,6 +75,10 @@ namespace quatnav {
   /* a scalar update of the heading of the field's horizontal projection whose gain is projected on  \
      the yaw direction, so that the magnetometer never tilts roll and pitch; false: eq. 12 rows 4-6 */ \
   X(bool, mag_heading_only, true, "-", "the magnetometer corrects heading only (false: 3-row update)")   \
+  /* the Schmidt-Kalman update of quaternion_eskf.hpp (error-state filter only): gravity has no     \
+     heading information; false: the optimal gain, which turns them through the correlations of P */ \
+  X(bool, acc_tilt_only, true, "-",                                                                      \
+    "the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain)")    \
   X(S, acc_gate, S(0), "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)")          \
   X(S, mag_gate, S(9), "1 (chi-square)", "NIS gate of the magnetometer update (0: off)")                 \
   X(AccFilterParams<S>, acc, AccFilterParams<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
@@ -94,6 +98,7 @@ template <class S> struct QuaternionEKFParams {
     p.init_att_sigma = S(0.05);
     p.init_gyro_bias_sigma = S(0.01);
     p.mag_heading_only = false;
+    p.acc_tilt_only = false;
     p.acc_gate = p.mag_gate = S(0);
     AccFilter<S>::off(p.acc);
     MagDisturbance<S>::off(p.mag);

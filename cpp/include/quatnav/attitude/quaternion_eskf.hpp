@@ -34,7 +34,8 @@
 // keeps P the covariance of the error for this gain, and since u is in the null space of H the
 // innovation, its covariance and the NIS are those of the optimal update. The heading and the
 // vertical bias are corrected by the magnetometer, by the zero-rate measurement at rest, and
-// as the body turns (the bias part that was vertical becomes horizontal).
+// as the body turns (the bias part that was vertical becomes horizontal). acc_tilt_only = false
+// (paper()) restores the optimal gain.
 //
 // One covariance health check per sample: after the time update the error covariance is tested
 // (an LDL^T of P - cov_floor I) and floored only when that fails (covariance.hpp). The updates
@@ -295,7 +296,7 @@ template <class S> class QuaternionESKF {
     y << a - ha, m - hm;
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
-    apply_correction<6, 0, 3>(H, r, y, res, gate, detail::HeadingFreeRows<S>{Vec3<S>(-ha), 3});
+    apply_correction<6, 0, 3>(H, r, y, res, gate, detail::HeadingFreeRows<S>{Vec3<S>(-ha), params_.acc_tilt_only ? 3 : 0});
     if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
@@ -369,7 +370,7 @@ template <class S> class QuaternionESKF {
     Mat3<S> H;
     detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
     apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(a - h), res, gate,
-                              detail::HeadingFreeRows<S>{Vec3<S>(-h), 3});
+                              detail::HeadingFreeRows<S>{Vec3<S>(-h), params_.acc_tilt_only ? 3 : 0});
     return res;
   }
 
