@@ -73,14 +73,17 @@ def test_dask_distributed_cluster_gives_the_serial_result(serial_sweep):
     assert r.flatness == serial_sweep.flatness
 
 
-def test_tune_command_user_errors():
+def test_tune_command_user_errors(tmp_path):
     import os
     import subprocess
     import sys
     from pathlib import Path
 
     import quatnav
-    env = dict(os.environ, PYTHONPATH=str(Path(quatnav.__file__).resolve().parents[1]))
+    # Without the shared data (as an installed package run elsewhere): the mistakes in the
+    # arguments are still the ones reported.
+    env = dict(os.environ, PYTHONPATH=str(Path(quatnav.__file__).resolve().parents[1]),
+               QUATNAV_DATA=str(tmp_path / "no-data"))
     for args, expect in ((["--param", "gyro_noise=1:0.1"], "0 < LOW < HIGH"),
                          (["--param", "gyro_noise"], "NAME=LOW:HIGH"),
                          ([], "at least one --param"),

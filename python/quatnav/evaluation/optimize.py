@@ -503,6 +503,15 @@ def _no_data_hint(what, where) -> str:
             "that holds the shared data")
 
 
+def _target_class(args):
+    """The filter class that ``quatnav tune``'s --target tunes."""
+    import quatnav
+    if args.target == "gnss-ins":
+        return quatnav.GpsInsFilter
+    from .evaluate import FILTERS
+    return getattr(quatnav, FILTERS[args.filter])
+
+
 def _targets(args):
     """(filter class, logs, their labels, evaluate, unit) of ``quatnav tune``'s --target."""
     import quatnav
@@ -584,7 +593,9 @@ def _tune(args) -> int:
     base = dict(_parse_set(p) for p in (args.set or []))
     if args.outages < 1 or not args.outage_length > 0:
         raise UsageError("--outages and --outage-length must be positive")
-    cls, logs, labels, evaluate, unit = _targets(args)
+    # The parameters are checked before any data is looked for: a misspelled name is the mistake
+    # to report, wherever the data are.
+    cls = _target_class(args)
     try:
         cls(**{k: float(np.sqrt(lo * hi)) for k, (lo, hi) in bounds.items()})
     except (TypeError, ValueError) as e:
@@ -593,6 +604,7 @@ def _tune(args) -> int:
         cls(**base)
     except (TypeError, ValueError) as e:
         raise UsageError(f"--set: {e}") from None
+    cls, logs, labels, evaluate, unit = _targets(args)
     _check_inputs(args, cls, logs, base)
     if args.scheduler:
         from distributed import Client
