@@ -17,7 +17,8 @@ void bind_nav13_f32(py::module_& m);
 void bind_nav13_timing(py::module_& m);
 void bind_gpsins_f64(py::module_& m);
 void bind_gpsins_f32(py::module_& m);
-void bind_gpsins_scale(py::module_& m);
+void bind_gpsins_scale_f64(py::module_& m);
+void bind_gpsins_scale_f32(py::module_& m);
 
 /// The first row of an (n, 3) array whose Euclidean norm is at most sqrt(tiny) (the squared norm
 /// at most the smallest normal number), rows with a non-finite norm left out; -1 if none. One
@@ -69,5 +70,6 @@ PYBIND11_MODULE(_core, m) {
   quatnav_py::bind_nav13_timing(m);
   quatnav_py::bind_gpsins_f64(m);
   quatnav_py::bind_gpsins_f32(m);
-  quatnav_py::bind_gpsins_scale(m);
+  quatnav_py::bind_gpsins_scale_f64(m);
+  quatnav_py::bind_gpsins_scale_f32(m);
 }
