@@ -194,3 +194,21 @@ def test_no_product_file_is_over_900_lines():
     sizes = {str(f.relative_to(root)): len(f.read_text().splitlines()) for f in files}
     long = {f: n for f, n in sizes.items() if n > 900}
     assert not long, f"files over 900 lines (split them by job): {long}"
+
+
+def test_compiled_classes_are_named_in_one_place():
+    """The Python filters reach their compiled classes only through quatnav.filters._compiled,
+    whose table writes every class out (no name built at run time elsewhere); every entry exists
+    in the built module for both scalar types, and the two are the same class in float64 and
+    float32."""
+    pkg = ROOT.parents[2] / "python" / "quatnav"
+    built = re.compile(r"getattr\(\s*(?:core\(\)|_core|core)\s*,|(?<![.\w])_core\.[A-Za-z0-9]+_f(?:32|64)\b")
+    offenders = [str(p.relative_to(pkg)) for p in sorted(pkg.rglob("*.py"))
+                 if p.name != "_compiled.py" and built.search(p.read_text())]
+    assert offenders == [], f"compiled classes looked up outside filters/_compiled.py: {offenders}"
+    np = pytest.importorskip("numpy")
+    from quatnav.filters._compiled import _table, compiled
+    for name, (f64, f32) in _table().items():
+        assert f64.__name__.endswith("_f64") and f32.__name__.endswith("_f32"), name
+        assert f64.__name__[:-4] == f32.__name__[:-4], name
+        assert compiled(name, np.float32) is f32 and compiled(name, np.float64) is f64

@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from .. import _validate as V
+from ._compiled import compiled
 from ..plausibility.categories import AidWarning
 from ..plausibility.units import accel_unit  # noqa: F401  (GpsInsFilter's run names a unit with it)
 from ..core import quaternion as Q
@@ -389,13 +390,12 @@ class Filter:
             raise TypeError(f"{cls}: unknown parameter {unknown[0]!r}{V.did_you_mean(unknown[0], table)}; "
                             f"known: {', '.join(table)}")
         self.dtype = V.resolve_dtype(dtype)
-        self._suffix = "_f32" if self.dtype == np.float32 else "_f64"
         self._given = {k: table[k].check(v, self.dtype) for k, v in params.items()}
         self._opts = {p.name: self._given.get(p.name, p.default) for p in self.PARAMS if p.core_name is None}
         self._f = self._make(self._core_struct())
 
     def _core_struct(self, start=None):
-        p = start if start is not None else getattr(core(), self._core_params + self._suffix)()
+        p = start if start is not None else compiled(self._core_params, self.dtype)()
         for q in self.PARAMS:
             if q.core_name is not None and q.name in self._given:
                 setattr(p, q.core_name, self._given[q.name])

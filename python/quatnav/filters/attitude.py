@@ -13,6 +13,7 @@ import numpy as np
 
 from .. import _validate as V
 from ..core import quaternion as Q
+from ._compiled import compiled
 from ._base import Filter, FilterResult, check_run_inputs, marg_inputs, smoother_info, times_of
 from .tables import ATTITUDE_FLAGS, EULER_PARAMS, QEKF_PARAMS
 
@@ -41,15 +42,9 @@ class _AttitudeFilter(Filter):
     _sigma_names: tuple = ()
 
     def _make(self, p):
-        core = self._core_module()
-        if self._opts.get("paper") and hasattr(getattr(core, self._core_params + self._suffix), "paper"):
-            p = self._core_struct(getattr(core, self._core_params + self._suffix).paper())
-        return getattr(core, self._core_name + self._suffix)(p)
-
-    @staticmethod
-    def _core_module():
-        from ._base import core
-        return core()
+        if self._opts.get("paper") and hasattr(compiled(self._core_params, self.dtype), "paper"):
+            p = self._core_struct(compiled(self._core_params, self.dtype).paper())
+        return compiled(self._core_name, self.dtype)(p)
 
     # -- parameters and state -------------------------------------------------------------
     @property
@@ -303,7 +298,7 @@ class QuaternionEKF(_AttitudeFilter):
     BROAD benchmark (one set for all trials); see ``docs/broad.md``.
     """
 
-    _core_name = "QuaternionESKF"
+    _core_name = "QuaternionEKF"
     _core_params = "QuaternionEKFParams"
     PARAMS = QEKF_PARAMS
     FLAGS = ATTITUDE_FLAGS
@@ -312,13 +307,12 @@ class QuaternionEKF(_AttitudeFilter):
     _PAPER_SIGMA_NAMES = ("q0", "q1", "q2", "q3", "bx", "by", "bz")
 
     def _make(self, p):
-        core = self._core_module()
         if self._opts.get("paper"):
             # paper 000's 7-state filter [q, b], exactly as the paper (with its listed fixes)
             self._sigma_names, self.n_states = self._PAPER_SIGMA_NAMES, 7
-            p = self._core_struct(getattr(core, self._core_params + self._suffix).paper())
-            return getattr(core, "QuaternionEKF" + self._suffix)(p)
-        return getattr(core, self._core_name + self._suffix)(p)
+            p = self._core_struct(compiled(self._core_params, self.dtype).paper())
+            return compiled("QuaternionEKFPaper", self.dtype)(p)
+        return compiled(self._core_name, self.dtype)(p)
 
     @property
     def at_rest(self) -> bool:

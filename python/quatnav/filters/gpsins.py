@@ -20,8 +20,9 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
+from ._compiled import compiled
 from ._base import (AidResult, Filter, NavResult, accel_unit, aid_times, check_aid, check_imu_order, check_run_inputs,
-                    check_swapped, core, skipped_imu_rows, smoother_info, times_of, warn_aid_outside)
+                    check_swapped, skipped_imu_rows, smoother_info, times_of, warn_aid_outside)
 from .tables import GNSS_SOLUTIONS, GPSINS_DECISIONS, GPSINS_FLAGS, GPSINS_PARAMS, STATUS_NAMES
 
 __all__ = ["GpsInsFilter", "GpsInsResult", "GpsInsAidResult", "NavigationWarning", "GPSINS_FLAGS", "GPSINS_DECISIONS",
@@ -295,8 +296,8 @@ class GpsInsFilter(Filter):
     _core_params = "GpsInsParams"
 
     def _make(self, p):
-        name = "GpsInsFilterScale" if self._opts["scale_factors"] else "GpsInsFilter"
-        return getattr(core(), name + self._suffix)(p)
+        name = "GpsInsFilter scale_factors" if self._opts["scale_factors"] else "GpsInsFilter"
+        return compiled(name, self.dtype)(p)
 
     @property
     def state_names(self) -> tuple:

@@ -17,7 +17,8 @@ from typing import ClassVar
 import numpy as np
 
 from .. import _validate as V
-from ._base import (Filter, FilterResult, aid_times, check_aid, check_run_inputs, core, marg_inputs, times_of,
+from ._compiled import compiled
+from ._base import (Filter, FilterResult, aid_times, check_aid, check_run_inputs, marg_inputs, times_of,
                     warn_aid_outside)
 from .tables import MARG_FLAGS, MARG_PARAMS
 
@@ -79,8 +80,8 @@ class MargFilter(Filter):
 
     def _make(self, p):
         if self._opts.get("paper"):
-            p = self._core_struct(getattr(core(), "MargFilterParams" + self._suffix).paper())
-        return getattr(core(), "MargFilter" + self._suffix)(p)
+            p = self._core_struct(compiled("MargFilterParams", self.dtype).paper())
+        return compiled("MargFilter", self.dtype)(p)
 
     @property
     def at_rest(self) -> bool:

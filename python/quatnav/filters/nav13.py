@@ -16,14 +16,14 @@ import numpy as np
 
 from .. import _validate as V
 from ..core import quaternion as Q
+from ._compiled import compiled
 from ._base import (AidResult, Filter, NavResult, aid_times, check_aid, check_imu_order, check_run_inputs, check_swapped,
-                    core, no_mag, skipped_imu_rows, smoother_info, warn_aid_outside)
+                    no_mag, skipped_imu_rows, smoother_info, warn_aid_outside)
 from .tables import NAV13_FLAGS, NAV13_PARAMS, STATUS_NAMES
 
 __all__ = ["NavFilter13", "NavFilter13Result", "NAV13_FLAGS", "TIME_UPDATES", "initial_covariance"]
 
 TIME_UPDATES = ("ekf", "second_order", "ukf")
-_CORE = {"ekf": "NavFilter13Ekf", "second_order": "NavFilter13SecondOrder", "ukf": "NavFilter13Ukf"}
 _STATUS_CODE = {name: i for i, name in enumerate(STATUS_NAMES)}
 
 
@@ -106,7 +106,7 @@ class NavFilter13(Filter):
     _fresh = True  # no step since reset/set_state: run applies a measurement at the start time
 
     def _make(self, p):
-        f = getattr(core(), _CORE[self._opts["time_update"]] + self._suffix)(p)
+        f = compiled("NavFilter13 " + self._opts["time_update"], self.dtype)(p)
         if not f.params_valid:
             raise ValueError("ukf_alpha, ukf_kappa: alpha^2 (12 + kappa) must be positive")
         return f
