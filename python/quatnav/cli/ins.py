@@ -120,7 +120,10 @@ other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by 
   gives the IMU, GNSS, barometer and compass it holds; --imu, --gnss, --baro, --compass take any
   supported file instead of CSV (e.g. --gnss solution.pos from RTKLIB, or an NMEA log whose
   HDT/THS sentences give a true heading, used without the declination) and replace the log's
-  stream; --format forces the format of the files.
+  stream; --format forces the format of the files. Where the GNSS source reports its solution
+  quality (RTKLIB's Q, NMEA GGA's fix quality, PX4's fix_type), each fix's kind (RTK fixed or
+  float, DGNSS, single) sets its position sigma floor (GpsInsFilter.run(gps_solution=)); the
+  run's notes count the kinds
 --out OUT.parquet writes Parquet (pyarrow) instead of CSV; a long run shows a progress bar on a
   terminal
 --kml FILE, --gpx FILE write the track at the GNSS's rate (--track-rate HZ: another); the GPX

@@ -54,6 +54,11 @@ def _columns_of(log, what):
              **{k: sg[:, i] for i, k in enumerate(("sigma_n", "sigma_e", "sigma_d"))},
              **{k: sv[:, i] for i, k in enumerate(("sigma_vn", "sigma_ve", "sigma_vd"))},
              "utc": g.utc if g.utc is not None else np.full(len(g.t), np.nan)}
+        if g.quality is not None and g.quality_kind:
+            # the receiver's solution kind per fix (RTKLIB Q, NMEA fix quality, PX4 fix_type):
+            # GpsInsFilter.run(gps_solution=) takes each kind's sigma floor from it
+            from ..filters.gpsins import gnss_solution
+            d["solution"] = gnss_solution(g.quality, g.quality_kind)
     elif what == "BARO":
         b = log.require("baro").baro
         if b.altitude is None:

@@ -327,6 +327,10 @@ def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, para
                                   np.column_stack([d_g[c] for c in ("sigma_n", "sigma_e", "sigma_d")])),
               gps_vel=quatnav.Aid(d_g["time"], np.column_stack([d_g[c] for c in ("v_n", "v_e", "v_d")]),
                                   np.column_stack([d_g[c] for c in ("sigma_vn", "sigma_ve", "sigma_vd")])))
+    if "solution" in d_g:
+        kw.update(gps_solution=d_g["solution"])
+        notes.append("GNSS solution kinds from the receiver's quality codes (each kind's sigma floor): "
+                     + solution_counts(d_g["solution"]))
     if inp.baro is not None:
         kw.update(baro=quatnav.Aid(inp.baro["time"], inp.baro["h"]))
     if inp.compass is not None:
@@ -398,6 +402,13 @@ def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, para
     for w in check_heading_aids(r):
         warnings.warn(w)
     return run
+
+
+def solution_counts(codes) -> str:
+    """``codes`` (GNSS_SOLUTIONS codes, one per fix) as "2,150 rtk_fixed, 40 rtk_float", most first."""
+    from ..filters.gpsins import GNSS_SOLUTIONS
+    n = np.bincount(np.asarray(codes, dtype=int), minlength=len(GNSS_SOLUTIONS))
+    return ", ".join(f"{n[i]:,} {GNSS_SOLUTIONS[i]}" for i in np.argsort(-n, kind="stable") if n[i])
 
 
 def _calibrated(calibration, gyro, accel):
