@@ -238,12 +238,13 @@ def _env(extra=()) -> dict:
 
 
 def _configure(src: Path, build: Path) -> None:
-    if (build / "CMakeCache.txt").is_file():
-        return
+    """Configure the copy (again: a cache written before an option existed would keep its default)
+    with one GoogleTest executable per test file (QUATNAV_TEST_GROUPS=OFF), so that a mutation
+    rebuilds only the executables it names, by their file's name."""
     prefix = subprocess.run([sys.executable, "-m", "cmeel", "cmake"], capture_output=True, text=True).stdout.strip()
     cmd = ["cmake", "-S", str(src), "-B", str(build), "-G", "Ninja", "-DQUATNAV_BUILD_PYTHON=ON",
            "-DQUATNAV_PYTHON_LTO=OFF", "-DQUATNAV_BUILD_TESTS=ON", f"-DPython_EXECUTABLE={sys.executable}",
-           f"-DCMAKE_PREFIX_PATH={prefix}"]
+           f"-DCMAKE_PREFIX_PATH={prefix}", "-DQUATNAV_TEST_GROUPS=OFF"]
     if shutil.which("ccache"):
         cmd.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
     subprocess.run(cmd, check=True, env=_env(), stdout=subprocess.DEVNULL)
