@@ -7,12 +7,27 @@ and attitude errors are consistent with the smoothed sigmas (chi-square bounds o
 the worst smoothed error inside each outage is a fraction of the forward drift, the smoothed
 sigmas never exceed the forward ones, the forward decisions are kept.
 
-The rest detector is off in these runs: the simulated walk at constant speed has a quiet IMU, and
-with the velocity uncertain after 25 s without GNSS the forward filter takes it for rest (measured:
-seed 7, zero-velocity updates at 72 s while walking at 1.4 m/s, the forward error 20 m against a
-sigma of 2 m). The smoother keeps the forward decisions, that one too, and spreads it over the
-outage (smoothed error 14 m, sigma 0.4 m): the consistency of the smoother is tested here, on
-forward decisions that are right.
+The smoothed normalized errors are checked as every consistency test is (_consistency.py): the
+filter told Q, R and P0 times QUATNAV_TEST_VARIANCE_SCALE, the mean over the runs of a block's
+squared normalized errors per dof in the two-sided 99 % interval of runs x M_EFF x 3 dof >= 296,
+which rejects a covariance off by 1.5x either way with probability >= 99 %. Measured (2026-12-05,
+200 runs, the per-run means' variance; ``python -c "import test_gpsins_smoother as T;
+T.measure_meff()"`` in tests/python): m = 2.8, 6.1 and 1.6 for position, velocity and attitude
+(M_EFF 80 % of it), means 0.97, 0.99 and 1.03 at truth. Over the runs checked (48, 24, 80):
+0.93, 1.07 and 0.95 at truth, 1.41, 1.53 and 1.37 with the variances times 1/1.5, 0.62, 0.72 and
+0.63 times 1.5 (each of these fails its check).
+
+The rest detector is off in these runs (``zupt=False``) because of a defect of the forward
+filter, shown by ``test_no_zero_velocity_update_while_walking_in_an_outage`` (an expected
+failure until it is fixed): the simulated walk at constant speed has a quiet IMU, and after 20 to
+25 s without GNSS the INS velocity has drifted (its one-sigma about 1.9 m/s) below the detector's
+speed limit (``rest_speed`` plus at most ``rest_speed`` more: 0.6 m/s), so it takes the walk for
+rest and the zero-velocity updates pin the velocity at zero while the walker moves at 1.4 m/s
+(seed 7: from 71.8 s, the forward error 20 m against a sigma of 2 m; the smoother keeps the
+forward decisions and spreads it over the outage: smoothed error 22 m). With the default rest
+detection, 12 of 200 runs of a 20 s outage (45-65 s) had such updates, and their smoothed
+velocity errors were 100 to 300 sigma. The zero-velocity updates at the real stops (the first
+10 s and the last 10 s of the walk) are smoothed in ``test_smoother_with_the_default_rest_detection``.
 """
 import numpy as np
 import pytest
@@ -22,10 +37,13 @@ from quatnav.core import earth
 from quatnav.core import quaternion as Q
 from quatnav.sim.scenarios import make_scenario
 
+from _consistency import check_mean_nees, scaled
 from test_gpsins_consistency import _filter_params, _matched
 
 OUTAGES = ((20.0, 30.0), (45.0, 75.0))  # s: 10 s, then 30 s without GNSS (the walk lasts ~100 s)
-SEEDS = tuple(range(20))
+#: block: (columns, runs, M_EFF); the fixture runs as many as the largest needs
+NEES_BLOCKS = {"position": ([0, 1, 2], 48, 2.2), "velocity": ([3, 4, 5], 24, 4.9), "attitude": ([6, 7, 8], 80, 1.3)}
+SEEDS = tuple(range(max(r for _, r, _ in NEES_BLOCKS.values())))
 
 
 def _errors(r, traj, imu, k):
@@ -42,23 +60,48 @@ def _errors(r, traj, imu, k):
     return np.column_stack([dp, dv, psi])
 
 
-@pytest.fixture(scope="module")
-def runs():
+def _aids(gps, baro, cmp_):
+    return dict(gps_pos=quatnav.Aid(gps.t_valid, np.column_stack([gps.lat, gps.lon, gps.h])),
+                gps_vel=quatnav.Aid(gps.t_valid, gps.v_n), compass=quatnav.Aid(cmp_.t, cmp_.yaw),
+                baro=quatnav.Aid(baro.t, baro.h))
+
+
+def _runs(seeds, **params):
     traj = make_scenario("paper004_walk", seed=0).truth
     out = []
-    for seed in SEEDS:
+    for seed in seeds:
         imu, gps, baro, cmp_ = _matched(traj, seed)
-        aids = dict(gps_pos=quatnav.Aid(gps.t_valid, np.column_stack([gps.lat, gps.lon, gps.h])),
-                    gps_vel=quatnav.Aid(gps.t_valid, gps.v_n), compass=quatnav.Aid(cmp_.t, cmp_.yaw),
-                    baro=quatnav.Aid(baro.t, baro.h))
-        f = quatnav.GpsInsFilter(**_filter_params(), zupt=False)
-        r = f.run(imu.gyro, imu.accel, t=imu.t, outages=OUTAGES, smooth=True, **aids)
+        aids = _aids(gps, baro, cmp_)
+        kw = scaled("GpsInsFilter", **_filter_params(), **params)
+        r = quatnav.GpsInsFilter(**kw).run(imu.gyro, imu.accel, t=imu.t, outages=OUTAGES, smooth=True, **aids)
         plain = None
         if seed < 3:
-            plain = quatnav.GpsInsFilter(**_filter_params(), zupt=False).run(imu.gyro, imu.accel, t=imu.t,
-                                                                             outages=OUTAGES, **aids)
+            plain = quatnav.GpsInsFilter(**kw).run(imu.gyro, imu.accel, t=imu.t, outages=OUTAGES, **aids)
         out.append((traj, imu, r, plain))
     return out
+
+
+@pytest.fixture(scope="module")
+def runs():
+    return _runs(SEEDS, zupt=False)
+
+
+def _smoothed_nees(runs):
+    """Squared normalized errors of position, velocity, attitude (runs x samples x 9), every 10 s
+    after the first 20 s (the prior forgotten)."""
+    out = []
+    for traj, imu, r, _ in runs:
+        idx = np.searchsorted(r.t, np.arange(20.0, r.t[-1] - 1.0, 10.0))
+        out.append((_errors(r, traj, imu, idx) / r.sigma[idx][:, :9]) ** 2)
+    return np.array(out)
+
+
+def measure_meff(runs=200):
+    """The measured m of each block: the per-run means of NEES / dof vary as 2 / (3 m)."""
+    z2 = _smoothed_nees(_runs(range(runs), zupt=False))
+    for name, (cols, _, _) in NEES_BLOCKS.items():
+        per_run = z2[:, :, cols].sum(axis=2).mean(axis=1) / 3
+        print(f"{name:9s} mean {per_run.mean():.3f}, m = {2.0 / (3 * per_run.var(ddof=1)):.2f}")
 
 
 def test_forward_part_is_the_plain_run_and_its_decisions_are_kept(runs):
@@ -87,24 +130,14 @@ def test_last_sample_is_the_forward_one_and_sigmas_never_above(runs):
             assert r.sigma[k, 0] < 0.5 * r.forward.sigma[k, 0]
 
 
-@pytest.mark.parametrize("block,cols", [("position", [0, 1, 2]), ("velocity", [3, 4, 5]), ("attitude", [6, 7, 8])])
-def test_smoothed_nees_within_chi2_bounds(runs, block, cols):
-    """The normalized squared errors of the block, every 10 s after the first 20 s (the prior
-    forgotten; the smoothed errors are correlated over seconds), over the 20 runs: the mean within
-    the two-sided 99.9 % chi-square bounds. The
-    smoother returns sigmas, so each component is normalized by its own variance (the block's
-    cross-covariances left out; a block's NEES with them is the same mean, chi-square distributed)."""
-    from scipy.stats import chi2
-    vals = []
-    for traj, imu, r, _ in runs:
-        idx = np.searchsorted(r.t, np.arange(20.0, r.t[-1] - 1.0, 10.0))
-        e = _errors(r, traj, imu, idx)[:, cols]
-        vals.append(((e / r.sigma[idx][:, cols]) ** 2).sum(axis=1))
-    nees = np.concatenate(vals)
-    m, d = len(nees), len(cols)
-    lo, hi = chi2.ppf([0.0005, 0.9995], d * m) / m
-    assert m >= 60
-    assert lo < nees.mean() < hi, (block, lo, nees.mean(), hi)
+@pytest.mark.parametrize("block", list(NEES_BLOCKS))
+def test_smoothed_nees_within_chi2_bounds(runs, block):
+    """The block's squared normalized errors over its first ``runs`` runs against the interval of
+    check_mean_nees. The smoother returns sigmas, so each component is normalized by its own
+    variance (the block's cross-covariances left out; the mean is the same)."""
+    cols, n, m_eff = NEES_BLOCKS[block]
+    nees = _smoothed_nees(runs[:n])[:, :, cols].sum(axis=2)
+    check_mean_nees(nees, 3, m_eff=m_eff, what=f"smoothed {block} NEES")
 
 
 def test_outage_error_is_a_fraction_of_the_forward_drift(runs):
@@ -120,6 +153,44 @@ def test_outage_error_is_a_fraction_of_the_forward_drift(runs):
         ratio = np.array(es) / np.array(ef)
         assert np.median(ef) > 1.0, (a, b, ef)
         assert np.median(ratio) < 0.5 and ratio.max() < 1.0, (a, b, ratio)
+
+
+def _false_rest(seed, outages, **params):
+    """Samples flagged at rest while the truth moves faster than 0.5 m/s, and the run."""
+    traj = make_scenario("paper004_walk", seed=0).truth
+    imu, gps, baro, cmp_ = _matched(traj, seed)
+    r = quatnav.GpsInsFilter(**_filter_params(), **params).run(imu.gyro, imu.accel, t=imu.t, outages=outages,
+                                                               smooth=True, **_aids(gps, baro, cmp_))
+    speed = np.linalg.norm(traj.v_n[imu.index], axis=1)
+    return int(np.sum(r.flag("at_rest") & (speed > 0.5))), r, traj, imu
+
+
+def test_smoother_with_the_default_rest_detection():
+    """The defaults (rest detection on): the zero-velocity updates of the first 10 s and the last
+    10 s of the walk (the walker standing) go through the smoother; a 10 s outage. The smoothed
+    velocity at the final stand is zero to within its sigma, the smoothed sigmas never exceed the
+    forward ones and the outage's smoothed error is a fraction of the forward drift."""
+    n, r, traj, imu = _false_rest(0, ((45.0, 55.0),))
+    assert n == 0
+    assert r.smoothed and r.smoother["status"] == "ok" and r.flag("at_rest").sum() > 500
+    nav = r.navigating
+    assert np.all(r.sigma[nav] <= r.forward.sigma[nav] * (1 + 1e-9) + 1e-15)
+    stand = nav & (r.t > 90.0)
+    assert stand.sum() > 100 and r.flag("at_rest")[stand].all()
+    assert np.all(np.abs(r.velocity[stand]) < 4 * r.sigma[stand, 3:6] + 1e-12)
+    idx = np.flatnonzero((r.t >= 45.0) & (r.t < 55.0))
+    ef = np.hypot(*_errors(r.forward, traj, imu, idx)[:, :2].T).max()
+    es = np.hypot(*_errors(r, traj, imu, idx)[:, :2].T).max()
+    assert es < 0.5 * ef, (es, ef)
+
+
+@pytest.mark.xfail(strict=True, reason="a defect of the forward filter: after 25 s without GNSS the drifted INS "
+                   "speed (< 0.6 m/s, one-sigma 1.9 m/s) and the quiet IMU of a constant-speed walk pass the "
+                   "rest detector, whose zero-velocity updates pin the velocity at zero at 1.4 m/s")
+def test_no_zero_velocity_update_while_walking_in_an_outage():
+    """With the defaults, seed 7 of the walk and the 30 s outage: no sample may be flagged at
+    rest while the walker moves at 1.4 m/s (measured: 215 samples from 71.8 s)."""
+    assert _false_rest(7, OUTAGES)[0] == 0
 
 
 def test_cpp_matches_the_numpy_twin_backward_pass():
