@@ -273,6 +273,38 @@ TEST(Kalman, ScalarJosephMatchesProductForm) {
   EXPECT_EQ(P, P.transpose());
 }
 
+// Each coefficient of the scalar Joseph form is P(i, j) - a_i k_j - k_i b_j (b = a - s k), in
+// that order, for i >= j, and its mirror: the vectorized columns give the bits of that scalar
+// loop, in float and double, for even and odd sizes (where a column starts above its diagonal).
+template <class S, int N> void expect_joseph_bits_of_scalar_loop(unsigned seed) {
+  Randn rnd(seed);
+  const Mat<S, N, N> P0 = rnd.spd<Mat<double, N, N>>(0.5).template cast<S>();
+  Vec<S, N> k, a;
+  for (int i = 0; i < N; ++i) {
+    k[i] = S(rnd());
+    a[i] = S(rnd());
+  }
+  const S s = S(1.3);
+  Mat<S, N, N> ref = P0;
+  for (int j = 0; j < N; ++j)
+    for (int i = j; i < N; ++i) {
+      const S b_j = a[j] - s * k[j];
+      ref(i, j) = ref(j, i) = P0(i, j) - a[i] * k[j] - k[i] * b_j;
+    }
+  Mat<S, N, N> P = P0;
+  joseph_update_scalar<S, N>(P, k, a, s);
+  EXPECT_EQ(std::memcmp(P.data(), ref.data(), sizeof(P)), 0) << "N = " << N << ", " << sizeof(S) * 8 << " bit";
+}
+
+TEST(Kalman, ScalarJosephIsTheScalarLoopBitForBit) {
+  expect_joseph_bits_of_scalar_loop<double, 6>(3);
+  expect_joseph_bits_of_scalar_loop<double, 7>(4);
+  expect_joseph_bits_of_scalar_loop<double, 15>(5);
+  expect_joseph_bits_of_scalar_loop<float, 6>(6);
+  expect_joseph_bits_of_scalar_loop<float, 7>(7);
+  expect_joseph_bits_of_scalar_loop<float, 9>(8);
+}
+
 // A finite innovation whose y^T S^-1 y overflows (1e200 against S = 2: dx and P stay finite,
 // the NIS is infinite) is a NumericalFailure in both corrections, with P and dx untouched; with
 // a gate it stays a rejection (an infinite NIS exceeds any gate).
