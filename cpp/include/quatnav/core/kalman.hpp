@@ -261,13 +261,42 @@ template <class S, int N, int J> void mirror_lower(Mat<S, N, N>& P) {
 /// The lower triangle is computed column by column as vector expressions on local copies of
 /// a, k and b (detail::joseph_columns: whole SIMD packets, no aliasing between P and the
 /// vectors), then mirrored once. The same operations in the same order per coefficient as a
-/// scalar loop over the pairs, hence the same bits; in double with SSE2 it takes about half
-/// the instructions of that loop, which ran out of registers for the 3 N values it keeps.
+/// scalar loop over the pairs, hence the same bits; in double with SSE2 (N = 6) 150 instead of
+/// 210 instructions per call: that loop ran out of registers for the 3 N values it keeps.
+///
+/// Without SIMD (a Cortex-M4) the columns would only add the mirror's second pass: there the
+/// pairs are computed in one loop that writes both halves (the same bits again).
 template <class S, int N> void joseph_update_scalar(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a, S s) {
-  const Vec<S, N> av = a, kv = k;
-  const Vec<S, N> bv = av - s * kv;
-  detail::joseph_columns<S, N, 0>(P, av, kv, bv);
-  detail::mirror_lower<S, N, 0>(P);
+  if constexpr (Eigen::internal::packet_traits<S>::Vectorizable && Eigen::internal::packet_traits<S>::size > 1) {
+    const Vec<S, N> av = a, kv = k;
+    const Vec<S, N> bv = av - s * kv;
+    detail::joseph_columns<S, N, 0>(P, av, kv, bv);
+    detail::mirror_lower<S, N, 0>(P);
+  } else {
+    // Local arrays: written through P's reference, the loop would otherwise reload a, k and b
+    // after every store (they could alias P).
+    S av[N], kv[N], bv[N];
+    for (int i = 0; i < N; ++i) {
+      av[i] = a[i];
+      kv[i] = k[i];
+      bv[i] = a[i] - s * k[i];
+    }
+    S* p = P.data();  // column-major: P(i, j) = p[i + N j]
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+    for (int j = 0; j < N; ++j) {
+      const S kj = kv[j], bj = bv[j];
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+      for (int i = j; i < N; ++i) {
+        const S v = p[i + N * j] - av[i] * kj - kv[i] * bj;
+        p[i + N * j] = v;
+        p[j + N * i] = v;
+      }
+    }
+  }
 }
 
 /// One Kalman correction with N states and M measurement rows whose noise is uncorrelated
