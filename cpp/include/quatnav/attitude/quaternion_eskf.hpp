@@ -37,14 +37,28 @@
 // as the body turns (the bias part that was vertical becomes horizontal). acc_tilt_only = false
 // (paper()) restores the optimal gain.
 //
-// One covariance health check per sample: after the time update the error covariance is tested
-// (an LDL^T of P - cov_floor I) and floored only when that fails (covariance.hpp). The updates
-// keep P symmetric by construction (joseph_update_scalar writes both halves once).
+// Covariance health: after every time update P - cov_floor I is positive definite. It is either
+// proven or tested (an LDL^T of P - cov_floor I, floored only when that fails: covariance.hpp).
+// The proof (detail::eskf_floor_implied): every step between two time updates keeps P positive
+// semi-definite up to rounding (the scalar Joseph updates, P+ = (I - k h^T) P (I - k h^T)^T +
+// r k k^T for any gain, and the reset's congruence G P G^T), and the time update adds
+// Q = diag(qa I, qb I); so if P was positive semi-definite at the last time update, the new
+// P - cov_floor I has no eigenvalue below min(qa, qb) - cov_floor - (the rounding of one
+// sample). When that margin exceeds a generous bound of the rounding (a multiple of
+// eps trace(P), trace(P) >= |P|_2), the test is skipped: it could only pass. The premise holds
+// after initialize() (a diagonal P) and after every time update that tested or proved P; after
+// reset() and set_state() (a P from outside) and after a failed floor, the next time update
+// tests. With the defaults at 200 Hz (qb = 5e-11 against a floor of 1e-12) the test is skipped
+// in float64 once the covariance has settled; in float32 the rounding bound is larger than the
+// margin and the test runs every sample, as before. A skipped test never changes a result: the
+// LDL^T it replaces would have passed. The updates keep P symmetric by construction
+// (joseph_update_scalar mirrors the triangle it computes).
 #pragma once
 
 #include <cmath>
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 
 #include "attitude.hpp"
 #include "parts/parts.hpp"
@@ -105,6 +119,17 @@ template <class S> void eskf_predict_covariance(const Mat<S, 6, 6>& P, const Mat
 template <class S> void eskf_predict_covariance(Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb) {
   const Mat<S, 6, 6> P0 = P;
   eskf_predict_covariance<S>(P0, F, dt, qa, qb, P);
+}
+
+/// True when P_new - floor I is positive definite by the argument at the top of this file, for
+/// P_new = Phi P Phi^T + diag(qa I, qb I) computed from a P that was positive semi-definite up
+/// to rounding: the margin min(qa, qb) - floor exceeds 256 N eps trace(P_new). That bound covers
+/// with room the rounding of one sample (the time update, up to a few scalar Joseph updates and
+/// covariance resets, each within a few eps |P| per coefficient, |a_i k_j| <= sqrt(P_ii P_jj)
+/// for the gains used, N of them per row for the 2-norm) and of the LDL^T test it replaces.
+template <class S, int N> bool eskf_floor_implied(const Mat<S, N, N>& P_new, S qa, S qb, S floor) {
+  const S margin = std::min(qa, qb) - floor;
+  return margin > S(256 * N) * std::numeric_limits<S>::epsilon() * P_new.trace();
 }
 
 /// The direction model h = C_bn(q) r_n and its error-state Jacobian [[h x], 0] (3 x 6): Ha is
@@ -192,6 +217,7 @@ template <class S> class QuaternionESKF {
     if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
     if (!detail::acceptable_covariance<S, 6>(s.P)) return Status::InvalidArgument;
     st_ = s;
+    cov_psd_ = false;  // a covariance from outside: the next time update tests it
     return Status::Ok;
   }
 
@@ -217,11 +243,12 @@ template <class S> class QuaternionESKF {
     st_.gyro_bias = bias;
     st_.P = P_sym;
     st_.initialized = true;
+    cov_psd_ = false;
     return Status::Ok;
   }
 
-  /// Time update with one gyro sample [rad/s] over dt [s]; the one covariance health check of
-  /// the sample.
+  /// Time update with one gyro sample [rad/s] over dt [s]; the covariance health of the sample,
+  /// proven or tested (the top of this file).
   Status predict(const Vec3<S>& gyr, S dt) {
     if (!st_.initialized) return Status::NotInitialized;
     if (!all_finite(gyr)) return Status::NonFinite;
@@ -231,11 +258,18 @@ template <class S> class QuaternionESKF {
     Mat3<S> F;
     const Quat<S> dq = detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
     Mat6 P_new;
-    detail::eskf_predict_covariance<S>(st_.P, F, dt, dt * params_.gyro_noise * params_.gyro_noise,
-                                       dt * params_.gyro_bias_noise * params_.gyro_bias_noise, P_new);
+    const S qa = dt * params_.gyro_noise * params_.gyro_noise;
+    const S qb = dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
+    detail::eskf_predict_covariance<S>(st_.P, F, dt, qa, qb, P_new);
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
     st_.q_nb = q_new / q_new.norm();
-    if (params_.cov_floor > S(0)) floor_covariance<S, 6>(P_new, params_.cov_floor);
+    bool psd = true;
+    if (params_.cov_floor > S(0) && !(cov_psd_ && detail::eskf_floor_implied<S, 6>(P_new, qa, qb, params_.cov_floor))) {
+      Mat6 shifted = P_new;
+      shifted.diagonal().array() -= params_.cov_floor;
+      if (!detail::has_cholesky<S, 6>(shifted)) psd = floor_covariance<S, 6>(P_new, params_.cov_floor);
+    }
+    cov_psd_ = psd;
     st_.P = P_new;
     flags_ = 0;
     st_.dt_last = dt;
@@ -402,6 +436,7 @@ template <class S> class QuaternionESKF {
     st_.P.diagonal().template head<3>().setConstant(params_.init_att_sigma * params_.init_att_sigma);
     st_.P.diagonal().template tail<3>().setConstant(params_.init_gyro_bias_sigma * params_.init_gyro_bias_sigma);
     st_.initialized = true;
+    cov_psd_ = true;  // diagonal, non-negative
     return Status::Ok;
   }
 
@@ -444,6 +479,10 @@ template <class S> class QuaternionESKF {
   Params params_{};
   State st_{};
   std::uint32_t flags_ = 0;
+  /// P was tested, floored or proven at the last time update (or set by initialize()), so the
+  /// next one may prove instead of testing. Not part of State: a restored filter tests once, and
+  /// that test passes wherever this one's proof holds, so the results are the same.
+  bool cov_psd_ = true;
 };
 
 }  // namespace quatnav
