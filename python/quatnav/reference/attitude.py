@@ -508,16 +508,18 @@ class QuaternionESKF(QuaternionEKF):
         rx, rz, ry = self.mag_reference()
         return np.array([rx, ry, rz])
 
-    @staticmethod
-    def heading_free(u, rows):
+    def heading_free(self, u, rows):
         """The gain of the accelerometer rows (quaternion_eskf.hpp): the first ``rows`` rows' gains
-        projected off the body-frame vertical ``u`` in the attitude and the bias block (``acc_tilt_only``)."""
+        projected off the body-frame vertical ``u`` in the attitude block and weighted by the
+        accelerometer part's ``bias_weight(u)`` in the bias block (``acc_tilt_only``)."""
+        W = self.acc.bias_weight(u)
+
         def gain(i, k):
             if i >= rows:
                 return k
             k = k.copy()
             k[:3] -= u * (u @ k[:3])
-            k[3:] -= u * (u @ k[3:])
+            k[3:] = W @ k[3:]
             return k
         return gain
 
@@ -723,14 +725,17 @@ class EulerEKF(_Base):
         up = Q.rotate_inv(self.quat, np.array([0.0, 0.0, 1.0]))
         sin_pitch = np.sin(self.euler[1])
 
-        def heading_free(i, k):  # euler_ekf.hpp: a tilt about a horizontal axis, a horizontal bias
-            k = k.copy()
-            k[2] = sin_pitch * k[0]
-            k[3:] -= up * (up @ k[3:])
-            return k
-        res = self.acc.update(acc, self.dt_last, max_bias_var, lambda a: self._update3(
-            a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0),
-            gain=heading_free if self.p.acc_tilt_only else None))
+        def update(a):
+            W = self.acc.bias_weight(up)  # I - up up^T without rotation
+
+            def heading_free(i, k):  # euler_ekf.hpp: a tilt about a horizontal axis, a horizontal bias
+                k = k.copy()
+                k[2] = sin_pitch * k[0]
+                k[3:] = W @ k[3:]
+                return k
+            return self._update3(a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0),
+                                 gain=heading_free if self.p.acc_tilt_only else None)
+        res = self.acc.update(acc, self.dt_last, max_bias_var, update)
         if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res

@@ -115,6 +115,7 @@ class AccFilter:
         self.p = p
         self.restart()
         self.acc_i_lp = np.zeros(3)
+        self.C_i_lp = np.eye(3)
 
     def restart(self):
         self.acc_lp_init, self.q_i, self.acc_reject_t = False, Q.identity(), 0.0
@@ -142,10 +143,13 @@ class AccFilter:
         used = acc
         if p.acc_lp_tau > 0:
             a_i = Q.rotate(self.q_i, acc)
+            C_ib = Q.to_rotmat(self.q_i)
             if not self.acc_lp_init or not dt > 0:
-                self.acc_i_lp, self.acc_lp_init = a_i, True
+                self.acc_i_lp, self.C_i_lp, self.acc_lp_init = a_i, C_ib, True
             else:
-                self.acc_i_lp = lowpass(self.acc_i_lp, a_i, dt, self.time_constant(max_bias_var))
+                tau = self.time_constant(max_bias_var)
+                self.acc_i_lp = lowpass(self.acc_i_lp, a_i, dt, tau)
+                self.C_i_lp = lowpass(self.C_i_lp, C_ib, dt, tau)
             used = Q.rotate_inv(self.q_i, self.acc_i_lp)
         g = p.gravity
         dev = abs(np.linalg.norm(used) - g) if g > 0 else 0.0
@@ -154,6 +158,15 @@ class AccFilter:
                                rejected=bool(p.acc_reject > 0 and dev > p.acc_reject and not recovering),
                                recovering=recovering,
                                gate=lambda given, default: given if given > 0 else (0.0 if recovering else default))
+
+    def bias_weight(self, u):
+        """The weight of the accelerometer's gain in the gyro-bias block for the body-frame vertical
+        ``u``: ``C^T (I - g g^T) C`` with C the low-passed C_ib, g = C_ib u (``acc_filter.hpp``);
+        ``I - u u^T`` without the low-pass or before its first sample."""
+        if not (self.p.acc_lp_tau > 0 and self.acc_lp_init):
+            return np.eye(3) - np.outer(u, u)
+        g = Q.rotate(self.q_i, u)
+        return self.C_i_lp.T @ (np.eye(3) - np.outer(g, g)) @ self.C_i_lp
 
     def finish(self, status, dt):
         if status == "ok":

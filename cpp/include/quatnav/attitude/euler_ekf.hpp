@@ -22,7 +22,8 @@
 // sin(pitch) d_roll: a tilt correction (a_z = 0) moves the yaw by sin(pitch) d_roll, so the
 // gain's heading part a_z = k_yaw - sin(pitch) k_roll is removed by k_yaw <- sin(pitch) k_roll
 // (along e_yaw, the rotation about the vertical); the bias gain is projected off the body-frame
-// vertical. h = C_bn(e) [0, 0, -1] does not depend on the yaw nor on the bias, so both removed
+// vertical, and off the directions that swung through it within the low-pass time
+// (AccFilter::bias_weight, parts/acc_filter.hpp). h = C_bn(e) [0, 0, -1] does not depend on the yaw nor on the bias, so both removed
 // directions are in the null space of H and the NIS is the optimal update's. acc_tilt_only =
 // false (paper()) restores the optimal gain.
 //
@@ -296,11 +297,12 @@ template <class S> class EulerEKF {
     return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
       const Vec3<S> up = quat::rotate_inv(quat(), Vec3<S>(S(0), S(0), S(1)));  // the vertical, body frame
       const S sin_pitch = std::sin(st_.euler[1]);
+      const Mat3<S> W = AccFilter<S>::bias_weight(params_.acc, st_.acc, up);  // I - up up^T without rotation
       return update3(in.acc, S(0), S(-1), params_.acc_sigma + in.sigma_add, in.gate(gate, S(0)),
                      [&](int, Vec<S, 6>& k) {
                        if (!params_.acc_tilt_only) return;
                        k[2] = sin_pitch * k[0];
-                       k.template tail<3>() -= up * up.dot(k.template tail<3>());
+                       k.template tail<3>() = (W * k.template tail<3>()).eval();
                      });
     });
   }

@@ -29,8 +29,11 @@
 // heading and invents a vertical bias: on BROAD's 6D runs the accelerometer updates turned the
 // heading by 6-20 deg over a trial. The accelerometer update is therefore a Schmidt-Kalman
 // ("consider") update: its gain is projected off u in both blocks, k <- [(I - u u^T) k_a;
-// (I - u u^T) k_b], so it corrects the tilt and the horizontal bias only (as VQF, which
-// estimates the bias in motion in the horizontal plane of the earth frame). The Joseph form
+// W k_b], so it corrects the tilt and the horizontal bias only (as VQF, which estimates the bias
+// in motion in the horizontal plane of the earth frame). W = I - u u^T while the body does not
+// turn; under fast rotation W (AccFilter::bias_weight, parts/acc_filter.hpp) also leaves out the
+// body directions that swung through the vertical within the low-pass time, whose bias the
+// accelerometer sees only through the motion's own acceleration errors. The Joseph form
 // keeps P the covariance of the error for this gain, and since u is in the null space of H the
 // innovation, its covariance and the NIS are those of the optimal update. The heading and the
 // vertical bias are corrected by the magnetometer, by the zero-rate measurement at rest, and
@@ -159,16 +162,18 @@ bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2
 }
 
 /// The gain of the accelerometer rows (the top of the file): the first `rows` rows' gains
-/// projected off the body-frame vertical `u` (unit) in the attitude and in the bias block, so
-/// that they turn neither the heading nor the earth-vertical gyro bias; later rows (the
-/// magnetometer's in a joint update) keep theirs.
+/// projected off the body-frame vertical `u` (unit) in the attitude block and weighted by `W`
+/// (AccFilter::bias_weight: I - u u^T, or less for directions that swung through the vertical)
+/// in the bias block, so that they turn neither the heading nor the earth-vertical gyro bias;
+/// later rows (the magnetometer's in a joint update) keep theirs.
 template <class S> struct HeadingFreeRows {
   Vec3<S> u;
+  Mat3<S> W;
   int rows;
   void operator()(int row, Vec<S, 6>& k) const {
     if (row >= rows) return;
     k.template head<3>() -= u * u.dot(k.template head<3>());
-    k.template tail<3>() -= u * u.dot(k.template tail<3>());
+    k.template tail<3>() = (W * k.template tail<3>()).eval();
   }
 };
 
@@ -330,7 +335,7 @@ template <class S> class QuaternionESKF {
     y << a - ha, m - hm;
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
-    apply_correction<6, 0, 3>(H, r, y, res, gate, detail::HeadingFreeRows<S>{Vec3<S>(-ha), params_.acc_tilt_only ? 3 : 0});
+    apply_correction<6, 0, 3>(H, r, y, res, gate, heading_free(Vec3<S>(-ha)));
     if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
@@ -393,6 +398,11 @@ template <class S> class QuaternionESKF {
     return res;
   }
 
+  /// The gain of the accelerometer rows for the body-frame vertical u (the top of this file).
+  detail::HeadingFreeRows<S> heading_free(const Vec3<S>& u) const {
+    return {u, AccFilter<S>::bias_weight(params_.acc, st_.acc, u), params_.acc_tilt_only ? 3 : 0};
+  }
+
   /// The accelerometer's gravity update (the top of this file): the direction model of
   /// r = [0, 0, -1] with the gain projected off the vertical u = -h.
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
@@ -404,7 +414,7 @@ template <class S> class QuaternionESKF {
     Mat3<S> H;
     detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
     apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(a - h), res, gate,
-                              detail::HeadingFreeRows<S>{Vec3<S>(-h), params_.acc_tilt_only ? 3 : 0});
+                              heading_free(Vec3<S>(-h)));
     return res;
   }
 

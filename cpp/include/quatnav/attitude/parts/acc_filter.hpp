@@ -11,6 +11,22 @@
 //    error sigma_b, so while the filter's largest gyro-bias variance sigma_b^2 exceeds
 //    acc_lp_bias_sigma^2 the time constant is acc_lp_tau * (acc_lp_bias_sigma / sigma_b)^2: the
 //    low-pass is only trusted as far as the bias is known.
+//  * The bias weight (bias_weight()): the body's attitude in the same frame is low-passed with
+//    the same time constant. The low-passed sample's error (the part of a periodic linear
+//    acceleration the low-pass lets through: centripetal and tangential acceleration of a swing)
+//    is correlated over that time and in phase with the motion; a bias component that swings
+//    in and out of the vertical with the motion is seen only through an oscillation at the
+//    motion's frequency, where that error lives, and learning it from the accelerometer turns
+//    the error into a bias (a pendulum's string axis: 1.4 deg/s in a minute, 12 deg of 6D
+//    heading). So the accelerometer's gain in the bias block is weighted by
+//        W = C^T (I - g g^T) C,   C = the low-passed C_ib, g = C_ib u
+//    (u the body-frame vertical of the filter, g the vertical in the low-pass frame): the body
+//    directions that stayed horizontal over the time constant keep their gain, those that swung
+//    through the vertical lose it (VQF estimates the bias in motion through a low-passed
+//    rotation matrix in the same way). W is symmetric with eigenvalues in [0, 1]; without
+//    rotation W = I - u u^T, the plain projection off the vertical. (Projecting W off the
+//    current vertical as well, P_u W P_u, couples the swinging directions again, in phase with
+//    the swing: 6.4 deg on the pendulum in 6D against 1.5.)
 //  * Rejection (acc_reject > 0): a sample with ||a| - g| > acc_reject is not used.
 //  * Adaptive noise: the filter's one-sigma of the normalized sample grows by
 //    acc_adapt * ||a| - g| / g (MargFilter lowers its gain instead).
@@ -51,6 +67,7 @@ template <class S> struct AccFilterParams {
 #define QUATNAV_ACC_FILTER_STATE(X)                                                                     \
   X(Quat<S>, q_i, quat::identity<S>(), "1", "gyro-only frame of the accelerometer low-pass, q_ib")      \
   X(Vec3<S>, acc_i_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer in that frame")              \
+  X(Mat3<S>, C_i_lp, Mat3<S>::Identity(), "1", "low-passed attitude C_ib in that frame (the bias weight)") \
   X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")                                           \
   X(S, acc_reject_t, S(0), "s", "time every accelerometer update was rejected")
 
@@ -114,11 +131,15 @@ template <class S> struct AccFilter {
     out.acc = acc;
     if (p.acc_lp_tau > S(0)) {
       const Vec3<S> a_i = quat::rotate(s.q_i, acc);
+      const Mat3<S> C_ib = quat::to_rotmat(s.q_i);
       if (!s.acc_lp_init || !(dt > S(0))) {
         s.acc_i_lp = a_i;
+        s.C_i_lp = C_ib;
         s.acc_lp_init = true;
       } else {
-        detail::lowpass(s.acc_i_lp, a_i, dt, time_constant(p, max_bias_var));
+        const S tau = time_constant(p, max_bias_var);
+        detail::lowpass(s.acc_i_lp, a_i, dt, tau);
+        detail::lowpass(s.C_i_lp, C_ib, dt, tau);
       }
       out.acc = quat::rotate_inv(s.q_i, s.acc_i_lp);
     }
@@ -128,6 +149,19 @@ template <class S> struct AccFilter {
     out.rejected = p.acc_reject > S(0) && dev > p.acc_reject && !out.recovering;
     out.sigma_add = g > S(0) ? p.acc_adapt * dev / g : S(0);
     return out;
+  }
+
+  /// The weight of the accelerometer's gain in the gyro-bias block (the top of this file) for the
+  /// filter's body-frame vertical u (unit): W = C^T (I - g g^T) C, g = C_ib u; I - u u^T
+  /// without the low-pass or before its first sample.
+  static Mat3<S> bias_weight(const Params& p, const State& s, const Vec3<S>& u) {
+    if (!(p.acc_lp_tau > S(0)) || !s.acc_lp_init) return Mat3<S>::Identity() - u * u.transpose();
+    const Vec3<S> g = quat::rotate(s.q_i, u);
+    const Eigen::Matrix<S, 1, 3> gC = g.transpose() * s.C_i_lp;
+    Mat3<S> W;
+    W.noalias() = s.C_i_lp.transpose() * s.C_i_lp;
+    W.noalias() -= gC.transpose() * gC;
+    return W;
   }
 
   /// The accelerometer update of an attitude filter: screen(), the filter's own update
