@@ -1,6 +1,6 @@
 // GpsInsFilter's one gated correction path for the GNSS aids: an isolated outlier is rejected and
 // changes nothing but the counters; a fix that fails its gate after a failing one inflates the
-// navigation block of P until the fix is consistent and is applied; beyond inflate_max the state
+// position and velocity block of P until the fix is consistent and is applied; beyond inflate_max the state
 // is reset to the fix; inflate_after = 0 keeps the plain gate (which locks out); the process-noise
 // scale rises while the GNSS NIS stays large and stays at 1 on consistent fixes. No heap in any
 // step; float and double.

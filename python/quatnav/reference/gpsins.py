@@ -398,7 +398,7 @@ class GpsInsFilter:
             a = self._inflation(H, S, y)
             if a <= p.inflate_max:
                 P = self.s.P.copy()
-                P[:9, :9] *= a
+                P[:6, :6] *= a
                 if self._correct_commit(P, H, R, y, 0.0)[0] == "ok":
                     res.status, res.decision, res.inflation = "ok", "inflated", a
                     self.s.reject_run[kind] = 0
@@ -416,8 +416,8 @@ class GpsInsFilter:
 
     def _inflation(self, H, S, y):
         """Smallest a in [1, inflate_max] with y^T (S + (a - 1) H_n P_nn H_n^T)^-1 y <= rows."""
-        Hn = H[:, :9]
-        B = Hn @ self.s.P[:9, :9] @ Hn.T
+        Hn = H[:, :6]
+        B = Hn @ self.s.P[:6, :6] @ Hn.T
         m = len(y)
 
         def nis(a):

@@ -783,9 +783,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   /// The one gated correction path of every aid (gpsins_aid pieces): the piece's innovation, H
   /// and R at the current state; the chi-square gate; for a GNSS aid (kAdaptive) the isolation of
   /// an outlier (a fix failing its gate after one that passed is rejected), the inflation of the
-  /// navigation block of P when fixes keep failing (the INS is off, not the fix: P_nav <- a P_nav
-  /// with the smallest a >= 1 that makes the fix's NIS equal its rows, up to inflate_max, beyond
-  /// which the state is reset to the fix) and the innovation-based adaptation of the process
+  /// position and velocity block of P when fixes keep failing (the INS is off, not the fix:
+  /// P_pv <- a P_pv with the smallest a >= 1 that makes the fix's NIS equal its rows, up to
+  /// inflate_max, beyond which the state is reset to the fix; the attitude is left alone: on a
+  /// straight road a heading sigma inflated to tens of degrees is walked by the fixes' noise
+  /// through the lever arm, and a car enters its next outage with the heading off by as much) and
+  /// the innovation-based adaptation of the process
   /// noise; then the Kalman correction, the injection into the nominal state and the counters.
   template <class Aid> GpsInsUpdate<S, Aid::M> apply(const Aid& aid) {
     constexpr int M = Aid::M;
@@ -810,7 +813,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         const S a = inflation<M>(m, gated);
         if (a <= params_.inflate_max) {
           Mat16 P = st_.P;
-          P.template topLeftCorner<9, 9>() *= a;
+          P.template topLeftCorner<6, 6>() *= a;
           UpdateResult<S, M> r2;
           if (correct_and_commit<Aid>(P, m, S(0), r2) == Status::Ok) {
             static_cast<UpdateResult<S, M>&>(res) = gated;
@@ -840,11 +843,11 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   }
 
   /// The smallest a in [1, inflate_max] with y^T (S + (a - 1) H_n P_nn H_n^T)^-1 y <= M (H_n, P_nn:
-  /// the position, velocity and attitude columns and block), by bisection on log a; a value above
+  /// the position and velocity columns and block), by bisection on log a; a value above
   /// inflate_max when even that is not enough.
   template <int M> S inflation(const AidMeasurement<S, M, kStates>& m, const UpdateResult<S, M>& gated) const {
-    const Mat<S, M, 9> Hn = m.H.template leftCols<9>();
-    const Mat<S, 9, 9> Pn = st_.P.template topLeftCorner<9, 9>();
+    const Mat<S, M, 6> Hn = m.H.template leftCols<6>();
+    const Mat<S, 6, 6> Pn = st_.P.template topLeftCorner<6, 6>();
     const Mat<S, M, M> B = fixed_mul(fixed_mul(Hn, Pn), Hn.transpose());
     auto nis = [&](S a) {
       Mat<S, M, M> Sa = gated.innovation_cov + (a - S(1)) * B;

@@ -66,7 +66,7 @@ namespace quatnav {
   X(S, gps_robust_k, S(0), "1",                                                                         \
     "Huber threshold of the GNSS aids: an innovation component beyond it (in its sigmas) is down-weighted (0: off)") \
   /* A GNSS fix that fails its gate right after one that failed too is not an outlier: the INS is   \
-     off. Its covariance is inflated until the fix is consistent (NIS = rows), and the fix applied; \
+     off. Its position and velocity covariance is inflated until the fix is consistent (NIS = rows), and the fix applied; \
      beyond inflate_max the position (velocity) is reset to the fix. */                                \
   X(S, inflate_after, S(1), "1",                                                                        \
     "consecutive gate rejections of a GNSS aid after which the next failing fix inflates the covariance (0: never)") \
