@@ -129,6 +129,7 @@ TEST(GpsInsAids, ConstraintsMatchFiniteDifferences) {
   check(gpsins_aid::ZeroVelocity<double>{}, 1e-6);
   check(gpsins_aid::ZeroRate<double>{}, 1e-6);
   check(gpsins_aid::NonHolonomic<double>{}, 1e-5);
+  check(gpsins_aid::NonHolonomic<double>{0.0, 0.02, -0.015}, 1e-5);  // with a learned mounting
   check(gpsins_aid::OdometerSpeed<double>{12.5}, 1e-5);
 }
 
@@ -154,6 +155,7 @@ TEST(GpsInsAids, TheCheckDetectsAnError) {
 // when the body moves sideways; the constraint's R is then no smaller than what was seen.
 TEST(GpsInsAids, NonHolonomicEvidence) {
   GpsInsParams<double> p = params();
+  p.nhc_mount_tau_yaw = p.nhc_mount_tau_pitch = 0.0;  // the mounting is not learned (NonHolonomicMounting)
   GpsInsState<double> s = a_state();
   const Vec3<double> fwd_b(10.0, 0.05, -0.02);  // 0.054 m/s across: within the 0.3 m/s limit
   s.nav.v_n = quat::rotate(s.nav.q_nb, fwd_b);
@@ -195,4 +197,43 @@ TEST(GpsInsAids, NonHolonomicEvidence) {
   EXPECT_EQ(m.R(0, 0), 0.25);
   gpsins_aid::NonHolonomic<double>{}.measure(s, p, m);
   EXPECT_EQ(m.R(1, 1), p.nhc_sigma * p.nhc_sigma);
+}
+
+// The IMU's mounting (detail::gpsins_nhc_evidence): the mean lateral and vertical body velocity
+// per forward speed, learned with nhc_mount_tau_yaw and _pitch while driving straight and held in turns; the
+// constraint then measures the velocity across the mounting's direction, not across the IMU's.
+TEST(GpsInsAids, NonHolonomicMounting) {
+  GpsInsParams<double> p = params();
+  p.nhc_mount_tau_yaw = p.nhc_mount_tau_pitch = 10.0;
+  GpsInsState<double> s = a_state();
+  s.omega_b.setZero();  // straight
+  // 0.86 deg in yaw, 1.15 deg in pitch: 0.3 and 0.4 m/s at 20 m/s
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(20.0, 0.3, -0.4));
+  s.t = 100.0;
+  s.gnss_t = 99.5;  // aided
+  const double dt = 0.01;
+  for (int k = 0; k < 10000; ++k) detail::gpsins_nhc_evidence(s, p, dt);  // ten time constants
+  EXPECT_NEAR(s.nhc_ky, 0.015, 2e-6);
+  EXPECT_NEAR(s.nhc_kz, -0.02, 2e-6);
+  EXPECT_LT(s.nhc_ms, 1e-3);  // what is left about the mounting: its start from zero, decayed
+  EXPECT_GT(s.nhc_t, 80.0);  // a mounting off by a degree is still a wheeled vehicle
+  AidMeasurement<double, 2, 16> m;
+  gpsins_aid::NonHolonomic<double>{0.0, s.nhc_ky, s.nhc_kz}.measure(s, p, m);
+  EXPECT_NEAR(m.y[0], 0.0, 1e-4);
+  EXPECT_NEAR(m.y[1], 0.0, 1e-4);
+  gpsins_aid::NonHolonomic<double>{}.measure(s, p, m);  // the IMU's own axes: 0.3 and -0.4 m/s
+  EXPECT_NEAR(m.y[0], 0.3, 1e-12);
+  EXPECT_NEAR(m.y[1], -0.4, 1e-12);
+  // In a turn the IMU ahead of the rear axle moves sideways: the mounting is held.
+  s.omega_b << 0.0, 0.0, 0.2;
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(20.0, 0.54, -0.4));
+  const GpsInsState<double> before = s;
+  for (int k = 0; k < 1000; ++k) detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_EQ(s.nhc_ky, before.nhc_ky);
+  EXPECT_EQ(s.nhc_kz, before.nhc_kz);
+  // Unaided (an outage): held, whatever the INS velocity does.
+  s.omega_b.setZero();
+  s.gnss_t = 80.0;
+  detail::gpsins_nhc_evidence(s, p, dt);
+  EXPECT_EQ(s.nhc_ky, before.nhc_ky);
 }

@@ -434,6 +434,12 @@ GPSINS_PARAMS = (
        "quarter of it)", "pos0"),
     _p("nhc_auto_limit", 0.3, "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity "
        "(above twice it the evidence is lost)", "pos0"),
+    _p("nhc_auto_rate", 0.05, "rad/s", "non-holonomic evidence: largest body yaw rate at which the IMU's mounting "
+       "(its mean lateral and vertical velocity per forward speed) is learned", "pos0"),
+    _p("nhc_mount_tau_yaw", 300.0, "s", "time constant over which the IMU's mounting in yaw (lateral velocity per "
+       "forward speed) is learned from straight GNSS-aided driving (0: not learned)", "pos0"),
+    _p("nhc_mount_tau_pitch", 20.0, "s", "time constant over which the IMU's mounting in pitch (vertical velocity per "
+       "forward speed) is learned from straight GNSS-aided driving (0: not learned)", "pos0"),
     _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),

@@ -194,6 +194,8 @@ class _State:
     pseudo_t: float = -1e9
     gnss_t: float = -1e9
     nhc_ms: float = -1.0
+    nhc_ky: float = 0.0
+    nhc_kz: float = 0.0
     nhc_t: float = 0.0
     mot_valid: bool = False
     mot_llh: tuple = (0.0, 0.0, 0.0)
@@ -379,20 +381,32 @@ def _zaru(s, p):
 
 
 def _nhc(s, p, var=0.0):
-    y, H = _body_velocity_rows(s, [1, 2])
+    """No lateral or vertical velocity of the vehicle: the body velocity's rows 1, 2 less the
+    mounting's share of the forward speed (s.nhc_ky, s.nhc_kz; as gpsins_aid::NonHolonomic)."""
+    v, Hb = _body_velocity_rows(s, [0, 1, 2])
+    k = np.array([s.nhc_ky, s.nhc_kz])
+    y = v[1:] - k * v[0]
+    H = Hb[1:] - k[:, None] * Hb[0]
     return y, H, (var if var > 0 else p.nhc_sigma ** 2) * np.eye(2)
 
 
 def _nhc_evidence(s, p, dt):
     """The evidence of a wheeled vehicle (as detail::gpsins_nhc_evidence): while GNSS-aided and
-    faster than nhc_auto_speed, the low-passed mean square lateral and vertical body velocity and the
-    time it has stayed within nhc_auto_limit^2 (lost above twice the limit, held in between)."""
+    faster than nhc_auto_speed forward, the mounting (lateral and vertical body velocity per forward
+    speed, low-passed from 0 with nhc_mount_tau_yaw and _pitch while the yaw rate is within nhc_auto_rate), the low-passed mean square of the
+    lateral and vertical body velocity about it and the time it has stayed within nhc_auto_limit^2
+    (lost above twice the limit, held in between)."""
     if not p.nhc_auto or not s.t - s.gnss_t < 2.5:
         return
     v_b = Q.rotate_inv(s.nav.q_nb, s.nav.v_n)
-    if not v_b @ v_b > p.nhc_auto_speed ** 2:
+    if not abs(v_b[0]) > p.nhc_auto_speed:
         return
-    e = v_b[1] ** 2 + v_b[2] ** 2
+    if abs(s.omega_b[2]) <= p.nhc_auto_rate:
+        if p.nhc_mount_tau_yaw > 0:
+            s.nhc_ky = lowpass(s.nhc_ky, v_b[1] / v_b[0], dt, p.nhc_mount_tau_yaw)
+        if p.nhc_mount_tau_pitch > 0:
+            s.nhc_kz = lowpass(s.nhc_kz, v_b[2] / v_b[0], dt, p.nhc_mount_tau_pitch)
+    e = (v_b[1] - s.nhc_ky * v_b[0]) ** 2 + (v_b[2] - s.nhc_kz * v_b[0]) ** 2
     tau = p.nhc_auto_time / 4
     s.nhc_ms = e if s.nhc_ms < 0 else lowpass(s.nhc_ms, e, dt, tau)
     if s.nhc_ms <= p.nhc_auto_limit ** 2:

@@ -333,19 +333,29 @@ template <class S> struct ZeroRate {
   }
 };
 
-/// Non-holonomic constraint of a wheeled vehicle: no lateral (y) or vertical (z) velocity of the
-/// body at the IMU, y = rows 1, 2 of C_nb^T v_n (the lever arm to the axle and side slip are in
-/// nhc_sigma). `var`: the variance of each row (0: nhc_sigma^2).
+/// Non-holonomic constraint of a wheeled vehicle: no lateral or vertical velocity of the vehicle
+/// at the IMU; with the IMU's mounting k = (k_y, k_z) (the lateral and vertical body velocity per
+/// forward speed, learned by detail::gpsins_nhc_evidence; 0: the body axes are the vehicle's),
+/// y = (v_b,y - k_y v_b,x, v_b,z - k_z v_b,x) with v_b = C_nb^T v_n, H the same combination of the
+/// rows of v_b's (the lever arm to the axle and side slip are in nhc_sigma). Without k a mounting
+/// off by a degree is a constraint off by 0.4 m/s at 25 m/s, a bias that the updates at 10 Hz
+/// turn into a pitch or yaw error. `var`: the variance of each row (0: nhc_sigma^2).
 template <class S> struct NonHolonomic {
   static constexpr GpsInsAid kind = GpsInsAid::Nhc;
   static constexpr int M = 2, C0 = 3, NC = 6;
   static constexpr bool kAdaptive = false;
   S var = S(0);
+  S ky = S(0), kz = S(0);
   static S gate(const GpsInsParams<S>& p) { return p.gate_nhc; }
   template <bool SF, int N>
   void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
-    static constexpr int rows[2] = {1, 2};
-    detail_body::body_velocity_rows<S, 2>(s, rows, m.y, m.H);
+    static constexpr int rows[3] = {0, 1, 2};
+    Vec3<S> v;
+    Mat<S, 3, N> H = Mat<S, 3, N>::Zero();
+    detail_body::body_velocity_rows<S, 3>(s, rows, v, H);
+    m.y << v[1] - ky * v[0], v[2] - kz * v[0];
+    m.H.row(0) = H.row(1) - ky * H.row(0);
+    m.H.row(1) = H.row(2) - kz * H.row(0);
     m.R.diagonal().setConstant(var > S(0) ? var : p.nhc_sigma * p.nhc_sigma);
   }
 };

@@ -36,8 +36,16 @@ namespace detail {
 
 /// The evidence of a wheeled vehicle (nhc_auto), after a navigating time update over dt. While
 /// GNSS-aided (an accepted GNSS position or velocity update less than 2.5 s before) and faster
-/// than nhc_auto_speed, the squared lateral and vertical body velocity e = v_b,y^2 + v_b,z^2 is
-/// low-passed into s.nhc_ms (time constant nhc_auto_time / 4; the first sample starts it) and the
+/// than nhc_auto_speed forward (body x): the IMU's mounting, the ratios k = (v_b,y, v_b,z) / v_b,x,
+/// is low-passed into s.nhc_ky, s.nhc_kz (from 0, time constants nhc_mount_tau_yaw and
+/// nhc_mount_tau_pitch; 0: not learned) while the body yaw rate is within nhc_auto_rate (driving
+/// straight, the lateral velocity is the mounting's; in a turn an IMU ahead of the rear axle moves
+/// sideways). A heading error looks the same to the constraint as a mounting in yaw (v_b,y =
+/// -v psi_d), and the heading is the state the GNSS observes least on a car: k_y is learned
+/// slowly, so that it holds the constant mounting and not the heading error of the last
+/// seconds; a pitch error is observed by the GNSS through gravity, k_z is learned fast. The squared
+/// residual e = (v_b,y - k_y v_b,x)^2 + (v_b,z - k_z v_b,x)^2 is low-passed into s.nhc_ms (time
+/// constant nhc_auto_time / 4; the first sample starts it) and the
 /// time with s.nhc_ms within nhc_auto_limit^2 accumulates in s.nhc_t; above (2 nhc_auto_limit)^2
 /// the evidence is lost (s.nhc_t = 0); in between it is held (a car's sustained tight turn, the
 /// IMU ahead of the rear axle, must not undo it). Slow or unaided (a GNSS outage, where the
@@ -45,8 +53,13 @@ namespace detail {
 template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, S dt) {
   if (!p.nhc_auto || !(s.t - s.gnss_t < 2.5)) return;
   const Vec3<S> v_b = quat::rotate_inv(s.nav.q_nb, s.nav.v_n);
-  if (!(v_b.squaredNorm() > p.nhc_auto_speed * p.nhc_auto_speed)) return;
-  const S e = v_b[1] * v_b[1] + v_b[2] * v_b[2];
+  if (!(std::abs(v_b[0]) > p.nhc_auto_speed)) return;
+  if (std::abs(s.omega_b[2]) <= p.nhc_auto_rate) {
+    if (p.nhc_mount_tau_yaw > S(0)) lowpass(s.nhc_ky, S(v_b[1] / v_b[0]), dt, p.nhc_mount_tau_yaw);
+    if (p.nhc_mount_tau_pitch > S(0)) lowpass(s.nhc_kz, S(v_b[2] / v_b[0]), dt, p.nhc_mount_tau_pitch);
+  }
+  const S ey = v_b[1] - s.nhc_ky * v_b[0], ez = v_b[2] - s.nhc_kz * v_b[0];
+  const S e = ey * ey + ez * ez;
   const S tau = p.nhc_auto_time / S(4);
   if (s.nhc_ms < S(0))
     s.nhc_ms = e;

@@ -284,7 +284,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     } else if (!rest && nhc_active()) {
       // Forced (nhc): nhc_sigma; by evidence: no less than the motion showed.
       const S r0 = params_.nhc_sigma * params_.nhc_sigma;
-      r.nhc = apply(gpsins_aid::NonHolonomic<S>{params_.nhc ? r0 : std::max(r0, st_.nhc_ms)});
+      r.nhc = apply(gpsins_aid::NonHolonomic<S>{params_.nhc ? r0 : std::max(r0, st_.nhc_ms), st_.nhc_ky, st_.nhc_kz});
       st_.pseudo_t = st_.t;
     }
     return r;

@@ -111,6 +111,12 @@ namespace quatnav {
   X(S, nhc_auto_speed, S(3), "m/s", "non-holonomic evidence: slowest speed that counts")                \
   X(S, nhc_auto_time, S(20), "s", "non-holonomic evidence: duration needed (the mean square's time constant is a quarter of it)") \
   X(S, nhc_auto_limit, S(0.3), "m/s", "non-holonomic evidence: largest RMS lateral and vertical body velocity (above twice it the evidence is lost)") \
+  X(S, nhc_auto_rate, S(0.05), "rad/s",                                                                 \
+    "non-holonomic evidence: largest body yaw rate at which the IMU's mounting (its mean lateral and vertical velocity per forward speed) is learned") \
+  X(S, nhc_mount_tau_yaw, S(300), "s",                                                                   \
+    "time constant over which the IMU's mounting in yaw (lateral velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned)") \
+  X(S, nhc_mount_tau_pitch, S(20), "s",                                                                  \
+    "time constant over which the IMU's mounting in pitch (vertical velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned)") \
   X(S, pseudo_interval, S(0.1), "s", "shortest interval between two zero-velocity or non-holonomic updates") \
   X(S, odometer_sigma, S(0.05), "m/s", "one-sigma of an odometer speed")                                \
   X(S, gate_odometer, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)")          \
@@ -282,7 +288,10 @@ struct GpsInsCounters {
   X(double, gnss_speed_t, 0.0, "s", "filter time of that speed")                                        \
   X(double, pseudo_t, -1e9, "s", "filter time of the last zero-velocity or non-holonomic update")         \
   X(double, gnss_t, -1e9, "s", "filter time of the last accepted GNSS position or velocity update")     \
-  X(S, nhc_ms, S(-1), "m^2/s^2", "mean square lateral and vertical body velocity in GNSS-aided motion (-1: none yet)")   \
+  X(S, nhc_ms, S(-1), "m^2/s^2",                                                                        \
+    "mean square lateral and vertical body velocity in GNSS-aided motion, about the mounting's (-1: none yet)") \
+  X(S, nhc_ky, S(0), "1", "mean lateral body velocity per forward speed in straight GNSS-aided motion (the mounting's yaw)") \
+  X(S, nhc_kz, S(0), "1", "mean vertical body velocity per forward speed in straight GNSS-aided motion (the mounting's pitch)") \
   X(double, nhc_t, 0.0, "s", "GNSS-aided motion with nhc_ms within nhc_auto_limit^2 (non-holonomic evidence)") \
   X(bool, mot_valid, false, "-", "a motion window is open (alignment in motion)")                       \
   X(double, mot_lat, 0.0, "rad", "latitude of the fix that opened the motion window")                   \
