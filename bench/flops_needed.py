@@ -256,9 +256,9 @@ def eskf_reset(n: int = 6) -> Count:
 
 
 def quaternion_eskf() -> Count:
-    """QuaternionEKF default = C++ QuaternionESKF (6 error states), predict + acc + mag (heading)."""
+    """QuaternionEKF (C++ QuaternionEKF, 6 error states), predict + acc + mag (heading)."""
     n = 6
-    c = Count("QuaternionEKF default (QuaternionESKF)")
+    c = Count("QuaternionEKF (6 error states)")
     # --- predict
     c.add("predict: w = gyr - b, w dt", 6)
     c.add("predict: dq = exp(w dt)", ROTVEC_TO_QUAT, libm=ROTVEC_TO_QUAT_LIBM)
@@ -555,8 +555,8 @@ def gpsins_gnss_epoch() -> Count:
 
 CASES = {
     # key: (label of the bench case, builder)
-    "QuaternionESKF [error state]": quaternion_eskf,
-    "QuaternionEKF [ekf, paper() parameters]": quaternion_ekf7_paper,
+    "QuaternionEKF [error state]": quaternion_eskf,
+    "QuaternionEKFPaper [ekf, paper() parameters]": quaternion_ekf7_paper,
     "EulerEKF [ekf]": euler_ekf,
     "MargFilter [gauss-newton]": None,  # needs the iterations, see main()
     "NavFilter13 [time update: ekf]": lambda: nav13_ekf(False),

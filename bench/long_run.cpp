@@ -29,7 +29,7 @@
 // velocity at 5 Hz, altimeter and compass at 10 Hz. Errors against the truth: attitude (rotation
 // vector), velocity and position (NED metres); the covariance health is that of each filter's
 // error-state covariance (NavFilter13: the 12x12 [dv, dtheta, db_a, db_g]; GpsInsFilter: its 15x15 P).
-// Usage: long_run [steps] [filter] [float32|float64] [no-baro]; filter one of QuaternionEKF, EulerEKF,
+// Usage: long_run [steps] [filter] [float32|float64] [no-baro]; filter one of QuaternionEKFPaper, EulerEKF,
 // NavFilter13-ekf, NavFilter13-second_order, NavFilter13-ukf, GpsInsFilter (default: all);
 // no-baro leaves out GpsInsFilter's altimeter updates (an experiment: its offset error enters R as
 // white noise, see gps_ins.hpp).
@@ -60,7 +60,7 @@ struct Stats {
   double ns_per_step = 0;
 };
 
-template <class S> Mat<S, 6, 6> error_cov(const QuaternionEKF<S>& f) {
+template <class S> Mat<S, 6, 6> error_cov(const QuaternionEKFPaper<S>& f) {
   Mat<S, 6, 7> T = Mat<S, 6, 7>::Zero();
   T.template topLeftCorner<3, 4>() = S(2) * quat::xi(f.quat()).transpose();
   T.template bottomRightCorner<3, 3>().setIdentity();
@@ -413,9 +413,9 @@ int main(int argc, char** argv) {
   const long eig_every = 100;
   std::printf("quatnav long run: %ld steps of 0.01 s per filter and precision; eigenvalues every %ld steps%s\n", steps,
               eig_every, g_no_baro ? "; GpsInsFilter without the altimeter" : "");
-  if (only.empty() || only == "QuaternionEKF") {
-    if (f64) report<QuaternionEKF<double>>("QuaternionEKF", steps, eig_every);
-    if (f32) report<QuaternionEKF<float>>("QuaternionEKF", steps, eig_every);
+  if (only.empty() || only == "QuaternionEKFPaper") {
+    if (f64) report<QuaternionEKFPaper<double>>("QuaternionEKFPaper", steps, eig_every);
+    if (f32) report<QuaternionEKFPaper<float>>("QuaternionEKFPaper", steps, eig_every);
   }
   if (only.empty() || only == "EulerEKF") {
     if (f64) report<EulerEKF<double>>("EulerEKF", steps, eig_every);

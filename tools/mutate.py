@@ -61,8 +61,8 @@ def _m(name, area, path, find, replace, cpp=(), py=(), targets=None):
 NAV13 = "cpp/include/quatnav/nav/nav_filter13.hpp"
 NAV13_TESTS_PY = ("tests/python/test_nav13.py", "tests/python/test_nav13_smoother.py")
 KALMAN = "cpp/include/quatnav/core/kalman.hpp"
-ESKF = "cpp/include/quatnav/attitude/quaternion_eskf.hpp"
-QEKF = "cpp/include/quatnav/attitude/quaternion_ekf.hpp"
+ESKF = "cpp/include/quatnav/attitude/quaternion_ekf.hpp"
+QEKF = "cpp/include/quatnav/attitude/quaternion_ekf_paper.hpp"
 EULER = "cpp/include/quatnav/attitude/euler_ekf.hpp"
 MARG = "cpp/include/quatnav/attitude/marg_filter.hpp"
 STRAP = "cpp/include/quatnav/nav/strapdown.hpp"

@@ -85,11 +85,11 @@ template <class S> std::vector<Sample<S>> samples_as() {
 // Cases: one struct per filter (and time-update policy).
 // ------------------------------------------------------------------------------------------
 template <class S> struct QEKFCase {
-  static constexpr const char* name = "QuaternionEKF";
+  static constexpr const char* name = "QuaternionEKFPaper";
   static constexpr bool countable = true;
   static constexpr const char* policy = "ekf";
   static constexpr const char* step_desc = "predict+acc+mag";
-  quatnav::QuaternionEKF<S> f;
+  quatnav::QuaternionEKFPaper<S> f;
   void init(const Sample<S>& s) { f.initialize(s.acc, s.mag); }
   void step(const Sample<S>& s) {
     f.predict(s.gyr, s.dt);
@@ -107,7 +107,7 @@ template <class S> struct QEKFJointCase : QEKFCase<S> {
   }
 };
 
-// Where a QuaternionEKF step goes: the time update alone, with the accelerometer update, the
+// Where a QuaternionEKFPaper step goes: the time update alone, with the accelerometer update, the
 // covariance floor off (cov_floor = 0: no error-state test after each part), and the plain filter
 // of the paper (QuaternionEKFParams::paper(): no low-pass, rest, disturbance tests; 3-row
 // magnetometer update). Differences between these rows split the full step's cost.
@@ -131,7 +131,7 @@ template <class S> struct QEKFNoFloorCase : QEKFCase<S> {
   void init(const Sample<S>& s) {
     quatnav::QuaternionEKFParams<S> p;
     p.cov_floor = S(0);
-    this->f = quatnav::QuaternionEKF<S>(p);
+    this->f = quatnav::QuaternionEKFPaper<S>(p);
     this->f.initialize(s.acc, s.mag);
   }
 };
@@ -139,19 +139,19 @@ template <class S> struct QEKFNoFloorCase : QEKFCase<S> {
 template <class S> struct QEKFPaperCase : QEKFCase<S> {
   static constexpr const char* policy = "ekf, paper() parameters";
   void init(const Sample<S>& s) {
-    this->f = quatnav::QuaternionEKF<S>(quatnav::QuaternionEKFParams<S>::paper());
+    this->f = quatnav::QuaternionEKFPaper<S>(quatnav::QuaternionEKFParams<S>::paper());
     this->f.initialize(s.acc, s.mag);
   }
 };
 
 // The default QuaternionEKF of the Python package: the 6-state error-state filter
-// (quaternion_eskf.hpp) with the robustness parts, and the same split as above.
+// (quaternion_ekf.hpp) with the robustness parts, and the same split as above.
 template <class S> struct ESKFCase {
-  static constexpr const char* name = "QuaternionESKF";
+  static constexpr const char* name = "QuaternionEKF";
   static constexpr bool countable = true;
   static constexpr const char* policy = "error state";
   static constexpr const char* step_desc = "predict+acc+mag";
-  quatnav::QuaternionESKF<S> f;
+  quatnav::QuaternionEKF<S> f;
   void init(const Sample<S>& s) { f.initialize(s.acc, s.mag); }
   void step(const Sample<S>& s) {
     f.predict(s.gyr, s.dt);
@@ -178,7 +178,7 @@ template <class S> struct ESKFPredictAccCase : ESKFCase<S> {
 template <class S> struct ESKFPaperCase : ESKFCase<S> {
   static constexpr const char* policy = "error state, paper() parameters";
   void init(const Sample<S>& s) {
-    this->f = quatnav::QuaternionESKF<S>(quatnav::QuaternionEKFParams<S>::paper());
+    this->f = quatnav::QuaternionEKF<S>(quatnav::QuaternionEKFParams<S>::paper());
     this->f.initialize(s.acc, s.mag);
   }
 };

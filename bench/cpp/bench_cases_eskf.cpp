@@ -1,4 +1,4 @@
-// quatnav_bench_filters: the cases of QuaternionESKF (the default QuaternionEKF) (bench_cases.hpp).
+// quatnav_bench_filters: the cases of QuaternionEKF (the default) (bench_cases.hpp).
 #include "bench_cases.hpp"
 
 namespace qb {

@@ -1,4 +1,4 @@
-// quatnav_bench_filters: the cases of QuaternionEKF (7 states, paper 000) (bench_cases.hpp).
+// quatnav_bench_filters: the cases of QuaternionEKFPaper (7 states, paper 000) (bench_cases.hpp).
 #include "bench_cases.hpp"
 
 namespace qb {

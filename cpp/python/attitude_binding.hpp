@@ -1,5 +1,5 @@
-// The binding of the attitude filters, one template for all of them (QuaternionEKF,
-// QuaternionESKF, EulerEKF, MargFilter): parameters and state from their field declarations
+// The binding of the attitude filters, one template for all of them (QuaternionEKFPaper,
+// QuaternionEKF, EulerEKF, MargFilter): parameters and state from their field declarations
 // (fields_binding.hpp), the step methods every attitude filter has, and the batch runs with the
 // GIL released. A filter's own binding (bind_attitude.cpp, bind_eskf.cpp, bind_euler.cpp,
 // bind_marg_f64.cpp, bind_marg_f32.cpp) is a few lines on top.
@@ -66,7 +66,7 @@ py::tuple attitude_run(F& f, const carray<typename F::Scalar>& gyr, const carray
   }
   using Model = typename quatnav::AttitudeRtsModelOf<F>::type;
   if constexpr (std::is_void_v<Model>) {
-    throw py::value_error("smooth: this filter has no smoother (QuaternionEKF's error-state default and EulerEKF have)");
+    throw py::value_error("smooth: this filter has no smoother (QuaternionEKF and EulerEKF have)");
   } else {
     auto qs = empty<S>(n, 4), bs = empty<S>(n, 3), ss = empty<S>(n, N), as = empty<S>(n, 3);
     quatnav::AttitudeSmoothedOutput<Model> out{qs.mutable_data(), bs.mutable_data(), ss.mutable_data(),
@@ -163,7 +163,7 @@ template <class F> py::class_<F> bind_attitude_kf(py::module_& m, const char* ba
   return cls;
 }
 
-/// QuaternionEKF (7 states) and QuaternionESKF (6 states): bind_attitude_kf and the joint update.
+/// QuaternionEKFPaper (7 states) and QuaternionEKF (6 states): bind_attitude_kf and the joint update.
 template <class F> void bind_quaternion_kf(py::module_& m, const char* base) {
   using S = typename F::Scalar;
   using V3 = quatnav::Vec3<S>;

@@ -1,7 +1,7 @@
-// QuaternionEKF (paper 000's 7-state filter), the parameters it shares with QuaternionESKF and
-// those of the robustness parts, for float32 and float64 (attitude_binding.hpp; QuaternionESKF:
+// QuaternionEKFPaper (paper 000's 7-state filter), the parameters it shares with QuaternionEKF and
+// those of the robustness parts, for float32 and float64 (attitude_binding.hpp; QuaternionEKF:
 // bind_eskf.cpp, EulerEKF: bind_euler.cpp).
-#include <quatnav/attitude/quaternion_ekf.hpp>
+#include <quatnav/attitude/quaternion_ekf_paper.hpp>
 
 #include "attitude_binding.hpp"
 
@@ -18,9 +18,9 @@ template <class S> void bind_qekf(py::module_& m) {
   bind_fields_struct<quatnav::MagDisturbanceParams<S>>(m, cls_name<S>("MagDisturbanceParams"),
                                                        "The magnetometer part (attitude/parts/mag_disturbance.hpp).");
   bind_fields_struct<P>(m, cls_name<S>("QuaternionEKFParams"),
-                        "Parameters of QuaternionEKF and QuaternionESKF (quaternion_ekf.hpp).")
+                        "Parameters of QuaternionEKF and of its paper form QuaternionEKFPaper (quaternion_ekf_params.hpp).")
       .def_static("paper", &P::paper, "Parameters of the plain paper-000 filter (robustness off).");
-  bind_quaternion_kf<quatnav::QuaternionEKF<S>>(m, "QuaternionEKF");
+  bind_quaternion_kf<quatnav::QuaternionEKFPaper<S>>(m, "QuaternionEKFPaper");
 }
 
 }  // namespace

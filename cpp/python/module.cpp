@@ -6,8 +6,8 @@
 namespace quatnav_py {
 // One translation unit each (bind_*.cpp), so that the filters compile in parallel.
 void bind_math(py::module_& m);
-void bind_attitude(py::module_& m);  // QuaternionEKF
-void bind_eskf(py::module_& m);  // QuaternionESKF
+void bind_attitude(py::module_& m);  // QuaternionEKFPaper
+void bind_eskf(py::module_& m);  // QuaternionEKF
 void bind_euler(py::module_& m);
 void bind_strapdown(py::module_& m);
 void bind_marg_f64(py::module_& m);

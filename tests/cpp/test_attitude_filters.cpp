@@ -21,7 +21,7 @@ template <class T> bool bitwise_equal(const T& a, const T& b) {
 template <class T> bool same_state(const T& a, const T& b) { return quatnav_test::same_fields(a, b); }
 // The estimate: attitude, bias, covariance and the field reference (not the robustness bookkeeping,
 // which follows the input signal also through a rejected update).
-template <class S> bool same_estimate(const QuaternionEKFState<S>& a, const QuaternionEKFState<S>& b) {
+template <class S> bool same_estimate(const QuaternionEKFPaperState<S>& a, const QuaternionEKFPaperState<S>& b) {
   return bitwise_equal(a.q_nb, b.q_nb) && bitwise_equal(a.gyro_bias, b.gyro_bias) && bitwise_equal(a.P, b.P) &&
          quatnav_test::same_fields(a.mag, b.mag) && a.initialized == b.initialized;
 }
@@ -31,7 +31,7 @@ template <class S> bool same_estimate(const EulerEKFState<S>& a, const EulerEKFS
 }
 }  // namespace
 
-TEST(QuaternionEKF, TransitionJacobianMatchesFiniteDifferences) {
+TEST(QuaternionEKFPaper, TransitionJacobianMatchesFiniteDifferences) {
   const Quat<double> q = quat::normalized(Quat<double>(0.8, 0.3, -0.4, 0.2));
   const Vec3<double> b(0.01, -0.02, 0.03), w(1.5, -0.7, 2.2);
   const double dt = 0.01;
@@ -55,7 +55,7 @@ TEST(QuaternionEKF, TransitionJacobianMatchesFiniteDifferences) {
   EXPECT_TRUE((Phi.bottomRightCorner<3, 3>().isIdentity(0.0)));
 }
 
-TEST(QuaternionEKF, TransitionJacobianReducesToPaperEq10) {
+TEST(QuaternionEKFPaper, TransitionJacobianReducesToPaperEq10) {
   // eq. (10): Phi_qq = I + T/2 Omega(w~), Phi_qb = T/2 * [[q1 q2 q3], [-q0 q3 -q2], [-q3 -q0 q1], [q2 -q1 -q0]].
   const Quat<double> q = quat::normalized(Quat<double>(0.8, 0.3, -0.4, 0.2));
   const Vec3<double> b(0.01, -0.02, 0.03), w(1.5, -0.7, 2.2);
@@ -73,7 +73,7 @@ TEST(QuaternionEKF, TransitionJacobianReducesToPaperEq10) {
   }
 }
 
-TEST(QuaternionEKF, MeasurementJacobianMatchesFiniteDifferences) {
+TEST(QuaternionEKFPaper, MeasurementJacobianMatchesFiniteDifferences) {
   const Quat<double> q = quat::normalized(Quat<double>(0.5, -0.3, 0.6, 0.4));
   for (auto r : {Vec2<double>(0.0, -1.0), Vec2<double>(0.45, 0.89)}) {
     const Mat34<double> H = detail::qekf_H(q, r[0], r[1]);
@@ -139,9 +139,9 @@ template <class F> void expect_no_heap_in_steps() {
   EXPECT_TRUE(f.quat().allFinite());
 }
 
-TEST(NoHeap, QuaternionEKF) {
-  expect_no_heap_in_steps<QuaternionEKF<double>>();
-  expect_no_heap_in_steps<QuaternionEKF<float>>();
+TEST(NoHeap, QuaternionEKFPaper) {
+  expect_no_heap_in_steps<QuaternionEKFPaper<double>>();
+  expect_no_heap_in_steps<QuaternionEKFPaper<float>>();
 }
 TEST(NoHeap, EulerEKF) {
   expect_no_heap_in_steps<EulerEKF<double>>();
@@ -149,7 +149,7 @@ TEST(NoHeap, EulerEKF) {
 }
 
 TEST(NoHeap, BatchRun) {
-  QuaternionEKF<double> f;
+  QuaternionEKFPaper<double> f;
   const int n = 50;
   std::vector<double> gyr(3 * n, 0.01), acc(3 * n), mag(3 * n), dt(n, 0.01), q(4 * n), b(3 * n), s(7 * n), as(3 * n);
   std::vector<std::uint32_t> fl(n);
@@ -195,8 +195,8 @@ template <class F> void expect_bad_input_leaves_state() {
 }
 
 TEST(BadInput, QuaternionEKFStateUntouched) {
-  expect_bad_input_leaves_state<QuaternionEKF<double>>();
-  expect_bad_input_leaves_state<QuaternionEKF<float>>();
+  expect_bad_input_leaves_state<QuaternionEKFPaper<double>>();
+  expect_bad_input_leaves_state<QuaternionEKFPaper<float>>();
 }
 TEST(BadInput, EulerEKFStateUntouched) {
   expect_bad_input_leaves_state<EulerEKF<double>>();
@@ -204,7 +204,7 @@ TEST(BadInput, EulerEKFStateUntouched) {
 }
 
 TEST(BadInput, QuaternionEKFRefusesMalformedState) {
-  QuaternionEKF<double> f;
+  QuaternionEKFPaper<double> f;
   auto s = f.state();
   s.q_nb = Quat<double>(2, 0, 0, 0);
   EXPECT_EQ(f.set_state(s), Status::InvalidArgument);
@@ -238,17 +238,17 @@ template <class F> void expect_static_convergence() {
 }
 
 TEST(Static, QuaternionEKFConverges) {
-  expect_static_convergence<QuaternionEKF<double>>();
-  expect_static_convergence<QuaternionEKF<float>>();
+  expect_static_convergence<QuaternionEKFPaper<double>>();
+  expect_static_convergence<QuaternionEKFPaper<float>>();
 }
 TEST(Static, EulerEKFConverges) {
   expect_static_convergence<EulerEKF<double>>();
   expect_static_convergence<EulerEKF<float>>();
 }
 
-TEST(QuaternionEKF, JointUpdateEqualsPaperStackedForm) {
+TEST(QuaternionEKFPaper, JointUpdateEqualsPaperStackedForm) {
   // update_acc_mag is eq. (11)-(12) as one 6-vector; it must accept and move toward the truth.
-  QuaternionEKF<double> f;
+  QuaternionEKFPaper<double> f;
   const Quat<double> qt = quat::from_euler(0.1, 0.2, 0.3);
   const Vec3<double> acc = quat::rotate_inv(qt, Vec3<double>(0, 0, -9.81)), mag = quat::rotate_inv(qt, Vec3<double>(25, 0, 43));
   ASSERT_EQ(f.initialize(Vec3<double>(0, 0, -9.81), Vec3<double>(25, 0, 43)), Status::Ok);

@@ -1,4 +1,4 @@
-// EulerEKF and MargFilter compose the robustness parts (attitude/parts/) as QuaternionESKF does:
+// EulerEKF and MargFilter compose the robustness parts (attitude/parts/) as QuaternionEKF does:
 // at rest with a biased gyro the bias is learned (EulerEKF: the zero-rate measurement;
 // MargFilter: the low-passed gyro), a magnetic disturbance is flagged and does not turn the
 // heading, a linear-acceleration burst is rejected; paper() switches the parts off; float and

@@ -1,4 +1,4 @@
-// The attitude filters' smoothers (attitude/smoother.hpp): QuaternionESKF and EulerEKF, float and
+// The attitude filters' smoothers (attitude/smoother.hpp): QuaternionEKF and EulerEKF, float and
 // double, on a simulated rotation: the smoothed attitude error below the forward one, every
 // smoothed sigma at most the forward one, the last sample the forward estimate, the same bits
 // whatever the checkpoint interval, no heap in the backward pass.
@@ -107,9 +107,9 @@ template <class Filter> void check(double rel, double ratio) {
 }  // namespace
 
 // Measured on this rotation (RMS attitude error after 3 s, smoothed against forward; the ratio of
-// the summed squares in brackets): QuaternionESKF 0.82 against 1.09 mrad (0.57), EulerEKF 1.98
+// the summed squares in brackets): QuaternionEKF 0.82 against 1.09 mrad (0.57), EulerEKF 1.98
 // against 5.36 mrad (0.14), float and double alike.
-TEST(AttitudeSmoother, QuaternionESKF) { check<QuaternionESKF<double>>(1e-9, 0.75); }
-TEST(AttitudeSmoother, QuaternionESKFFloat) { check<QuaternionESKF<float>>(1e-4, 0.75); }
+TEST(AttitudeSmoother, QuaternionEKF) { check<QuaternionEKF<double>>(1e-9, 0.75); }
+TEST(AttitudeSmoother, QuaternionEKFFloat) { check<QuaternionEKF<float>>(1e-4, 0.75); }
 TEST(AttitudeSmoother, EulerEKF) { check<EulerEKF<double>>(1e-9, 0.3); }
 TEST(AttitudeSmoother, EulerEKFFloat) { check<EulerEKF<float>>(1e-4, 0.3); }

@@ -1,4 +1,4 @@
-// QuaternionEKF with a declination: the estimate is the magnetic-frame estimate turned by the
+// QuaternionEKFPaper with a declination: the estimate is the magnetic-frame estimate turned by the
 // declination about down, sample by sample, in float and double, for the heading-only, the
 // paper's 3-row and the joint acc+mag updates; no heap in any step.
 #define EIGEN_RUNTIME_NO_MALLOC
@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include <quatnav/attitude/quaternion_ekf.hpp>
+#include <quatnav/attitude/quaternion_ekf_paper.hpp>
 
 using namespace quatnav;
 
@@ -24,7 +24,7 @@ template <class S> void run_pair(MagMode mode, S decl, S& dq_max, S& db_max) {
   QuaternionEKFParams<S> p0 = mode == MagMode::HeadingOnly ? QuaternionEKFParams<S>() : QuaternionEKFParams<S>::paper();
   QuaternionEKFParams<S> p1 = p0;
   p1.declination = decl;
-  QuaternionEKF<S> f0(p0), f1(p1);
+  QuaternionEKFPaper<S> f0(p0), f1(p1);
   const S dip = S(1.0472);
   const Vec3<S> m_mag(std::cos(dip), S(0), std::sin(dip));  // the field in the magnetic frame
   // The body's true attitude in the magnetic frame; the samples do not depend on the frame.

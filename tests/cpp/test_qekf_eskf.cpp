@@ -1,6 +1,6 @@
-// QuaternionESKF (the 6-state error-state form of paper 000's filter): Jacobians against finite
+// QuaternionEKF (the 6-state error-state form of paper 000's filter): Jacobians against finite
 // differences, no heap in any step, bad input leaves the state untouched bit for bit, agreement
-// with the 7-state QuaternionEKF on clean data, the startup gyro-bias case, NEES on noisy runs.
+// with the 7-state QuaternionEKFPaper on clean data, the startup gyro-bias case, NEES on noisy runs.
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
@@ -12,8 +12,8 @@
 #include <random>
 
 #include <quatnav/attitude/batch.hpp>
-#include <quatnav/attitude/quaternion_eskf.hpp>
 #include <quatnav/attitude/quaternion_ekf.hpp>
+#include <quatnav/attitude/quaternion_ekf_paper.hpp>
 
 #include "consistency.hpp"
 #include "same_fields.hpp"
@@ -167,7 +167,7 @@ TYPED_TEST(Eskf, NoHeapInAnyStepAndBatch) {
       acc[3 * k + i] = S(c.acc[k][i]);
       mag[3 * k + i] = S(c.mag[k][i]);
     }
-  QuaternionESKF<S> f;
+  QuaternionEKF<S> f;
   Eigen::internal::set_is_malloc_allowed(false);
   run_attitude_batch(f, gyr.data(), acc.data(), mag.data(), dt.data(), std::size_t(n), qo.data(),
                      static_cast<S*>(nullptr), so.data(), ao.data(), fl.data());
@@ -181,7 +181,7 @@ TYPED_TEST(Eskf, BadInputLeavesStateUntouched) {
   auto p = QuaternionEKFParams<S>();
   p.acc.acc_reject = S(2);
   p.mag.mag_settle_time = S(0.2);
-  QuaternionESKF<S> f(p);
+  QuaternionEKF<S> f(p);
   const Clean c = clean_rotation(1.0, Vec3<double>(0.01, -0.02, 0.015));
   f.initialize(c.acc[0].cast<S>(), c.mag[0].cast<S>());
   for (int k = 1; k < int(c.q.size()); ++k) {
@@ -207,7 +207,7 @@ TYPED_TEST(Eskf, BadInputLeavesStateUntouched) {
   EXPECT_TRUE(quatnav_test::same_fields(before, after));
 }
 
-// Covariance health (the top of quaternion_eskf.hpp): after every time update P - cov_floor I is
+// Covariance health (the top of quaternion_ekf.hpp): after every time update P - cov_floor I is
 // positive definite, whether the filter proved it or tested it; a covariance from outside
 // (set_state, reset) that is indefinite is floored by the next time update; and a filter restored
 // from state() (which tests where the original proved) gives the same bits.
@@ -228,8 +228,8 @@ TYPED_TEST(Eskf, CovarianceHealthyAfterEveryTimeUpdate) {
     auto p = QuaternionEKFParams<S>();
     p.acc_sigma = S(sigma);
     p.mag_sigma = S(sigma);
-    QuaternionESKF<S> f(p), restored(p);
-    const auto healthy = [&](const QuaternionESKF<S>& x) {
+    QuaternionEKF<S> f(p), restored(p);
+    const auto healthy = [&](const QuaternionEKF<S>& x) {
       Mat<S, 6, 6> shifted = x.covariance();
       shifted.diagonal().array() -= p.cov_floor;
       return detail::has_cholesky<S, 6>(shifted);
@@ -249,7 +249,7 @@ TYPED_TEST(Eskf, CovarianceHealthyAfterEveryTimeUpdate) {
         ASSERT_FALSE(healthy(f));
       }
       if (k == 3 * n / 4) ASSERT_EQ(restored.set_state(f.state()), Status::Ok);
-      for (QuaternionESKF<S>* x : {&f, &restored}) {
+      for (QuaternionEKF<S>* x : {&f, &restored}) {
         if (k < 3 * n / 4 && x == &restored) continue;
         ASSERT_EQ(x->predict(gyr[k].cast<S>(), S(c.dt)), Status::Ok);
         unhealthy += x == &f && !healthy(*x);
@@ -274,7 +274,7 @@ TYPED_TEST(Eskf, HeadingOnlyMagnetometerNeverTilts) {
   using S = TypeParam;
   auto p = QuaternionEKFParams<S>::paper();
   p.mag_heading_only = true;
-  QuaternionESKF<S> f(p);
+  QuaternionEKF<S> f(p);
   const Quat<S> q = quat::from_euler<S>(S(0.3), S(-0.2), S(1.0));
   const Vec3<S> acc = quat::rotate_inv(q, Vec3<S>(S(0), S(0), S(-9.81)));
   const Vec3<S> mag = quat::rotate_inv(q, Vec3<S>(S(20), S(0), S(40)));
@@ -292,19 +292,19 @@ TYPED_TEST(Eskf, AccelerometerTurnsNeitherHeadingNorVerticalBias) {
   // A 6D run (no heading aid) leaves P with strong heading-bias correlations; an accelerometer
   // sample whose direction is off by 3 deg then corrects the tilt and the horizontal bias, but
   // neither the heading nor the earth-vertical bias (the Schmidt-Kalman update of the top of
-  // quaternion_eskf.hpp), and its NIS and innovation covariance are the optimal update's.
+  // quaternion_ekf.hpp), and its NIS and innovation covariance are the optimal update's.
   using S = TypeParam;
   const Clean c = clean_rotation(20.0, Vec3<double>(0.01, -0.02, 0.015));
   auto p = QuaternionEKFParams<S>::paper();  // no low-pass: the sample is used as it is
   p.acc_tilt_only = true;
-  QuaternionESKF<S> f(p);
+  QuaternionEKF<S> f(p);
   ASSERT_EQ(f.initialize(c.acc[0].cast<S>()), Status::Ok);
   for (std::size_t k = 1; k < c.q.size(); ++k) {
     f.predict(c.gyr[k].cast<S>(), S(c.dt));
     f.update_acc(c.acc[k].cast<S>());
   }
   p.acc_tilt_only = false;  // the same state with the paper's optimal gain
-  QuaternionESKF<S> optimal(p);
+  QuaternionEKF<S> optimal(p);
   ASSERT_EQ(optimal.set_state(f.state()), Status::Ok);
   const Quat<S> q0 = f.quat();
   const Vec3<S> b0 = f.bias();
@@ -341,8 +341,8 @@ TYPED_TEST(Eskf, AccelerometerTurnsNeitherHeadingNorVerticalBias) {
 TYPED_TEST(Eskf, PaperParametersAgreeWithSevenStateFilter) {
   using S = TypeParam;
   const Clean c = clean_rotation(10.0, Vec3<double>(0.01, -0.02, 0.015));
-  QuaternionESKF<S> e(QuaternionEKFParams<S>::paper());
-  QuaternionEKF<S> f(QuaternionEKFParams<S>::paper());
+  QuaternionEKF<S> e(QuaternionEKFParams<S>::paper());
+  QuaternionEKFPaper<S> f(QuaternionEKFParams<S>::paper());
   const double re = rmse_second_half_deg(e, c), rf = rmse_second_half_deg(f, c);
   EXPECT_LT(re, 0.2);
   EXPECT_LT(std::abs(re - rf), 0.05);
@@ -353,7 +353,7 @@ TYPED_TEST(Eskf, StartupBiasWithDefaults) {
   // 30 s clean rotation with a constant gyro bias: below 0.5 deg over the second half.
   using S = TypeParam;
   const Clean c = clean_rotation(30.0, Vec3<double>(0.01, -0.02, 0.015));
-  QuaternionESKF<S> e;
+  QuaternionEKF<S> e;
   EXPECT_LT(rmse_second_half_deg(e, c), 0.5);
   EXPECT_LT((e.bias().template cast<double>() - Vec3<double>(0.01, -0.02, 0.015)).norm(), 1e-3);
 }
@@ -382,7 +382,7 @@ std::vector<double> eskf_nees_per_run(int runs) {
     auto randn3 = [&] { return Vec3<double>(nd(rng), nd(rng), nd(rng)); };
     Quat<double> q = quat::from_euler<double>(0.1, -0.2, 0.3);
     Vec3<double> b = truth.init_gyro_bias_sigma * randn3();
-    QuaternionESKF<double> f(p);
+    QuaternionEKF<double> f(p);
     const Vec3<double> g_n(0, 0, -1), m_n = Vec3<double>(0.5, 0, 0.8).normalized();
     // start from the truth perturbed by the initial covariance
     Mat<double, 6, 6> P0 = Mat<double, 6, 6>::Zero();

@@ -1,4 +1,4 @@
-// Robustness options of QuaternionEKF: no heap in any step with every option on, bad input
+// Robustness options of QuaternionEKFPaper: no heap in any step with every option on, bad input
 // leaves the state untouched, the heading-only magnetometer update never tilts, rest flags.
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <limits>
 
 #include <quatnav/attitude/batch.hpp>
-#include <quatnav/attitude/quaternion_ekf.hpp>
+#include <quatnav/attitude/quaternion_ekf_paper.hpp>
 
 #include "same_fields.hpp"
 
@@ -42,7 +42,7 @@ template <class S> void samples(int k, const Quat<S>& q, Vec3<S>& acc, Vec3<S>& 
 
 TYPED_TEST(QekfRobust, NoHeapInAnyStepWithEveryOption) {
   using S = TypeParam;
-  QuaternionEKF<S> f(all_on<S>());
+  QuaternionEKFPaper<S> f(all_on<S>());
   Quat<S> q = quat::from_euler<S>(S(0.1), S(-0.2), S(0.5));
   Vec3<S> acc, mag;
   samples<S>(0, q, acc, mag);
@@ -82,7 +82,7 @@ TYPED_TEST(QekfRobust, BatchRunNoHeap) {
     }
     dt[k] = S(0.01);
   }
-  QuaternionEKF<S> f;
+  QuaternionEKFPaper<S> f;
   Eigen::internal::set_is_malloc_allowed(false);
   run_attitude_batch(f, gyr, acc, mag, dt, n, qo, static_cast<S*>(nullptr), static_cast<S*>(nullptr),
                      static_cast<S*>(nullptr), fl);
@@ -94,7 +94,7 @@ TYPED_TEST(QekfRobust, BatchRunNoHeap) {
 
 TYPED_TEST(QekfRobust, BadInputLeavesStateUntouched) {
   using S = TypeParam;
-  QuaternionEKF<S> f(all_on<S>());
+  QuaternionEKFPaper<S> f(all_on<S>());
   Quat<S> q = quat::from_euler<S>(S(0.1), S(-0.2), S(0.5));
   Vec3<S> acc, mag;
   samples<S>(0, q, acc, mag);
@@ -120,7 +120,7 @@ TYPED_TEST(QekfRobust, HeadingOnlyMagnetometerNeverTilts) {
   using S = TypeParam;
   auto p = QuaternionEKFParams<S>::paper();
   p.mag_heading_only = true;
-  QuaternionEKF<S> f(p);
+  QuaternionEKFPaper<S> f(p);
   const Quat<S> q = quat::from_euler<S>(S(0.3), S(-0.2), S(1.0));
   Vec3<S> acc, mag;
   samples<S>(0, q, acc, mag);
@@ -136,7 +136,7 @@ TYPED_TEST(QekfRobust, HeadingOnlyMagnetometerNeverTilts) {
 
 TYPED_TEST(QekfRobust, DisturbedFieldRejectedAndFlagged) {
   using S = TypeParam;
-  QuaternionEKF<S> f;  // defaults: norm tolerance 5 %
+  QuaternionEKFPaper<S> f;  // defaults: norm tolerance 5 %
   const Quat<S> q = quat::identity<S>();
   Vec3<S> acc, mag;
   samples<S>(0, q, acc, mag);

@@ -137,7 +137,7 @@ template <class P> std::uint32_t& mag_ref_samples(P& p) {
   }
 }
 
-/// The EKF attitude filters (QuaternionEKF, EulerEKF) share their operations.
+/// The EKF attitude filters (QuaternionEKFPaper, EulerEKF) share their operations.
 template <class F> struct AttitudeOps {
   using S = typename F::Scalar;
   static typename F::Params params(Reader& r) {
@@ -182,10 +182,10 @@ template <class F> struct AttitudeOps {
   }
 };
 
-template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<QuaternionEKF<S>> {
-  using F = QuaternionEKF<S>;
+template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : AttitudeOps<QuaternionEKFPaper<S>> {
+  using F = QuaternionEKFPaper<S>;
   using State = typename F::State;
-  static constexpr const char* name = "QuaternionEKF";
+  static constexpr const char* name = "QuaternionEKFPaper";
   static bool same(const State& a, const State& b) {
     return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
            same_mag(a.mag.ref, b.mag.ref) && a.initialized == b.initialized;
@@ -634,8 +634,8 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
 template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
   Reader r(data, size);
   switch (r.byte() % 16) {
-    case 0: return run_one<QuaternionEKF<double>>(r, fail);
-    case 1: return run_one<QuaternionEKF<float>>(r, fail);
+    case 0: return run_one<QuaternionEKFPaper<double>>(r, fail);
+    case 1: return run_one<QuaternionEKFPaper<float>>(r, fail);
     case 2: return run_one<EulerEKF<double>>(r, fail);
     case 3: return run_one<EulerEKF<float>>(r, fail);
     case 4: return run_one<MargFilter<double>>(r, fail);

@@ -263,7 +263,7 @@ def test_table_defaults_equal_the_cpp_defaults(name):
 
 #: Filter -> its C++ parameter struct and (one of) its C++ classes, as bound in quatnav._core.
 _CORE_CLASSES = {"NavFilter13": ("NavFilter13Params", "NavFilter13Ekf"),
-                 "QuaternionEKF": ("QuaternionEKFParams", "QuaternionESKF"),
+                 "QuaternionEKF": ("QuaternionEKFParams", "QuaternionEKF"),
                  "QuaternionEKF paper": ("QuaternionEKFParams", "QuaternionEKF"),
                  "EulerEKF": ("EulerEKFParams", "EulerEKF"),
                  "MargFilter": ("MargFilterParams", "MargFilter"),

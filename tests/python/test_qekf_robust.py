@@ -175,7 +175,7 @@ def test_cpp_matches_reference_with_robustness(extra):
         kw.pop("paper")  # the reference's and the wrapper's defaults are the robust ones
     c = quatnav.QuaternionEKF(**kw).run(gyr, acc, mag, dt=dt)
     # the default is the 6-state error-state filter, paper=True the 7-state filter of paper 000
-    twin = reference.QuaternionEKF if "paper" in extra else reference.QuaternionESKF
+    twin = reference.QuaternionEKF if "paper" in extra else reference.QuaternionEKF
     r = twin(**kw).run(gyr, acc, mag, dt=dt)
     np.testing.assert_allclose(c.quat, r.quat, atol=1e-9)
     np.testing.assert_allclose(c.bias, r.bias, atol=1e-9)
@@ -289,7 +289,7 @@ def test_default_is_the_error_state_filter_and_paper_the_seven_state_one():
 
 def test_error_state_twin_matches_step_by_step_with_joint_update():
     q, gyr, acc, mag, dt = _clean_rotation((0.01, -0.02, 0.015), seconds=2.0)
-    f, g = quatnav.QuaternionEKF(), reference.QuaternionESKF()
+    f, g = quatnav.QuaternionEKF(), reference.QuaternionEKF()
     f.initialize(acc[0], mag[0])
     g.initialize(acc[0], mag[0])
     for k in range(1, 300):

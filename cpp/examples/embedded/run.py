@@ -63,8 +63,8 @@ INCLUDE = ROOT / "cpp" / "include"
 # host). Attitude filters whose Python class has the same name are also run through
 # quatnav.<name>(...).run on the same samples, to tie the host double run to the library.
 FILTERS = [
-    ("QuaternionEKF", "marg", "qn_fw::AttitudeAdapter<quatnav::QuaternionESKF<QN_SCALAR>>"),  # the default: 6-state error state
-    ("QuaternionEKF7", "marg", "qn_fw::AttitudeAdapter<quatnav::QuaternionEKF<QN_SCALAR>>"),  # paper 000's 7 states
+    ("QuaternionEKF", "marg", "qn_fw::AttitudeAdapter<quatnav::QuaternionEKF<QN_SCALAR>>"),  # the default: 6-state error state
+    ("QuaternionEKFPaper", "marg", "qn_fw::AttitudeAdapter<quatnav::QuaternionEKFPaper<QN_SCALAR>>"),  # paper 000's 7 states
     ("EulerEKF", "marg", "qn_fw::AttitudeAdapter<quatnav::EulerEKF<QN_SCALAR>>"),
     ("MargFilter", "marg", "qn_fw::MargAdapter<QN_SCALAR>"),
     ("Strapdown", "nav", "qn_fw::StrapdownAdapter<QN_SCALAR>"),

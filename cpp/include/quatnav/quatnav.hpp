@@ -1,7 +1,7 @@
 // quatnav: every public header.
 //
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
-//   attitude/  QuaternionEKF, EulerEKF, MargFilter, their shared initialization, batch loop and
+//   attitude/  QuaternionEKF (and its paper form), EulerEKF, MargFilter, their shared initialization, batch loop and
 //              smoothers, and parts/, the robustness they compose (rest detection, accelerometer,
 //              magnetometer)
 //   nav/       strapdown, NavFilter13, GpsInsFilter, their batch loops and smoothers
@@ -24,8 +24,9 @@
 #include "attitude/parts/rest.hpp"
 #include "attitude/parts/acc_filter.hpp"
 #include "attitude/parts/mag_disturbance.hpp"
+#include "attitude/quaternion_ekf_params.hpp"
+#include "attitude/quaternion_ekf_paper.hpp"
 #include "attitude/quaternion_ekf.hpp"
-#include "attitude/quaternion_eskf.hpp"
 #include "attitude/euler_ekf.hpp"
 #include "attitude/marg_filter.hpp"
 #include "attitude/batch.hpp"

@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'QuaternionESKF_f32', 'QuaternionESKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'first_zero_norm_row', 'flag_table', 'gnss_solution_names', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFPaper_f32', 'QuaternionEKFPaper_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'earth', 'first_zero_norm_row', 'flag_table', 'gnss_solution_names', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -257,7 +257,7 @@ class MagDisturbanceParams_f64:
         ...
 class QuaternionEKFParams_f64:
     """
-    Parameters of QuaternionEKF and QuaternionESKF (quaternion_ekf.hpp).
+    Parameters of QuaternionEKF and of its paper form QuaternionEKFPaper (quaternion_ekf_params.hpp).
     """
     @staticmethod
     def fields() -> list:
@@ -343,6 +343,14 @@ class QuaternionEKFParams_f64:
         """
     @acc_sigma.setter
     def acc_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_tilt_only(self) -> bool:
+        """
+        the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain) [-]
+        """
+    @acc_tilt_only.setter
+    def acc_tilt_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
@@ -536,7 +544,7 @@ class QuaternionEKFParams_f64:
     @rest_time.setter
     def rest_time(self, arg1: typing.Any) -> None:
         ...
-class QuaternionEKF_f64:
+class QuaternionEKFPaper_f64:
     @staticmethod
     def state_fields() -> list:
         """
@@ -846,7 +854,7 @@ class MagDisturbanceParams_f32:
         ...
 class QuaternionEKFParams_f32:
     """
-    Parameters of QuaternionEKF and QuaternionESKF (quaternion_ekf.hpp).
+    Parameters of QuaternionEKF and of its paper form QuaternionEKFPaper (quaternion_ekf_params.hpp).
     """
     @staticmethod
     def fields() -> list:
@@ -932,6 +940,14 @@ class QuaternionEKFParams_f32:
         """
     @acc_sigma.setter
     def acc_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_tilt_only(self) -> bool:
+        """
+        the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain) [-]
+        """
+    @acc_tilt_only.setter
+    def acc_tilt_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
@@ -1125,7 +1141,7 @@ class QuaternionEKFParams_f32:
     @rest_time.setter
     def rest_time(self, arg1: typing.Any) -> None:
         ...
-class QuaternionEKF_f32:
+class QuaternionEKFPaper_f32:
     @staticmethod
     def state_fields() -> list:
         """
@@ -1187,7 +1203,7 @@ class QuaternionEKF_f32:
         """
         q_nb [w, x, y, z]
         """
-class QuaternionESKF_f64:
+class QuaternionEKF_f64:
     @staticmethod
     def state_fields() -> list:
         """
@@ -1249,7 +1265,7 @@ class QuaternionESKF_f64:
         """
         q_nb [w, x, y, z]
         """
-class QuaternionESKF_f32:
+class QuaternionEKF_f32:
     @staticmethod
     def state_fields() -> list:
         """
@@ -1391,6 +1407,14 @@ class EulerEKFParams_f64:
         """
     @acc_sigma.setter
     def acc_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_tilt_only(self) -> bool:
+        """
+        the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain) [-]
+        """
+    @acc_tilt_only.setter
+    def acc_tilt_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
@@ -1714,6 +1738,14 @@ class EulerEKFParams_f32:
         """
     @acc_sigma.setter
     def acc_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_tilt_only(self) -> bool:
+        """
+        the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain) [-]
+        """
+    @acc_tilt_only.setter
+    def acc_tilt_only(self, arg1: typing.Any) -> None:
         ...
     @property
     def cov_floor(self) -> float:
@@ -3967,6 +3999,14 @@ class GpsInsParams_f64:
     def nhc_auto_limit(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_auto_rate(self) -> float:
+        """
+        non-holonomic evidence: largest body yaw rate at which the IMU's mounting (its mean lateral and vertical velocity per forward speed) is learned [rad/s]
+        """
+    @nhc_auto_rate.setter
+    def nhc_auto_rate(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_auto_speed(self) -> float:
         """
         non-holonomic evidence: slowest speed that counts [m/s]
@@ -3981,6 +4021,22 @@ class GpsInsParams_f64:
         """
     @nhc_auto_time.setter
     def nhc_auto_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_mount_tau_pitch(self) -> float:
+        """
+        time constant over which the IMU's mounting in pitch (vertical velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned) [s]
+        """
+    @nhc_mount_tau_pitch.setter
+    def nhc_mount_tau_pitch(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_mount_tau_yaw(self) -> float:
+        """
+        time constant over which the IMU's mounting in yaw (lateral velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned) [s]
+        """
+    @nhc_mount_tau_yaw.setter
+    def nhc_mount_tau_yaw(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_sigma(self) -> float:
@@ -4821,6 +4877,14 @@ class GpsInsParams_f32:
     def nhc_auto_limit(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_auto_rate(self) -> float:
+        """
+        non-holonomic evidence: largest body yaw rate at which the IMU's mounting (its mean lateral and vertical velocity per forward speed) is learned [rad/s]
+        """
+    @nhc_auto_rate.setter
+    def nhc_auto_rate(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_auto_speed(self) -> float:
         """
         non-holonomic evidence: slowest speed that counts [m/s]
@@ -4835,6 +4899,22 @@ class GpsInsParams_f32:
         """
     @nhc_auto_time.setter
     def nhc_auto_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_mount_tau_pitch(self) -> float:
+        """
+        time constant over which the IMU's mounting in pitch (vertical velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned) [s]
+        """
+    @nhc_mount_tau_pitch.setter
+    def nhc_mount_tau_pitch(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_mount_tau_yaw(self) -> float:
+        """
+        time constant over which the IMU's mounting in yaw (lateral velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned) [s]
+        """
+    @nhc_mount_tau_yaw.setter
+    def nhc_mount_tau_yaw(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_sigma(self) -> float:

@@ -392,7 +392,7 @@ def _ahrs(name: str):
 
 def _qekf_model(d: MargData):
     """Quaternion model of paper 000 from quatnav.reference, for the filterpy set-ups."""
-    from ..reference import QuaternionEKF7 as RefQEKF
+    from ..reference import QuaternionEKFPaper as RefQEKF
     from ..reference.attitude import attitude_from_acc_mag
     ref = RefQEKF()  # the 7-state [q, b] filter with the default noise values
     p = ref.p

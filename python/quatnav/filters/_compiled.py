@@ -19,8 +19,8 @@ def _table() -> dict:
     c = importlib.import_module("quatnav._core")
     return {
         # attitude
-        "QuaternionEKF": (c.QuaternionESKF_f64, c.QuaternionESKF_f32),
-        "QuaternionEKFPaper": (c.QuaternionEKF_f64, c.QuaternionEKF_f32),
+        "QuaternionEKF": (c.QuaternionEKF_f64, c.QuaternionEKF_f32),
+        "QuaternionEKFPaper": (c.QuaternionEKFPaper_f64, c.QuaternionEKFPaper_f32),
         "QuaternionEKFParams": (c.QuaternionEKFParams_f64, c.QuaternionEKFParams_f32),
         "EulerEKF": (c.EulerEKF_f64, c.EulerEKF_f32),
         "EulerEKFParams": (c.EulerEKFParams_f64, c.EulerEKFParams_f32),

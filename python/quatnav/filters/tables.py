@@ -236,7 +236,7 @@ def _mag_part(ref_samples=100, norm_tol=0.05, dip_tol=0.05, settle_time=0.0, ref
 
 
 def _acc_tilt_only():
-    """The accelerometer's Schmidt-Kalman update (quaternion_eskf.hpp, euler_ekf.hpp)."""
+    """The accelerometer's Schmidt-Kalman update (quaternion_ekf.hpp, euler_ekf.hpp)."""
     return _p("acc_tilt_only", True, "-", "the accelerometer corrects the tilt and the horizontal gyro bias only "
               "(false: the optimal gain)", "bool")
 

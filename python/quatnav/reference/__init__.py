@@ -4,12 +4,12 @@ They use the same method names as the C++-backed classes and the same algorithm 
 so tests run both on the same inputs and compare them (to ~1e-9 in double precision).
 """
 from .kalman import kalman_correct
-from .attitude import EulerEKF, QuaternionEKF, QuaternionEKF7, QuaternionESKF
+from .attitude import EulerEKF, QuaternionEKF, QuaternionEKFPaper
 from .marg import MargFilter
 from .nav13 import NavFilter13
 from .gpsins import GpsInsFilter
 
-__all__ = ["kalman_correct", "QuaternionEKF", "QuaternionEKF7", "QuaternionESKF", "EulerEKF"]
+__all__ = ["kalman_correct", "QuaternionEKF", "QuaternionEKFPaper", "EulerEKF"]
 __all__ += ["MargFilter"]
 __all__ += ["NavFilter13"]
 __all__ += ["GpsInsFilter"]

@@ -111,7 +111,7 @@ class _Base:
         initialize at the first sample, then predict, update_acc and update_mag (an all-NaN
         magnetometer row: no sample). Times as ``t`` (timestamps) or ``dt`` (a step or one per
         sample). Returns ``t``, ``quat``, ``bias``, ``sigma`` and the parts' ``flags``.
-        ``smooth=True`` (QuaternionESKF, EulerEKF: ``rts_model``): the smoothed estimates
+        ``smooth=True`` (QuaternionEKF, EulerEKF: ``rts_model``): the smoothed estimates
         (:func:`quatnav.reference.attitude_smoother.run_smoothed`), the forward ones in ``forward``.
         ``observer.after_predict(k, self)`` and ``after_sample(k, self)`` as in batch.hpp."""
         gyr, acc = np.asarray(gyr, float), np.asarray(acc, float)
@@ -163,7 +163,7 @@ FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = FLAGS["acc_rejected"], FLAG
 
 
 class QuaternionEKF(_Base):
-    """Quaternion EKF of paper 000 in numpy, with the robustness options of quaternion_ekf.hpp.
+    """Quaternion EKF of paper 000 in numpy, with the robustness options of quaternion_ekf_paper.hpp.
 
     State x = [q0 q1 q2 q3 bx by bz]. ``QuaternionEKF(paper=True)`` is the plain paper filter.
     """
@@ -180,10 +180,10 @@ class QuaternionEKF(_Base):
 
     def __new__(cls, paper=False, **params):
         # As the public QuaternionEKF: the default is the 6-state error-state filter
-        # (QuaternionESKF), paper=True the 7-state filter of paper 000 (QuaternionEKF7 with the
+        # (_QuaternionEKFErrorState), paper=True the 7-state filter of paper 000 (QuaternionEKFPaper with the
         # robust defaults).
         if cls is QuaternionEKF and not paper:
-            return super().__new__(QuaternionESKF)
+            return super().__new__(_QuaternionEKFErrorState)
         return super().__new__(cls)
 
     def __init__(self, paper=False, **params):
@@ -446,13 +446,13 @@ class QuaternionEKF(_Base):
         return res
 
 
-class QuaternionEKF7(QuaternionEKF):
+class QuaternionEKFPaper(QuaternionEKF):
     """The 7-state filter [q, b] of paper 000 whatever ``paper`` says (the robust defaults
     without ``paper=True``); ``QuaternionEKF(paper=True)`` is this class."""
 
 
-class QuaternionESKF(QuaternionEKF):
-    """The 6-state error-state form of :class:`QuaternionEKF` (quaternion_eskf.hpp), in numpy.
+class _QuaternionEKFErrorState(QuaternionEKF):
+    """The 6-state error-state form of :class:`QuaternionEKF` (quaternion_ekf.hpp), in numpy.
 
     Nominal state [q, b]; covariance of dx = [dtheta, db] with q_true = q * exp(dtheta)
     (dtheta in the body frame). Same parameters, measurements and robustness steps.
@@ -509,7 +509,7 @@ class QuaternionESKF(QuaternionEKF):
         return np.array([rx, ry, rz])
 
     def heading_free(self, u, rows):
-        """The gain of the accelerometer rows (quaternion_eskf.hpp): the first ``rows`` rows' gains
+        """The gain of the accelerometer rows (quaternion_ekf.hpp): the first ``rows`` rows' gains
         projected off the body-frame vertical ``u`` in the attitude block and weighted by the
         accelerometer part's ``bias_weight(u)`` in the bias block (``acc_tilt_only``)."""
         W = self.acc.bias_weight(u)
@@ -707,7 +707,7 @@ class EulerEKF(_Base):
         self.rest.predict(gyr, dt)
         return "ok"
 
-    # --- measurements with the robustness parts (as QuaternionESKF) ------------------------
+    # --- measurements with the robustness parts (as QuaternionEKF) ------------------------
     def update_acc(self, acc, gate=0.0):
         """The rest test (at rest a zero-rate update of the bias), the accelerometer part, 3 rows."""
         if not self.initialized:

@@ -1,5 +1,5 @@
 """Reference (numpy) Rauch-Tung-Striebel smoothers of the attitude twins, the twin of
-``cpp/include/quatnav/attitude/smoother.hpp``: :class:`QuaternionESKF` (error state
+``cpp/include/quatnav/attitude/smoother.hpp``: :class:`QuaternionEKF` (error state
 ``[dtheta (body), db]``, the smoothed attitude ``q * exp(d_theta)``) and :class:`EulerEKF`
 (additive errors, roll and yaw wrapped). :func:`run_smoothed` runs a twin over a log and smooths it.
 """
@@ -86,12 +86,12 @@ class EulerModel(_Model):
 
 
 def run_smoothed(f, gyr, acc, mag=None, dt=None):
-    """Run the twin ``f`` (QuaternionESKF or EulerEKF) over a log and smooth it: the forward
+    """Run the twin ``f`` (QuaternionEKF or EulerEKF) over a log and smooth it: the forward
     result of ``f.run`` with ``smoothed`` (quat, bias, sigma, att_sigma and the error
     covariances P; the forward values, and NaN covariances, before the filter's first estimate)."""
     name = getattr(f, "rts_model", None)  # the twin names its model (no import of the twins here)
     if name is None:
-        raise ValueError(f"smooth: {type(f).__name__} has no smoother (QuaternionESKF and EulerEKF have)")
+        raise ValueError(f"smooth: {type(f).__name__} has no smoother (QuaternionEKF and EulerEKF have)")
     model = {"ESKFModel": ESKFModel, "EulerModel": EulerModel}[name](f, gyr, dt)
     rec = Recorder(model)
     out = f.run(gyr, acc, mag, dt=dt, observer=rec)

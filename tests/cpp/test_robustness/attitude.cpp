@@ -1,9 +1,9 @@
-// test_robustness: QuaternionEKF and EulerEKF (robustness.hpp).
+// test_robustness: QuaternionEKFPaper and EulerEKF (robustness.hpp).
 #include "robustness.hpp"
 
-TEST(FaultSequences, QuaternionEKF) {
-  random_fault_sequences<QuaternionEKF<double>>(1, 300);
-  random_fault_sequences<QuaternionEKF<float>>(2, 300);
+TEST(FaultSequences, QuaternionEKFPaper) {
+  random_fault_sequences<QuaternionEKFPaper<double>>(1, 300);
+  random_fault_sequences<QuaternionEKFPaper<float>>(2, 300);
 }
 TEST(FaultSequences, EulerEKF) {
   random_fault_sequences<EulerEKF<double>>(3, 300);
@@ -31,16 +31,16 @@ template <class F> void expect_saturation_reported() {
   EXPECT_TRUE(FuzzAdapter<F>::same(before, f.state()));
 }
 
-TEST(Saturation, QuaternionEKF) {
-  expect_saturation_reported<QuaternionEKF<double>>();
-  expect_saturation_reported<QuaternionEKF<float>>();
+TEST(Saturation, QuaternionEKFPaper) {
+  expect_saturation_reported<QuaternionEKFPaper<double>>();
+  expect_saturation_reported<QuaternionEKFPaper<float>>();
   QuaternionEKFParams<double> p;
   p.acc_range = 100;
-  QuaternionEKF<double> f(p);
+  QuaternionEKFPaper<double> f(p);
   ASSERT_EQ(f.initialize(Vec3<double>(0, 0, -9.8), Vec3<double>(20, 0, 40)), Status::Ok);
   const auto before = f.state();
   EXPECT_EQ(f.update_acc_mag(Vec3<double>(0, 120, -9.8), Vec3<double>(20, 0, 40)).status, Status::Saturated);
-  EXPECT_TRUE(FuzzAdapter<QuaternionEKF<double>>::same(before, f.state()));
+  EXPECT_TRUE(FuzzAdapter<QuaternionEKFPaper<double>>::same(before, f.state()));
 }
 TEST(Saturation, EulerEKF) {
   expect_saturation_reported<EulerEKF<double>>();
@@ -51,7 +51,7 @@ TEST(Saturation, BatchFlagsAndSkips) {
   QuaternionEKFParams<double> p;
   p.gyro_range = 10;
   p.acc_range = 50;
-  QuaternionEKF<double> f(p);
+  QuaternionEKFPaper<double> f(p);
   const int n = 6;
   std::vector<double> gyr(3 * n, 0.0), acc(3 * n, 0.0), dt(n, 0.01), q(4 * n);
   std::vector<std::uint32_t> fl(n);
@@ -96,8 +96,8 @@ TEST(CovarianceFloor, QuaternionEKFErrorStateKeepsStructure) {
   EXPECT_TRUE(quatnav_fuzz::bits_equal(P, P1));
 }
 
-/// Error-state covariance of a filter: QuaternionEKF maps its 7x7 P to [dtheta, db].
-template <class S> Mat<S, 6, 6> error_cov(const QuaternionEKF<S>& f) {
+/// Error-state covariance of a filter: QuaternionEKFPaper maps its 7x7 P to [dtheta, db].
+template <class S> Mat<S, 6, 6> error_cov(const QuaternionEKFPaper<S>& f) {
   Mat<S, 6, 7> T = Mat<S, 6, 7>::Zero();
   T.template topLeftCorner<3, 4>() = S(2) * quat::xi(f.quat()).transpose();
   T.template bottomRightCorner<3, 3>().setIdentity();
@@ -140,14 +140,14 @@ template <class F> double near_singular_run(typename F::Scalar floor, int steps)
 
 TEST(CovarianceFloor, ForcedNearSingularStaysPositiveDefinite) {
   const float floor = 1e-12f;
-  EXPECT_GE(near_singular_run<QuaternionEKF<float>>(floor, 3000), 0.99 * floor);
+  EXPECT_GE(near_singular_run<QuaternionEKFPaper<float>>(floor, 3000), 0.99 * floor);
   EXPECT_GE(near_singular_run<EulerEKF<float>>(floor, 3000), 0.99 * floor);
-  EXPECT_GE(near_singular_run<QuaternionEKF<double>>(1e-12, 3000), 0.99e-12);
+  EXPECT_GE(near_singular_run<QuaternionEKFPaper<double>>(1e-12, 3000), 0.99e-12);
 }
 
 // --- refused states --------------------------------------------------------------------------
 TEST(RefusedState, MalformedCovarianceAndQuaternion) {
-  QuaternionEKF<double> f;
+  QuaternionEKFPaper<double> f;
   ASSERT_EQ(f.initialize(Vec3<double>(0, 0, -9.8), Vec3<double>(20, 0, 40)), Status::Ok);
   const auto before = f.state();
   auto s = before;
@@ -159,7 +159,7 @@ TEST(RefusedState, MalformedCovarianceAndQuaternion) {
   EXPECT_EQ(f.reset(before.q_nb, before.gyro_bias, s.P), Status::InvalidArgument);
   const double big = std::numeric_limits<double>::max();
   EXPECT_EQ(f.reset(Quat<double>(big, big, 0, 0), before.gyro_bias, before.P), Status::InvalidArgument);
-  EXPECT_TRUE(FuzzAdapter<QuaternionEKF<double>>::same(before, f.state()));
+  EXPECT_TRUE(FuzzAdapter<QuaternionEKFPaper<double>>::same(before, f.state()));
 
   EulerEKF<double> e;
   ASSERT_EQ(e.initialize(Vec3<double>(0, 0, -9.8), Vec3<double>(20, 0, 40)), Status::Ok);
@@ -190,7 +190,7 @@ template <class F> void expect_failed_mag_update_keeps_reference(const typename 
 }
 
 TEST(RefusedState, FailedMagUpdateLeavesFieldReference) {
-  expect_failed_mag_update_keeps_reference<QuaternionEKF<double>>(QuaternionEKFParams<double>::paper());
+  expect_failed_mag_update_keeps_reference<QuaternionEKFPaper<double>>(QuaternionEKFParams<double>::paper());
   expect_failed_mag_update_keeps_reference<EulerEKF<double>>();
 }
 
@@ -198,7 +198,7 @@ TEST(NoHeap, FloorAndSaturationChecks) {
   QuaternionEKFParams<double> p;
   p.gyro_range = 1;
   p.cov_floor = 1e-3;  // high enough to be applied at every step
-  QuaternionEKF<double> f(p);
+  QuaternionEKFPaper<double> f(p);
   ASSERT_EQ(f.initialize(Vec3<double>(0, 0, -9.8), Vec3<double>(20, 0, 40)), Status::Ok);
   Eigen::internal::set_is_malloc_allowed(false);
   for (int k = 0; k < 10; ++k) {

@@ -12,7 +12,7 @@ TYPED_TEST_SUITE(UmbrellaAttitude, Scalars);
 
 TYPED_TEST(UmbrellaAttitude, AttitudeFilters) {
   using S = TypeParam;
-  quatnav::QuaternionEKF<S> qekf;
+  quatnav::QuaternionEKFPaper<S> qekf;
   run_attitude(qekf);
   quatnav::EulerEKF<S> euler;
   run_attitude(euler);

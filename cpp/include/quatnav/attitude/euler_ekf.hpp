@@ -14,7 +14,7 @@
 // kSingular) reports it: results there are not to be trusted. This is the parametrization's
 // fault, not the data's; the quaternion EKF has no such point.
 //
-// The accelerometer update is the Schmidt-Kalman update of QuaternionESKF (quaternion_eskf.hpp:
+// The accelerometer update is the Schmidt-Kalman update of QuaternionEKF (quaternion_ekf.hpp:
 // gravity carries no heading information): it corrects the attitude by a rotation about a
 // horizontal axis of the navigation frame only, and the bias in the horizontal plane only. In
 // ZYX angles a navigation-frame rotation by [a_x, a_y, a_z] changes them by cos(pitch) d_roll =
@@ -27,7 +27,7 @@
 // directions are in the null space of H and the NIS is the optimal update's. acc_tilt_only =
 // false (paper()) restores the optimal gain.
 //
-// The robustness parts (parts/*.hpp) as in QuaternionESKF: rest detection with its zero-rate
+// The robustness parts (parts/*.hpp) as in QuaternionEKF: rest detection with its zero-rate
 // measurement of the bias block (H = [0 I]), the accelerometer part (low-pass in a gyro-carried
 // frame, norm rejection, adaptive noise, recovery; the low-pass time constant follows the
 // largest gyro-bias variance) and the magnetometer part (reference field and disturbance tests).

@@ -1,226 +1,208 @@
-// quatnav: quaternion EKF with gyro-bias states (Kim & Jang 2019, "An attitude determination
-// method using a quaternion-based extended Kalman filter"; called paper 000 in the docs).
+// quatnav: the quaternion EKF of paper 000 as a 6-state multiplicative error-state filter.
 //
-// State x = [q0 q1 q2 q3 bx by bz]^T (eq. 7): q = q_nb (body to navigation, Hamilton, scalar
-// first) and the gyro bias b in rad/s. The navigation frame is the paper's: x = magnetic north,
-// z = down (NED with magnetic north). Measurements: the normalized accelerometer (eq. 11-12,
-// rows 1-3) and the normalized magnetometer (rows 4-6), each available as its own update.
+// Same measurements (normalized accelerometer against gravity, magnetometer: 3-row field or
+// heading only), same parameters (QuaternionEKFParams) and the same robustness parts as
+// QuaternionEKFPaper (quaternion_ekf_paper.hpp), but the covariance is that of the error state
+//     dx = [dtheta (3, rad), db (3, rad/s)],   q_true = q * exp(dtheta),  b_true = b + db,
+// with dtheta a rotation vector in the BODY frame. The nominal quaternion is kept unit length
+// (q <- q * exp(dtheta) after each correction), so there is no normalization Jacobian and no
+// singular direction in P.
 //
-// Deviations from the paper, each deliberate:
-//  * eq. (6) integrates q with one Euler step, q(k) = (I + T/2 Omega) q(k-1). We use the exact
-//    solution for a rate that is constant over the step, q(k) = q(k-1) * exp(w~ T / 2), and its
-//    exact Jacobian. To first order in T both reduce to eq. (6) and eq. (10) (tested); the Euler
-//    step loses 2 atan(a/2) - a per step (a = |w~| T), about 0.5 deg/s at 10 rad/s and 100 Hz.
-//  * The algorithm listing (Section 2.3) never applies the state correction
-//    x(k) = x(k,k-1) + K(k)[z(k) - h(x(k,k-1))]; we apply it and renormalize q afterwards, with
-//    the covariance projected by the normalization's Jacobian.
-//  * eq. (16) P = (I - K H) P is replaced by the Joseph form (kalman.hpp).
-//  * Q "the integrated process noise" is not given in the paper; we derive it from a gyro white
-//    noise density and a bias random-walk density:
-//      Q_qq = T sigma_g^2 / 4 * Xi(q) Xi(q)^T,  Q_bb = T sigma_b^2 I.
+// Time update (exact for a constant rate w~ = w - b over dt, dq = exp(w~ dt)):
+//     dtheta+ = C(dq)^T dtheta - dt db,   db+ = db,
+// i.e. Phi = [F -dt I; 0 I], F = C(dq)^T (the transpose of dq's rotation matrix); the right
+// Jacobian of exp that multiplies -dt db exactly is taken as I (its error is O(|w~| dt), 0.2 %
+// at 0.8 rad/s and 200 Hz). Q = diag(dt sigma_g^2 I, dt sigma_b^2 I): the same densities as the
+// 7-state filter (there Q_qq = dt sigma_g^2 / 4 Xi Xi^T is this Q_aa mapped to the quaternion).
+//
+// Measurement Jacobians: h(q) = C_bn(q) r (r = [0, 0, -1] for gravity, the reference field for
+// the magnetometer); C_bn(q exp(dtheta)) = (I - [dtheta x]) C_bn(q), so dh/ddtheta = [h x]
+// and dh/ddb = 0: each row has 2 nonzero coefficients out of 6. The rows are uncorrelated and
+// processed as scalar sequential Joseph updates (kalman_correct_diagonal). After injecting
+// dtheta the covariance is reset to the new nominal attitude (G = I - [dtheta/2 x]).
+//
+// The accelerometer carries no heading information: gravity is the vertical, and a rotation
+// about it (u = C_bn e_z, the vertical in the body frame) leaves h unchanged (H u = 0). Its
+// optimal gain still turns the heading and the earth-vertical gyro bias through the
+// correlations of P (the heading error grows from the vertical bias; the tilt errors from the
+// horizontal bias), and every linear acceleration the model takes for gravity then moves the
+// heading and invents a vertical bias: on BROAD's 6D runs the accelerometer updates turned the
+// heading by 6-20 deg over a trial. The accelerometer update is therefore a Schmidt-Kalman
+// ("consider") update: its gain is projected off u in both blocks, k <- [(I - u u^T) k_a;
+// W k_b], so it corrects the tilt and the horizontal bias only (as VQF, which estimates the bias
+// in motion in the horizontal plane of the earth frame). W = I - u u^T while the body does not
+// turn; under fast rotation W (AccFilter::bias_weight, parts/acc_filter.hpp) also leaves out the
+// body directions that swung through the vertical within the low-pass time, whose bias the
+// accelerometer sees only through the motion's own acceleration errors. The Joseph form
+// keeps P the covariance of the error for this gain, and since u is in the null space of H the
+// innovation, its covariance and the NIS are those of the optimal update. The heading and the
+// vertical bias are corrected by the magnetometer, by the zero-rate measurement at rest, and
+// as the body turns (the bias part that was vertical becomes horizontal). acc_tilt_only = false
+// (paper()) restores the optimal gain.
+//
+// Covariance health: after every time update P - cov_floor I is positive definite. It is either
+// proven or tested (an LDL^T of P - cov_floor I, floored only when that fails: covariance.hpp).
+// The proof (detail::eskf_floor_implied): every step between two time updates keeps P positive
+// semi-definite up to rounding (the scalar Joseph updates, P+ = (I - k h^T) P (I - k h^T)^T +
+// r k k^T for any gain, and the reset's congruence G P G^T), and the time update adds
+// Q = diag(qa I, qb I); so if P was positive semi-definite at the last time update, the new
+// P - cov_floor I has no eigenvalue below min(qa, qb) - cov_floor - (the rounding of one
+// sample). When that margin exceeds a generous bound of the rounding (a multiple of
+// eps trace(P), trace(P) >= |P|_2), the test is skipped: it could only pass. The premise holds
+// after initialize() (a diagonal P) and after every time update that tested or proved P; after
+// reset() and set_state() (a P from outside) and after a failed floor, the next time update
+// tests. With the defaults at 200 Hz (qb = 5e-11 against a floor of 1e-12) the test is skipped
+// in float64 once the covariance has settled; in float32 the rounding bound is larger than the
+// margin and the test runs every sample, as before. A skipped test never changes a result: the
+// LDL^T it replaces would have passed. The updates keep P symmetric by construction
+// (joseph_update_scalar mirrors the triangle it computes).
 #pragma once
 
 #include <cmath>
 #include <algorithm>
-#include <cstddef>
 #include <cstdint>
 #include <limits>
 
 #include "attitude.hpp"
 #include "parts/parts.hpp"
+#include "quaternion_ekf_params.hpp"
 #include "../core/commit.hpp"
 #include "../core/covariance.hpp"
-#include "../core/fields.hpp"
 #include "../core/kalman.hpp"
-#include "../core/quat_block.hpp"
 #include "../core/quaternion.hpp"
 #include "../core/types.hpp"
 
 namespace quatnav {
 
-/// Parameters of QuaternionEKF (and of QuaternionESKF, quaternion_eskf.hpp). Every field has its
-/// unit and default.
-///
-/// The first block is paper 000's filter. The second block adds what real data needs (linear
-/// accelerations, magnetic disturbances, gyro bias at rest); paper() switches all of it off and
-/// gives the plain filter of the paper with its original noise values. The robust features
-/// assume acc in m/s^2 (they compare |acc| with `gravity`); with acc in other units set
-/// `gravity` to 1 g in that unit.
-///
-/// The defaults were chosen on the BROAD benchmark (8 trials, one set for all, lowest mean
-/// total RMSE; see docs/broad.md). The noise values are effective ones: they cover what the
-/// model leaves out (correlated residual linear acceleration after the low-pass, field
-/// deviations, scale-factor errors), so that the attitude error stays within the filter's own
-/// 3 sigma on real data. All noise values scaled by one factor give the same estimates and a
-/// covariance scaled by its square.
-// X(type, name, default, unit, doc): each field once (core/fields.hpp). The robustness parts
-// declare their own fields (parts/*.hpp), flattened beside these in the Python binding; paper()
-// below holds the paper's values.
-#define QUATNAV_QEKF_PARAMS(X)                                                                          \
-  X(S, gyro_noise, S(0.01), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")            \
-  X(S, gyro_bias_noise, S(1e-4), "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density")                    \
-  X(S, acc_sigma, S(0.4), "1 (normalized)", "std of each component of the normalized accelerometer")     \
-  X(S, mag_sigma, S(1.0), "1 (normalized)", "std of each component of the normalized magnetometer")      \
-  X(S, init_att_sigma, S(0.5), "rad", "attitude one-sigma after initialize")                             \
-  X(S, init_gyro_bias_sigma, S(0.1), "rad/s", "gyro-bias one-sigma after initialize")                    \
-  X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
-  X(S, gyro_range, S(0), "rad/s",                                                                        \
-    "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")    \
-  X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
-  /* the floor acts in the error state [dtheta (rad, body frame), db (rad/s)] (covariance.hpp) */       \
-  X(S, cov_floor, S(1e-12), "state units^2", "eigenvalue floor of the error covariance (0: off)")         \
-  /* in [-pi, pi]; otherwise x is true north: the reference field points to heading `declination` \
-     and initialize() adds it to the magnetic heading */                                             \
-  X(S, declination, S(0), "rad", "magnetic declination, east of true north (0: x is magnetic north)")    \
-  /* a scalar update of the heading of the field's horizontal projection whose gain is projected on  \
-     the yaw direction, so that the magnetometer never tilts roll and pitch; false: eq. 12 rows 4-6 */ \
-  X(bool, mag_heading_only, true, "-", "the magnetometer corrects heading only (false: 3-row update)")   \
-  /* the Schmidt-Kalman update of quaternion_eskf.hpp (error-state filter only): gravity has no     \
-     heading information; false: the optimal gain, which turns them through the correlations of P */ \
-  X(bool, acc_tilt_only, true, "-",                                                                      \
-    "the accelerometer corrects the tilt and the horizontal gyro bias only (false: the optimal gain)")    \
-  X(S, acc_gate, S(0), "1 (chi-square, 3 dof)", "NIS gate of the accelerometer update (0: off)")          \
-  X(S, mag_gate, S(9), "1 (chi-square)", "NIS gate of the magnetometer update (0: off)")                 \
-  X(AccFilterParams<S>, acc, AccFilterParams<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
-  X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
-  X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
-
-template <class S> struct QuaternionEKFParams {
-  QUATNAV_FIELDS(QuaternionEKFParams, QUATNAV_QEKF_PARAMS)
-
-  /// The plain filter of paper 000: its noise values, every robustness feature off.
-  static QuaternionEKFParams paper() {
-    QuaternionEKFParams p;
-    p.gyro_noise = S(0.005);
-    p.gyro_bias_noise = S(1e-5);
-    p.acc_sigma = S(0.05);
-    p.mag_sigma = S(0.1);
-    p.init_att_sigma = S(0.05);
-    p.init_gyro_bias_sigma = S(0.01);
-    p.mag_heading_only = false;
-    p.acc_tilt_only = false;
-    p.acc_gate = p.mag_gate = S(0);
-    AccFilter<S>::off(p.acc);
-    MagDisturbance<S>::off(p.mag);
-    Rest<S>::off(p.rest);
-    return p;
-  }
-};
-
-/// The complete state of QuaternionEKF (7x7 covariance of [q_nb, gyro_bias]) and of
-/// QuaternionESKF (6x6 covariance of the error state); state()/set_state() round-trip exactly.
-#define QUATNAV_QEKF_STATE(X)                                                                           \
-  X(Quat<S>, q_nb, quat::identity<S>(), "1", "attitude q_nb [w, x, y, z]")                               \
-  X(Vec3<S>, gyro_bias, Vec3<S>::Zero(), "rad/s", "gyro bias")                                          \
-  X(MatP, P, MatP::Identity(), "state units^2", kCovarianceDoc)                                         \
-  X(bool, initialized, false, "-", "the filter has a state")                                            \
-  X(S, dt_last, S(0), "s", "step of the last predict")                                                  \
-  X(MagDisturbanceState<S>, mag, MagDisturbanceState<S>(), "-", "reference field and disturbance tests") \
-  X(AccFilterState<S>, acc, AccFilterState<S>(), "-", "accelerometer low-pass and rejection timer")      \
-  X(RestState<S>, rest, RestState<S>(), "-", "rest detection")
-
+/// The complete state of QuaternionEKF; state()/set_state() round-trip exactly. The fields of
+/// QuaternionEKFPaperState (one table, QUATNAV_QEKF_STATE) with the 6x6 error-state covariance.
 template <class S> struct QuaternionEKFState {
-  using MatP = Mat<S, 7, 7>;
-  static constexpr const char* kCovarianceDoc = "covariance of [q_nb, gyro_bias]";
+  using MatP = Mat<S, 6, 6>;
+  static constexpr const char* kCovarianceDoc = "covariance of the error state [dtheta (body, rad), d gyro_bias]";
   QUATNAV_FIELDS(QuaternionEKFState, QUATNAV_QEKF_STATE)
 };
 
 namespace detail {
 
-/// Paper 000 eq. (11)-(12): h(q) = C_bn(q) r for a reference vector r = [r_x, 0, r_z] in the
-/// paper's own quadratic form (1 - 2q2^2 - 2q3^2, ...), with H = dh/dq as printed in the paper
-/// (acceleration rows: r = [0, 0, -1]).
-template <class S> Vec3<S> qekf_h(const Quat<S>& q, S rx, S rz) {
-  const S q0 = q[0], q1 = q[1], q2 = q[2], q3 = q[3];
-  return Vec3<S>(rx * (S(1) - S(2) * q2 * q2 - S(2) * q3 * q3) + S(2) * rz * (q1 * q3 - q0 * q2),
-                 S(2) * rx * (q1 * q2 - q0 * q3) + S(2) * rz * (q2 * q3 + q0 * q1),
-                 S(2) * rx * (q1 * q3 + q0 * q2) + rz * (S(1) - S(2) * q1 * q1 - S(2) * q2 * q2));
-}
-
-template <class S> Mat34<S> qekf_H(const Quat<S>& q, S rx, S rz) {
-  const S q0 = q[0], q1 = q[1], q2 = q[2], q3 = q[3];
-  Mat34<S> H;
-  H << -S(2) * rz * q2, S(2) * rz * q3, -S(4) * rx * q2 - S(2) * rz * q0, -S(4) * rx * q3 + S(2) * rz * q1,
-       -S(2) * rx * q3 + S(2) * rz * q1, S(2) * rx * q2 + S(2) * rz * q0, S(2) * rx * q1 + S(2) * rz * q3,
-       -S(2) * rx * q0 + S(2) * rz * q2,
-       S(2) * rx * q2, S(2) * rx * q3 - S(4) * rz * q1, S(2) * rx * q0 - S(4) * rz * q2, S(2) * rx * q1;
-  return H;
-}
-
-/// The time update f(x) and its Jacobian Phi = df/dx (eq. 9-10, exact discretization). Returns
-/// the step's rotation dq = exp((w - b) T), q_out = q * dq.
+/// The error-state time update: nominal q+ = q * exp((w - b) dt) and F = C(dq)^T, the
+/// attitude-error block of Phi = [F -dt I; 0 I]. Returns the step's rotation dq.
 template <class S>
-Quat<S> qekf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out,
-                       Mat<S, 7, 7>& Phi) {
-  const Vec3<S> rv = (gyr - bias) * dt;  // rotation vector of the step, w~ T
-  const Quat<S> dq = quat::from_rotvec(rv);
+Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
+  const Quat<S> dq = quat::from_rotvec(Vec3<S>((gyr - bias) * dt));
   q_out = quat::mul(q, dq);
-  Phi.setIdentity();
-  Phi.template topLeftCorner<4, 4>() = quat::right(dq);
-  // d(q * dq)/db = left(q) d dq / d rv * d rv / db,  d rv / db = -dt I.
-  Phi.template topRightCorner<4, 3>() = -dt * quat::left(q) * quat::from_rotvec_jacobian(rv);
+  F = quat::to_rotmat(dq).transpose();
   return dq;
 }
 
-/// The quaternion block of the state [q, b] (core/quat_block.hpp).
-template <class S> using QekfBlock = QuatBlock<S, 7, 0>;
-
-/// Covariance projection after q <- q/|q|: J = (I - q_hat q_hat^T)/|q| on the quaternion block,
-/// written with J's rank-one structure so that P stays exactly symmetric
-/// (QuatBlock::normalize_symmetric).
-template <class S> void qekf_normalize(Quat<S>& q, Mat<S, 7, 7>& P) { QekfBlock<S>::normalize_symmetric(q, P); }
-
-/// The covariance conditioning of QuaternionEKF: P is made exactly symmetric (the
-/// normalization's projection J P J^T is symmetric only up to rounding), then floored in its
-/// error state [dtheta (3, rad, body frame), db (3, rad/s)] (QuatBlock's error-space floor):
-/// a healthy P is unchanged and a repaired one keeps the structure. Returns true when the floor
-/// was applied.
-template <class S> bool qekf_floor_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
-  symmetrize(P);
-  return QekfBlock<S>::floor_symmetric_error_covariance(q, P, floor);
+/// P+ = Phi P Phi^T + Q for Phi = [F -dt I; 0 I], Q = diag(qa I, qb I), by blocks (P = [A C; C^T D]):
+///   P+_aa = F A F^T - dt (F C + (F C)^T) + dt^2 D + qa I,  P+_ab = F C - dt D,  P+_bb = D + qb I.
+/// Every block is written exactly symmetric (the attitude block by its lower triangle). Writes
+/// P_new (not aliasing P).
+template <class S> void eskf_predict_covariance(const Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb,
+                                                Mat<S, 6, 6>& P_new) {
+  const auto A = P.template topLeftCorner<3, 3>();
+  const auto C = P.template topRightCorner<3, 3>();
+  const auto D = P.template bottomRightCorner<3, 3>();
+  Mat3<S> FC;
+  FC.noalias() = F * C;
+  Mat3<S> FA;
+  FA.noalias() = F * A;
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) {
+      const S v = FA.row(i).dot(F.row(j)) - dt * (FC(i, j) + FC(j, i)) + dt * dt * D(i, j) + (i == j ? qa : S(0));
+      P_new(i, j) = P_new(j, i) = v;
+    }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) P_new(i, 3 + j) = P_new(3 + j, i) = FC(i, j) - dt * D(i, j);  // top-right block
+  P_new.template bottomRightCorner<3, 3>() = D;
+  P_new.template bottomRightCorner<3, 3>().diagonal().array() += qb;
 }
 
-/// qekf_floor_covariance for a P that is already exactly symmetric (as the filter keeps it:
-/// its time update, Joseph update and normalization all produce symmetric blocks).
-template <class S> bool qekf_floor_symmetric_covariance(const Quat<S>& q, Mat<S, 7, 7>& P, S floor) {
-  return QekfBlock<S>::floor_symmetric_error_covariance(q, P, floor);
+/// In place: the same update through a copy.
+template <class S> void eskf_predict_covariance(Mat<S, 6, 6>& P, const Mat3<S>& F, S dt, S qa, S qb) {
+  const Mat<S, 6, 6> P0 = P;
+  eskf_predict_covariance<S>(P0, F, dt, qa, qb, P);
 }
 
-/// Heading-only magnetometer model. With m_n = C_nb(q) m (m the unit field in the body frame),
-/// h(q) = atan2(m_n,y, m_n,x) is the heading of the field's horizontal projection (0 when the
-/// attitude is right: the reference field points to x = magnetic north).
-///
-/// A navigation-frame rotation phi, q' = exp(phi) * q, changes q by dq = 1/2 R3 phi with
-/// R3 = right(q).rightCols(3) (orthonormal columns). dh/dphi = [-y, x, 0]/(x^2+y^2) (-[m_n x]).
-/// Its z part is 1 (a yaw rotation turns the field's heading one to one); its x, y parts (tilt)
-/// are written to `J_tilt`. `H` (1x4, w.r.t. q) keeps the yaw part only: H = 2 R3.col(2)^T,
-/// and `u` = R3.col(2) is the unit direction of a yaw change in quaternion space.
-/// Returns false when the field is (nearly) vertical (no heading information).
+/// True when P_new - floor I is positive definite by the argument at the top of this file, for
+/// P_new = Phi P Phi^T + diag(qa I, qb I) computed from a P that was positive semi-definite up
+/// to rounding: the margin min(qa, qb) - floor exceeds 256 N eps trace(P_new). That bound covers
+/// with room the rounding of one sample (the time update, up to a few scalar Joseph updates and
+/// covariance resets, each within a few eps |P| per coefficient, |a_i k_j| <= sqrt(P_ii P_jj)
+/// for the gains used, N of them per row for the 2-norm) and of the LDL^T test it replaces.
+template <class S, int N> bool eskf_floor_implied(const Mat<S, N, N>& P_new, S qa, S qb, S floor) {
+  const S margin = std::min(qa, qb) - floor;
+  return margin > S(256 * N) * std::numeric_limits<S>::epsilon() * P_new.trace();
+}
+
+/// The direction model h = C_bn(q) r_n and its error-state Jacobian [[h x], 0] (3 x 6): Ha is
+/// the attitude block [h x]; the bias block is zero.
+template <class S> void eskf_direction_model(const Quat<S>& q, const Vec3<S>& r_n, Vec3<S>& h, Mat3<S>& Ha) {
+  h = quat::rotate_inv(q, r_n);
+  Ha = quat::skew(h);
+}
+
+/// Heading model in the error state: with m_n = C_nb m, h = atan2(m_n,y, m_n,x). A body-frame
+/// error dtheta is the navigation-frame rotation phi = C_nb dtheta; dh/dphi = [J_tilt, 1].
+/// `u` (body frame) = C_nb^T e_z, the direction of a yaw change in the error space, so that
+/// H (yaw part only) = u^T; `v_tilt` = C_nb^T [J_tilt, 0] maps the tilt part. False for a
+/// (nearly) vertical field.
 template <class S>
-bool heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Eigen::Matrix<S, 1, 4>& H,
-                   Vec4<S>& u, Vec2<S>& J_tilt) {
-  const Vec3<S> mn = quat::rotate(q, m_unit);
+bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
+  const Mat3<S> C = quat::to_rotmat(q);  // C_nb
+  const Vec3<S> mn = C * m_unit;
   horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
   if (!(horiz2 > S(1e-6))) return false;
   h = std::atan2(mn[1], mn[0]);
   const Eigen::Matrix<S, 1, 3> dpsi_dmn(-mn[1] / horiz2, mn[0] / horiz2, S(0));
   const Eigen::Matrix<S, 1, 3> J = -dpsi_dmn * quat::skew(mn);
-  J_tilt = Vec2<S>(J[0], J[1]);
-  const Mat4<S> Rq = quat::right(q);
-  u = Rq.col(3);
-  H = S(2) * u.transpose();
+  u = C.row(2).transpose();
+  v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
   return true;
+}
+
+/// The gain of the accelerometer rows (the top of the file): the first `rows` rows' gains
+/// projected off the body-frame vertical `u` (unit) in the attitude block and weighted by `W`
+/// (AccFilter::bias_weight: I - u u^T, or less for directions that swung through the vertical)
+/// in the bias block, so that they turn neither the heading nor the earth-vertical gyro bias;
+/// later rows (the magnetometer's in a joint update) keep theirs.
+template <class S> struct HeadingFreeRows {
+  Vec3<S> u;
+  Mat3<S> W;
+  int rows;
+  void operator()(int row, Vec<S, 6>& k) const {
+    if (row >= rows) return;
+    k.template head<3>() -= u * u.dot(k.template head<3>());
+    k.template tail<3>() = (W * k.template tail<3>()).eval();
+  }
+};
+
+/// The covariance reset after injecting dtheta: the error of q+ = q * exp(dtheta) is
+/// dtheta+ = G (dtheta_true - dtheta), G = I - [dtheta/2 x] to first order, so
+/// P_aa <- G P_aa G^T and P_ab <- G P_ab (the bias block is unchanged). In place, symmetric.
+template <class S> void eskf_reset_covariance(Mat<S, 6, 6>& P, const Vec3<S>& dtheta) {
+  const Mat3<S> G = Mat3<S>::Identity() - quat::skew(Vec3<S>(dtheta * S(0.5)));
+  const Mat3<S> A = P.template topLeftCorner<3, 3>();
+  Mat3<S> GA;
+  GA.noalias() = G * A;
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) P(i, j) = P(j, i) = GA.row(i).dot(G.row(j));
+  const Mat3<S> C = G * P.template topRightCorner<3, 3>();
+  P.template topRightCorner<3, 3>() = C;
+  P.template bottomLeftCorner<3, 3>() = C.transpose();
 }
 
 }  // namespace detail
 
+/// Quaternion EKF with gyro-bias states in error-state form (see the top of this file).
+/// Parameters: QuaternionEKFParams (the same fields, meanings and defaults).
 template <class S> class QuaternionEKF {
  public:
   using Scalar = S;
   using Params = QuaternionEKFParams<S>;
   using State = QuaternionEKFState<S>;
-  using Mat7 = Mat<S, 7, 7>;
-  static constexpr int kStates = 7;
+  using Mat6 = Mat<S, 6, 6>;
+  static constexpr int kStates = 6;
 
   QuaternionEKF() = default;
   explicit QuaternionEKF(const Params& p) : params_(p) {}
@@ -229,78 +211,70 @@ template <class S> class QuaternionEKF {
   const State& state() const { return st_; }
   const Quat<S>& quat() const { return st_.q_nb; }
   const Vec3<S>& bias() const { return st_.gyro_bias; }
-  const Mat7& covariance() const { return st_.P; }
+  const Mat6& covariance() const { return st_.P; }
   bool initialized() const { return st_.initialized; }
-  /// Flags of the last sample (predict + updates) beyond the update statuses: kAtRest while rest
-  /// is detected, kAccRejected / kMagRejected when the robustness tests rejected a measurement.
+  /// Flags of the last sample beyond the update statuses (kAtRest, kAccRejected, kMagRejected).
   std::uint32_t extra_flags() const { return flags_; }
-  /// True while rest is detected (rest_detection on).
   bool at_rest() const { return Rest<S>::at_rest(params_.rest, st_.rest); }
 
-  /// Restore a state previously read with state(). Refused (InvalidArgument) when the
-  /// quaternion is not unit length or anything is non-finite.
   Status set_state(const State& s) {
     if (!detail::fields_finite(s)) return Status::NonFinite;
     if (std::abs(s.q_nb.norm() - S(1)) > S(1e-3)) return Status::InvalidArgument;
-    if (!detail::acceptable_covariance<S, 7>(s.P)) return Status::InvalidArgument;
+    if (!detail::acceptable_covariance<S, 6>(s.P)) return Status::InvalidArgument;
     st_ = s;
+    cov_psd_ = false;  // a covariance from outside: the next time update tests it
     return Status::Ok;
   }
 
-  /// The diagonal of attitude_covariance() (rad^2), without the off-diagonal terms.
-  Vec3<S> attitude_variance() const { return detail::QekfBlock<S>::attitude_variance(st_.q_nb, st_.P); }
+  /// Attitude covariance of dtheta (body frame, rad^2): the top-left block of P.
+  Mat3<S> attitude_covariance() const { return st_.P.template topLeftCorner<3, 3>(); }
+  Vec3<S> attitude_variance() const { return st_.P.diagonal().template head<3>(); }
 
-  /// Attitude (4x4 quaternion block) as a 3x3 covariance of a body-frame rotation vector.
-  Mat3<S> attitude_covariance() const {
-    return detail::QekfBlock<S>::attitude_covariance(st_.q_nb, st_.P);
-  }
-
-  /// Set the normalized reference field from the dip (inclination) angle, positive down [rad].
   void set_mag_dip(S dip) { st_.mag.ref.fix(dip); }
 
-  /// Initialize from one accelerometer (and optionally magnetometer) sample: tilt from gravity,
-  /// heading from the field (heading 0 without one); covariance from the parameters. The
-  /// reference field is learned from this sample unless set_mag_dip() was called.
   Status initialize(const Vec3<S>& acc) { return init_impl(acc, nullptr); }
   Status initialize(const Vec3<S>& acc, const Vec3<S>& mag) { return init_impl(acc, &mag); }
 
-  /// Start from a given attitude, bias and covariance.
-  Status reset(const Quat<S>& q, const Vec3<S>& bias, const Mat7& P) {
+  /// Start from a given attitude, bias and 6x6 error-state covariance.
+  Status reset(const Quat<S>& q, const Vec3<S>& bias, const Mat6& P) {
     if (!q.allFinite() || !bias.allFinite() || !P.allFinite()) return Status::NonFinite;
     const S n = q.norm();
     if (!(n > S(0.5)) || !std::isfinite(n)) return Status::InvalidArgument;
     if (!(P.diagonal().array() >= S(0)).all()) return Status::InvalidArgument;
-    Mat7 P_sym = P;
-    symmetrize(P_sym);  // may overflow for huge finite entries: refuse those
+    Mat6 P_sym = P;
+    symmetrize(P_sym);
     if (!P_sym.allFinite()) return Status::InvalidArgument;
     st_.q_nb = q / n;
     st_.gyro_bias = bias;
     st_.P = P_sym;
     st_.initialized = true;
+    cov_psd_ = false;
     return Status::Ok;
   }
 
-  /// Time update with one gyro sample [rad/s] over dt [s] (eq. 9, 13, 14).
+  /// Time update with one gyro sample [rad/s] over dt [s]; the covariance health of the sample,
+  /// proven or tested (the top of this file).
   Status predict(const Vec3<S>& gyr, S dt) {
     if (!st_.initialized) return Status::NotInitialized;
     if (!all_finite(gyr)) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
     Quat<S> q_new;
-    Mat7 Phi;
-    const Quat<S> dq = detail::qekf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, Phi);
-    // P = Phi P Phi^T + Q (eq. 13-14) by blocks, Phi = [F B; 0 I] (predict_covariance_fb).
-    const Mat4<S> F = Phi.template topLeftCorner<4, 4>();
-    const Mat43<S> B = Phi.template topRightCorner<4, 3>();
-    const Mat43<S> X = quat::xi(q_new);
-    Mat7 P_new;
-    predict_covariance_fb<S, 4, 3>(st_.P, F, B, (dt * params_.gyro_noise * params_.gyro_noise / S(4)) * X * X.transpose(),
-                                   S(dt * params_.gyro_bias_noise * params_.gyro_bias_noise), P_new);
-    auto P_qq = P_new.template topLeftCorner<4, 4>();
-    symmetrize(P_qq);  // the other blocks are symmetric by construction
+    Mat3<S> F;
+    const Quat<S> dq = detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
+    Mat6 P_new;
+    const S qa = dt * params_.gyro_noise * params_.gyro_noise;
+    const S qb = dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
+    detail::eskf_predict_covariance<S>(st_.P, F, dt, qa, qb, P_new);
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
     st_.q_nb = q_new / q_new.norm();
-    detail::qekf_floor_symmetric_covariance(st_.q_nb, P_new, params_.cov_floor);
+    bool psd = true;
+    if (params_.cov_floor > S(0) && !(cov_psd_ && detail::eskf_floor_implied<S, 6>(P_new, qa, qb, params_.cov_floor))) {
+      Mat6 shifted = P_new;
+      shifted.diagonal().array() -= params_.cov_floor;
+      if (!detail::has_cholesky<S, 6>(shifted)) psd = floor_covariance<S, 6>(P_new, params_.cov_floor);
+    }
+    cov_psd_ = psd;
     st_.P = P_new;
     flags_ = 0;
     st_.dt_last = dt;
@@ -309,57 +283,41 @@ template <class S> class QuaternionEKF {
     return Status::Ok;
   }
 
-  /// Accelerometer update (rows 1-3 of eq. 12); acc normalized here (m/s^2 when the robustness
-  /// parts are on). First the rest test (parts/rest.hpp): at rest, a zero-rate update of the bias
-  /// precedes the acc update. Then the accelerometer part (parts/acc_filter.hpp): the low-passed
-  /// sample, its rejection (status Rejected, kAccRejected) and adaptive noise; the NIS gate is
-  /// `gate`, else acc_gate. A Rejected update leaves q, bias and P untouched but advances the
-  /// parts' low-passes and timers: those follow the input signal.
+  /// Accelerometer update: the rest test and the accelerometer part as in QuaternionEKFPaper::update_acc,
+  /// the low-pass time constant following the gyro-bias variance (acc_lp_bias_sigma); then 3
+  /// scalar rows.
   UpdateResult<S, 3> update_acc(const Vec3<S>& acc, S gate = S(0)) {
-    UpdateResult<S, 3> res;
-    if (!st_.initialized) return res;
-    if (detail::saturated(acc, params_.acc_range)) return saturated_result<3>();
+    if (!st_.initialized) return status_result<3>(Status::NotInitialized);
+    if (detail::saturated(acc, params_.acc_range)) return status_result<3>(Status::Saturated);
     Vec3<S> a;
-    res.status = detail::unit_vector(acc, a);
-    if (res.status != Status::Ok) return res;
+    const Status ua = detail::unit_vector(acc, a);
+    if (ua != Status::Ok) return status_result<3>(ua);
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
-    // The 7-state filter keeps acc_lp_tau whatever its bias variance (max_bias_var 0).
-    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, S(0), flags_, [&](const AccSample<S>& in) {
-      return update3(in.acc, detail::qekf_h(st_.q_nb, S(0), S(-1)), detail::qekf_H(st_.q_nb, S(0), S(-1)),
-                     params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
+    const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
+    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
+      return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
     });
   }
 
-  /// Magnetometer update; mag in any unit, normalized here.
-  ///
-  /// mag_heading_only (default): one row, the heading of the field (heading_model); the
-  /// result's innovation[0] is the heading innovation [rad], innovation_cov(0,0) its variance
-  /// (other rows zero). Otherwise rows 4-6 of eq. (12). Before either: the magnetometer part's
-  /// disturbance tests (parts/mag_disturbance.hpp) may reject (status Rejected, kMagRejected);
-  /// then the NIS gate (gate, else mag_gate). While accepted, the reference norm and dip follow
-  /// the field with time constant mag_ref_tau.
+  /// Magnetometer update: the magnetometer part as in QuaternionEKFPaper::update_mag, then the
+  /// heading-only or the 3-row update.
   UpdateResult<S, 3> update_mag(const Vec3<S>& mag, S gate = S(0)) {
-    UpdateResult<S, 3> res;
-    if (!st_.initialized) return res;
+    if (!st_.initialized) return status_result<3>(Status::NotInitialized);
     Vec3<S> m;
-    res.status = detail::unit_vector(mag, m);
-    if (res.status != Status::Ok) return res;
+    const Status um = detail::unit_vector(mag, m);
+    if (um != Status::Ok) return status_result<3>(um);
     const S gt = gate > S(0) ? gate : params_.mag_gate;
     const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
     return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
-      if (params_.mag_heading_only) return update_heading(m, gt);
-      Vec3<S> h;
-      Mat34<S> Hm;
-      mag_model(h, Hm);
-      return update3(mag, h, Hm, params_.mag_sigma, gt);
+      return params_.mag_heading_only ? update_heading(m, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
     });
   }
 
-  /// Joint accelerometer + magnetometer update, eq. (11)-(12) as one 6-vector.
+  /// Joint accelerometer + magnetometer update (6 scalar rows).
   UpdateResult<S, 6> update_acc_mag(const Vec3<S>& acc, const Vec3<S>& mag, S gate = S(0)) {
     UpdateResult<S, 6> res;
     if (!st_.initialized) return res;
-    if (detail::saturated(acc, params_.acc_range)) return saturated_result<6>();
+    if (detail::saturated(acc, params_.acc_range)) return status_result<6>(Status::Saturated);
     Vec3<S> a, m;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
@@ -367,20 +325,18 @@ template <class S> class QuaternionEKF {
     if (res.status != Status::Ok) return res;
     const MagRef<S> ref_before = st_.mag.ref;
     st_.mag.ref.learn(quat::rotate(st_.q_nb, m), params_.mag.mag_ref_samples);
-    Vec<S, 6> z, h;
-    z << a, m;
-    Mat<S, 6, 7> H = Mat<S, 6, 7>::Zero();
-    Vec3<S> hm;
-    Mat34<S> Hm;
-    mag_model(hm, Hm);
-    h << detail::qekf_h(st_.q_nb, S(0), S(-1)), hm;
-    H.template block<3, 4>(0, 0) = detail::qekf_H(st_.q_nb, S(0), S(-1));
-    H.template block<3, 4>(3, 0) = Hm;
-    Vec<S, 6> r;
+    Vec3<S> ha, hm;
+    Mat3<S> Ha, Hm;
+    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), ha, Ha);
+    detail::eskf_direction_model(st_.q_nb, mag_reference(), hm, Hm);
+    Mat<S, 6, 3> H;
+    H << Ha, Hm;
+    Vec<S, 6> y, r;
+    y << a - ha, m - hm;
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
-    apply_correction<6, 0, 4>(H, r, Vec<S, 6>(z - h), res, gate);
-    if (res.status != Status::Ok) st_.mag.ref = ref_before;  // a refused update changes nothing
+    apply_correction<6, 0, 3>(H, r, y, res, gate, heading_free(Vec3<S>(-ha)));
+    if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
 
@@ -388,37 +344,35 @@ template <class S> class QuaternionEKF {
   /// At rest (parts/rest.hpp): the zero-rate measurement of the bias, z = w - b = 0 + noise.
   void update_zero_rate() {
     flags_ |= flags::kAtRest;
-    Mat<S, 3, 7> H = Mat<S, 3, 7>::Zero();
-    H.template rightCols<3>().setIdentity();
+    const Mat3<S> H = Mat3<S>::Identity();
     const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
-    apply_correction<3, 4, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
+    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
   }
 
-  /// Heading-only magnetometer update (see heading_model): Kalman gain projected on the yaw
-  /// direction, Joseph form with the projected gain (valid for any gain), R inflated by the
-  /// tilt uncertainty seen through the field's dip: R = mag_noise^2 / h^2 + J_t Sigma_tilt J_t^T.
+  /// The reference field in the filter's frame: [m_x, 0, m_z] turned by the declination.
+  Vec3<S> mag_reference() const {
+    const Vec3<S> r(st_.mag.ref.mag_ref[0], S(0), st_.mag.ref.mag_ref[2]);
+    if (params_.declination == S(0)) return r;
+    return quat::rotate(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), r);
+  }
+
+  /// Heading-only magnetometer update (as QuaternionEKFPaper::update_heading, in the error space):
+  /// H = [u^T 0], the gain's attitude part projected on u, R inflated by the tilt uncertainty.
   UpdateResult<S, 3> update_heading(const Vec3<S>& m_unit, S gate) {
     UpdateResult<S, 3> res;
     S h, horiz2;
-    Eigen::Matrix<S, 1, 4> Hq;
-    Vec4<S> u;
-    Vec2<S> Jt;
-    if (!detail::heading_model(st_.q_nb, m_unit, h, horiz2, Hq, u, Jt)) {
+    Vec3<S> u, vt;
+    if (!detail::eskf_heading_model(st_.q_nb, m_unit, h, horiz2, u, vt)) {
       res.status = Status::ZeroNorm;
       return res;
     }
-    // Tilt block of the navigation-frame attitude covariance (phi with q_true = exp(phi) * q,
-    // phi = 2 R3^T dq, R3 = right(q).rightCols(3)): 4 R2^T P_qq R2 with R2 the x and y columns of R3; J_t Sigma J_t^T = 4 |P^1/2 R2 J_t|^2
-    // evaluated as 4 v^T P_qq v with v = R2 J_t.
-    const Vec4<S> v = quat::right(st_.q_nb).template middleCols<2>(1) * Jt;
-    const S R = params_.mag_sigma * params_.mag_sigma / horiz2 +
-                S(4) * v.dot(st_.P.template topLeftCorner<4, 4>() * v);
-    // The field's heading is the declination (0: the frame's x is magnetic north).
+    const Mat3<S> A = st_.P.template topLeftCorner<3, 3>();
+    const S R = params_.mag_sigma * params_.mag_sigma / horiz2 + vt.dot(A * vt);
     const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
-    Vec<S, 7> PHt;  // P H^T, H = [Hq 0]
-    PHt.noalias() = st_.P.template leftCols<4>() * Hq.transpose();
-    const S Sv = Hq.dot(PHt.template head<4>()) + R;
+    Vec<S, 6> PHt;
+    PHt.noalias() = st_.P.template leftCols<3>() * u;
+    const S Sv = u.dot(PHt.template head<3>()) + R;
     res.innovation[0] = y;
     res.innovation_cov(0, 0) = Sv;
     if (!std::isfinite(Sv) || !std::isfinite(y)) {
@@ -434,17 +388,45 @@ template <class S> class QuaternionEKF {
       res.status = Status::Rejected;
       return res;
     }
-    Vec<S, 7> K = PHt / Sv;
-    K.template head<4>() = (u * u.dot(K.template head<4>())).eval();  // yaw direction only
-    Mat7 P = st_.P;
-    joseph_update_scalar<S, 7>(P, K, PHt, Sv);  // Joseph form: valid for the projected gain
-    const Vec<S, 7> dx = K * y;
+    Vec<S, 6> K = PHt / Sv;
+    K.template head<3>() = (u * u.dot(K.template head<3>())).eval();
+    Mat6 P = st_.P;
+    joseph_update_scalar<S, 6>(P, K, PHt, Sv);
+    const Vec<S, 6> dx = K * y;
     res.status = Status::Ok;
-    inject_and_commit(
-        res, P, [&] { return Quat<S>(st_.q_nb + dx.template head<4>()); },
-        [&](const Quat<S>& q, const Mat7& Pc) { return all_finite(Pc) && all_finite(dx) && q.norm() > S(0.5); },
-        [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
-        [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
+    commit(res, P, dx);
+    return res;
+  }
+
+  /// The gain of the accelerometer rows for the body-frame vertical u (the top of this file).
+  detail::HeadingFreeRows<S> heading_free(const Vec3<S>& u) const {
+    return {u, AccFilter<S>::bias_weight(params_.acc, st_.acc, u), params_.acc_tilt_only ? 3 : 0};
+  }
+
+  /// The accelerometer's gravity update (the top of this file): the direction model of
+  /// r = [0, 0, -1] with the gain projected off the vertical u = -h.
+  UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
+    UpdateResult<S, 3> res;
+    Vec3<S> a;
+    res.status = detail::unit_vector(v, a);
+    if (res.status != Status::Ok) return res;
+    Vec3<S> h;
+    Mat3<S> H;
+    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
+    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(a - h), res, gate,
+                              heading_free(Vec3<S>(-h)));
+    return res;
+  }
+
+  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate) {
+    UpdateResult<S, 3> res;
+    Vec3<S> u;
+    res.status = detail::unit_vector(v, u);
+    if (res.status != Status::Ok) return res;
+    Vec3<S> h;
+    Mat3<S> H;
+    detail::eskf_direction_model(st_.q_nb, r_n, h, H);
+    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
     return res;
   }
 
@@ -453,100 +435,68 @@ template <class S> class QuaternionEKF {
     Quat<S> q;
     Vec3<S> mref;
     if (!detail::attitude_from_acc_mag(acc, mag, q, mref)) return Status::ZeroNorm;
-    if (mag && params_.declination != S(0)) {
-      // Magnetic heading + declination = true heading (a rotation about the navigation down axis).
-      q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
-    }
+    if (mag && params_.declination != S(0)) q = quat::mul(quat::from_rotvec(Vec3<S>(S(0), S(0), params_.declination)), q);
     st_.q_nb = q;
     st_.gyro_bias.setZero();
     st_.dt_last = S(0);
     // The parts start afresh; the reference field is learned from this sample (unless the user fixed it).
     restart_parts<S>(params_, st_, mag, mref);
     flags_ = 0;
-    // Attitude sigma s (rad) on each body axis -> quaternion block (s/2)^2 Xi Xi^T.
     st_.P.setZero();
-    const Mat43<S> X = quat::xi(st_.q_nb);
-    const S sa = params_.init_att_sigma / S(2);
-    st_.P.template topLeftCorner<4, 4>() = sa * sa * X * X.transpose();
-    symmetrize(st_.P);  // X X^T is symmetric only up to rounding
-    st_.P.template bottomRightCorner<3, 3>().diagonal().setConstant(params_.init_gyro_bias_sigma *
-                                                                    params_.init_gyro_bias_sigma);
+    st_.P.diagonal().template head<3>().setConstant(params_.init_att_sigma * params_.init_att_sigma);
+    st_.P.diagonal().template tail<3>().setConstant(params_.init_gyro_bias_sigma * params_.init_gyro_bias_sigma);
     st_.initialized = true;
+    cov_psd_ = true;  // diagonal, non-negative
     return Status::Ok;
   }
 
-  /// Field model of the 3-row magnetometer update (eq. 12 rows 4-6) and its Jacobian w.r.t. q.
-  /// The reference [rx, 0, rz] lies in the magnetic frame; with a declination d the filter's
-  /// frame is true north and h(q) = C_bn(q) Rz(d) r = C_bn(q_m) r with q_m = Rz(-d) * q, so
-  /// h and H are those of the paper at q_m, and H picks up the constant factor
-  /// d q_m / d q = left(Rz(-d)) (chain rule).
-  void mag_model(Vec3<S>& h, Mat34<S>& H) const {
-    const S rx = st_.mag.ref.mag_ref[0], rz = st_.mag.ref.mag_ref[2];
-    if (params_.declination == S(0)) {
-      h = detail::qekf_h(st_.q_nb, rx, rz);
-      H = detail::qekf_H(st_.q_nb, rx, rz);
-      return;
-    }
-    const Quat<S> qd = quat::from_rotvec(Vec3<S>(S(0), S(0), -params_.declination));
-    const Quat<S> qm = quat::mul(qd, st_.q_nb);
-    h = detail::qekf_h(qm, rx, rz);
-    H = detail::qekf_H(qm, rx, rz) * quat::left(qd);
-  }
-
-  /// One 3-row direction update: the unit vector of v against the model h(q) with Jacobian Hq.
-  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& h, const Mat34<S>& Hq, S sigma, S gate) {
-    UpdateResult<S, 3> res;
-    if (!st_.initialized) return res;
-    Vec3<S> u;
-    res.status = detail::unit_vector(v, u);
-    if (res.status != Status::Ok) return res;
-    Mat<S, 3, 7> H = Mat<S, 3, 7>::Zero();
-    H.template leftCols<4>() = Hq;
-    apply_correction<3, 0, 4>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
-    return res;
-  }
-
-  template <int M> static UpdateResult<S, M> saturated_result() {
+  template <int M> static UpdateResult<S, M> status_result(Status status) {
     UpdateResult<S, M> r;
-    r.status = Status::Saturated;
+    r.status = status;
     return r;
   }
 
-  /// H is nonzero only in its NC columns from C0 on (the quaternion or the bias block). Every
-  /// measurement of this filter has uncorrelated components (R = diag(r)), so the rows are
-  /// processed as sequential scalar updates (kalman_correct_diagonal: the joint update up to
-  /// rounding, same NIS).
-  template <int M, int C0, int NC>
-  void apply_correction(const Mat<S, M, 7>& H, const Vec<S, M>& r, const Vec<S, M>& y,
-                        UpdateResult<S, M>& res, S gate) {
-    Mat7 P = st_.P;  // the one working copy; its finiteness is tested in the check step
-    Vec<S, 7> dx;
-    const Mat<S, M, NC> Hc = H.template middleCols<NC>(C0);
-    kalman_correct_diagonal_in_place<S, 7, M, C0, NC>(P, Hc, r, y, dx, res, gate);
+  /// Scalar sequential Joseph updates of the rows of H, given by its NC nonzero columns from C0
+  /// on, on one working copy of P (tested for finiteness once, in commit()).
+  template <int M, int C0, int NC, class Gain = OptimalGain>
+  void apply_correction(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
+                        S gate, const Gain& gain = Gain{}) {
+    Mat6 P = st_.P;
+    Vec<S, 6> dx;
+    kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain);
+    commit(res, P, dx);
+  }
+
+  /// inject (q * exp(dtheta), b + db) -> check (finite) -> commit (core/commit.hpp). P is the
+  /// working copy, reset in place.
+  template <int M> void commit(UpdateResult<S, M>& res, Mat6& P, const Vec<S, 6>& dx) {
+    if (res.status == Status::Ok) detail::eskf_reset_covariance<S>(P, Vec3<S>(dx.template head<3>()));
     inject_and_commit(
-        res, P, [&] { return Quat<S>(st_.q_nb + dx.template head<4>()); },
-        [](const Quat<S>& q, const Mat7& Pc) { return all_finite(Pc) && q.norm() > S(0.5); },
-        [&](Quat<S>& q, Mat7& Pc) { return condition_candidate(q, Pc); },
-        [&](const Quat<S>& q, const Mat7& Pc) { commit_candidate(q, Vec3<S>(dx.template tail<3>()), Pc); });
-  }
-
-  /// The conditioning of a corrected candidate (core/commit.hpp): q renormalized with P
-  /// projected, then the error-state floor.
-  bool condition_candidate(Quat<S>& q, Mat7& P) const {
-    detail::qekf_normalize(q, P);
-    detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
-    return true;
-  }
-
-  void commit_candidate(const Quat<S>& q, const Vec3<S>& dbias, const Mat7& P) {
-    st_.q_nb = q;
-    st_.gyro_bias += dbias;
-    st_.P = P;
+        res, P,
+        [&] {
+          const Quat<S> q = quat::mul(st_.q_nb, quat::from_rotvec(Vec3<S>(dx.template head<3>())));
+          return Quat<S>(q / q.norm());
+        },
+        [&](const Quat<S>& q, const Mat6& Pk) { return all_finite(Pk) && all_finite(dx) && all_finite(q); },
+        Always{},
+        [&](const Quat<S>& q, const Mat6& Pk) {
+          st_.q_nb = q;
+          st_.gyro_bias += dx.template tail<3>();
+          st_.P = Pk;
+        });
   }
 
   Params params_{};
   State st_{};
-  std::uint32_t flags_ = 0;  ///< flags of the current sample (diagnostic, not part of the state)
+  std::uint32_t flags_ = 0;
+  /// P was tested, floored or proven at the last time update (or set by initialize()), so the
+  /// next one may prove instead of testing. Not part of State: a restored filter tests once, and
+  /// that test passes wherever this one's proof holds, so the results are the same.
+  bool cov_psd_ = true;
 };
+
+/// The name of this filter before 0.2 (when QuaternionEKF was the 7-state form, now QuaternionEKFPaper).
+template <class S>
+using QuaternionESKF [[deprecated("QuaternionESKF is now QuaternionEKF")]] = QuaternionEKF<S>;
 
 }  // namespace quatnav

@@ -1,10 +1,10 @@
-// quatnav: the Rauch-Tung-Striebel smoothers of the attitude filters: QuaternionESKF (the
-// default QuaternionEKF, 6-state multiplicative error state) and EulerEKF.
+// quatnav: the Rauch-Tung-Striebel smoothers of the attitude filters: QuaternionEKF (the
+// default, 6-state multiplicative error state) and EulerEKF.
 //
 // The models of core/smoother.hpp, written on the filters' public API: a copy of the filter
 // recomputes the time update of a sample from a stored posterior (set_state, predict), and the
 // transition is the one the time update uses:
-//  * QuaternionESKF: error state [dtheta (body frame, q_true = q * exp(dtheta)), db], Phi =
+//  * QuaternionEKF: error state [dtheta (body frame, q_true = q * exp(dtheta)), db], Phi =
 //    [C(dq)^T  -dt I; 0  I] (detail::eskf_propagate); the smoothed attitude is the forward
 //    quaternion turned by the smoothed error rotation, q^s = q * exp(d_theta), the smoothed bias
 //    b + d_b. Record: q, b and the upper triangle of the 6x6 P: 28 scalars (224 bytes in
@@ -24,7 +24,7 @@
 #include "../core/smoother.hpp"
 #include "../core/types.hpp"
 #include "euler_ekf.hpp"
-#include "quaternion_eskf.hpp"
+#include "quaternion_ekf.hpp"
 
 namespace quatnav {
 
@@ -109,11 +109,11 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
 
 }  // namespace detail
 
-/// The smoother model of QuaternionESKF<S>: attitude error dtheta in the body frame,
+/// The smoother model of QuaternionEKF<S>: attitude error dtheta in the body frame,
 /// q_true = q * exp(dtheta); Phi = [C(dq)^T  -dt I; 0  I] (detail::eskf_propagate).
 template <class S>
-class QuaternionESKFRtsModel : public detail::AttitudeRtsModel<QuaternionESKFRtsModel<S>, QuaternionESKF<S>, 4> {
-  using Base = detail::AttitudeRtsModel<QuaternionESKFRtsModel<S>, QuaternionESKF<S>, 4>;
+class QuaternionEKFRtsModel : public detail::AttitudeRtsModel<QuaternionEKFRtsModel<S>, QuaternionEKF<S>, 4> {
+  using Base = detail::AttitudeRtsModel<QuaternionEKFRtsModel<S>, QuaternionEKF<S>, 4>;
 
  public:
   using typename Base::Filter;
@@ -195,8 +195,8 @@ template <class S> class EulerEKFRtsModel : public detail::AttitudeRtsModel<Eule
 template <class F> struct AttitudeRtsModelOf {
   using type = void;
 };
-template <class S> struct AttitudeRtsModelOf<QuaternionESKF<S>> {
-  using type = QuaternionESKFRtsModel<S>;
+template <class S> struct AttitudeRtsModelOf<QuaternionEKF<S>> {
+  using type = QuaternionEKFRtsModel<S>;
 };
 template <class S> struct AttitudeRtsModelOf<EulerEKF<S>> {
   using type = EulerEKFRtsModel<S>;

@@ -19,7 +19,7 @@
 //  * normalize / floor_error_covariance: whole-matrix products, any offset Q (NavFilter13);
 //  * normalize_symmetric / floor_symmetric_error_covariance: block by block, every symmetric
 //    pair computed once so that P stays exactly symmetric without a symmetrization, with a cheap
-//    LDL^T test of the error covariance before any repair (QuaternionEKF, Q = 0). It is the
+//    LDL^T test of the error covariance before any repair (QuaternionEKFPaper, Q = 0). It is the
 //    faster one; NavFilter13 keeps the other because moving it would change its results' bits
 //    (tests/regression holds them).
 #pragma once

@@ -1,5 +1,5 @@
 // quatnav: the accelerometer's treatment before an attitude update, a part of the attitude
-// filters (QuaternionEKF, QuaternionESKF, EulerEKF, MargFilter compose it): a low-pass in a
+// filters (QuaternionEKFPaper, QuaternionEKF, EulerEKF, MargFilter compose it): a low-pass in a
 // quasi-inertial frame, the rejection of samples whose norm is not gravity's, an adaptive noise
 // and the recovery from a run of rejections.
 //

@@ -1,5 +1,5 @@
 // quatnav: the magnetometer's reference field and its disturbance tests, a part of the attitude
-// filters (QuaternionEKF, QuaternionESKF, EulerEKF, MargFilter compose it).
+// filters (QuaternionEKFPaper, QuaternionEKF, EulerEKF, MargFilter compose it).
 //
 //  * Reference (always): the normalized field [m_x, 0, m_z] (MagRef, attitude.hpp), learned from
 //    the dip of the first mag_ref_samples samples unless set_mag_dip() fixed it, and the field's

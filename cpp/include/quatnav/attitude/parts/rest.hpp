@@ -1,5 +1,5 @@
 // quatnav: rest detection and its zero-rate measurement of the gyro bias, a part of the attitude
-// filters (QuaternionEKF, QuaternionESKF, EulerEKF, MargFilter compose it).
+// filters (QuaternionEKFPaper, QuaternionEKF, EulerEKF, MargFilter compose it).
 //
 // Rest is declared once, for rest_time without a break, (i) the gyro stays within rest_gyr_th of
 // its low-pass, (ii) that low-pass within rest_gyr_th of the bias estimate and (iii) the
