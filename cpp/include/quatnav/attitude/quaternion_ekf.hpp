@@ -406,19 +406,14 @@ template <class S> class QuaternionEKF {
   /// The accelerometer's gravity update (the top of this file): the direction model of
   /// r = [0, 0, -1] with the gain projected off the vertical u = -h.
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
-    UpdateResult<S, 3> res;
-    Vec3<S> a;
-    res.status = detail::unit_vector(v, a);
-    if (res.status != Status::Ok) return res;
-    Vec3<S> h;
-    Mat3<S> H;
-    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
-    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(a - h), res, gate,
-                              heading_free(Vec3<S>(-h)));
-    return res;
+    const Vec3<S> g_n(S(0), S(0), S(-1));
+    return update3(v, g_n, sigma, gate, heading_free(Vec3<S>(-quat::rotate_inv(st_.q_nb, g_n))));
   }
 
-  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate) {
+  /// The 3-row direction update of v (normalized here) against the reference r_n, with the
+  /// optimal gain or the gain map `gain` (kalman.hpp).
+  template <class Gain = OptimalGain>
+  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate, const Gain& gain = Gain{}) {
     UpdateResult<S, 3> res;
     Vec3<S> u;
     res.status = detail::unit_vector(v, u);
@@ -426,7 +421,7 @@ template <class S> class QuaternionEKF {
     Vec3<S> h;
     Mat3<S> H;
     detail::eskf_direction_model(st_.q_nb, r_n, h, H);
-    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate);
+    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate, gain);
     return res;
   }
 
