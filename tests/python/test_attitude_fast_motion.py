@@ -88,3 +88,30 @@ def test_cpp_matches_reference_under_swinging():
     b = reference.QuaternionEKF().run(tr.gyr[:n], tr.acc[:n], t=tr.t[:n])
     assert np.max(np.abs(Q.canonical(a.quat) - Q.canonical(b.quat))) < 1e-9
     assert np.max(np.abs(a.bias - b.bias)) < 1e-9
+
+
+def test_rate_noise_is_in_the_tilt_only():
+    """The rate-proportional tilt noise (attitude.hpp detail::tilt_rate_noise, its numpy twin):
+    dt (k |w|)^2 (I - u u^T) for the body-frame vertical u: nothing along u (the heading
+    variance does not grow), 2 dt (k |w|)^2 in the trace, zero with k = 0."""
+    from quatnav.reference.attitude import tilt_rate_noise
+    q = Q.from_euler([0.4, -0.7, 2.0])
+    w, k, dt = np.array([3.0, -5.0, 4.0]), 0.004, 0.005
+    N = tilt_rate_noise(q, w, k, dt)
+    u = Q.rotate(Q.conj(q), [0.0, 0.0, 1.0])
+    assert np.allclose(N, N.T, atol=0)
+    assert abs(u @ N @ u) < 1e-18
+    assert np.trace(N) == pytest.approx(2 * dt * (k * np.linalg.norm(w)) ** 2, rel=1e-12)
+    assert np.all(np.linalg.eigvalsh(N) > -1e-18)
+    assert not tilt_rate_noise(q, w, 0.0, dt).any()
+
+
+def test_rate_noise_holds_the_inclination_under_gyro_scale_errors():
+    """fast_scale_misalignment in 6D (2 % scale factors and misaligned axes at hundreds of deg/s):
+    with the tilt noise that grows with the rate (gyro_rate_noise, default 0.004) the
+    accelerometer takes back the tilt the wrong gyro turns; inclination RMSE 5.8 deg against
+    6.7 without it (VQF's defaults: total 8.3 deg, the filter's 8.3 against 8.7)."""
+    _, on = _run(quatnav.QuaternionEKF, "fast_scale_misalignment", "6D")
+    _, off = _run(quatnav.QuaternionEKF, "fast_scale_misalignment", "6D", gyro_rate_noise=0.0)
+    assert on["inclination"] < 6.2, on
+    assert on["inclination"] < off["inclination"] - 0.5, (on, off)

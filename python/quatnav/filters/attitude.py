@@ -206,6 +206,11 @@ class QuaternionEKF(_AttitudeFilter):
         Gyro white-noise density, rad/s/sqrt(Hz).
     gyro_bias_noise : float, default 1e-4 [1e-5]
         Gyro bias random-walk density, rad/s^2/sqrt(Hz).
+    gyro_rate_noise : float, default 0.004 [0]
+        Tilt process noise that grows with the rate, 1/sqrt(Hz): a white-noise density
+        ``gyro_rate_noise * |w - b|`` (rad/s/sqrt(Hz)) on roll and pitch only, for the gyro's
+        scale-factor and misalignment errors in fast motion (the accelerometer corrects them;
+        a heading noise would hand the heading to the magnetometer). 0: off.
     acc_sigma : float, default 0.4 [0.05]
         Standard deviation of each component of the normalized accelerometer (dimensionless).
     mag_sigma : float, default 1.0 [0.1]

@@ -260,6 +260,8 @@ QEKF_PARAMS = (
        "the other arguments are applied on top", "bool", None),
     _gyro_noise(0.01),
     _gyro_bias_noise(1e-4),
+    _p("gyro_rate_noise", 0.004, "1/sqrt(Hz)", "rate-proportional tilt process noise: density "
+       "gyro_rate_noise * |w - b| in the tilt (0: off)", "pos0"),
     _p("acc_sigma", 0.4, "1 (normalized)", "std of each component of the normalized accelerometer"),
     _p("mag_sigma", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer"),
     _p("init_att_sigma", 0.5, "rad", "attitude one-sigma after initialize"),

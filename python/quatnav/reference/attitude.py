@@ -162,6 +162,14 @@ def sample_times(n, t=None, dt=None):
 FLAG_ACC_REJECTED, FLAG_MAG_REJECTED, FLAG_AT_REST = FLAGS["acc_rejected"], FLAGS["mag_rejected"], FLAGS["at_rest"]
 
 
+def tilt_rate_noise(q, rate, k, dt):
+    """The rate-proportional tilt noise (attitude.hpp ``detail::tilt_rate_noise``):
+    ``dt (k |rate|)^2 (I - u u^T)``, u the body-frame vertical of ``q`` (rad^2, body frame)."""
+    q = np.asarray(q, float) / np.linalg.norm(q)
+    u = Q.rotate(Q.conj(q), np.array([0.0, 0.0, 1.0]))
+    return dt * (k * np.linalg.norm(rate)) ** 2 * (np.eye(3) - np.outer(u, u))
+
+
 class QuaternionEKF(_Base):
     """Quaternion EKF of paper 000 in numpy, with the robustness options of quaternion_ekf_paper.hpp.
 
@@ -170,7 +178,7 @@ class QuaternionEKF(_Base):
 
     defaults = table_defaults(QEKF_PARAMS)
     #: QuaternionEKFParams::paper(): the plain filter of paper 000 (a test compares it with the C++).
-    paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, acc_sigma=0.05, mag_sigma=0.1,
+    paper_overrides = dict(gyro_noise=0.005, gyro_bias_noise=1e-5, gyro_rate_noise=0.0, acc_sigma=0.05, mag_sigma=0.1,
                            init_att_sigma=0.05, init_gyro_bias_sigma=0.01, mag_heading_only=False,
                            acc_tilt_only=False, acc_adapt=0.0,
                            acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
@@ -286,6 +294,9 @@ class QuaternionEKF(_Base):
         X = Q.xi(q_new)
         Qn = np.zeros((7, 7))
         Qn[:4, :4] = dt * self.p.gyro_noise**2 / 4 * X @ X.T
+        if self.p.gyro_rate_noise > 0:
+            Qn[:4, :4] += X @ tilt_rate_noise(q_new, np.asarray(gyr, float) - self.bias,
+                                              self.p.gyro_rate_noise, dt) @ X.T / 4
         Qn[4:, 4:] = np.eye(3) * dt * self.p.gyro_bias_noise**2
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
@@ -490,6 +501,8 @@ class _QuaternionEKFErrorState(QuaternionEKF):
             return "invalid_dt"
         q_new, Phi, dq = self.propagate(self.q, self.bias, gyr, dt)
         Qn = np.diag([dt * self.p.gyro_noise**2] * 3 + [dt * self.p.gyro_bias_noise**2] * 3)
+        if self.p.gyro_rate_noise > 0:
+            Qn[:3, :3] += tilt_rate_noise(q_new, np.asarray(gyr, float) - self.bias, self.p.gyro_rate_noise, dt)
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)

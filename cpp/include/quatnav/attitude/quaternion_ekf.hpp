@@ -14,6 +14,9 @@
 // Jacobian of exp that multiplies -dt db exactly is taken as I (its error is O(|w~| dt), 0.2 %
 // at 0.8 rad/s and 200 Hz). Q = diag(dt sigma_g^2 I, dt sigma_b^2 I): the same densities as the
 // 7-state filter (there Q_qq = dt sigma_g^2 / 4 Xi Xi^T is this Q_aa mapped to the quaternion).
+// Q_aa also has the tilt noise that grows with the rate, dt (k |w~|)^2 (I - u u^T) for
+// k = gyro_rate_noise and u the body-frame vertical (detail::tilt_rate_noise, attitude.hpp): the
+// gyro's scale-factor and misalignment errors in fast motion, which the accelerometer corrects.
 //
 // Measurement Jacobians: h(q) = C_bn(q) r (r = [0, 0, -1] for gravity, the reference field for
 // the magnetometer); C_bn(q exp(dtheta)) = (I - [dtheta x]) C_bn(q), so dh/ddtheta = [h x]
@@ -45,10 +48,11 @@
 // The proof (detail::eskf_floor_implied): every step between two time updates keeps P positive
 // semi-definite up to rounding (the scalar Joseph updates, P+ = (I - k h^T) P (I - k h^T)^T +
 // r k k^T for any gain, and the reset's congruence G P G^T), and the time update adds
-// Q = diag(qa I, qb I); so if P was positive semi-definite at the last time update, the new
-// P - cov_floor I has no eigenvalue below min(qa, qb) - cov_floor - (the rounding of one
-// sample). When that margin exceeds a generous bound of the rounding (a multiple of
-// eps trace(P), trace(P) >= |P|_2), the test is skipped: it could only pass. The premise holds
+// Q = diag(qa I, qb I) (plus the tilt noise, positive semi-definite); so if P was positive
+// semi-definite at the last time update, the new P - cov_floor I has no eigenvalue below
+// min(qa, qb) - cov_floor - (the rounding of one sample). When that margin exceeds a generous
+// bound of the rounding (a multiple of eps trace(P), trace(P) >= |P|_2), the test is skipped: it
+// could only pass. The premise holds
 // after initialize() (a diagonal P) and after every time update that tested or proved P; after
 // reset() and set_state() (a P from outside) and after a failed floor, the next time update
 // tests. With the defaults at 200 Hz (qb = 5e-11 against a floor of 1e-12) the test is skipped
@@ -266,6 +270,10 @@ template <class S> class QuaternionEKF {
     const S qa = dt * params_.gyro_noise * params_.gyro_noise;
     const S qb = dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
     detail::eskf_predict_covariance<S>(st_.P, F, dt, qa, qb, P_new);
+    if (params_.gyro_rate_noise > S(0)) {  // positive semi-definite: the floor's argument holds
+      P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(
+          Quat<S>(q_new / q_new.norm()), Vec3<S>(gyr - st_.gyro_bias), params_.gyro_rate_noise, dt);
+    }
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
     st_.q_nb = q_new / q_new.norm();
     bool psd = true;

@@ -214,8 +214,13 @@ template <class S> class QuaternionEKFPaper {
     const Mat43<S> B = Phi.template topRightCorner<4, 3>();
     const Mat43<S> X = quat::xi(q_new);
     Mat7 P_new;
-    predict_covariance_fb<S, 4, 3>(st_.P, F, B, (dt * params_.gyro_noise * params_.gyro_noise / S(4)) * X * X.transpose(),
-                                   S(dt * params_.gyro_bias_noise * params_.gyro_bias_noise), P_new);
+    Mat4<S> Qqq = (dt * params_.gyro_noise * params_.gyro_noise / S(4)) * X * X.transpose();
+    if (params_.gyro_rate_noise > S(0)) {  // the tilt noise of quaternion_ekf.hpp, mapped by X / 2
+      const Mat3<S> Qt = detail::tilt_rate_noise<S>(Quat<S>(q_new / q_new.norm()), Vec3<S>(gyr - st_.gyro_bias),
+                                                    params_.gyro_rate_noise, dt);
+      Qqq += (X * Qt * X.transpose()) / S(4);
+    }
+    predict_covariance_fb<S, 4, 3>(st_.P, F, B, Qqq, S(dt * params_.gyro_bias_noise * params_.gyro_bias_noise), P_new);
     auto P_qq = P_new.template topLeftCorner<4, 4>();
     symmetrize(P_qq);  // the other blocks are symmetric by construction
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;

@@ -33,6 +33,10 @@ namespace quatnav {
 #define QUATNAV_QEKF_PARAMS(X)                                                                          \
   X(S, gyro_noise, S(0.01), "rad/s/sqrt(Hz)", "gyro white-noise density (angle random walk)")            \
   X(S, gyro_bias_noise, S(1e-4), "rad/s^2/sqrt(Hz)", "gyro-bias random-walk density")                    \
+  /* the gyro's scale-factor and misalignment errors grow with the rate and the accelerometer            \
+     corrects them in the tilt only (attitude.hpp, detail::tilt_rate_noise) */                     \
+  X(S, gyro_rate_noise, S(0.004), "1/sqrt(Hz)",                                                          \
+    "rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off)")      \
   X(S, acc_sigma, S(0.4), "1 (normalized)", "std of each component of the normalized accelerometer")     \
   X(S, mag_sigma, S(1.0), "1 (normalized)", "std of each component of the normalized magnetometer")      \
   X(S, init_att_sigma, S(0.5), "rad", "attitude one-sigma after initialize")                             \
@@ -67,6 +71,7 @@ template <class S> struct QuaternionEKFParams {
     QuaternionEKFParams p;
     p.gyro_noise = S(0.005);
     p.gyro_bias_noise = S(1e-5);
+    p.gyro_rate_noise = S(0);
     p.acc_sigma = S(0.05);
     p.mag_sigma = S(0.1);
     p.init_att_sigma = S(0.05);
