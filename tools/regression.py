@@ -749,7 +749,9 @@ EXACT_ONLY = "exact"
 
 def _so_compiler() -> str:
     """The compiler recorded in the compiled module's .comment section (e.g. 'GCC: (Debian
-    12.2.0-14) 12.2.0'), 'unknown' if not found."""
+    12.2.0-14) 12.2.0'); for a module without one (clang's Release modules are stripped of it), the
+    compiler as the module reports itself (`quatnav._core.compiler`, e.g. 'clang 14.0.6');
+    'unknown' if neither."""
     try:
         import quatnav._core as core
         data = Path(core.__file__).read_bytes()
@@ -757,7 +759,10 @@ def _so_compiler() -> str:
         return "unknown"
     import re
     found = sorted({m.decode("ascii", "replace") for m in re.findall(rb"(?:GCC|clang version|Ubuntu clang): ?[ -~]{3,80}", data)})
-    return "; ".join(found) or "unknown"
+    if found:
+        return "; ".join(found)
+    reported = getattr(core, "compiler", None)
+    return reported.strip() if isinstance(reported, str) and reported.strip() else "unknown"
 
 
 def _cpu_flags() -> set[str]:

@@ -39,6 +39,15 @@ template <class S> py::ssize_t first_zero_norm_row(const carray<S>& a) {
 PYBIND11_MODULE(_core, m) {
   m.doc() = "quatnav compiled core (header-only C++ filters bound for float32 and float64)";
   m.attr("__version__") = QUATNAV_VERSION;
+  // The compiler that built this module (a part of the arithmetic environment that
+  // tools/regression.py records beside its reference outputs).
+#if defined(__clang__)
+  m.attr("compiler") = pybind11::str("clang " __clang_version__).attr("strip")();  // without its trailing space
+#elif defined(__GNUC__)
+  m.attr("compiler") = "GCC " __VERSION__;
+#else
+  m.attr("compiler") = "unknown";
+#endif
   // The one flag table and the status names, from the C++ declarations (core/flags.hpp, types.hpp);
   // quatnav.Flag and quatnav.Status are tested equal to them.
   m.def("flag_table", []() -> pybind11::list {
