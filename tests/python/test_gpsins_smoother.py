@@ -11,23 +11,22 @@ The smoothed normalized errors are checked as every consistency test is (_consis
 filter told Q, R and P0 times QUATNAV_TEST_VARIANCE_SCALE, the mean over the runs of a block's
 squared normalized errors per dof in the two-sided 99 % interval of runs x M_EFF x 3 dof >= 296,
 which rejects a covariance off by 1.5x either way with probability >= 99 %. Measured (2026-12-05,
-200 runs, the per-run means' variance; ``python -c "import test_gpsins_smoother as T;
-T.measure_meff()"`` in tests/python): m = 2.8, 6.1 and 1.6 for position, velocity and attitude
-(M_EFF 80 % of it), means 0.97, 0.99 and 1.03 at truth. Over the runs checked (48, 24, 80):
-0.93, 1.07 and 0.95 at truth, 1.41, 1.53 and 1.37 with the variances times 1/1.5, 0.62, 0.72 and
-0.63 times 1.5 (each of these fails its check).
+200 runs with the defaults, rest detection on; the per-run means' variance; ``python -c "import
+test_gpsins_smoother as T; T.measure_meff()"`` in tests/python): m = 2.8, 6.8 and 1.9 for
+position, velocity and attitude (M_EFF at most 80 % of it), means 0.98, 0.91 and 1.03 at truth.
+Over the runs checked (48, 24, 80): 0.94, 1.01 and 1.00 at truth, 1.39, 1.42 and 1.44 with the
+variances times 1/1.5, 0.64, 0.68 and 0.67 times 1.5 (each of these fails its check).
 
-The rest detector is off in these runs (``zupt=False``) because of a defect of the forward
-filter, shown by ``test_no_zero_velocity_update_while_walking_in_an_outage`` (an expected
-failure until it is fixed): the simulated walk at constant speed has a quiet IMU, and after 20 to
-25 s without GNSS the INS velocity has drifted (its one-sigma about 1.9 m/s) below the detector's
-speed limit (``rest_speed`` plus at most ``rest_speed`` more: 0.6 m/s), so it takes the walk for
-rest and the zero-velocity updates pin the velocity at zero while the walker moves at 1.4 m/s
-(seed 7: from 71.8 s, the forward error 20 m against a sigma of 2 m; the smoother keeps the
-forward decisions and spreads it over the outage: smoothed error 22 m). With the default rest
-detection, 12 of 200 runs of a 20 s outage (45-65 s) had such updates, and their smoothed
-velocity errors were 100 to 300 sigma. The zero-velocity updates at the real stops (the first
-10 s and the last 10 s of the walk) are smoothed in ``test_smoother_with_the_default_rest_detection``.
+The runs use the filter's default rest detection: the zero-velocity updates of the stands at the
+start and the end of the walk go through the smoother. They ran without it until the rest test
+stopped trusting a drifted INS speed in an outage
+(``test_no_zero_velocity_update_while_walking_in_an_outage``): the simulated walk at constant
+speed has a quiet IMU, and after 20 to 25 s without GNSS the INS speed had drifted (its one-sigma
+about 1.9 m/s) below the rest test's limit (0.6 m/s), so the zero-velocity updates pinned the
+velocity at zero while the walker moved at 1.4 m/s (seed 7 from 71.8 s: forward error 20 m
+against a sigma of 2 m; 12 of 200 runs of a 20 s outage, smoothed velocity errors of 100 to 300
+sigma). With a 20 s outage (45-65 s) none of 200 runs now flags rest while walking (the only
+samples flagged above 0.5 m/s are the first 1-3 as the walker sets off at 11.6 s, in 14 runs).
 """
 import numpy as np
 import pytest
@@ -83,7 +82,7 @@ def _runs(seeds, **params):
 
 @pytest.fixture(scope="module")
 def runs():
-    return _runs(SEEDS, zupt=False)
+    return _runs(SEEDS)
 
 
 def _smoothed_nees(runs):
@@ -96,9 +95,9 @@ def _smoothed_nees(runs):
     return np.array(out)
 
 
-def measure_meff(runs=200):
+def measure_meff(runs=200, **params):
     """The measured m of each block: the per-run means of NEES / dof vary as 2 / (3 m)."""
-    z2 = _smoothed_nees(_runs(range(runs), zupt=False))
+    z2 = _smoothed_nees(_runs(range(runs), **params))
     for name, (cols, _, _) in NEES_BLOCKS.items():
         per_run = z2[:, :, cols].sum(axis=2).mean(axis=1) / 3
         print(f"{name:9s} mean {per_run.mean():.3f}, m = {2.0 / (3 * per_run.var(ddof=1)):.2f}")
@@ -142,17 +141,20 @@ def test_smoothed_nees_within_chi2_bounds(runs, block):
 
 def test_outage_error_is_a_fraction_of_the_forward_drift(runs):
     """The worst horizontal position error inside each outage, smoothed against forward: over the
-    runs, the median ratio below 0.5 and the ratio below 1 in every run, where the forward
-    solution drifts by more than 1 m in the median run."""
+    runs, the median ratio below 0.5, where the forward solution drifts by more than 1 m in the
+    median run, and the ratio below 1 in every run whose forward drift exceeds 1 m. (Below that
+    the forward error is at the level of the aided error with 2.5 m fixes, and the smoothed one
+    can be a little larger: 0.30 against 0.25 m in one of 80 runs, three of 80 above 1.)"""
     for a, b in OUTAGES:
         ef, es = [], []
         for traj, imu, r, _ in runs:
             idx = np.flatnonzero((r.t >= a) & (r.t < b))
             ef.append(np.hypot(*_errors(r.forward, traj, imu, idx)[:, :2].T).max())
             es.append(np.hypot(*_errors(r, traj, imu, idx)[:, :2].T).max())
-        ratio = np.array(es) / np.array(ef)
+        ef = np.array(ef)
+        ratio = np.array(es) / ef
         assert np.median(ef) > 1.0, (a, b, ef)
-        assert np.median(ratio) < 0.5 and ratio.max() < 1.0, (a, b, ratio)
+        assert np.median(ratio) < 0.5 and ratio[ef > 1.0].max() < 1.0, (a, b, ratio)
 
 
 def _false_rest(seed, outages, **params):
@@ -184,13 +186,41 @@ def test_smoother_with_the_default_rest_detection():
     assert es < 0.5 * ef, (es, ef)
 
 
-@pytest.mark.xfail(strict=True, reason="a defect of the forward filter: after 25 s without GNSS the drifted INS "
-                   "speed (< 0.6 m/s, one-sigma 1.9 m/s) and the quiet IMU of a constant-speed walk pass the "
-                   "rest detector, whose zero-velocity updates pin the velocity at zero at 1.4 m/s")
 def test_no_zero_velocity_update_while_walking_in_an_outage():
     """With the defaults, seed 7 of the walk and the 30 s outage: no sample may be flagged at
-    rest while the walker moves at 1.4 m/s (measured: 215 samples from 71.8 s)."""
-    assert _false_rest(7, OUTAGES)[0] == 0
+    rest while the walker moves at 1.4 m/s. After 25 s without GNSS the INS speed has drifted
+    below 0.6 m/s (its one-sigma 1.9 m/s) and the IMU of a constant-speed walk is as quiet as at
+    rest; a rest test that trusted that speed took the walk for rest from 71.8 s (215 samples) and
+    its zero-velocity updates pinned the velocity at zero. Seed 153: a rest test whose velocity
+    followed the other aids' corrections (compass, altimeter) in the outage still fell below the
+    limit from 69.8 s."""
+    for seed in (7, 153):
+        n, r, _, _ = _false_rest(seed, OUTAGES)
+        assert n == 0, (seed, n)
+        # the stands at the start and the end of the walk are still detected
+        assert r.flag("at_rest")[r.t < 10.0].mean() > 0.8 and r.flag("at_rest")[r.t > 90.0].all()
+
+
+def test_rest_velocity_in_an_outage_matches_the_numpy_twin():
+    """The rest test's velocity (state ``rest_v``) 24 s into the 30 s outage of seed 7, C++
+    against the numpy twin: the INS velocity has drifted away from it while it keeps the
+    walker's speed (no acceleration stood out of the drift)."""
+    from quatnav import reference as R
+    traj = make_scenario("paper004_walk", seed=0).truth
+    imu, gps, baro, cmp_ = _matched(traj, 7)
+    n = int(np.searchsorted(imu.t, 69.0))
+    args = (imu.gyro[:n], imu.accel[:n])
+    kw = dict(t=imu.t[:n], outages=OUTAGES, **_aids(gps, baro, cmp_))
+    f = quatnav.GpsInsFilter(**_filter_params())
+    f.run(*args, **kw)
+    ref = R.GpsInsFilter(**_filter_params())
+    ref.run(*args, **kw)
+    st = f.get_state()
+    np.testing.assert_allclose(st["v_n"], ref.s.nav.v_n, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(st["rest_v"], ref.s.rest_v, rtol=0, atol=1e-9)
+    speed = np.linalg.norm(traj.v_n[imu.index[n - 1]])
+    assert abs(speed - 1.4) < 0.1
+    assert abs(np.linalg.norm(st["rest_v"]) - speed) < 0.2 and np.linalg.norm(st["rest_v"] - st["v_n"]) > 0.5
 
 
 def test_cpp_matches_the_numpy_twin_backward_pass():

@@ -151,6 +151,7 @@ class GpsInsFilter:
         s.baro_offset_valid = False
         s.align_method = s.heading_source = "given"
         s.level_t = s.nav_start_t = s.t
+        s.rest_v = s.nav.v_n.copy()
         self.s = s
         return "ok"
 
@@ -171,7 +172,10 @@ class GpsInsFilter:
         g = float(earth.gravity(s.nav.lat, s.nav.h)) if s.phase == NAVIGATING else 9.80665
         if s.phase == NAVIGATING:
             sv = math.sqrt(np.trace(s.P[VEL:VEL + 3, VEL:VEL + 3]))
-            slow = np.linalg.norm(s.nav.v_n) < p.rest_speed + min(3 * sv, p.rest_speed)
+            resolved = 3 * sv <= p.rest_speed  # else without the drift of the outage (_rest_velocity)
+            if resolved:
+                s.rest_v = s.nav.v_n.copy()
+            slow = np.linalg.norm(s.rest_v) < p.rest_speed + min(3 * sv, p.rest_speed)
         else:
             slow = not (s.gnss_speed >= 0 and s.t - s.gnss_speed_t < 2.0 and s.gnss_speed > p.rest_speed)
         still = self._rest_step(s, w, f, dt, g, slow)
@@ -203,9 +207,12 @@ class GpsInsFilter:
         else:
             sf = dict(w_b=w, acc_scale=s.acc_scale, gyro_scale=s.gyro_scale) if self.scale_factors else {}
             F = gpsins_F(s.nav, f, p, **sf)
+            v0 = s.nav.v_n.copy()
             st = strapdown_step(s.nav, w, f, dt, earth_rotation=p.earth_rotation)
             if st != "ok":
                 return st
+            if not resolved:
+                self._rest_velocity(s, s.nav.v_n - v0, g)
             Fdt = F * dt
             Phi = np.eye(len(F)) + Fdt + 0.5 * Fdt @ Fdt
             self.last_transition = Phi  # the smoother's (GpsInsRtsModel)
@@ -226,6 +233,17 @@ class GpsInsFilter:
         s.t += dt
         self.s = s
         return "ok"
+
+    def _rest_velocity(self, s, dv, g):
+        """The rest test's velocity in an outage takes the INS velocity change dv only with an
+        acceleration that stands out of the drift the covariance allows (tilt times g, accelerometer
+        bias, low-passed noise; 3 sigma): quatnav::detail::gpsins_rest_velocity."""
+        p, P = self.p, s.P
+        a_n = Q.rotate(s.nav.q_nb, s.rest_acc_lp)
+        var = (g * g * (P[ATT, ATT] + P[ATT + 1, ATT + 1]) + P[BA, BA] + P[BA + 1, BA + 1] + P[BA + 2, BA + 2]
+               + p.acc_noise * p.acc_noise / p.rest_tau)
+        if a_n[0] * a_n[0] + a_n[1] * a_n[1] > 9 * var:
+            s.rest_v = s.rest_v + dv
 
     def _rest_step(self, s, w, f, dt, g, slow):
         p = self.p
@@ -486,6 +504,7 @@ class GpsInsFilter:
         s.P = self._initial_P(sig, vel_sigma, level_sigma, yaw_sigma)
         s.phase, s.heading_known = NAVIGATING, True
         s.align_method, s.heading_source, s.nav_start_t = method, heading, s.t
+        s.rest_v = s.nav.v_n.copy()
         s.mot_valid = False
         s.baro_offset_valid = False
         if s.baro_last_valid:

@@ -189,6 +189,7 @@ class _State:
     rest_gyr_lp: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rest_acc_lp: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rest_t: float = 0.0
+    rest_v: np.ndarray = field(default_factory=lambda: np.zeros(3))
     gnss_speed: float = -1.0
     gnss_speed_t: float = 0.0
     pseudo_t: float = -1e9
@@ -218,6 +219,7 @@ class _State:
                        omega_b=self.omega_b.copy(), f_b=self.f_b.copy(),
                        align_sum=self.align_sum.copy(), reject_run=dict(self.reject_run),
                        rest_gyr_lp=self.rest_gyr_lp.copy(), rest_acc_lp=self.rest_acc_lp.copy(),
+                       rest_v=self.rest_v.copy(),
                        mot_v0=self.mot_v0.copy(), mot_q=self.mot_q.copy(), mot_dv=self.mot_dv.copy(),
                        init_v=None if self.init_v is None else self.init_v.copy(),
                        counters={k: dict(v) for k, v in self.counters.items()})

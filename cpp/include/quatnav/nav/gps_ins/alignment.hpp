@@ -24,11 +24,13 @@
 // nav_start_t).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "../../core/lowpass.hpp"
 #include "../../core/quaternion.hpp"
 #include "../../core/types.hpp"
+#include "model.hpp"
 #include "params.hpp"
 
 namespace quatnav {
@@ -92,6 +94,36 @@ bool gpsins_rest_step(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Vec
                      std::abs(s.rest_acc_lp.norm() - g) < p.rest_acc_th;
   s.rest_t = still ? s.rest_t + double(dt) : 0.0;
   return still;
+}
+
+/// Navigating: whether the speed allows rest. The INS speed, allowed up to 3 sigma more but never
+/// more than rest_speed more: an uncertain velocity (a GNSS outage) must not make a vehicle
+/// cruising with a quiet IMU look stopped (a false zero-velocity update pins the position where
+/// the outage began). `resolved`: 3 sigma within rest_speed; else the speed is the rest test's
+/// velocity, without the INS velocity's drift (gpsins_rest_velocity).
+template <class S, bool SF> bool gpsins_rest_slow(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, bool& resolved) {
+  const S sv = std::sqrt(s.P(gpsins::kVel, gpsins::kVel) + s.P(gpsins::kVel + 1, gpsins::kVel + 1) +
+                         s.P(gpsins::kVel + 2, gpsins::kVel + 2));
+  resolved = S(3) * sv <= p.rest_speed;
+  if (resolved) s.rest_v = s.nav.v_n;
+  return s.rest_v.norm() < p.rest_speed + std::min(S(3) * sv, p.rest_speed);
+}
+
+/// The rest test's velocity in a GNSS outage. While three sigmas of the INS speed are within
+/// rest_speed it is the INS velocity. Beyond that the INS velocity's drift can carry a vehicle
+/// moving at a constant speed, whose IMU is as quiet as at rest, below rest_speed, and the
+/// zero-velocity updates would then pin it. A stop shows as a deceleration, a drift does not: the
+/// rest test's velocity s.rest_v takes the INS velocity change dv of a sample only when the
+/// low-passed horizontal acceleration stands out of what the covariance allows without motion
+/// (three sigmas of the tilt error times g, the accelerometer bias and the low-passed noise).
+template <class S, bool SF>
+void gpsins_rest_velocity(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, const Vec3<S>& dv, S g) {
+  const Vec3<S> a_n = quat::rotate(s.nav.q_nb, s.rest_acc_lp);  // + g_n: the horizontal part is the acceleration
+  const auto& P = s.P;
+  const S var = g * g * (P(gpsins::kAtt, gpsins::kAtt) + P(gpsins::kAtt + 1, gpsins::kAtt + 1)) +
+                P(gpsins::kBa, gpsins::kBa) + P(gpsins::kBa + 1, gpsins::kBa + 1) + P(gpsins::kBa + 2, gpsins::kBa + 2) +
+                p.acc_noise * p.acc_noise / p.rest_tau;  // two axes of white noise low-passed: q^2 / (2 tau) each
+  if (a_n[0] * a_n[0] + a_n[1] * a_n[1] > S(9) * var) s.rest_v += dv;
 }
 
 /// TRIAD: the rotation C_nb with C_nb a_b = a_n exactly (the primary pair, directions) and

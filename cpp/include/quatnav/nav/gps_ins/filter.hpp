@@ -73,7 +73,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         !std::isfinite(s.baro_ref_h) || !std::isfinite(s.baro_ref_t) || !(s.q_scale >= S(1)) ||
         !std::isfinite(s.q_scale) || !detail::acceptable_covariance<S, kStates>(s.P) || int(s.phase) > 2 ||
         !std::isfinite(s.dt_last) || !s.rest_gyr_lp.allFinite() || !s.rest_acc_lp.allFinite() ||
-        !std::isfinite(s.rest_t) || !std::isfinite(s.pseudo_t) || !s.mot_q.allFinite() || !s.mot_dv.allFinite() ||
+        !s.rest_v.allFinite() || !std::isfinite(s.rest_t) || !std::isfinite(s.pseudo_t) || !s.mot_q.allFinite() || !s.mot_dv.allFinite() ||
         !std::isfinite(s.mot_T) || !s.mot_v0.allFinite() || !std::isfinite(s.mot_lat) || !std::isfinite(s.mot_lon) ||
         !std::isfinite(s.mot_h) || !s.init_v.allFinite() || !std::isfinite(s.mag_ref_norm) ||
         !std::isfinite(s.mag_ref_dip) || !std::isfinite(s.gnss_speed) || !std::isfinite(s.gnss_speed_t) ||
@@ -142,6 +142,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.align_method = GpsInsAlignment::Given;
     s.heading_source = GpsInsHeading::Given;
     s.level_t = s.nav_start_t = s.t;
+    s.rest_v = v_n;
     // A quaternion whose norm overflows normalizes to zero; a latitude at a pole: refused.
     if (!detail::gpsins_nav_ok(s)) return Status::InvalidArgument;
     st_ = s;
@@ -200,17 +201,10 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     const Vec3<S> f = detail::gpsins_correct<S, SF_>(f_m, s.acc_bias, s.acc_scale);
     const S g = s.phase == GpsInsPhase::Navigating ? S(earth::gravity<double>(s.nav.lat, s.nav.h))
                                                    : S(earth::kStandardGravity);
-    bool slow;
-    if (s.phase == GpsInsPhase::Navigating) {
-      const S sv = std::sqrt(s.P(gpsins::kVel, gpsins::kVel) + s.P(gpsins::kVel + 1, gpsins::kVel + 1) +
-                             s.P(gpsins::kVel + 2, gpsins::kVel + 2));
-      // The INS speed, allowed up to 3 sigma more but never more than rest_speed more: an
-      // uncertain velocity (a GNSS outage) must not make a vehicle cruising with a quiet IMU look
-      // stopped (a false zero-velocity update pins the position where the outage began).
-      slow = s.nav.v_n.norm() < params_.rest_speed + std::min(S(3) * sv, params_.rest_speed);
-    } else {
-      slow = !(s.gnss_speed >= S(0) && s.t - s.gnss_speed_t < 2.0 && s.gnss_speed > params_.rest_speed);
-    }
+    bool resolved = true;  // navigating: the INS speed resolves rest_speed (detail::gpsins_rest_slow)
+    const bool slow = s.phase == GpsInsPhase::Navigating
+                          ? detail::gpsins_rest_slow(s, params_, resolved)
+                          : !(s.gnss_speed >= S(0) && s.t - s.gnss_speed_t < 2.0 && s.gnss_speed > params_.rest_speed);
     const bool still = detail::gpsins_rest_step(s, params_, w, f, dt, g, slow);
     if (s.phase != GpsInsPhase::Navigating) detail::gpsins_window_step(s, w, f, dt);
     if (s.phase == GpsInsPhase::Aligning) {
@@ -247,8 +241,10 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       StrapdownParams sp;
       sp.earth_rotation = params_.earth_rotation;
       const detail::GpsInsPhi<S, SF_> Phi = detail::gpsins_Phi_state<S, SF_>(s, f, w, dt, params_);
+      const Vec3<S> v0 = s.nav.v_n;
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
+      if (!resolved) detail::gpsins_rest_velocity(s, params_, Vec3<S>(s.nav.v_n - v0), g);
       Mat16 P = detail::gpsins_propagate<S, SF_>(Phi, s.P, detail::gpsins_Qc_diag<S, SF_>(params_, s.q_scale), dt);
       symmetrize(P);
       if (params_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / params_.acc_bias_tau);
@@ -259,7 +255,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     }
     if (s.phase == GpsInsPhase::Navigating) detail::gpsins_nhc_evidence(s, params_, dt);
     if (!detail::gpsins_nav_ok(s) || !w.allFinite() || !f.allFinite() || !s.rest_acc_lp.allFinite() ||
-        !s.mot_dv.allFinite())
+        !s.rest_v.allFinite() || !s.mot_dv.allFinite())
       return Status::NumericalFailure;
     s.omega_b = w;
     s.f_b = f;
@@ -707,6 +703,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.align_method = method;
     s.heading_source = heading;
     s.nav_start_t = s.t;
+    s.rest_v = v0;
     s.mot_valid = false;
     s.baro_offset_valid = false;
     if (s.baro_last_valid) init_baro_offset(s, s.baro_last);

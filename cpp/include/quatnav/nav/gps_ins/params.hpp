@@ -284,6 +284,8 @@ struct GpsInsCounters {
   X(Vec3<S>, rest_gyr_lp, Vec3<S>::Zero(), "rad/s", "low-passed bias-corrected rate (rest test)")        \
   X(Vec3<S>, rest_acc_lp, Vec3<S>::Zero(), "m/s^2", "low-passed bias-corrected specific force (rest test)") \
   X(double, rest_t, 0.0, "s", "time the IMU has been still")                                            \
+  X(Vec3<S>, rest_v, Vec3<S>::Zero(), "m/s",                                                           \
+    "velocity of the rest test: the INS velocity, in an outage only its changes with an acceleration")  \
   X(S, gnss_speed, S(-1), "m/s", "last horizontal GNSS speed before navigation (-1: none)")              \
   X(double, gnss_speed_t, 0.0, "s", "filter time of that speed")                                        \
   X(double, pseudo_t, -1e9, "s", "filter time of the last zero-velocity or non-holonomic update")         \
