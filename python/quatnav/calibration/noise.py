@@ -30,7 +30,8 @@ from numpy.typing import ArrayLike
 
 from ._toml import dumps
 
-__all__ = ["AxisNoise", "NoiseModel", "noise_parameters", "fit_allan", "motion_evidence", "FILTER_NOISE"]
+__all__ = ["AxisNoise", "NoiseModel", "noise_parameters", "fit_allan", "motion_evidence", "noise_in_motion",
+           "raised_noise", "noise_note", "FILTER_NOISE"]
 
 #: the noise parameters of each filter (``filters/tables.py``): name -> (sensor, term). All are
 #: continuous-time densities: ``gyro_noise`` rad/s/sqrt(Hz) = the ARW, ``acc_noise``
@@ -264,3 +265,65 @@ def plot_allan(model: NoiseModel, path):
         ax.grid(True, which="both", lw=0.3)
         ax.legend(fontsize=7)
     return _plotting.save(fig, path)
+
+
+def noise_in_motion(t: ArrayLike, gyr: ArrayLike, acc: ArrayLike, window: float = 1.0,
+                    smooth: float = 0.1) -> dict:
+    """The white-noise densities a log's IMU shows while it runs, vibration included: a car's
+    road and engine vibration, aliased into the IMU's band, acts on the filter as noise far above
+    a datasheet's (measured at rest on a bench).
+
+    Each axis less its centred ``smooth``-second moving mean (the residual keeps what changes
+    faster than ~1/``smooth`` Hz: the sensor's noise and the vibration, not the vehicle's
+    manoeuvres) has a per-sample variance in each ``window``-second block; the mean over the three
+    axes, the median over the blocks (a typical second of the log: a few shocks do not count),
+    corrected for the mean's share of white noise, gives the per-sample sigma and, at the median
+    sample interval dt, the density sigma sqrt(dt). Returns ``{"gyro_noise": rad/s/sqrt(Hz),
+    "acc_noise": m/s^2/sqrt(Hz), "blocks": int}`` (NaN densities when the log is shorter than two
+    blocks). Motion faster than 1/``smooth`` Hz (a walker's steps) counts as noise too, which is
+    what it is to a filter without a step model.
+    """
+    t = np.asarray(t, float)
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else float("nan")
+    if not (np.isfinite(dt) and dt > 0):
+        return {"gyro_noise": float("nan"), "acc_noise": float("nan"), "blocks": 0}
+    k = max(3, int(round(smooth / dt)) | 1)  # odd, centred
+    m = max(2 * k, int(round(window / dt)))
+    out = {"blocks": 0}
+    for name, x in (("gyro_noise", gyr), ("acc_noise", acc)):
+        x = np.asarray(x, float)
+        nb = (len(x) - k + 1) // m
+        if nb < 2:
+            out[name] = float("nan")
+            continue
+        c = np.cumsum(np.vstack([np.zeros((1, 3)), x]), axis=0)
+        mean = (c[k:] - c[:-k]) / k  # centred on x[k // 2:len(x) - k // 2]
+        r = x[k // 2:k // 2 + len(mean)] - mean
+        blocks = r[:nb * m].reshape(nb, m, 3).var(axis=1).mean(axis=1)
+        var = float(np.median(blocks)) / (1.0 - 1.0 / k)  # white noise: var(x - mean) = (1 - 1/k) sigma^2
+        out[name] = float(np.sqrt(var * dt))
+        out["blocks"] = nb
+    return out
+
+
+#: raise a given density only when the log's exceeds it by more than this factor: within it the
+#: two agree (a datasheet value against the estimate's scatter), and the filter hardly notices
+RAISE_ABOVE = 1.2
+
+
+def raised_noise(given: dict, measured: dict, factor: float = RAISE_ABOVE) -> dict:
+    """The white-noise densities of ``measured`` (:func:`noise_in_motion`) that exceed the
+    ``given`` ones (``gyro_noise``, ``acc_noise``) by more than ``factor``, by name: the values to
+    raise them to. A given value above the log's is kept: it may cover what the log's noise does
+    not show (scale-factor and misalignment errors, a deliberately cautious setting)."""
+    return {k: float(measured[k]) for k in ("gyro_noise", "acc_noise")
+            if np.isfinite(measured.get(k, np.nan)) and measured[k] > factor * float(given[k])}
+
+
+def noise_note(given: dict, measured: dict, raised: dict) -> str:
+    """One line for a run's notes: the noise the log shows and what was raised."""
+    text = (f"IMU noise in the log (vibration included; {measured['blocks']} s): gyro {measured['gyro_noise']:.3g} "
+            f"rad/s/sqrt(Hz), accelerometer {measured['acc_noise']:.3g} m/s^2/sqrt(Hz); ")
+    if not raised:
+        return text + f"the filter's values were kept (not more than {RAISE_ABOVE:g}x below it)"
+    return text + f"raised (more than {RAISE_ABOVE:g}x below it): " + ", ".join(f"{k} {float(given[k]):.3g} -> {v:.3g}" for k, v in raised.items())

@@ -180,7 +180,7 @@ def _run(args) -> int:
                   odometer=args.odometer, no_mag=args.no_mag, fmt=args.format, config=args.config,
                   declination=declination, date=args.date, calibration=getattr(args, "calibration", None),
                   mag_calibrate=args.mag_calibrate, time_offset=args.estimate_time_offset, smooth=args.smooth,
-                  progress=progress, utc=bool(args.gpx))
+                  progress=progress, utc=bool(args.gpx), noise_from_log=not args.noise_as_given)
     try:
         if bar:
             bar[0].set_description("ins run: write")
@@ -328,6 +328,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="write the smoothed solution: a Rauch-Tung-Striebel backward pass after the filter, so that "
                         "every row uses the whole log (post-processing; bridges GNSS outages); the gating "
                         "decisions and the diagnostics are the filter's")
+    r.add_argument("--noise-as-given", action="store_true",
+                   help="use gyro_noise and acc_noise as given; by default each is raised to the white noise the "
+                        "log's IMU shows (vibration included) where it is below it (the summary's notes say which)")
     r.add_argument("--estimate-time-offset", nargs="?", const=(-0.5, 0.5), default=None, type=_offset_bounds,
                    metavar="LOW,HIGH",
                    help="estimate gps_time_offset (s, the GNSS clock to the IMU's; a receiver latency L is -L) "

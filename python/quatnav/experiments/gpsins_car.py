@@ -12,6 +12,11 @@ after 40 s) of the squared errors of position, velocity and attitude over the fi
 variances (per component, so the mean is 1 for a consistent filter whatever the correlations),
 per run and over the runs.
 
+As ``quatnav ins run`` does, the white-noise densities (``gyro_noise``, ``acc_noise``) given or
+defaulted are raised to those the drive's IMU shows, vibration included
+(:func:`quatnav.calibration.noise.noise_in_motion`), where they are more than 1.2x below them
+(``--noise-as-given``: not).
+
 ``--table perturbation`` runs the settings of the robustness table (a 20 ms GNSS time sigma, a
 5 cm position sigma floor, the learned non-holonomic constraint off, the lever arm off by 5 cm,
 the IMU noise densities times 0.1 and times 10) and gives each one's 30 s drift against the
@@ -46,6 +51,8 @@ def add_arguments(parser) -> None:
                         help="defaults only, or every setting of the robustness table")
     parser.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
                         help="a filter parameter for every setting (repeatable), e.g. --set pseudo_interval=1.0")
+    parser.add_argument("--noise-as-given", action="store_true",
+                        help="the noise densities as given; by default raised to the log's as 'ins run' does")
     parser.add_argument("--json", metavar="FILE", help="write the results here ('-': stdout)")
 
 
@@ -56,16 +63,23 @@ def noise_scaled(factor: float) -> dict:
     return {k: d[k] * factor for k in NOISE_KEYS}
 
 
-def filter_params(s, setting="defaults", base=None) -> dict:
+def filter_params(s, setting="defaults", base=None, noise_from_log=True) -> dict:
     """The parameters a user gives for scenario ``s`` under ``setting`` (PERTURBATIONS), on top of
-    ``base`` (parameters for every setting)."""
+    ``base`` (parameters for every setting); with ``noise_from_log`` the white-noise densities
+    raised to the log's as ``ins run`` does (:func:`quatnav.calibration.noise.raised_noise`)."""
     extra, lever_err = PERTURBATIONS[setting]
     if isinstance(extra, str):
         extra = noise_scaled(float(extra[1:]))
     lever = np.asarray(s.params["sensor_model"]["lever_arm_b_m"], float)
     if lever_err is not None:
         lever = lever + np.asarray(lever_err)
-    return {**(base or {}), "lever_arm_b": tuple(lever), **extra}
+    p = {**(base or {}), "lever_arm_b": tuple(lever), **extra}
+    if noise_from_log:
+        from ..calibration.noise import noise_in_motion, raised_noise
+        from ..filters.tables import GPSINS_PARAMS
+        given = {q.name: p.get(q.name, q.default) for q in GPSINS_PARAMS if q.name in ("gyro_noise", "acc_noise")}
+        p.update(raised_noise(given, noise_in_motion(s.imu.t, s.imu.gyro, s.imu.accel)))
+    return p
 
 
 def aids(s) -> dict:
@@ -143,7 +157,7 @@ def rejected_by_quality(s, r) -> dict:
     return out
 
 
-def run_seed(seed: int, settings=("defaults",), base=None) -> dict:
+def run_seed(seed: int, settings=("defaults",), base=None, noise_from_log=True) -> dict:
     """Every setting on the drive of ``seed``: with every fix, the 30 s and the 60 s outages."""
     import quatnav
     from ..sim.car import car_rtk
@@ -152,7 +166,7 @@ def run_seed(seed: int, settings=("defaults",), base=None) -> dict:
     a = aids(s)
     res = {}
     for setting in settings:
-        p = filter_params(s, setting, base)
+        p = filter_params(s, setting, base, noise_from_log)
         row = {}
         for kind, outages in (("all", ()), ("30", ev["outages_30"]), ("60", ev["outages_60"])):
             if kind != "30" and setting != "defaults":
@@ -205,11 +219,11 @@ def _mean_se(x):
             "min": float(x.min()), "max": float(x.max())}
 
 
-def monte_carlo(seeds, settings=("defaults",), base=None) -> dict:
-    """:func:`run_seed` over ``seeds``: ``{"seeds", "summary", "runs", "base"}``."""
-    runs = [run_seed(int(k), settings, base) for k in seeds]
-    return {"seeds": [int(k) for k in seeds], "base": dict(base or {}), "summary": summarize(runs, settings),
-            "runs": runs}
+def monte_carlo(seeds, settings=("defaults",), base=None, noise_from_log=True) -> dict:
+    """:func:`run_seed` over ``seeds``: ``{"seeds", "summary", "runs", "base", "noise_from_log"}``."""
+    runs = [run_seed(int(k), settings, base, noise_from_log) for k in seeds]
+    return {"seeds": [int(k) for k in seeds], "base": dict(base or {}), "noise_from_log": bool(noise_from_log),
+            "summary": summarize(runs, settings), "runs": runs}
 
 
 def table(res) -> str:
@@ -253,7 +267,8 @@ def run(args) -> int:
             base[name.strip()] = ast.literal_eval(value.strip())
         except (ValueError, SyntaxError):
             base[name.strip()] = value.strip()
-    res = monte_carlo(range(args.first_seed, args.first_seed + args.seeds), settings, base)
+    res = monte_carlo(range(args.first_seed, args.first_seed + args.seeds), settings, base,
+                      noise_from_log=not args.noise_as_given)
     text = table(res)
     if args.json:
         doc = json.dumps(res, indent=1)

@@ -219,7 +219,8 @@ class InsRun:
 def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None, odometer=None, no_mag: bool = False,
             fmt: str = "auto", config=None, params: dict | None = None, initial: dict | None = None,
             declination=None, date: float | None = None, calibration=None, mag_calibrate: bool = False,
-            time_offset=None, executor=None, smooth: bool = False, progress=None, utc: bool = False) -> InsRun:
+            time_offset=None, executor=None, smooth: bool = False, progress=None, utc: bool = False,
+            noise_from_log: bool = True) -> InsRun:
     """Run :class:`quatnav.GpsInsFilter` on a log as ``quatnav ins run`` does.
 
     Parameters
@@ -253,6 +254,11 @@ def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None,
         a thread per core) and run with it.
     smooth : bool
         The Rauch-Tung-Striebel smoothed solution (``GpsInsFilter.run(smooth=True)``).
+    noise_from_log : bool
+        Raise ``gyro_noise`` and ``acc_noise`` to the white noise the log's IMU shows, vibration
+        included (:func:`quatnav.calibration.noise.noise_in_motion`), where they are more than
+        1.2x below it; the notes say what the log showed and what was raised. False: the values
+        as given.
     utc : bool
         Also read a CSV GNSS file's ``utc`` column (UTC s since 1970; logs give it always), for
         :attr:`InsRun.utc_offset`.
@@ -276,14 +282,14 @@ def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None,
     # The alignment says why it never navigated; the inputs are checked here, with their files' names.
     with recorded(ignore=(NavigationWarning,)) as kept, checked_by_caller():
         run = _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, params, initial, declination,
-                   date, calibration, mag_calibrate, time_offset, executor, smooth, progress, utc)
+                   date, calibration, mag_calibrate, time_offset, executor, smooth, progress, utc, noise_from_log)
     run.warnings = kept
     issue(kept)
     return run
 
 
 def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, params, initial, declination, date,
-         calibration, mag_calibrate, time_offset, executor, smooth, progress, utc) -> InsRun:
+         calibration, mag_calibrate, time_offset, executor, smooth, progress, utc, noise_from_log) -> InsRun:
     import quatnav
 
     given = dict(initial or {})
@@ -358,6 +364,15 @@ def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, para
                                    gnss_vel=gnss_velocity_ne(d_g)):
         warnings.warn(w)
     overlap = check_overlap(t, d_g["time"]) is None
+    if noise_from_log:
+        from ..calibration.noise import noise_in_motion, noise_note, raised_noise
+        measured = noise_in_motion(t, rates, forces)
+        if measured["blocks"]:
+            raised = raised_noise(f.params, measured)
+            notes.append(noise_note(f.params, measured, raised))
+            if raised:
+                params.update(raised)
+                f = make_filter()
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, inp.imu_lines, where=source)
     if increments and not original.all():  # a coasted gap shares its increments between its steps
         row = np.cumsum(original) - original  # the input row each step belongs to (it ends the group)
