@@ -98,11 +98,13 @@ def test_receiver_quality_codes_map_to_solution_kinds():
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_solution_kind_sets_the_position_sigma_floor(dtype):
     """A fix reported at 5 mm: its variance in the innovation covariance is the floor of its
-    solution kind squared, the kind's own parameter (each set apart here), in C++ and in the
-    numpy twin; a kind that is not one is refused and leaves the filter untouched."""
+    solution kind squared, the kind's own parameter (each set apart here) north and east and
+    gps_vertical_floor_ratio times it down, in C++ and in the numpy twin; a kind that is not one
+    is refused and leaves the filter untouched."""
     floors = dict(unknown=0.011, rtk_fixed=0.011, rtk_float=0.2, dgnss=0.7, single=2.5)
     params = dict(gps_pos_sigma_min=0.011, gps_float_sigma_min=0.2, gps_dgnss_sigma_min=0.7,
-                  gps_single_sigma_min=2.5, gps_time_sigma=0.0, dtype=dtype)
+                  gps_single_sigma_min=2.5, gps_vertical_floor_ratio=1.5, gps_time_sigma=0.0, dtype=dtype)
+    ned = np.array([1.0, 1.0, 1.5])
     lat, lon, h = 0.7, 0.2, 100.0
 
     def innovation_cov(kind, cls=quatnav.GpsInsFilter):
@@ -124,7 +126,8 @@ def test_solution_kind_sets_the_position_sigma_floor(dtype):
     rtol = 1e-5 if dtype == np.float32 else 1e-9
     for kind, floor in floors.items():
         f, s = innovation_cov(kind)
-        np.testing.assert_allclose(np.diag(s - s0), floor ** 2 - floors["unknown"] ** 2, rtol=rtol, atol=1e-9)
+        np.testing.assert_allclose(np.diag(s - s0), (ned * floor) ** 2 - (ned * floors["unknown"]) ** 2, rtol=rtol,
+                                   atol=1e-9)
         _, s_ref = innovation_cov(kind, R.GpsInsFilter)
         np.testing.assert_allclose(s, s_ref, rtol=1e-4 if dtype == np.float32 else 1e-9, atol=1e-9)
     before = f.covariance.copy(), f.llh.copy(), f.counters

@@ -391,6 +391,8 @@ GPSINS_PARAMS = (
     _p("gps_dgnss_sigma_min", 0.6, "m", "floor of a GPS position one-sigma of a DGNSS, SBAS or PPP solution", "pos0"),
     _p("gps_single_sigma_min", 1.5, "m", "floor of a GPS position one-sigma of a single (standalone) solution",
        "pos0"),
+    _p("gps_vertical_floor_ratio", 2.0, "1", "floor of a GPS position's down one-sigma over the north and east "
+       "floor of its solution kind", "pos0"),
     _p("gps_vel_sigma_min", 0.01, "m/s", "floor of a GPS velocity one-sigma (given or per fix)", "pos0"),
     _p("gps_time_offset", 0.0, "s", "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)",
        "real"),

@@ -269,9 +269,11 @@ def _nav_acceleration(s, C):
 
 
 def gnss_sigma_floor(p, kind):
-    """Floor of a fix's one-sigma for the solution kind (a GNSS_SOLUTIONS code; detail::gnss_sigma_floor)."""
-    return {2: p.gps_float_sigma_min, 3: p.gps_dgnss_sigma_min, 4: p.gps_single_sigma_min}.get(int(kind),
-                                                                                            p.gps_pos_sigma_min)
+    """Floor of a fix's NED one-sigma for the solution kind (a GNSS_SOLUTIONS code; detail::gnss_sigma_floor):
+    the kind's floor north and east, gps_vertical_floor_ratio times it down."""
+    f = {2: p.gps_float_sigma_min, 3: p.gps_dgnss_sigma_min, 4: p.gps_single_sigma_min}.get(int(kind),
+                                                                                         p.gps_pos_sigma_min)
+    return np.array([f, f, p.gps_vertical_floor_ratio * f])
 
 
 def huber_scales(y, S, k):

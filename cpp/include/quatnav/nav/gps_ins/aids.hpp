@@ -58,14 +58,14 @@ template <class S, bool SF> Vec3<S> nav_acceleration(const GpsInsState<S, SF>& s
   return C * s.f_b + Vec3<S>(S(0), S(0), S(earth::gravity<double>(s.nav.lat, s.nav.h)));
 }
 
-/// The floor of a GNSS position's one-sigma (m, each NED axis) for the receiver's solution kind.
-template <class S> S gnss_sigma_floor(const GpsInsParams<S>& p, GnssSolution kind) {
-  switch (kind) {
-    case GnssSolution::RtkFloat: return p.gps_float_sigma_min;
-    case GnssSolution::Dgnss: return p.gps_dgnss_sigma_min;
-    case GnssSolution::Single: return p.gps_single_sigma_min;
-    default: return p.gps_pos_sigma_min;
-  }
+/// The floor of a GNSS position's one-sigma (m, NED) for the receiver's solution kind: the
+/// kind's floor north and east, gps_vertical_floor_ratio times it down.
+template <class S> Vec3<S> gnss_sigma_floor(const GpsInsParams<S>& p, GnssSolution kind) {
+  S f = p.gps_pos_sigma_min;
+  if (kind == GnssSolution::RtkFloat) f = p.gps_float_sigma_min;
+  if (kind == GnssSolution::Dgnss) f = p.gps_dgnss_sigma_min;
+  if (kind == GnssSolution::Single) f = p.gps_single_sigma_min;
+  return Vec3<S>(f, f, p.gps_vertical_floor_ratio * f);
 }
 
 /// Huber's weights of an innovation y with covariance S: each component z_i = y_i / sqrt(S_ii)
@@ -131,7 +131,7 @@ template <class S> struct GpsPosition {
   double lat, lon, h;
   Vec3<S> sigma;
   S age;
-  S floor = S(0);
+  Vec3<S> floor = Vec3<S>::Zero();
   static S gate(const GpsInsParams<S>& p) { return p.gate_gps_pos; }
   template <bool SF, int N>
   void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {

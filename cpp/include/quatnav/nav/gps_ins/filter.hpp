@@ -522,7 +522,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::InvalidArgument;
       return count(GpsInsAid::GpsPos, res);
     }
-    const S floor = detail::gnss_sigma_floor(params_, kind);
+    const Vec3<S> floor = detail::gnss_sigma_floor(params_, kind);
     const Vec3<S> psig = sig.cwiseMax(floor);
     if (st_.phase == GpsInsPhase::Aligning) {
       res.status = align_in_motion(lat, lon, h, psig, v0_n, gps_vel_sigma(vel_sigma));

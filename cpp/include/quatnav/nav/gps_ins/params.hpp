@@ -54,6 +54,8 @@ namespace quatnav {
   X(S, gps_float_sigma_min, S(0.3), "m", "floor of a GPS position one-sigma of an RTK-float solution") \
   X(S, gps_dgnss_sigma_min, S(0.6), "m", "floor of a GPS position one-sigma of a DGNSS, SBAS or PPP solution") \
   X(S, gps_single_sigma_min, S(1.5), "m", "floor of a GPS position one-sigma of a single (standalone) solution") \
+  X(S, gps_vertical_floor_ratio, S(2), "1",                                                            \
+    "floor of a GPS position's down one-sigma over the north and east floor of its solution kind")    \
   X(S, gps_vel_sigma_min, S(0.01), "m/s", "floor of a GPS velocity one-sigma (given or per fix)")        \
   X(S, gps_time_offset, S(0), "s",                                                                      \
     "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)")                 \
