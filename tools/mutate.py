@@ -3,6 +3,7 @@
 
     python3 tools/mutate.py                 # every mutation: build, test, table (exit 1 if one is missed)
     python3 tools/mutate.py -k nav13        # only the mutations whose name or area contains "nav13"
+    python3 tools/mutate.py --area attitude # only that area's (-k attitude also picks nav13's "velocity-attitude")
     python3 tools/mutate.py --list          # the mutations
     python3 tools/mutate.py --check         # only check that every pattern matches its file exactly once
     python3 tools/mutate.py --markdown      # the table as docs/DEVELOPING.md shows it
@@ -294,7 +295,10 @@ def run(mutations, scratch: Path, jobs: int, timeout: float, log) -> list[dict]:
     if problems:
         raise SystemExit("patterns that do not match (update them in tools/mutate.py):\n  " + "\n  ".join(problems))
     _configure(src, build)
-    targets = {t for m in mutations for t in m.targets}
+    # The unmutated copy: every test's target, and the Python module whenever a pytest is listed
+    # (a mutation of Python code or of the environment rebuilds nothing, but its tests import the
+    # module: it must be this copy's, not one left by an older run).
+    targets = {t for m in mutations for t in m.targets} | ({"_core"} if any(m.py for m in mutations) else set())
     print(f"building the unmutated copy ({', '.join(sorted(targets)) or 'nothing'}) ...", flush=True)
     if not _build(build, targets, jobs, log):
         raise SystemExit(f"the unmutated copy does not build (log: {log.name})")
@@ -350,6 +354,7 @@ def markdown(results) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("-k", metavar="TEXT", help="only the mutations whose name or area contains TEXT")
+    ap.add_argument("--area", help="only the mutations of this area (exact)")
     ap.add_argument("--list", action="store_true", help="list the mutations")
     ap.add_argument("--check", action="store_true", help="only check that every pattern matches once")
     ap.add_argument("--markdown", action="store_true", help="print the result table as markdown")
@@ -357,9 +362,10 @@ def main(argv=None) -> int:
     ap.add_argument("-j", "--jobs", type=int, default=2, help="build jobs (default 2)")
     ap.add_argument("--timeout", type=float, default=1800.0, help="seconds per test command (default 1800)")
     args = ap.parse_args(argv)
-    muts = [m for m in MUTATIONS if args.k is None or args.k in m.name or args.k in m.area]
+    muts = [m for m in MUTATIONS if (args.k is None or args.k in m.name or args.k in m.area)
+            and (args.area is None or m.area == args.area)]
     if not muts:
-        raise SystemExit(f"no mutation matches {args.k!r}")
+        raise SystemExit(f"no mutation matches {args.k!r} / area {args.area!r}")
     if args.list:
         for m in muts:
             print(f"{m.area:12s} {m.name}  [{m.path or dict(m.env)}]")

@@ -52,3 +52,11 @@ def test_every_area_has_mutations_and_no_mutation_runs_the_regression_test():
     for m in M.MUTATIONS:
         assert m.cpp or m.py, m.name
         assert not any("test_regression" in p for p in m.py), m.name
+
+
+def test_area_selects_exactly_one_area(capsys):
+    # "-k attitude" also matches nav13's "velocity-attitude" slips; --area must not.
+    assert M.main(["--area", "attitude", "--list"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == sum(1 for m in M.MUTATIONS if m.area == "attitude") > 0
+    assert all(line.split()[0] == "attitude" for line in lines)
