@@ -377,6 +377,7 @@ def main(argv=None) -> int:
             return 1
         print(f"all {sum(1 for m in muts if m.path)} patterns match their files exactly once")
         return 0
+    args.scratch = args.scratch.resolve()  # the tests run in the copy: a relative path would not be found
     args.scratch.mkdir(parents=True, exist_ok=True)
     log_path = args.scratch / "mutate.log"
     with open(log_path, "w") as log:
