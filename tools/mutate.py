@@ -133,7 +133,7 @@ MUTATIONS: list[Mutation] = [
     _m("ESKF: R of the accelerometer scaled by 2", "attitude", ESKF,
        "    r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),",
        "    r << Vec3<S>::Constant(S(2) * params_.acc_sigma * params_.acc_sigma),",
-       cpp=("test_qekf_eskf:EskfConsistency*",)),
+       cpp=("test_qekf_eskf:EskfConsistency*", "test_qekf_eskf_joint")),
     _m("ESKF: gyro noise dropped from the time update", "attitude", ESKF,
        "    const S qa = dt * params_.gyro_noise * params_.gyro_noise;",
        "    const S qa = S(0) * params_.gyro_noise * params_.gyro_noise;",
