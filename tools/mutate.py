@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import fcntl
 import os
 import shutil
 import subprocess
@@ -379,6 +380,13 @@ def main(argv=None) -> int:
         return 0
     args.scratch = args.scratch.resolve()  # the tests run in the copy: a relative path would not be found
     args.scratch.mkdir(parents=True, exist_ok=True)
+    # One run per copy at a time: a second run would copy the checkout over the first one's
+    # mutated file and build the same targets, so that either could test the other's code.
+    lock = open(args.scratch / "lock", "w")
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise SystemExit(f"another run uses {args.scratch} (wait for it, or give --scratch)")
     log_path = args.scratch / "mutate.log"
     with open(log_path, "w") as log:
         results = run(muts, args.scratch, args.jobs, args.timeout, log)

@@ -60,3 +60,12 @@ def test_area_selects_exactly_one_area(capsys):
     lines = capsys.readouterr().out.splitlines()
     assert len(lines) == sum(1 for m in M.MUTATIONS if m.area == "attitude") > 0
     assert all(line.split()[0] == "attitude" for line in lines)
+
+
+def test_a_second_run_on_the_same_copy_is_refused(tmp_path):
+    import fcntl
+    import pytest
+    with open(tmp_path / "lock", "w") as held:
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(SystemExit, match="another run uses"):
+            M.main(["--area", "core", "--scratch", str(tmp_path)])
