@@ -344,3 +344,38 @@ TEST(MargFilter, GpsFixesOnAnEpochClock) {
   expect_epoch_clock_same_as_zero_clock<double>();
   expect_epoch_clock_same_as_zero_clock<float>();
 }
+
+// The batch is the documented loop: at sample k, every fix with gps_t <= t[k] not yet used, then
+// initialize (first sample) or predict + update. Fixes on the sample times and between them
+// (5 ms after one): a fix used a sample early or late changes the GPS-corrected attitude.
+template <class S> void expect_batch_is_the_step_loop(double fix_t0) {
+  MargRecord<S> r(11, fix_t0);
+  const std::size_t n = r.n, m = r.m;
+  MargFilterParams<S> p;
+  p.lever_arm_b = Vec3<S>(S(0.5), S(0), S(-0.3));
+  std::vector<S> qb(4 * n);
+  std::vector<std::uint32_t> fb(n);
+  MargFilter<S> batch(p), steps(p);
+  run_marg_batch(batch, r.t.data(), r.dt.data(), r.gyr.data(), r.acc.data(), r.mag.data(), n, r.gt.data(),
+                 r.gv.data(), m, qb.data(), (S*)nullptr, (S*)nullptr, (S*)nullptr, fb.data());
+  std::size_t j = 0, corrected = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    for (; j < m && r.gt[j] <= r.t[k]; ++j) steps.update_gps_velocity(Vec3<S>(Eigen::Map<const Vec3<S>>(&r.gv[3 * j])), r.gt[j]);
+    const Vec3<S> a = Eigen::Map<const Vec3<S>>(&r.acc[3 * k]), mg = Eigen::Map<const Vec3<S>>(&r.mag[3 * k]);
+    if (k == 0) {
+      ASSERT_EQ(steps.initialize(a, mg), Status::Ok);
+    } else {
+      ASSERT_EQ(steps.predict(Vec3<S>(Eigen::Map<const Vec3<S>>(&r.gyr[3 * k])), r.dt[k]), Status::Ok);
+      corrected += steps.update_acc_mag(a, mg).gps_corrected;
+    }
+    ASSERT_EQ(Vec4<S>(Eigen::Map<const Vec4<S>>(&qb[4 * k])), Vec4<S>(steps.quat())) << "sample " << k << ", fixes at " << fix_t0;
+  }
+  EXPECT_GT(corrected, n / 2);
+}
+
+TEST(MargFilter, BatchIsTheStepLoop) {
+  for (double fix_t0 : {0.0, 0.005}) {
+    expect_batch_is_the_step_loop<double>(fix_t0);
+    expect_batch_is_the_step_loop<float>(fix_t0);
+  }
+}
