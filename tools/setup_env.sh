@@ -16,26 +16,10 @@
 #              QUATNAV_VENV (default .venv in the repository).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/stages.sh"
-export DEBIAN_FRONTEND=noninteractive
 export PIP_DISABLE_PIP_VERSION_CHECK=1
 
 QUATNAV_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-SUDO=""
-if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null; then SUDO=sudo; fi
-_apt_updated=0
-
-apt_install() {
-  local missing=() p
-  for p in "$@"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
-  [ ${#missing[@]} -eq 0 ] && return 0
-  if [ "$(id -u)" != 0 ] && [ -z "$SUDO" ]; then
-    echo "quatnav: missing Debian packages ${missing[*]}; install them as root (apt-get install ${missing[*]})" >&2
-    return 1
-  fi
-  echo "== installing Debian packages: ${missing[*]}"
-  if [ "$_apt_updated" = 0 ]; then $SUDO apt-get update -qq; _apt_updated=1; fi
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-}
+source "$(dirname "${BASH_SOURCE[0]}")/apt.sh"   # apt_install
 
 _in_venv() {
   "$1" -c 'import sys, os; sys.exit(0 if (sys.prefix != sys.base_prefix or os.environ.get("CONDA_PREFIX")) else 1)'

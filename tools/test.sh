@@ -39,15 +39,7 @@ CXX_TESTS=${CXX_TESTS:-clang++}
 CXX_SANITIZE=${CXX_SANITIZE:-clang++}
 
 # --- system packages (one apt-get run) --------------------------------------------------------
-need=(gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
-[ -f /usr/include/gtest/gtest.h ] || need+=(libgtest-dev)
-if [ "$CXX_TESTS" = clang++ ] || [ "$FUZZ_SECONDS" -gt 0 ] || { [ "$SANITIZE" = 1 ] && [ "$CXX_SANITIZE" = clang++ ]; }; then
-  command -v clang++ >/dev/null || need+=(clang)
-fi
-if [ "$FUZZ_SECONDS" -gt 0 ] || [ "$SANITIZE" = 1 ]; then   # the sanitizers' and libFuzzer's runtimes
-  ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 \
-    || [ "$(uname -m)" != x86_64 ] || need+=(libclang-rt-dev)
-fi
+mapfile -t need < <(test_system_packages)   # tools/apt.sh
 timed "apt: system packages" apt_install "${need[@]}"
 
 # --- Python package and test dependencies ---------------------------------------------------

@@ -22,12 +22,12 @@ if not MISSING:  # the cross compiler needs its C++ library headers too (Eigen, 
     _probe = subprocess.run(["arm-none-eabi-g++", "-mcpu=cortex-m4", "-mthumb", "-x", "c++", "-fsyntax-only", "-"],
                             input="#include <cstddef>\n", capture_output=True, text=True)
     if _probe.returncode != 0:
-        MISSING.append("libstdc++-arm-none-eabi-newlib")
+        MISSING.append("libstdc++-arm-none-eabi-dev")
 
 pytestmark = [
     pytest.mark.slow,
     pytest.mark.skipif(bool(MISSING), reason=f"embedded toolchain absent: {', '.join(MISSING)} "
-                       "(apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib "
+                       "(apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-dev "
                        "qemu-system-arm)"),
 ]
 

@@ -26,8 +26,8 @@ What it does, in order:
 With --check it exits non-zero when a check fails (emulator output incomplete or faulted,
 heap or exception support linked, attitude difference above --tol-deg).
 
-Needs: arm-none-eabi-gcc with newlib and its C++ library (Debian: gcc-arm-none-eabi
-libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib),
+Needs: arm-none-eabi-gcc with newlib and the C++ standard headers (Debian: gcc-arm-none-eabi
+libnewlib-arm-none-eabi libstdc++-arm-none-eabi-dev; the images link no C++ runtime library),
 qemu-system-arm, a host C++ compiler, Eigen 3.4 (the cmeel-eigen wheel or libeigen3-dev) and
 the quatnav Python package (for quatnav.sim). Compilations are cached in build/embedded
 (keyed on the command line and the content of every source and header).
@@ -335,7 +335,10 @@ def build_target(job, build, eigen, digest):
                 "-c", str(HERE / "firmware.cpp"), "-o", str(fw_o)], [fw_o], digest, d)
     run_cached(["arm-none-eabi-gcc", *TARGET_CFLAGS, "-I", str(HERE), "-c", str(HERE / "startup.c"), "-o",
                 str(st_o)], [st_o], digest, d)
-    run_cached(["arm-none-eabi-g++", *TARGET_LDFLAGS, "-T", str(HERE / "mps2_an386.ld"),
+    # Linked by the C driver: the image needs no C++ runtime library (no exceptions, RTTI, heap or
+    # static destructors), so Debian's 1.6 GB libstdc++-arm-none-eabi-newlib is not needed; the C++
+    # headers come from libstdc++-arm-none-eabi-dev. A firmware that needed libsupc++ fails to link.
+    run_cached(["arm-none-eabi-gcc", *TARGET_LDFLAGS, "-T", str(HERE / "mps2_an386.ld"),
                 f"-Wl,-Map={d / 'fw.map'}", str(st_o), str(fw_o), "-lm", "-o", str(elf)], [elf], digest, d)
     return elf
 
@@ -583,7 +586,7 @@ def main(argv=None):
                            input="#include <cstddef>\n#include <cmath>\n", capture_output=True, text=True)
     if probe.returncode != 0:
         raise SystemExit("arm-none-eabi-g++ has no C++ standard headers (Debian: apt-get install "
-                         "libstdc++-arm-none-eabi-newlib)\n" + probe.stderr[-500:])
+                         "libstdc++-arm-none-eabi-dev)\n" + probe.stderr[-500:])
     filters = FILTERS
     if args.filters:
         want = args.filters.split(",")
