@@ -401,6 +401,14 @@ class QuaternionEKFParams_f64:
     def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gyro_rate_noise(self) -> float:
+        """
+        rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off) [1/sqrt(Hz)]
+        """
+    @gyro_rate_noise.setter
+    def gyro_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def init_att_sigma(self) -> float:
         """
         attitude one-sigma after initialize [rad]
@@ -996,6 +1004,14 @@ class QuaternionEKFParams_f32:
         """
     @gyro_range.setter
     def gyro_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_rate_noise(self) -> float:
+        """
+        rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off) [1/sqrt(Hz)]
+        """
+    @gyro_rate_noise.setter
+    def gyro_rate_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def init_att_sigma(self) -> float:
@@ -3767,6 +3783,14 @@ class GpsInsParams_f64:
     def gps_vel_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gps_vertical_floor_ratio(self) -> float:
+        """
+        floor of a GPS position's down one-sigma over the north and east floor of its solution kind [1]
+        """
+    @gps_vertical_floor_ratio.setter
+    def gps_vertical_floor_ratio(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gyro_bias_noise(self) -> float:
         """
         gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
@@ -4021,6 +4045,14 @@ class GpsInsParams_f64:
         """
     @nhc_auto_time.setter
     def nhc_auto_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_lateral_aided(self) -> bool:
+        """
+        apply the learned non-holonomic constraint's lateral row while GNSS-aided too (default: in outages only; its mounting yaw is learned from the aided heading) [-]
+        """
+    @nhc_lateral_aided.setter
+    def nhc_lateral_aided(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_mount_tau_pitch(self) -> float:
@@ -4645,6 +4677,14 @@ class GpsInsParams_f32:
     def gps_vel_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gps_vertical_floor_ratio(self) -> float:
+        """
+        floor of a GPS position's down one-sigma over the north and east floor of its solution kind [1]
+        """
+    @gps_vertical_floor_ratio.setter
+    def gps_vertical_floor_ratio(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gyro_bias_noise(self) -> float:
         """
         gyro-bias random-walk density [rad/s^2/sqrt(Hz)]
@@ -4899,6 +4939,14 @@ class GpsInsParams_f32:
         """
     @nhc_auto_time.setter
     def nhc_auto_time(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_lateral_aided(self) -> bool:
+        """
+        apply the learned non-holonomic constraint's lateral row while GNSS-aided too (default: in outages only; its mounting yaw is learned from the aided heading) [-]
+        """
+    @nhc_lateral_aided.setter
+    def nhc_lateral_aided(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_mount_tau_pitch(self) -> float:
@@ -5348,4 +5396,4 @@ def status_names() -> list:
     The names of quatnav::Status by code.
     """
 __version__: str = '0.1.0'
-compiler: str  # the compiler that built the module, e.g. 'GCC 12.2.0' or 'clang 14.0.6'
+compiler: str = 'GCC 12.2.0'

@@ -122,14 +122,15 @@ def errors(s, r) -> dict:
 def nees_per_run(r, e, t0=40.0, every=1.0):
     """Per block (position, velocity, attitude, all nine) the mean over the samples every
     ``every`` s after ``t0`` of the squared errors over the filter's variances, per component
-    (1 for a consistent filter)."""
+    (1 for a consistent filter); ``heading`` the attitude's down component alone (tilt is
+    north and east)."""
     t = r.t - r.t[0]
     k = np.searchsorted(t, np.arange(t0, t[-1], every))
     k = k[r.navigating[k]]
     z = np.column_stack([e["dp"][k], e["dv"][k], e["psi"][k]]) / r.sigma[k, :9]
     z2 = z ** 2
     return {"position": float(z2[:, 0:3].mean()), "velocity": float(z2[:, 3:6].mean()),
-            "attitude": float(z2[:, 6:9].mean()), "all": float(z2.mean())}
+            "attitude": float(z2[:, 6:9].mean()), "heading": float(z2[:, 8].mean()), "all": float(z2.mean())}
 
 
 def outage_drift(s, r, e, outages):

@@ -444,6 +444,8 @@ GPSINS_PARAMS = (
        "forward speed) is learned from straight GNSS-aided driving (0: not learned)", "pos0"),
     _p("nhc_mount_tau_pitch", 20.0, "s", "time constant over which the IMU's mounting in pitch (vertical velocity per "
        "forward speed) is learned from straight GNSS-aided driving (0: not learned)", "pos0"),
+    _p("nhc_lateral_aided", False, "-", "apply the learned non-holonomic constraint's lateral row while GNSS-aided "
+       "too (default: in outages only; its mounting yaw is learned from the aided heading)", "bool"),
     _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),

@@ -33,7 +33,7 @@ from . import gpsins_batch
 from .gpsins_model import (ALIGNING, BA, BG, BO, DECISIONS, DEFAULTS, KINDS, LEVELLED, NAVIGATING, N, N_SF,  # noqa: F401
                            POS, SA, SG, VEL, ATT, GpsInsParams, Result, _baro_height, _baro_vd, _compass,
                            _corrected, _from_euler, _gps_position, _gps_velocity, _mag_heading, _new_state,
-                           _nhc, _nhc_evidence, _odometer, _qc_diag, _reset_position, _reset_velocity, _result,
+                           _gnss_aided, _nhc, _nhc_evidence, _odometer, _qc_diag, _reset_position, _reset_velocity, _result,
                            _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_sigma_floor, gpsins_F, huber_scales,
                            inject)
 from .gpsins_smoother import GpsInsRtsModel, run_smoothed  # noqa: F401
@@ -310,7 +310,8 @@ class GpsInsFilter:
             self.s.pseudo_t = self.s.t
         elif not self.at_rest and self.nhc_active:
             var = p.nhc_sigma ** 2 if p.nhc else max(p.nhc_sigma ** 2, self.s.nhc_ms)
-            nhc = self._apply("nhc", *_nhc(self.s, p, var), p.gate_nhc)
+            lateral = p.nhc or p.nhc_lateral_aided or not _gnss_aided(self.s)
+            nhc = self._apply("nhc", *_nhc(self.s, p, var, lateral), p.gate_nhc)
             self.s.pseudo_t = self.s.t
         return zupt, zaru, nhc
 

@@ -384,14 +384,23 @@ def _zaru(s, p):
     return s.omega_b - Ct @ w_ie, H, (p.gyro_noise ** 2 / dt + p.zaru_sigma ** 2) * np.eye(3)
 
 
-def _nhc(s, p, var=0.0):
+def _nhc(s, p, var=0.0, lateral=True):
     """No lateral or vertical velocity of the vehicle: the body velocity's rows 1, 2 less the
-    mounting's share of the forward speed (s.nhc_ky, s.nhc_kz; as gpsins_aid::NonHolonomic)."""
+    mounting's share of the forward speed (s.nhc_ky, s.nhc_kz; as gpsins_aid::NonHolonomic);
+    without ``lateral`` the lateral row is zero (no information)."""
     v, Hb = _body_velocity_rows(s, [0, 1, 2])
     k = np.array([s.nhc_ky, s.nhc_kz])
     y = v[1:] - k * v[0]
     H = Hb[1:] - k[:, None] * Hb[0]
+    if not lateral:
+        y[0] = 0.0
+        H[0] = 0.0
     return y, H, (var if var > 0 else p.nhc_sigma ** 2) * np.eye(2)
+
+
+def _gnss_aided(s):
+    """A GNSS position or velocity accepted within the last 2.5 s (as detail::gpsins_gnss_aided)."""
+    return s.t - s.gnss_t < 2.5
 
 
 def _nhc_evidence(s, p, dt):
@@ -400,7 +409,7 @@ def _nhc_evidence(s, p, dt):
     speed, low-passed from 0 with nhc_mount_tau_yaw and _pitch while the yaw rate is within nhc_auto_rate), the low-passed mean square of the
     lateral and vertical body velocity about it and the time it has stayed within nhc_auto_limit^2
     (lost above twice the limit, held in between)."""
-    if not p.nhc_auto or not s.t - s.gnss_t < 2.5:
+    if not p.nhc_auto or not _gnss_aided(s):
         return
     v_b = Q.rotate_inv(s.nav.q_nb, s.nav.v_n)
     if not abs(v_b[0]) > p.nhc_auto_speed:

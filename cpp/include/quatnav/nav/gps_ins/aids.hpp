@@ -339,13 +339,15 @@ template <class S> struct ZeroRate {
 /// y = (v_b,y - k_y v_b,x, v_b,z - k_z v_b,x) with v_b = C_nb^T v_n, H the same combination of the
 /// rows of v_b's (the lever arm to the axle and side slip are in nhc_sigma). Without k a mounting
 /// off by a degree is a constraint off by 0.4 m/s at 25 m/s, a bias that the updates at 10 Hz
-/// turn into a pitch or yaw error. `var`: the variance of each row (0: nhc_sigma^2).
+/// turn into a pitch or yaw error. `var`: the variance of each row (0: nhc_sigma^2). Without
+/// `lateral` the lateral row is left out (its residual and H zero: it carries no information).
 template <class S> struct NonHolonomic {
   static constexpr GpsInsAid kind = GpsInsAid::Nhc;
   static constexpr int M = 2, C0 = 3, NC = 6;
   static constexpr bool kAdaptive = false;
   S var = S(0);
   S ky = S(0), kz = S(0);
+  bool lateral = true;
   static S gate(const GpsInsParams<S>& p) { return p.gate_nhc; }
   template <bool SF, int N>
   void measure(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, AidMeasurement<S, M, N>& m) const {
@@ -357,6 +359,10 @@ template <class S> struct NonHolonomic {
     m.H.row(0) = H.row(1) - ky * H.row(0);
     m.H.row(1) = H.row(2) - kz * H.row(0);
     m.R.diagonal().setConstant(var > S(0) ? var : p.nhc_sigma * p.nhc_sigma);
+    if (!lateral) {
+      m.y[0] = S(0);
+      m.H.row(0).setZero();
+    }
   }
 };
 

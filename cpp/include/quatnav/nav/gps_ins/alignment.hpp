@@ -36,6 +36,11 @@
 namespace quatnav {
 namespace detail {
 
+/// GNSS-aided: a GNSS position or velocity accepted within the last 2.5 s (the learned
+/// non-holonomic constraint's evidence and mounting are gathered then, its lateral row applied
+/// otherwise).
+template <class S, bool SF> bool gpsins_gnss_aided(const GpsInsState<S, SF>& s) { return s.t - s.gnss_t < 2.5; }
+
 /// The evidence of a wheeled vehicle (nhc_auto), after a navigating time update over dt. While
 /// GNSS-aided (an accepted GNSS position or velocity update less than 2.5 s before) and faster
 /// than nhc_auto_speed forward (body x): the IMU's mounting, the ratios k = (v_b,y, v_b,z) / v_b,x,
@@ -53,7 +58,7 @@ namespace detail {
 /// IMU ahead of the rear axle, must not undo it). Slow or unaided (a GNSS outage, where the
 /// velocity is the constrained INS's own) it is held.
 template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, S dt) {
-  if (!p.nhc_auto || !(s.t - s.gnss_t < 2.5)) return;
+  if (!p.nhc_auto || !gpsins_gnss_aided(s)) return;
   const Vec3<S> v_b = quat::rotate_inv(s.nav.q_nb, s.nav.v_n);
   if (!(std::abs(v_b[0]) > p.nhc_auto_speed)) return;
   if (std::abs(s.omega_b[2]) <= p.nhc_auto_rate) {

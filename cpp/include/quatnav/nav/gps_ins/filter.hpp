@@ -278,9 +278,13 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       r.zaru = apply(gpsins_aid::ZeroRate<S>{});
       st_.pseudo_t = st_.t;
     } else if (!rest && nhc_active()) {
-      // Forced (nhc): nhc_sigma; by evidence: no less than the motion showed.
+      // Forced (nhc): nhc_sigma; by evidence: no less than the motion showed, and the lateral row
+      // only in an outage (nhc_lateral_aided): while aided it would pin the heading to the track
+      // through a mounting yaw not yet learned (heading NEES 85 on the simulated car).
       const S r0 = params_.nhc_sigma * params_.nhc_sigma;
-      r.nhc = apply(gpsins_aid::NonHolonomic<S>{params_.nhc ? r0 : std::max(r0, st_.nhc_ms), st_.nhc_ky, st_.nhc_kz});
+      const bool lateral = params_.nhc || params_.nhc_lateral_aided || !detail::gpsins_gnss_aided(st_);
+      r.nhc = apply(gpsins_aid::NonHolonomic<S>{params_.nhc ? r0 : std::max(r0, st_.nhc_ms), st_.nhc_ky, st_.nhc_kz,
+                                                lateral});
       st_.pseudo_t = st_.t;
     }
     return r;
