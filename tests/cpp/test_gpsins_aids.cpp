@@ -237,3 +237,49 @@ TEST(GpsInsAids, NonHolonomicMounting) {
   detail::gpsins_nhc_evidence(s, p, dt);
   EXPECT_EQ(s.nhc_ky, before.nhc_ky);
 }
+
+// Without `lateral` the constraint's lateral row carries nothing (zero residual and H); the
+// vertical row is the full constraint's.
+TEST(GpsInsAids, NonHolonomicWithoutTheLateralRow) {
+  const GpsInsParams<double> p = params();
+  const GpsInsState<double> s = a_state();
+  AidMeasurement<double, 2, 16> full, vert;
+  gpsins_aid::NonHolonomic<double>{0.0, 0.02, -0.015}.measure(s, p, full);
+  gpsins_aid::NonHolonomic<double>{0.0, 0.02, -0.015, false}.measure(s, p, vert);
+  EXPECT_NE(full.y[0], 0.0);
+  EXPECT_EQ(vert.y[0], 0.0);
+  EXPECT_TRUE(vert.H.row(0).isZero(0.0));
+  EXPECT_EQ(vert.y[1], full.y[1]);
+  EXPECT_TRUE(vert.H.row(1) == full.H.row(1));
+  EXPECT_TRUE(vert.R == full.R);
+}
+
+// The learned constraint (nhc_auto) leaves its lateral row out while GNSS-aided (an accepted fix
+// within 2.5 s: the heading is the GNSS's, and the mounting's yaw is learned from it) and applies
+// it in an outage; nhc_lateral_aided and the forced constraint (nhc) apply it always.
+TEST(GpsInsAids, LearnedNonHolonomicLateralRowOnlyInAnOutage) {
+  GpsInsState<double> s = a_state();
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(20.0, 0.05, 0.02));
+  s.P = decltype(s.P)::Identity() * 1e-4;
+  s.t = 100.0;
+  s.pseudo_t = 0.0;
+  s.nhc_t = 100.0;  // the evidence of a wheeled vehicle is in
+  s.rest_v = s.nav.v_n;
+  auto lateral_innovation = [&](const GpsInsParams<double>& p, double gnss_t) {
+    GpsInsState<double> st = s;
+    st.gnss_t = gnss_t;
+    GpsInsFilter<double> f(p);
+    EXPECT_EQ(f.set_state(st), Status::Ok);
+    const auto r = f.update_constraints();
+    EXPECT_EQ(r.nhc.status, Status::Ok);
+    return r.nhc.innovation[0];
+  };
+  GpsInsParams<double> p = params();
+  EXPECT_EQ(lateral_innovation(p, 98.0), 0.0);  // aided 2 s ago: left out
+  EXPECT_NEAR(lateral_innovation(p, 97.0), 0.05, 1e-9);  // 3 s without GNSS: applied (the lateral 0.05 m/s)
+  p.nhc_lateral_aided = true;
+  EXPECT_NEAR(lateral_innovation(p, 98.0), 0.05, 1e-9);
+  p.nhc_lateral_aided = false;
+  p.nhc = true;
+  EXPECT_NEAR(lateral_innovation(p, 98.0), 0.05, 1e-9);
+}
