@@ -73,3 +73,31 @@ def test_ins_run_raises_an_understated_noise_and_says_so(walk):
     kept = run_ins(log, params={"lever_arm_b": (0.1, 0.0, -0.1)}, noise_from_log=False)
     assert kept.params["acc_noise"] == default
     assert not any(n.startswith("IMU noise in the log") for n in kept.notes)
+
+
+def test_lowered_noise_only_far_above_the_log():
+    from quatnav.calibration.noise import LOWER_ABOVE, lowered_noise, noise_note
+    measured = {"gyro_noise": 1e-3, "acc_noise": 0.03, "blocks": 100}
+    # ten times the log's: lowered to LOWER_ABOVE times it; within LOWER_ABOVE: kept
+    assert lowered_noise({"gyro_noise": 1e-2, "acc_noise": 0.03}, measured) == {"gyro_noise": LOWER_ABOVE * 1e-3}
+    assert lowered_noise({"gyro_noise": 0.99 * LOWER_ABOVE * 1e-3, "acc_noise": 1.0}, measured) == {
+        "acc_noise": LOWER_ABOVE * 0.03}
+    assert lowered_noise({"gyro_noise": 1.0, "acc_noise": 1.0}, dict(measured, gyro_noise=np.nan, acc_noise=0.0)) == {}
+    note = noise_note({"gyro_noise": 1e-2, "acc_noise": 1e-3}, measured, {"acc_noise": 0.03}, {"gyro_noise": 3e-3})
+    assert "raised" in note and "acc_noise 0.001 -> 0.03" in note and "gyro_noise 0.01 -> 0.003" in note
+
+
+def test_ins_run_lowers_a_gyro_noise_far_above_the_log_and_says_so(walk):
+    """A gyro noise given 30x what the log shows: ``run_ins`` runs with 3x the log's
+    (LOWER_ABOVE) and its notes say so; ``noise_from_log=False`` keeps it."""
+    from quatnav.calibration.noise import LOWER_ABOVE
+    s, imu = walk
+    g = s.gps
+    log = io.Log(imu=io.Imu(imu.t, imu.gyro, imu.accel), gnss=io.Gnss(g.t_valid, g.lat, g.lon, g.h, vel_n=g.v_n))
+    measured = noise_in_motion(imu.t, imu.gyro, imu.accel)["gyro_noise"]
+    given = {"lever_arm_b": (0.1, 0.0, -0.1), "gyro_noise": 30 * measured}
+    run = run_ins(log, params=given)
+    assert run.params["gyro_noise"] == pytest.approx(LOWER_ABOVE * measured, rel=1e-12)
+    note = [n for n in run.notes if n.startswith("IMU noise in the log")]
+    assert len(note) == 1 and "lowered" in note[0] and f"gyro_noise {30 * measured:.3g} ->" in note[0], run.notes
+    assert run_ins(log, params=given, noise_from_log=False).params["gyro_noise"] == 30 * measured

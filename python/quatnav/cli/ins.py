@@ -330,7 +330,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "decisions and the diagnostics are the filter's")
     r.add_argument("--noise-as-given", action="store_true",
                    help="use gyro_noise and acc_noise as given; by default each is raised to the white noise the "
-                        "log's IMU shows (vibration included) where it is below it (the summary's notes say which)")
+                        "log's IMU shows (vibration included) where it is below it, and lowered to 3x it where more than 3x "
+                        "above it (the summary's notes say which)")
     r.add_argument("--estimate-time-offset", nargs="?", const=(-0.5, 0.5), default=None, type=_offset_bounds,
                    metavar="LOW,HIGH",
                    help="estimate gps_time_offset (s, the GNSS clock to the IMU's; a receiver latency L is -L) "

@@ -14,8 +14,8 @@ per run and over the runs.
 
 As ``quatnav ins run`` does, the white-noise densities (``gyro_noise``, ``acc_noise``) given or
 defaulted are raised to those the drive's IMU shows, vibration included
-(:func:`quatnav.calibration.noise.noise_in_motion`), where they are more than 1.2x below them
-(``--noise-as-given``: not).
+(:func:`quatnav.calibration.noise.noise_in_motion`), where they are more than 1.2x below them,
+and lowered to 3x them where more than 3x above (``--noise-as-given``: neither).
 
 ``--table perturbation`` runs the settings of the robustness table (a 20 ms GNSS time sigma, a
 5 cm position sigma floor, the learned non-holonomic constraint off, the lever arm off by 5 cm,
@@ -52,7 +52,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
                         help="a filter parameter for every setting (repeatable), e.g. --set pseudo_interval=1.0")
     parser.add_argument("--noise-as-given", action="store_true",
-                        help="the noise densities as given; by default raised to the log's as 'ins run' does")
+                        help="the noise densities as given; by default raised to the log's (lowered to 3x it) as 'ins run' does")
     parser.add_argument("--json", metavar="FILE", help="write the results here ('-': stdout)")
 
 
@@ -66,7 +66,8 @@ def noise_scaled(factor: float) -> dict:
 def filter_params(s, setting="defaults", base=None, noise_from_log=True) -> dict:
     """The parameters a user gives for scenario ``s`` under ``setting`` (PERTURBATIONS), on top of
     ``base`` (parameters for every setting); with ``noise_from_log`` the white-noise densities
-    raised to the log's as ``ins run`` does (:func:`quatnav.calibration.noise.raised_noise`)."""
+    raised to the log's (or lowered to 3x it) as ``ins run`` does
+    (:func:`quatnav.calibration.noise.raised_noise`, :func:`~quatnav.calibration.noise.lowered_noise`)."""
     extra, lever_err = PERTURBATIONS[setting]
     if isinstance(extra, str):
         extra = noise_scaled(float(extra[1:]))
@@ -75,10 +76,11 @@ def filter_params(s, setting="defaults", base=None, noise_from_log=True) -> dict
         lever = lever + np.asarray(lever_err)
     p = {**(base or {}), "lever_arm_b": tuple(lever), **extra}
     if noise_from_log:
-        from ..calibration.noise import noise_in_motion, raised_noise
+        from ..calibration.noise import lowered_noise, noise_in_motion, raised_noise
         from ..filters.tables import GPSINS_PARAMS
         given = {q.name: p.get(q.name, q.default) for q in GPSINS_PARAMS if q.name in ("gyro_noise", "acc_noise")}
-        p.update(raised_noise(given, noise_in_motion(s.imu.t, s.imu.gyro, s.imu.accel)))
+        measured = noise_in_motion(s.imu.t, s.imu.gyro, s.imu.accel)
+        p.update(raised_noise(given, measured), **lowered_noise(given, measured))
     return p
 
 

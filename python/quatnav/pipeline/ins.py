@@ -257,8 +257,9 @@ def run_ins(log=None, *, imu=None, gnss=None, baro=None, compass=None, mag=None,
     noise_from_log : bool
         Raise ``gyro_noise`` and ``acc_noise`` to the white noise the log's IMU shows, vibration
         included (:func:`quatnav.calibration.noise.noise_in_motion`), where they are more than
-        1.2x below it; the notes say what the log showed and what was raised. False: the values
-        as given.
+        1.2x below it, and lower them to 3x it where they are more than 3x above it
+        (:func:`quatnav.calibration.noise.lowered_noise`); the notes say what the log showed and
+        what was changed. False: the values as given.
     utc : bool
         Also read a CSV GNSS file's ``utc`` column (UTC s since 1970; logs give it always), for
         :attr:`InsRun.utc_offset`.
@@ -365,13 +366,13 @@ def _run(log, imu, gnss, baro, compass, mag, odometer, no_mag, fmt, config, para
         warnings.warn(w)
     overlap = check_overlap(t, d_g["time"]) is None
     if noise_from_log:
-        from ..calibration.noise import noise_in_motion, noise_note, raised_noise
+        from ..calibration.noise import lowered_noise, noise_in_motion, noise_note, raised_noise
         measured = noise_in_motion(t, rates, forces)
         if measured["blocks"]:
-            raised = raised_noise(f.params, measured)
-            notes.append(noise_note(f.params, measured, raised))
-            if raised:
-                params.update(raised)
+            raised, lowered = raised_noise(f.params, measured), lowered_noise(f.params, measured)
+            notes.append(noise_note(f.params, measured, raised, lowered))
+            if raised or lowered:
+                params.update(raised, **lowered)
                 f = make_filter()
     tt, gg, aa, original = coast_gaps(t, gyro, accel, gaps, max_dt, inp.imu_lines, where=source)
     if increments and not original.all():  # a coasted gap shares its increments between its steps
