@@ -1425,6 +1425,14 @@ class EulerEKFParams_f64:
     def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
+    def exact_propagation(self) -> bool:
+        """
+        propagate the angles exactly through the quaternion (false: paper 004 eq. 1's Euler step) [-]
+        """
+    @exact_propagation.setter
+    def exact_propagation(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gravity(self) -> float:
         """
         magnitude of gravity, in the unit of acc [m/s^2]
@@ -1754,6 +1762,14 @@ class EulerEKFParams_f32:
         """
     @cov_floor.setter
     def cov_floor(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def exact_propagation(self) -> bool:
+        """
+        propagate the angles exactly through the quaternion (false: paper 004 eq. 1's Euler step) [-]
+        """
+    @exact_propagation.setter
+    def exact_propagation(self, arg1: typing.Any) -> None:
         ...
     @property
     def gravity(self) -> float:

@@ -355,8 +355,11 @@ class QuaternionEKF(_AttitudeFilter):
 class EulerEKF(_AttitudeFilter):
     """Euler-angle EKF, the baseline paper 000 compares against.
 
-    State ``[roll, pitch, yaw, bx, by, bz]``; Euler-rate kinematics (paper 004 eq. 1); the same
-    measurements as :class:`QuaternionEKF`. Near pitch = +/-90 deg the parametrization is
+    State ``[roll, pitch, yaw, bx, by, bz]``; Euler-rate kinematics (paper 004 eq. 1), the angles
+    propagated exactly through the quaternion for the constant rate over each step
+    (``exact_propagation``, default True; False with ``paper=True``: the paper's one Euler step,
+    whose error over fast periodic swings turns the heading); the same measurements as
+    :class:`QuaternionEKF`. Near pitch = +/-90 deg the parametrization is
     singular: the ``"singular"`` flag reports it (``singular_cos``: the |cos(pitch)| threshold).
     Parameters as :class:`QuaternionEKF` (including ``gyro_range``, ``acc_range`` and
     ``cov_floor``, here a floor on the eigenvalues of P itself) plus ``singular_cos`` (default 0.02);

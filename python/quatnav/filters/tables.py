@@ -293,6 +293,8 @@ EULER_PARAMS = (
     _p("init_gyro_bias_sigma", 0.01, "rad/s", "gyro-bias one-sigma after initialize"),
     _max_dt(),
     _p("singular_cos", 0.02, "1", "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it"),
+    _p("exact_propagation", True, "-", "propagate the angles exactly through the quaternion (false: paper 004 eq. "
+       "1's Euler step)", "bool"),
     *_ranges(),
     _cov_floor(1e-12),
     _acc_tilt_only(),

@@ -622,7 +622,7 @@ class EulerEKF(_Base):
 
     defaults = table_defaults(EULER_PARAMS)
     #: EulerEKFParams::paper(): the robustness parts off (a test compares it with the C++).
-    paper_overrides = dict(acc_tilt_only=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
+    paper_overrides = dict(acc_tilt_only=False, exact_propagation=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
                            acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
                            mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
@@ -659,8 +659,19 @@ class EulerEKF(_Base):
         dRz = np.array([[-sy, cy, 0], [-cy, -sy, 0], [0, 0, 0]])
         return Rx @ Ry @ Rz, [dRx @ Ry @ Rz, Rx @ dRy @ Rz, Rx @ Ry @ dRz]
 
-    def propagate(self, e, bias, gyr, dt):
-        """e' = e + T E(roll, pitch) (w - b) (paper 004 eq. 1) and its Jacobian F."""
+    @staticmethod
+    def nearest_branch(e, near):
+        """Of the ZYX triples ``e`` and ``[roll + pi, pi - pitch, yaw + pi]`` of one rotation, the
+        one nearest ``near`` (differences wrapped); euler_ekf.hpp's euler_nearest_branch."""
+        alt = Q.wrap_pi(np.array([e[0] + np.pi, np.pi - e[1], e[2] + np.pi]))
+        return alt if np.sum(Q.wrap_pi(alt - near) ** 2) < np.sum(Q.wrap_pi(e - near) ** 2) else e
+
+    def propagate(self, e, bias, gyr, dt, exact=None):
+        """The time update and its Jacobian F (paper 004 eq. 1): one Euler step e' = e + T E (w - b)
+        or, with ``exact`` (default: the parameter ``exact_propagation``) and away from the
+        singularity, e' = euler(q(e) exp(T (w - b))) on the branch nearest the Euler step; F is the
+        Euler step's Jacobian either way."""
+        exact = self.p.exact_propagation if exact is None else exact
         c = np.cos(e[1])
         singular = abs(c) < self.p.singular_cos
         cp = (-1 if c < 0 else 1) * self.p.singular_cos if singular else c
@@ -678,7 +689,11 @@ class EulerEKF(_Base):
             F[0, 1] += dt * a / cp**2
             F[2, 1] += dt * a * sp / cp**2
         F[:3, 3:] = -dt * E
-        return e + dt * E @ w, F, E, singular
+        e_new = e + dt * E @ w
+        if exact and not singular:
+            q = Q.mul(Q.from_euler(e), Q.from_rotvec(dt * w))
+            e_new = self.nearest_branch(Q.to_euler(q / np.linalg.norm(q)), e_new)
+        return e_new, F, E, singular
 
     def initialize(self, acc, mag=None):
         out = attitude_from_acc_mag(acc, mag)

@@ -164,8 +164,8 @@ template <class S> class EulerEKFRtsModel : public detail::AttitudeRtsModel<Eule
     Mat3<S> E;
     Mat6 F;
     bool singular = false;
-    detail::euler_propagate(post.a, post.b, this->gyro(k), this->dt_[k], this->g_.params().singular_cos, e, F, E,
-                            singular);
+    detail::euler_propagate(post.a, post.b, this->gyro(k), this->dt_[k], this->g_.params().singular_cos, false, e, F,
+                            E, singular);
     return F;
   }
   static Vec3<S> attitude_local(const Vec3<S>& base, const Vec3<S>& e) {
