@@ -254,6 +254,18 @@ def _rest_part(detection=True, gyr_th=0.03, acc_th=0.5, time=1.5, tau=0.5, rate_
     )
 
 
+def _clip_part():
+    """Clipped gyro readings (parts/gyro_clip.hpp)."""
+    return (
+        _p("gyro_clip", True, "-", "recognize clipped gyro readings (an axis stuck at the largest magnitude seen) "
+           "and distrust them", "bool"),
+        _p("gyro_clip_min_rate", 1.0, "rad/s", "smallest reading taken for a clip", "pos0"),
+        _p("gyro_clip_repeats", 2, "1", "a clip: the reading repeats this many previous readings exactly", "int1"),
+        _p("gyro_clip_noise", 1.0, "1", "std of a clipped step's attitude error about that axis, as a fraction of "
+           "reading times dt", "pos0"),
+    )
+
+
 #: QuaternionEKF (``QuaternionEKF<S>::Params``); defaults chosen on BROAD.
 QEKF_PARAMS = (
     _p("paper", False, "-", "start from the paper's values (plain filter of paper 000, robustness off); "
@@ -278,6 +290,7 @@ QEKF_PARAMS = (
     *_acc_part(),
     *_mag_part(),
     *_rest_part(),
+    *_clip_part(),
 )
 
 #: EulerEKF (``EulerEKF<S>::Params``): the paper's noise values and QuaternionEKF's robustness parts

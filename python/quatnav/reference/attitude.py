@@ -13,7 +13,7 @@ from .._validate import did_you_mean
 from ..core import quaternion as Q
 from ..filters.tables import EULER_PARAMS, FLAGS, QEKF_PARAMS
 from .kalman import kalman_correct, kalman_correct_rows
-from .parts import AccFilter, MagDisturbance, Rest
+from .parts import AccFilter, GyroClip, MagDisturbance, Rest
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED
 
@@ -183,7 +183,8 @@ class QuaternionEKF(_Base):
                            acc_tilt_only=False, acc_adapt=0.0,
                            acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
                            acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
-                           mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
+                           mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False,
+                           gyro_clip=False)
     n_states = 7
 
     def __new__(cls, paper=False, **params):
@@ -203,6 +204,7 @@ class QuaternionEKF(_Base):
         self.P = np.eye(7)
         self.dt_last = 0.0
         self.rest, self.acc = Rest(self.p), AccFilter(self.p)
+        self.clip = GyroClip(self.p)  # parts/gyro_clip.hpp (the quaternion EKFs)
         self.flags = 0
 
     @property
@@ -273,6 +275,7 @@ class QuaternionEKF(_Base):
         self.rest.restart()
         self.acc.restart()
         self.mag.restart()
+        self.clip.restart()
         self.flags = 0
         if mref is not None:
             self.mag.start(mref, np.linalg.norm(mag))
@@ -297,17 +300,22 @@ class QuaternionEKF(_Base):
         if self.p.gyro_rate_noise > 0:
             Qn[:4, :4] += X @ tilt_rate_noise(q_new, np.asarray(gyr, float) - self.bias,
                                               self.p.gyro_rate_noise, dt) @ X.T / 4
+        clip_var = self.clip.step(gyr, dt)
+        if clip_var.any():  # gyro_clip.hpp, mapped by X / 2 as the tilt noise
+            Qn[:4, :4] += X @ np.diag(clip_var) @ X.T / 4
         Qn[4:, 4:] = np.eye(3) * dt * self.p.gyro_bias_noise**2
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
-        self._parts_predict(gyr, dq, dt)
+        self._parts_predict(gyr, dq, dt, clip_var)
         return "ok"
 
-    def _parts_predict(self, gyr, dq, dt):
+    def _parts_predict(self, gyr, dq, dt, clip_var):
         self.flags = 0
         self.dt_last = dt
         self.acc.predict(dq)
+        if clip_var.any():  # the low-pass frame was carried by a clipped rate
+            self.acc.restart()
         self.rest.predict(gyr, dt)
 
     # --- measurements with the robustness parts -------------------------------------------
@@ -503,10 +511,12 @@ class _QuaternionEKFErrorState(QuaternionEKF):
         Qn = np.diag([dt * self.p.gyro_noise**2] * 3 + [dt * self.p.gyro_bias_noise**2] * 3)
         if self.p.gyro_rate_noise > 0:
             Qn[:3, :3] += tilt_rate_noise(q_new, np.asarray(gyr, float) - self.bias, self.p.gyro_rate_noise, dt)
+        clip_var = self.clip.step(gyr, dt)  # gyro_clip.hpp
+        Qn[:3, :3] += np.diag(clip_var)
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
-        self._parts_predict(gyr, dq, dt)
+        self._parts_predict(gyr, dq, dt, clip_var)
         return "ok"
 
     @staticmethod
