@@ -151,6 +151,13 @@ MUTATIONS: list[Mutation] = [
        "predict_covariance_fb<S, 3, 3>(st_.P, G, B, (dt * params_.gyro_noise * params_.gyro_noise) * E * E.transpose(),",
        "predict_covariance_fb<S, 3, 3>(st_.P, G, B, (params_.gyro_noise * params_.gyro_noise) * E * E.transpose(),",
        cpp=("test_attitude_filters",), py=("tests/python/test_attitude_consistency.py",)),
+    _m("GyroClip: the low-pass not restarted after a clipped step", "attitude", ESKF,
+       "    if ((clip_var.array() > S(0)).any()) AccFilter<S>::restart(st_.acc);",
+       "    if (false && (clip_var.array() > S(0)).any()) AccFilter<S>::restart(st_.acc);",
+       cpp=("test_qekf_robust:GyroClip*",), py=("tests/python/test_attitude_fast_motion.py",)),
+    _m("EulerEKF: the exact step dropped (paper 004's Euler step only)", "attitude", EULER,
+       "  if (exact && !singular) {", "  if (false && exact && !singular) {",
+       cpp=("test_attitude_filters",), py=("tests/python/test_attitude_fast_motion.py",)),
     # ---- MargFilter (paper 001) -------------------------------------------------------------------
     _m("lever arm: the centripetal term's sign (eq. 7')", "marg", MARG,
        "  return f_b + omega_dot_b.cross(d_b) + omega_b.cross(omega_b.cross(d_b));",

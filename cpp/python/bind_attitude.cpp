@@ -17,6 +17,8 @@ template <class S> void bind_qekf(py::module_& m) {
                                                   "The accelerometer part (attitude/parts/acc_filter.hpp).");
   bind_fields_struct<quatnav::MagDisturbanceParams<S>>(m, cls_name<S>("MagDisturbanceParams"),
                                                        "The magnetometer part (attitude/parts/mag_disturbance.hpp).");
+  bind_fields_struct<quatnav::GyroClipParams<S>>(m, cls_name<S>("GyroClipParams"),
+                                                 "Clipped gyro readings (attitude/parts/gyro_clip.hpp).");
   bind_fields_struct<P>(m, cls_name<S>("QuaternionEKFParams"),
                         "Parameters of QuaternionEKF and of its paper form QuaternionEKFPaper (quaternion_ekf_params.hpp).")
       .def_static("paper", &P::paper, "Parameters of the plain paper-000 filter (robustness off).");

@@ -91,23 +91,44 @@ TEST(QuaternionEKFPaper, MeasurementJacobianMatchesFiniteDifferences) {
 
 TEST(EulerEKF, JacobiansMatchFiniteDifferences) {
   const Vec3<double> e(0.3, -0.5, 2.0), b(0.01, 0.02, -0.01), w(0.5, -1.0, 0.8);
-  const double dt = 0.01, h = 1e-7;
+  const double h = 1e-7;
   Vec3<double> e1;
-  Mat<double, 6, 6> F;
   Mat3<double> E;
   bool sing = false;
-  detail::euler_propagate(e, b, w, dt, 0.02, e1, F, E, sing);
-  Vec<double, 6> x;
-  x << e, b;
-  for (int j = 0; j < 6; ++j) {
-    Vec<double, 6> xp = x, xm = x;
-    xp[j] += h;
-    xm[j] -= h;
-    Vec3<double> ep, em;
-    Mat<double, 6, 6> d1;
-    detail::euler_propagate(Vec3<double>(xp.head<3>()), Vec3<double>(xp.tail<3>()), w, dt, 0.02, ep, d1, E, sing);
-    detail::euler_propagate(Vec3<double>(xm.head<3>()), Vec3<double>(xm.tail<3>()), w, dt, 0.02, em, d1, E, sing);
-    EXPECT_LT((F.col(j).head<3>() - (ep - em) / (2 * h)).norm(), 1e-8) << "column " << j;
+  // The step's F and the central differences of its angles in [e, b].
+  const auto step = [&](const Vec3<double>& rate, double T, bool exact, Mat<double, 3, 6>& fd) {
+    Mat<double, 6, 6> F, d1;
+    detail::euler_propagate(e, b, rate, T, 0.02, exact, e1, F, E, sing);
+    Vec<double, 6> x;
+    x << e, b;
+    for (int j = 0; j < 6; ++j) {
+      Vec<double, 6> xp = x, xm = x;
+      xp[j] += h;
+      xm[j] -= h;
+      Vec3<double> ep, em;
+      detail::euler_propagate(Vec3<double>(xp.head<3>()), Vec3<double>(xp.tail<3>()), rate, T, 0.02, exact, ep, d1, E,
+                              sing);
+      detail::euler_propagate(Vec3<double>(xm.head<3>()), Vec3<double>(xm.tail<3>()), rate, T, 0.02, exact, em, d1, E,
+                              sing);
+      fd.col(j) = (ep - em) / (2 * h);
+    }
+    return Mat<double, 3, 6>(F.topRows<3>());
+  };
+  // F is the Jacobian of paper 004's Euler step (exact = false) ...
+  Mat<double, 3, 6> fd;
+  const Mat<double, 3, 6> F = step(w, 0.01, false, fd);
+  for (int j = 0; j < 6; ++j) EXPECT_LT((F.col(j) - fd.col(j)).norm(), 1e-8) << "column " << j;
+  // ... and of the exact step to first order in T: the difference shrinks as T^2 (a wrong term
+  // of F would leave a difference of order T, the same F in both modes).
+  for (const Vec3<double>& rate : {w, Vec3<double>(3.0, -6.0, 5.0)}) {  // 0.5 rad/s and 500 deg/s
+    double diff[2];
+    for (int i = 0; i < 2; ++i) {
+      const double T = i == 0 ? 0.01 : 0.005;
+      diff[i] = (step(rate, T, true, fd) - fd).norm();
+      EXPECT_LT(diff[i], 4.0 * T * T * (rate - b).squaredNorm()) << "T " << T;
+    }
+    EXPECT_GT(diff[0] / diff[1], 3.0);  // second order: about 4
+    EXPECT_LT(diff[0] / diff[1], 5.0);
   }
   Vec3<double> hv;
   Mat3<double> H;
@@ -122,6 +143,48 @@ TEST(EulerEKF, JacobiansMatchFiniteDifferences) {
     detail::euler_measurement(em, 0.45, 0.89, hm, d);
     EXPECT_LT((H.col(j) - (hp - hm) / (2 * h)).norm(), 1e-8);
   }
+}
+
+/// The exact step: a constant rate integrated over a second in 100 steps lands on q exp(w T) to
+/// rounding, where paper 004's Euler step is off by degrees at 500 deg/s; a step across pitch 90 deg
+/// keeps the branch of the angles continuous (pitch beyond 90 deg, roll and yaw kept).
+TEST(EulerEKF, ExactStepFollowsTheQuaternionAndKeepsTheBranch) {
+  const Vec3<double> e0(0.3, -0.5, 2.0), b(0.01, 0.02, -0.01), w(3.0, -6.0, 5.0);
+  const double dt = 0.01;
+  for (const bool exact : {true, false}) {
+    Vec3<double> e = e0, e1;
+    Mat<double, 6, 6> F;
+    Mat3<double> E;
+    bool sing = false;
+    for (int k = 0; k < 100; ++k) {
+      detail::euler_propagate(e, b, w, dt, 0.02, exact, e1, F, E, sing);
+      ASSERT_FALSE(sing);
+      e = e1;
+    }
+    const Quat<double> q_true = quat::mul(quat::from_euler(e0), quat::from_rotvec(Vec3<double>(1.0 * (w - b))));
+    const double err = quat::angle_between(quat::from_euler(e), q_true);
+    if (exact) {
+      EXPECT_LT(err, 1e-10);
+    } else {
+      EXPECT_GT(err, 0.02);  // the paper's step: degrees after one second at this rate
+    }
+  }
+  // Pitch 87 deg, a 6 deg step about body y: the rotation ends at pitch 93 deg on the branch of
+  // the start (to_euler would give pitch 87 deg with roll and yaw turned by 180 deg).
+  const double deg = 3.14159265358979323846 / 180.0;
+  const Vec3<double> start(0.0, 87.0 * deg, -0.4), zero = Vec3<double>::Zero();
+  const Vec3<double> rate(0.0, 6.0 * deg / dt, 0.0);
+  Vec3<double> e1;
+  Mat<double, 6, 6> F;
+  Mat3<double> E;
+  bool sing = true;
+  detail::euler_propagate(start, zero, rate, dt, 0.02, true, e1, F, E, sing);
+  EXPECT_FALSE(sing);
+  EXPECT_NEAR(e1[1], 93.0 * deg, 1e-9);
+  EXPECT_NEAR(e1[0], 0.0, 1e-9);
+  EXPECT_NEAR(e1[2], -0.4, 1e-9);
+  const Quat<double> q1 = quat::mul(quat::from_euler(start), quat::from_rotvec(Vec3<double>(dt * rate)));
+  EXPECT_LT(quat::angle_between(quat::from_euler(e1), q1), 1e-12);
 }
 
 template <class F> void expect_no_heap_in_steps() {

@@ -3,7 +3,7 @@
 //   core/      math and machinery that knows no filter (includes nothing outside core/)
 //   attitude/  QuaternionEKF (and its paper form), EulerEKF, MargFilter, their shared initialization, batch loop and
 //              smoothers, and parts/, the robustness they compose (rest detection, accelerometer,
-//              magnetometer)
+//              magnetometer, clipped gyro)
 //   nav/       strapdown, NavFilter13, GpsInsFilter, their batch loops and smoothers
 // attitude/ and nav/ include core/ only, never each other (tests/python/test_layout.py).
 #pragma once
@@ -24,6 +24,7 @@
 #include "attitude/parts/rest.hpp"
 #include "attitude/parts/acc_filter.hpp"
 #include "attitude/parts/mag_disturbance.hpp"
+#include "attitude/parts/gyro_clip.hpp"
 #include "attitude/quaternion_ekf_params.hpp"
 #include "attitude/quaternion_ekf_paper.hpp"
 #include "attitude/quaternion_ekf.hpp"

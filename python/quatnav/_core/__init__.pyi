@@ -8,7 +8,7 @@ import typing
 from . import quat
 from . import earth
 from . import strapdown
-__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFPaper_f32', 'QuaternionEKFPaper_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'compiler', 'earth', 'first_zero_norm_row', 'flag_table', 'gnss_solution_names', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
+__all__: list[str] = ['AccFilterParams_f32', 'AccFilterParams_f64', 'EulerEKFParams_f32', 'EulerEKFParams_f64', 'EulerEKF_f32', 'EulerEKF_f64', 'GpsInsFilterScale_f32', 'GpsInsFilterScale_f64', 'GpsInsFilter_f32', 'GpsInsFilter_f64', 'GpsInsParams_f32', 'GpsInsParams_f64', 'GpsInsUpdate1_f32', 'GpsInsUpdate1_f64', 'GpsInsUpdate2_f32', 'GpsInsUpdate2_f64', 'GpsInsUpdate3_f32', 'GpsInsUpdate3_f64', 'GyroClipParams_f32', 'GyroClipParams_f64', 'MagDisturbanceParams_f32', 'MagDisturbanceParams_f64', 'MargFilterParams_f32', 'MargFilterParams_f64', 'MargFilter_f32', 'MargFilter_f64', 'MargUpdateResult_f32', 'MargUpdateResult_f64', 'NavFilter13Ekf_f32', 'NavFilter13Ekf_f64', 'NavFilter13Params_f32', 'NavFilter13Params_f64', 'NavFilter13SecondOrder_f32', 'NavFilter13SecondOrder_f64', 'NavFilter13Ukf_f32', 'NavFilter13Ukf_f64', 'QuaternionEKFPaper_f32', 'QuaternionEKFPaper_f64', 'QuaternionEKFParams_f32', 'QuaternionEKFParams_f64', 'QuaternionEKF_f32', 'QuaternionEKF_f64', 'RestParams_f32', 'RestParams_f64', 'UpdateResult1_f32', 'UpdateResult1_f64', 'UpdateResult3_f32', 'UpdateResult3_f64', 'UpdateResult4_f32', 'UpdateResult4_f64', 'UpdateResult6_f32', 'UpdateResult6_f64', 'compiler', 'earth', 'first_zero_norm_row', 'flag_table', 'gnss_solution_names', 'gpsins_decision_names', 'nav13_time_update_cost_ns', 'quat', 'status_names', 'strapdown']
 class UpdateResult3_f64:
     """
     Outcome of one measurement update.
@@ -255,6 +255,58 @@ class MagDisturbanceParams_f64:
     @mag_settle_time.setter
     def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
+class GyroClipParams_f64:
+    """
+    Clipped gyro readings (attitude/parts/gyro_clip.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> GyroClipParams_f64:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def gyro_clip(self) -> bool:
+        """
+        recognize clipped gyro readings (an axis stuck at the largest magnitude seen) and distrust them [-]
+        """
+    @gyro_clip.setter
+    def gyro_clip(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_min_rate(self) -> float:
+        """
+        smallest reading taken for a clip [rad/s]
+        """
+    @gyro_clip_min_rate.setter
+    def gyro_clip_min_rate(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_noise(self) -> float:
+        """
+        std of a clipped step's attitude error about that axis, as a fraction of reading times dt [1]
+        """
+    @gyro_clip_noise.setter
+    def gyro_clip_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_repeats(self) -> int:
+        """
+        a clip: the reading repeats this many previous readings exactly [1]
+        """
+    @gyro_clip_repeats.setter
+    def gyro_clip_repeats(self, arg1: typing.Any) -> None:
+        ...
 class QuaternionEKFParams_f64:
     """
     Parameters of QuaternionEKF and of its paper form QuaternionEKFPaper (quaternion_ekf_params.hpp).
@@ -383,6 +435,38 @@ class QuaternionEKFParams_f64:
         """
     @gyro_bias_noise.setter
     def gyro_bias_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip(self) -> bool:
+        """
+        recognize clipped gyro readings (an axis stuck at the largest magnitude seen) and distrust them [-]
+        """
+    @gyro_clip.setter
+    def gyro_clip(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_min_rate(self) -> float:
+        """
+        smallest reading taken for a clip [rad/s]
+        """
+    @gyro_clip_min_rate.setter
+    def gyro_clip_min_rate(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_noise(self) -> float:
+        """
+        std of a clipped step's attitude error about that axis, as a fraction of reading times dt [1]
+        """
+    @gyro_clip_noise.setter
+    def gyro_clip_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_repeats(self) -> int:
+        """
+        a clip: the reading repeats this many previous readings exactly [1]
+        """
+    @gyro_clip_repeats.setter
+    def gyro_clip_repeats(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
@@ -860,6 +944,58 @@ class MagDisturbanceParams_f32:
     @mag_settle_time.setter
     def mag_settle_time(self, arg1: typing.Any) -> None:
         ...
+class GyroClipParams_f32:
+    """
+    Clipped gyro readings (attitude/parts/gyro_clip.hpp).
+    """
+    @staticmethod
+    def fields() -> list:
+        """
+        The declaration table: a list of (name, default, unit, doc).
+        """
+    @staticmethod
+    def from_dict(d: dict) -> GyroClipParams_f32:
+        """
+        From a dict of some fields (the others keep their defaults); unknown keys refused.
+        """
+    def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        ...
+    @property
+    def gyro_clip(self) -> bool:
+        """
+        recognize clipped gyro readings (an axis stuck at the largest magnitude seen) and distrust them [-]
+        """
+    @gyro_clip.setter
+    def gyro_clip(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_min_rate(self) -> float:
+        """
+        smallest reading taken for a clip [rad/s]
+        """
+    @gyro_clip_min_rate.setter
+    def gyro_clip_min_rate(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_noise(self) -> float:
+        """
+        std of a clipped step's attitude error about that axis, as a fraction of reading times dt [1]
+        """
+    @gyro_clip_noise.setter
+    def gyro_clip_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_repeats(self) -> int:
+        """
+        a clip: the reading repeats this many previous readings exactly [1]
+        """
+    @gyro_clip_repeats.setter
+    def gyro_clip_repeats(self, arg1: typing.Any) -> None:
+        ...
 class QuaternionEKFParams_f32:
     """
     Parameters of QuaternionEKF and of its paper form QuaternionEKFPaper (quaternion_ekf_params.hpp).
@@ -988,6 +1124,38 @@ class QuaternionEKFParams_f32:
         """
     @gyro_bias_noise.setter
     def gyro_bias_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip(self) -> bool:
+        """
+        recognize clipped gyro readings (an axis stuck at the largest magnitude seen) and distrust them [-]
+        """
+    @gyro_clip.setter
+    def gyro_clip(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_min_rate(self) -> float:
+        """
+        smallest reading taken for a clip [rad/s]
+        """
+    @gyro_clip_min_rate.setter
+    def gyro_clip_min_rate(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_noise(self) -> float:
+        """
+        std of a clipped step's attitude error about that axis, as a fraction of reading times dt [1]
+        """
+    @gyro_clip_noise.setter
+    def gyro_clip_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_clip_repeats(self) -> int:
+        """
+        a clip: the reading repeats this many previous readings exactly [1]
+        """
+    @gyro_clip_repeats.setter
+    def gyro_clip_repeats(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_noise(self) -> float:
@@ -1441,6 +1609,14 @@ class EulerEKFParams_f64:
     def cov_floor(self, arg1: typing.Any) -> None:
         ...
     @property
+    def exact_propagation(self) -> bool:
+        """
+        propagate the angles exactly through the quaternion (false: paper 004 eq. 1's Euler step) [-]
+        """
+    @exact_propagation.setter
+    def exact_propagation(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gravity(self) -> float:
         """
         magnitude of gravity, in the unit of acc [m/s^2]
@@ -1770,6 +1946,14 @@ class EulerEKFParams_f32:
         """
     @cov_floor.setter
     def cov_floor(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def exact_propagation(self) -> bool:
+        """
+        propagate the angles exactly through the quaternion (false: paper 004 eq. 1's Euler step) [-]
+        """
+    @exact_propagation.setter
+    def exact_propagation(self, arg1: typing.Any) -> None:
         ...
     @property
     def gravity(self) -> float:

@@ -296,6 +296,12 @@ class QuaternionEKF(_AttitudeFilter):
     rest_gyr_th, rest_acc_th, rest_time, rest_tau, rest_rate_noise : float
         Rest thresholds (rad/s, m/s^2), minimum duration (s), low-pass time constant (s) and the
         std of the residual rate at rest (rad/s); defaults 0.03, 0.5, 1.5, 0.5, 0.02.
+    gyro_clip : bool, default True [False]
+        Recognize clipped gyro readings without ``gyro_range``: an axis that repeats its previous
+        ``gyro_clip_repeats`` (2) readings exactly, at or above every magnitude seen so far and at
+        least ``gyro_clip_min_rate`` (1 rad/s). The step is taken, its axis's attitude variance
+        grows by ``(gyro_clip_noise |w_i| dt)^2`` (``gyro_clip_noise`` 1) and the accelerometer's
+        low-pass restarts, so that the accelerometer (and magnetometer) take the attitude back.
     dtype : float64 or float32
         Precision of the C++ filter.
 
@@ -355,8 +361,11 @@ class QuaternionEKF(_AttitudeFilter):
 class EulerEKF(_AttitudeFilter):
     """Euler-angle EKF, the baseline paper 000 compares against.
 
-    State ``[roll, pitch, yaw, bx, by, bz]``; Euler-rate kinematics (paper 004 eq. 1); the same
-    measurements as :class:`QuaternionEKF`. Near pitch = +/-90 deg the parametrization is
+    State ``[roll, pitch, yaw, bx, by, bz]``; Euler-rate kinematics (paper 004 eq. 1), the angles
+    propagated exactly through the quaternion for the constant rate over each step
+    (``exact_propagation``, default True; False with ``paper=True``: the paper's one Euler step,
+    whose error over fast periodic swings turns the heading); the same measurements as
+    :class:`QuaternionEKF`. Near pitch = +/-90 deg the parametrization is
     singular: the ``"singular"`` flag reports it (``singular_cos``: the |cos(pitch)| threshold).
     Parameters as :class:`QuaternionEKF` (including ``gyro_range``, ``acc_range`` and
     ``cov_floor``, here a floor on the eigenvalues of P itself) plus ``singular_cos`` (default 0.02);

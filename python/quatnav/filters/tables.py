@@ -254,6 +254,18 @@ def _rest_part(detection=True, gyr_th=0.03, acc_th=0.5, time=1.5, tau=0.5, rate_
     )
 
 
+def _clip_part():
+    """Clipped gyro readings (parts/gyro_clip.hpp)."""
+    return (
+        _p("gyro_clip", True, "-", "recognize clipped gyro readings (an axis stuck at the largest magnitude seen) "
+           "and distrust them", "bool"),
+        _p("gyro_clip_min_rate", 1.0, "rad/s", "smallest reading taken for a clip", "pos0"),
+        _p("gyro_clip_repeats", 2, "1", "a clip: the reading repeats this many previous readings exactly", "int1"),
+        _p("gyro_clip_noise", 1.0, "1", "std of a clipped step's attitude error about that axis, as a fraction of "
+           "reading times dt", "pos0"),
+    )
+
+
 #: QuaternionEKF (``QuaternionEKF<S>::Params``); defaults chosen on BROAD.
 QEKF_PARAMS = (
     _p("paper", False, "-", "start from the paper's values (plain filter of paper 000, robustness off); "
@@ -278,6 +290,7 @@ QEKF_PARAMS = (
     *_acc_part(),
     *_mag_part(),
     *_rest_part(),
+    *_clip_part(),
 )
 
 #: EulerEKF (``EulerEKF<S>::Params``): the paper's noise values and QuaternionEKF's robustness parts
@@ -293,6 +306,8 @@ EULER_PARAMS = (
     _p("init_gyro_bias_sigma", 0.01, "rad/s", "gyro-bias one-sigma after initialize"),
     _max_dt(),
     _p("singular_cos", 0.02, "1", "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it"),
+    _p("exact_propagation", True, "-", "propagate the angles exactly through the quaternion (false: paper 004 eq. "
+       "1's Euler step)", "bool"),
     *_ranges(),
     _cov_floor(1e-12),
     _acc_tilt_only(),

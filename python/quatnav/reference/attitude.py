@@ -13,7 +13,7 @@ from .._validate import did_you_mean
 from ..core import quaternion as Q
 from ..filters.tables import EULER_PARAMS, FLAGS, QEKF_PARAMS
 from .kalman import kalman_correct, kalman_correct_rows
-from .parts import AccFilter, MagDisturbance, Rest
+from .parts import AccFilter, GyroClip, MagDisturbance, Rest
 
 GRAVITY_REF = (0.0, -1.0)  # [r_x, r_z] of the normalized specific force at rest, NED
 
@@ -183,7 +183,8 @@ class QuaternionEKF(_Base):
                            acc_tilt_only=False, acc_adapt=0.0,
                            acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
                            acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
-                           mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
+                           mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False,
+                           gyro_clip=False)
     n_states = 7
 
     def __new__(cls, paper=False, **params):
@@ -203,6 +204,7 @@ class QuaternionEKF(_Base):
         self.P = np.eye(7)
         self.dt_last = 0.0
         self.rest, self.acc = Rest(self.p), AccFilter(self.p)
+        self.clip = GyroClip(self.p)  # parts/gyro_clip.hpp (the quaternion EKFs)
         self.flags = 0
 
     @property
@@ -273,6 +275,7 @@ class QuaternionEKF(_Base):
         self.rest.restart()
         self.acc.restart()
         self.mag.restart()
+        self.clip.restart()
         self.flags = 0
         if mref is not None:
             self.mag.start(mref, np.linalg.norm(mag))
@@ -297,17 +300,22 @@ class QuaternionEKF(_Base):
         if self.p.gyro_rate_noise > 0:
             Qn[:4, :4] += X @ tilt_rate_noise(q_new, np.asarray(gyr, float) - self.bias,
                                               self.p.gyro_rate_noise, dt) @ X.T / 4
+        clip_var = self.clip.step(gyr, dt)
+        if clip_var.any():  # gyro_clip.hpp, mapped by X / 2 as the tilt noise
+            Qn[:4, :4] += X @ np.diag(clip_var) @ X.T / 4
         Qn[4:, 4:] = np.eye(3) * dt * self.p.gyro_bias_noise**2
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
-        self._parts_predict(gyr, dq, dt)
+        self._parts_predict(gyr, dq, dt, clip_var)
         return "ok"
 
-    def _parts_predict(self, gyr, dq, dt):
+    def _parts_predict(self, gyr, dq, dt, clip_var):
         self.flags = 0
         self.dt_last = dt
         self.acc.predict(dq)
+        if clip_var.any():  # the low-pass frame was carried by a clipped rate
+            self.acc.restart()
         self.rest.predict(gyr, dt)
 
     # --- measurements with the robustness parts -------------------------------------------
@@ -503,10 +511,12 @@ class _QuaternionEKFErrorState(QuaternionEKF):
         Qn = np.diag([dt * self.p.gyro_noise**2] * 3 + [dt * self.p.gyro_bias_noise**2] * 3)
         if self.p.gyro_rate_noise > 0:
             Qn[:3, :3] += tilt_rate_noise(q_new, np.asarray(gyr, float) - self.bias, self.p.gyro_rate_noise, dt)
+        clip_var = self.clip.step(gyr, dt)  # gyro_clip.hpp
+        Qn[:3, :3] += np.diag(clip_var)
         P = Phi @ self.P @ Phi.T + Qn
         self.P = 0.5 * (P + P.T)
         self.q = q_new / np.linalg.norm(q_new)
-        self._parts_predict(gyr, dq, dt)
+        self._parts_predict(gyr, dq, dt, clip_var)
         return "ok"
 
     @staticmethod
@@ -622,7 +632,7 @@ class EulerEKF(_Base):
 
     defaults = table_defaults(EULER_PARAMS)
     #: EulerEKFParams::paper(): the robustness parts off (a test compares it with the C++).
-    paper_overrides = dict(acc_tilt_only=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
+    paper_overrides = dict(acc_tilt_only=False, exact_propagation=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
                            acc_lp_bias_sigma=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
                            mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
@@ -659,8 +669,19 @@ class EulerEKF(_Base):
         dRz = np.array([[-sy, cy, 0], [-cy, -sy, 0], [0, 0, 0]])
         return Rx @ Ry @ Rz, [dRx @ Ry @ Rz, Rx @ dRy @ Rz, Rx @ Ry @ dRz]
 
-    def propagate(self, e, bias, gyr, dt):
-        """e' = e + T E(roll, pitch) (w - b) (paper 004 eq. 1) and its Jacobian F."""
+    @staticmethod
+    def nearest_branch(e, near):
+        """Of the ZYX triples ``e`` and ``[roll + pi, pi - pitch, yaw + pi]`` of one rotation, the
+        one nearest ``near`` (differences wrapped); euler_ekf.hpp's euler_nearest_branch."""
+        alt = Q.wrap_pi(np.array([e[0] + np.pi, np.pi - e[1], e[2] + np.pi]))
+        return alt if np.sum(Q.wrap_pi(alt - near) ** 2) < np.sum(Q.wrap_pi(e - near) ** 2) else e
+
+    def propagate(self, e, bias, gyr, dt, exact=None):
+        """The time update and its Jacobian F (paper 004 eq. 1): one Euler step e' = e + T E (w - b)
+        or, with ``exact`` (default: the parameter ``exact_propagation``) and away from the
+        singularity, e' = euler(q(e) exp(T (w - b))) on the branch nearest the Euler step; F is the
+        Euler step's Jacobian either way."""
+        exact = self.p.exact_propagation if exact is None else exact
         c = np.cos(e[1])
         singular = abs(c) < self.p.singular_cos
         cp = (-1 if c < 0 else 1) * self.p.singular_cos if singular else c
@@ -678,7 +699,11 @@ class EulerEKF(_Base):
             F[0, 1] += dt * a / cp**2
             F[2, 1] += dt * a * sp / cp**2
         F[:3, 3:] = -dt * E
-        return e + dt * E @ w, F, E, singular
+        e_new = e + dt * E @ w
+        if exact and not singular:
+            q = Q.mul(Q.from_euler(e), Q.from_rotvec(dt * w))
+            e_new = self.nearest_branch(Q.to_euler(q / np.linalg.norm(q)), e_new)
+        return e_new, F, E, singular
 
     def initialize(self, acc, mag=None):
         out = attitude_from_acc_mag(acc, mag)

@@ -60,7 +60,7 @@ class EulerModel(_Model):
         return (f.euler.copy(), f.bias.copy(), f.P.copy()) if f.initialized else None
 
     def transition(self, post, k):
-        return self.f.propagate(post[0], post[1], self.gyr[k], self.dt[k])[1]
+        return self.f.propagate(post[0], post[1], self.gyr[k], self.dt[k], exact=False)[1]  # F only
 
     @staticmethod
     def local(base, x):

@@ -55,6 +55,36 @@ class MagRef:
         self.learn(m_n_unit, max_samples)
 
 
+class GyroClip:
+    """Clipped gyro readings (``gyro_clip.hpp``): an axis whose reading repeats its previous
+    ``gyro_clip_repeats`` readings exactly, at or above every magnitude seen so far and at least
+    ``gyro_clip_min_rate``."""
+
+    def __init__(self, p):
+        self.p = p
+        self.gyr_prev, self.gyr_repeats = np.zeros(3), np.zeros(3)
+        self.restart()
+
+    def restart(self):
+        self.gyr_max, self.clip_init = 0.0, False
+
+    def step(self, gyr, dt):
+        """At every predict: the variance [rad^2] to add to each body axis's attitude error,
+        ``(gyro_clip_noise |w_i| dt)^2`` on the clipped axes, zero elsewhere."""
+        p = self.p
+        var = np.zeros(3)
+        if not p.gyro_clip:
+            return var
+        g = np.asarray(gyr, float)
+        a = np.abs(g)
+        self.gyr_repeats = np.where(self.clip_init & (g == self.gyr_prev), self.gyr_repeats + 1, 0.0)
+        hit = (self.gyr_repeats >= p.gyro_clip_repeats) & (a >= self.gyr_max) & (a >= p.gyro_clip_min_rate)
+        var = np.where(hit, (p.gyro_clip_noise * a * dt) ** 2, 0.0)
+        self.gyr_max = max(self.gyr_max, float(a.max()))
+        self.gyr_prev, self.clip_init = g.copy(), True
+        return var
+
+
 class Rest:
     """Rest detection and its zero-rate measurement of the gyro bias (``rest.hpp``)."""
 

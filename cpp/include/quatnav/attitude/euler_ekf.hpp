@@ -1,11 +1,18 @@
 // quatnav: the Euler-angle EKF that paper 000 compares its quaternion EKF against.
 //
 // State x = [roll, pitch, yaw, bx, by, bz] (ZYX Euler angles of C_nb in rad, gyro bias in
-// rad/s). Time update: Euler-rate kinematics (paper 004 eq. 1) integrated with one Euler step,
-//   e(k) = e(k-1) + T E(roll, pitch) (w - b),
+// rad/s). Time update: Euler-rate kinematics (paper 004 eq. 1),
+//   de/dt = E(roll, pitch) (w - b),
 //   E = [[1, sin(roll) tan(pitch), cos(roll) tan(pitch)],
 //        [0, cos(roll),            -sin(roll)],
 //        [0, sin(roll)/cos(pitch),  cos(roll)/cos(pitch)]].
+// The paper integrates it with one Euler step, e(k) = e(k-1) + T E (w - b) (exact_propagation =
+// false, paper()). Its error is of second order in the rotation per step and, over a periodic
+// swing at 300-500 deg/s, systematic: it turns the heading by degrees per minute. By default the
+// angles are propagated exactly for a constant rate over the step, through the quaternion,
+// e(k) = euler(q(e(k-1)) exp(T (w - b))), on the branch of the ZYX angles nearest the Euler
+// step; the covariance keeps the Jacobian F of the Euler step (the exact map's Jacobian to first
+// order in T). Where the parametrization is singular (below) both use the Euler step.
 // Measurements: the same normalized accelerometer and magnetometer as the quaternion EKF,
 // h = C_bn(e) [0, 0, -1] and C_bn(e) [m_x, 0, m_z] (paper 000 eq. 1 for C_bn).
 //
@@ -62,6 +69,8 @@ namespace quatnav {
   X(S, max_dt, S(1), "s", "longest accepted IMU step")                                                   \
   X(S, singular_cos, S(0.02), "1",                                                                       \
     "the Euler parametrization is flagged singular where abs(cos(pitch)) is below it")                   \
+  X(bool, exact_propagation, true, "-",                                                                  \
+    "propagate the angles exactly through the quaternion (false: paper 004 eq. 1's Euler step)")         \
   X(S, gyro_range, S(0), "rad/s",                                                                        \
     "gyro range per axis: a reading at or above it is saturated and its step skipped (0: unlimited)")    \
   X(S, acc_range, S(0), "m/s^2", "accelerometer range per axis, as gyro_range (0: unlimited)")            \
@@ -92,6 +101,7 @@ template <class S> struct EulerEKFParams {
   static EulerEKFParams paper() {
     EulerEKFParams p;
     p.acc_tilt_only = false;
+    p.exact_propagation = false;
     AccFilter<S>::off(p.acc);
     MagDisturbance<S>::off(p.mag);
     Rest<S>::off(p.rest);
@@ -151,9 +161,28 @@ template <class S> S safe_cos(S pitch, S min_cos, bool& singular) {
   return singular ? (c < S(0) ? -min_cos : min_cos) : c;
 }
 
-/// Time update e' = e + T E (w - b) and its Jacobian (6x6).
+/// Of the two ZYX triples of one rotation, e = [roll, pitch, yaw] (to_euler's, pitch in
+/// [-pi/2, pi/2]) and [roll + pi, pi - pitch, yaw + pi], the one nearest `near` (angle
+/// differences wrapped to (-pi, pi]); the other triple has its angles wrapped to (-pi, pi].
+template <class S> Vec3<S> euler_nearest_branch(const Vec3<S>& e, const Vec3<S>& near) {
+  const S pi = S(3.14159265358979323846);
+  const Vec3<S> alt(quat::wrap_pi(e[0] + pi), quat::wrap_pi(pi - e[1]), quat::wrap_pi(e[2] + pi));
+  const auto dist2 = [&](const Vec3<S>& a) {
+    S d2 = S(0);
+    for (int i = 0; i < 3; ++i) {
+      const S d = quat::wrap_pi(a[i] - near[i]);
+      d2 += d * d;
+    }
+    return d2;
+  };
+  return dist2(alt) < dist2(e) ? alt : e;
+}
+
+/// Time update and its Jacobian (6x6): e' = e + T E (w - b) (paper 004 eq. 1, one Euler step)
+/// or, with `exact` and away from the singularity, e' = euler(q(e) exp(T (w - b))) on the
+/// branch nearest the Euler step; F is the Euler step's Jacobian either way.
 template <class S>
-void euler_propagate(const Vec3<S>& e, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, S min_cos,
+void euler_propagate(const Vec3<S>& e, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, S min_cos, bool exact,
                      Vec3<S>& e_out, Mat<S, 6, 6>& F, Mat3<S>& E, bool& singular) {
   const S cp = safe_cos(e[1], min_cos, singular), sp = std::sin(e[1]);
   const S cr = std::cos(e[0]), sr = std::sin(e[0]);
@@ -173,6 +202,10 @@ void euler_propagate(const Vec3<S>& e, const Vec3<S>& bias, const Vec3<S>& gyr, 
     F(2, 1) += dt * a * sp / (cp * cp);
   }
   F.template topRightCorner<3, 3>() = -dt * E;
+  if (exact && !singular) {
+    const Quat<S> q = quat::mul(quat::from_euler(e), quat::from_rotvec(Vec3<S>(dt * w)));
+    e_out = euler_nearest_branch(quat::to_euler(Quat<S>(q / q.norm())), e_out);
+  }
 }
 
 /// Measurement h(e) = C_bn(e) r for r = [r_x, 0, r_z] and its Jacobian in the Euler angles
@@ -258,7 +291,8 @@ template <class S> class EulerEKF {
     Mat6 F;
     Mat3<S> E;
     bool singular = false;
-    detail::euler_propagate(st_.euler, st_.gyro_bias, gyr, dt, params_.singular_cos, e, F, E, singular);
+    detail::euler_propagate(st_.euler, st_.gyro_bias, gyr, dt, params_.singular_cos, params_.exact_propagation, e,
+                            F, E, singular);
     // P = F P F^T + Q by blocks, F = [G B; 0 I] (predict_covariance_fb).
     const Mat3<S> G = F.template topLeftCorner<3, 3>();
     const Mat3<S> B = F.template topRightCorner<3, 3>();

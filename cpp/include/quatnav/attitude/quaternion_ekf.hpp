@@ -270,6 +270,9 @@ template <class S> class QuaternionEKF {
     const S qa = dt * params_.gyro_noise * params_.gyro_noise;
     const S qb = dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
     detail::eskf_predict_covariance<S>(st_.P, F, dt, qa, qb, P_new);
+    GyroClipState<S> clip = st_.clip;  // parts/gyro_clip.hpp: a clipped axis's step is distrusted
+    const Vec3<S> clip_var = GyroClip<S>::step(params_.clip, clip, gyr, dt);
+    P_new.diagonal().template head<3>() += clip_var;
     if (params_.gyro_rate_noise > S(0)) {  // positive semi-definite: the floor's argument holds
       P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(
           Quat<S>(q_new / q_new.norm()), Vec3<S>(gyr - st_.gyro_bias), params_.gyro_rate_noise, dt);
@@ -287,6 +290,8 @@ template <class S> class QuaternionEKF {
     flags_ = 0;
     st_.dt_last = dt;
     AccFilter<S>::predict(params_.acc, st_.acc, dq);
+    if ((clip_var.array() > S(0)).any()) AccFilter<S>::restart(st_.acc);
+    st_.clip = clip;
     Rest<S>::predict(params_.rest, st_.rest, gyr, dt);
     return Status::Ok;
   }

@@ -220,6 +220,9 @@ template <class S> class QuaternionEKFPaper {
                                                     params_.gyro_rate_noise, dt);
       Qqq += (X * Qt * X.transpose()) / S(4);
     }
+    GyroClipState<S> clip = st_.clip;  // parts/gyro_clip.hpp, mapped by X / 2 as the tilt noise
+    const Vec3<S> clip_var = GyroClip<S>::step(params_.clip, clip, gyr, dt);
+    if ((clip_var.array() > S(0)).any()) Qqq += (X * clip_var.asDiagonal() * X.transpose()) / S(4);
     predict_covariance_fb<S, 4, 3>(st_.P, F, B, Qqq, S(dt * params_.gyro_bias_noise * params_.gyro_bias_noise), P_new);
     auto P_qq = P_new.template topLeftCorner<4, 4>();
     symmetrize(P_qq);  // the other blocks are symmetric by construction
@@ -230,6 +233,8 @@ template <class S> class QuaternionEKFPaper {
     flags_ = 0;
     st_.dt_last = dt;
     AccFilter<S>::predict(params_.acc, st_.acc, dq);
+    if ((clip_var.array() > S(0)).any()) AccFilter<S>::restart(st_.acc);
+    st_.clip = clip;
     Rest<S>::predict(params_.rest, st_.rest, gyr, dt);
     return Status::Ok;
   }

@@ -61,7 +61,8 @@ namespace quatnav {
   X(S, mag_gate, S(9), "1 (chi-square)", "NIS gate of the magnetometer update (0: off)")                 \
   X(AccFilterParams<S>, acc, AccFilterParams<S>(), "-", "accelerometer low-pass, rejection, adaptive noise") \
   X(MagDisturbanceParams<S>, mag, MagDisturbanceParams<S>(), "-", "reference field and disturbance tests") \
-  X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")
+  X(RestParams<S>, rest, RestParams<S>(), "-", "rest detection and zero-rate measurement")                \
+  X(GyroClipParams<S>, clip, GyroClipParams<S>(), "-", "clipped gyro readings")
 
 template <class S> struct QuaternionEKFParams {
   QUATNAV_FIELDS(QuaternionEKFParams, QUATNAV_QEKF_PARAMS)
@@ -82,6 +83,7 @@ template <class S> struct QuaternionEKFParams {
     AccFilter<S>::off(p.acc);
     MagDisturbance<S>::off(p.mag);
     Rest<S>::off(p.rest);
+    GyroClip<S>::off(p.clip);
     return p;
   }
 };
@@ -96,6 +98,7 @@ template <class S> struct QuaternionEKFParams {
   X(S, dt_last, S(0), "s", "step of the last predict")                                                  \
   X(MagDisturbanceState<S>, mag, MagDisturbanceState<S>(), "-", "reference field and disturbance tests") \
   X(AccFilterState<S>, acc, AccFilterState<S>(), "-", "accelerometer low-pass and rejection timer")      \
-  X(RestState<S>, rest, RestState<S>(), "-", "rest detection")
+  X(RestState<S>, rest, RestState<S>(), "-", "rest detection")                                         \
+  X(GyroClipState<S>, clip, GyroClipState<S>(), "-", "clipped gyro readings")
 
 }  // namespace quatnav

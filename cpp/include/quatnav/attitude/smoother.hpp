@@ -8,7 +8,9 @@
 //    [C(dq)^T  -dt I; 0  I] (detail::eskf_propagate); the smoothed attitude is the forward
 //    quaternion turned by the smoothed error rotation, q^s = q * exp(d_theta), the smoothed bias
 //    b + d_b. Record: q, b and the upper triangle of the 6x6 P: 28 scalars (224 bytes in
-//    double, 112 in float; 16 more per record, core/smoother.hpp).
+//    double, 112 in float; 16 more per record, core/smoother.hpp), and the clip recognition's
+//    state (parts/gyro_clip.hpp: 7 scalars and a flag, 64 bytes in double, 32 in float), which
+//    the recomputed time update reads.
 //  * EulerEKF: state [roll, pitch, yaw, b] with additive errors (roll and yaw differences wrapped
 //    to (-pi, pi]), Phi = the Jacobian of the Euler-rate step (detail::euler_propagate). Record:
 //    Euler angles, b, P: 27 scalars.
@@ -19,6 +21,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "../core/quaternion.hpp"
 #include "../core/smoother.hpp"
@@ -30,20 +33,30 @@ namespace quatnav {
 
 namespace detail {
 
+/// No part state that the time update reads (EulerEKF): an empty base, no bytes in the record.
+struct NoTimeUpdateParts {};
+template <class Parts> struct RecordParts {
+  Parts parts;  ///< the time update's part state
+};
+template <> struct RecordParts<NoTimeUpdateParts> {};
+
 /// What both attitude models share (CRTP; Derived supplies the attitude part): the record
-/// [attitude (NA), gyro bias, P], the filter copy that recomputes a time update from a stored
-/// posterior, and the batch run's gyro samples and steps. Derived provides
+/// [attitude (NA), gyro bias, P, Parts], the filter copy that recomputes a time update from a
+/// stored posterior, and the batch run's gyro samples and steps. Parts: the state of the parts
+/// that the time update itself reads (QuaternionEKF: the clip recognition, parts/gyro_clip.hpp,
+/// which depends on the readings before), recorded with each posterior and restored before the
+/// recomputed time update, so that it adds the forward pass's variance. Derived provides
 ///   static Vec<S, NA> attitude(const Filter&);  static void set_attitude(State&, const Vec<S, NA>&);
 ///   Mat6 step_transition(const Record& post, std::size_t k) const;
 ///   static Vec3<S> attitude_local(base, x);  static Vec<S, NA> attitude_retract(base, d);
-template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
+template <class Derived, class Filter_, int NA, class Parts = NoTimeUpdateParts> class AttitudeRtsModel {
  public:
   using Filter = Filter_;
   using S = typename Filter::Scalar;
   using Scalar = S;
   static constexpr int kErr = 6;
   using Mat6 = Mat<S, 6, 6>;
-  struct Record {
+  struct Record : RecordParts<Parts> {
     Vec<S, NA> a;  ///< attitude (q_nb, or Euler angles)
     Vec3<S> b;     ///< gyro bias
     PackedSym<S, 6> P;
@@ -60,6 +73,7 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
     r.a = Derived::attitude(f);
     r.b = f.bias();
     r.P.pack(f.covariance());
+    if constexpr (!std::is_same_v<Parts, NoTimeUpdateParts>) r.parts = f.state().clip;
     return true;
   }
   bool same(const Record& x, const Record& y) const { return x.a == y.a && x.b == y.b && x.P == y.P; }
@@ -71,6 +85,7 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
     Derived::set_attitude(st_, post.a);
     st_.gyro_bias = post.b;
     st_.P = post.P.unpack();
+    if constexpr (!std::is_same_v<Parts, NoTimeUpdateParts>) st_.clip = post.parts;
     if (g_.set_state(st_) != Status::Ok) return RtsLink::Restart;
     if (g_.predict(gyro(k), dt_[k]) != Status::Ok) return RtsLink::Same;
     capture(g_, prior);
@@ -96,6 +111,7 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
     out.a = Derived::attitude_retract(base.a, Vec3<S>(d.template head<3>()));
     out.b = base.b + d.template tail<3>();
     out.P.pack(Ps);
+    if constexpr (!std::is_same_v<Parts, NoTimeUpdateParts>) out.parts = base.parts;
   }
 
  protected:
@@ -112,8 +128,9 @@ template <class Derived, class Filter_, int NA> class AttitudeRtsModel {
 /// The smoother model of QuaternionEKF<S>: attitude error dtheta in the body frame,
 /// q_true = q * exp(dtheta); Phi = [C(dq)^T  -dt I; 0  I] (detail::eskf_propagate).
 template <class S>
-class QuaternionEKFRtsModel : public detail::AttitudeRtsModel<QuaternionEKFRtsModel<S>, QuaternionEKF<S>, 4> {
-  using Base = detail::AttitudeRtsModel<QuaternionEKFRtsModel<S>, QuaternionEKF<S>, 4>;
+class QuaternionEKFRtsModel
+    : public detail::AttitudeRtsModel<QuaternionEKFRtsModel<S>, QuaternionEKF<S>, 4, GyroClipState<S>> {
+  using Base = detail::AttitudeRtsModel<QuaternionEKFRtsModel<S>, QuaternionEKF<S>, 4, GyroClipState<S>>;
 
  public:
   using typename Base::Filter;
@@ -164,8 +181,8 @@ template <class S> class EulerEKFRtsModel : public detail::AttitudeRtsModel<Eule
     Mat3<S> E;
     Mat6 F;
     bool singular = false;
-    detail::euler_propagate(post.a, post.b, this->gyro(k), this->dt_[k], this->g_.params().singular_cos, e, F, E,
-                            singular);
+    detail::euler_propagate(post.a, post.b, this->gyro(k), this->dt_[k], this->g_.params().singular_cos, false, e, F,
+                            E, singular);
     return F;
   }
   static Vec3<S> attitude_local(const Vec3<S>& base, const Vec3<S>& e) {
