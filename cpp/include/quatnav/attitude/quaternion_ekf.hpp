@@ -90,12 +90,17 @@ namespace detail {
 
 /// The error-state time update: nominal q+ = q * exp((w - b) dt) and F = C(dq)^T, the
 /// attitude-error block of Phi = [F -dt I; 0 I]. Returns the step's rotation dq.
-template <class S>
-Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
-  const Quat<S> dq = quat::from_rotvec(Vec3<S>((gyr - bias) * dt));
+template <class S> Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& rate, S dt, Quat<S>& q_out, Mat3<S>& F) {
+  const Quat<S> dq = quat::from_rotvec(Vec3<S>(rate * dt));
   q_out = quat::mul(q, dq);
   F = quat::to_rotmat(dq).transpose();
   return dq;
+}
+
+/// The same for a gyro sample and the bias estimate: rate = gyr - bias.
+template <class S>
+Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
+  return eskf_propagate<S>(q, Vec3<S>(gyr - bias), dt, q_out, F);
 }
 
 /// P+ = Phi P Phi^T + Q for Phi = [F -dt I; 0 I], Q = diag(qa I, qb I), by blocks (P = [A C; C^T D]):
@@ -263,19 +268,20 @@ template <class S> class QuaternionEKF {
     if (!all_finite(gyr)) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
+    const Vec3<S> rate = gyr - st_.gyro_bias;
     Quat<S> q_new;
     Mat3<S> F;
-    const Quat<S> dq = detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
+    const Quat<S> dq = detail::eskf_propagate<S>(st_.q_nb, rate, dt, q_new, F);
+    q_new /= q_new.norm();
     Mat6 P_new;
     const S qa = dt * params_.gyro_noise * params_.gyro_noise;
     const S qb = dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
     detail::eskf_predict_covariance<S>(st_.P, F, dt, qa, qb, P_new);
     if (params_.gyro_rate_noise > S(0)) {  // positive semi-definite: the floor's argument holds
-      P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(
-          Quat<S>(q_new / q_new.norm()), Vec3<S>(gyr - st_.gyro_bias), params_.gyro_rate_noise, dt);
+      P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(q_new, rate, params_.gyro_rate_noise, dt);
     }
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
-    st_.q_nb = q_new / q_new.norm();
+    st_.q_nb = q_new;
     bool psd = true;
     if (params_.cov_floor > S(0) && !(cov_psd_ && detail::eskf_floor_implied<S, 6>(P_new, qa, qb, params_.cov_floor))) {
       Mat6 shifted = P_new;
