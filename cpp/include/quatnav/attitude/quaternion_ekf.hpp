@@ -349,7 +349,7 @@ template <class S> class QuaternionEKF {
     y << a - ha, m - hm;
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
-    apply_correction<6, 0, 3>(H, r, y, res, gate, heading_free(Vec3<S>(-ha)));
+    apply_correction<6, 0, 3, RowShape::Cross>(H, r, y, res, gate, heading_free(Vec3<S>(-ha)));
     if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
@@ -361,7 +361,8 @@ template <class S> class QuaternionEKF {
     const Mat3<S> H = Mat3<S>::Identity();
     const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
-    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
+    apply_correction<3, 3, 3, RowShape::Unit>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias),
+                                              res, S(0));
   }
 
   /// The reference field in the filter's frame: [m_x, 0, m_z] turned by the declination.
@@ -418,24 +419,33 @@ template <class S> class QuaternionEKF {
   }
 
   /// The accelerometer's gravity update (the top of this file): the direction model of
-  /// r = [0, 0, -1] with the gain projected off the vertical u = -h.
+  /// r = [0, 0, -1] with the gain projected off the vertical u = -h (one rotation for both).
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
-    const Vec3<S> g_n(S(0), S(0), S(-1));
-    return update3(v, g_n, sigma, gate, heading_free(Vec3<S>(-quat::rotate_inv(st_.q_nb, g_n))));
+    Vec3<S> h;
+    Mat3<S> H;
+    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
+    return update3_model(v, h, H, sigma, gate, heading_free(Vec3<S>(-h)));
   }
 
   /// The 3-row direction update of v (normalized here) against the reference r_n, with the
-  /// optimal gain or the gain map `gain` (kalman.hpp).
-  template <class Gain = OptimalGain>
-  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate, const Gain& gain = Gain{}) {
+  /// optimal gain.
+  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate) {
+    Vec3<S> h;
+    Mat3<S> H;
+    detail::eskf_direction_model(st_.q_nb, r_n, h, H);
+    return update3_model(v, h, H, sigma, gate, OptimalGain{});
+  }
+
+  /// The 3-row direction update of v (normalized here) for the model h, H = [h x] of
+  /// eskf_direction_model, with the gain map `gain` (kalman.hpp).
+  template <class Gain>
+  UpdateResult<S, 3> update3_model(const Vec3<S>& v, const Vec3<S>& h, const Mat3<S>& H, S sigma, S gate,
+                                   const Gain& gain) {
     UpdateResult<S, 3> res;
     Vec3<S> u;
     res.status = detail::unit_vector(v, u);
     if (res.status != Status::Ok) return res;
-    Vec3<S> h;
-    Mat3<S> H;
-    detail::eskf_direction_model(st_.q_nb, r_n, h, H);
-    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate, gain);
+    apply_correction<3, 0, 3, RowShape::Cross>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate, gain);
     return res;
   }
 
@@ -466,13 +476,14 @@ template <class S> class QuaternionEKF {
   }
 
   /// Scalar sequential Joseph updates of the rows of H, given by its NC nonzero columns from C0
-  /// on, on one working copy of P (tested for finiteness once, in commit()).
-  template <int M, int C0, int NC, class Gain = OptimalGain>
+  /// on (their structure: Shape), on one working copy of P (tested for finiteness once, in
+  /// commit()).
+  template <int M, int C0, int NC, RowShape Shape, class Gain = OptimalGain>
   void apply_correction(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
                         S gate, const Gain& gain = Gain{}) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain);
+    kalman_correct_diagonal_in_place<S, 6, M, C0, NC, Shape>(P, Hc, r, y, dx, res, gate, gain);
     commit(res, P, dx);
   }
 

@@ -327,6 +327,57 @@ struct OptimalGain {
   template <class K> void operator()(int /*row*/, K& /*k*/) const {}
 };
 
+/// The structure of the rows of H that kalman_correct_diagonal_in_place exploits (its products
+/// skip what is known to be zero: the same sums of the same nonzero terms, so the same bits for
+/// a finite covariance).
+enum class RowShape {
+  Dense,  ///< no known zeros
+  Cross,  ///< row i of Hc is zero in column i % NC: the rows of a cross-product matrix [h x]
+  Unit,   ///< row i of Hc is the unit row e_(i % NC): a direct measurement of the states
+};
+
+namespace detail {
+
+/// h^T v over the NC columns of row `row` of Hc (shape as RowShape), v the matching NC values.
+template <RowShape Shape, class S, int M, int NC, class V>
+S row_dot(const Mat<S, M, NC>& Hc, int row, const V& v) {
+  if constexpr (Shape == RowShape::Unit) {
+    return v[row % NC];
+  } else if constexpr (Shape == RowShape::Cross && NC == 3) {
+    const int i = row % 3, c1 = i == 0 ? 1 : 0, c2 = i == 2 ? 1 : 2;  // the two other columns
+    return Hc(row, c1) * v[c1] + Hc(row, c2) * v[c2];
+  } else {
+    return Hc.row(row).dot(v);
+  }
+}
+
+/// row_dot for the row being processed, h = that row as a contiguous vector (a dense row's
+/// products take h, as they always have: the same bits).
+template <RowShape Shape, class S, int M, int NC, class V>
+S row_dot(const Mat<S, M, NC>& Hc, const Eigen::Matrix<S, NC, 1>& h, int row, const V& v) {
+  if constexpr (Shape == RowShape::Dense) {
+    return h.dot(v);
+  } else {
+    return row_dot<Shape>(Hc, row, v);
+  }
+}
+
+/// a = P h over the NC columns from C0 (shape as RowShape; h: row `row` of Hc, contiguous).
+template <RowShape Shape, class S, int N, int M, int C0, int NC>
+void row_product(const Mat<S, N, N>& P, const Mat<S, M, NC>& Hc, const Eigen::Matrix<S, NC, 1>& h, int row,
+                 Vec<S, N>& a) {
+  if constexpr (Shape == RowShape::Unit) {
+    a = P.col(C0 + row % NC);
+  } else if constexpr (Shape == RowShape::Cross && NC == 3) {
+    const int i = row % 3, c1 = i == 0 ? 1 : 0, c2 = i == 2 ? 1 : 2;
+    a.noalias() = P.col(C0 + c1) * Hc(row, c1) + P.col(C0 + c2) * Hc(row, c2);
+  } else {
+    a.noalias() = P.template middleCols<NC>(C0).lazyProduct(h);
+  }
+}
+
+}  // namespace detail
+
 /// kalman_correct_diagonal on a scratch covariance, for a filter that already works on a copy
 /// of its own (it saves two N x N copies and a finiteness test of P per correction).
 /// Hc: the NC nonzero columns of H (from column C0 on). On Ok, Pw holds the corrected covariance
@@ -341,7 +392,9 @@ struct OptimalGain {
 /// out of k lie in the null space of H (h_j^T k unchanged for every row j), the innovations
 /// e_i, the pivots s_i, the NIS and the innovation covariance are those of the optimal update,
 /// and the rows in turn give the same result as the projected joint gain.
-template <class S, int N, int M, int C0, int NC, class Gain = OptimalGain>
+///
+/// Shape: the structure of Hc's rows (RowShape; the products skip the known zeros, same bits).
+template <class S, int N, int M, int C0, int NC, RowShape Shape = RowShape::Dense, class Gain = OptimalGain>
 Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& Hc, const Vec<S, M>& r,
                                         const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0),
                                         const Gain& gain = Gain{}) {
@@ -358,8 +411,8 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
   for (int i = 0; i < M; ++i) {
     const Eigen::Matrix<S, NC, 1> h = Hc.row(i).transpose();
     Vec<S, N> a;
-    a.noalias() = Pw.template middleCols<NC>(C0).lazyProduct(h);
-    const S si = h.dot(a.template segment<NC>(C0)) + r[i];
+    detail::row_product<Shape, S, N, M, C0, NC>(Pw, Hc, h, i, a);
+    const S si = detail::row_dot<Shape>(Hc, h, i, a.template segment<NC>(C0)) + r[i];
     if (!std::isfinite(si)) {
       res.status = Status::NumericalFailure;
       return res.status;
@@ -370,8 +423,8 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
     }
     s[i] = si;
     const S inv_s = S(1) / si;
-    for (int j = i + 1; j < M; ++j) L(j, i) = Hc.row(j).dot(a.template segment<NC>(C0)) * inv_s;
-    const S e = y[i] - h.dot(dxw.template segment<NC>(C0));
+    for (int j = i + 1; j < M; ++j) L(j, i) = detail::row_dot<Shape>(Hc, j, a.template segment<NC>(C0)) * inv_s;
+    const S e = y[i] - detail::row_dot<Shape>(Hc, h, i, dxw.template segment<NC>(C0));
     nis += e * e * inv_s;
     Vec<S, N> k = a * inv_s;
     gain(i, k);
