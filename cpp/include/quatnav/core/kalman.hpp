@@ -431,8 +431,15 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
     dxw.noalias() += k * e;
     joseph_update_scalar<S, N>(Pw, k, a, si);
   }
-  res.innovation_cov.noalias() = L * s.asDiagonal() * L.transpose();
-  symmetrize(res.innovation_cov);
+  // S = L diag(s) L^T on the lower triangle, L unit lower: S(j, k) = sum_(i <= k) L(j, i) s_i L(k, i)
+  // for j >= k, mirrored (exactly symmetric).
+  for (int k = 0; k < M; ++k) {
+    for (int j = k; j < M; ++j) {
+      S v = s[k] * L(j, k);
+      for (int i = 0; i < k; ++i) v += L(j, i) * s[i] * L(k, i);
+      res.innovation_cov(j, k) = res.innovation_cov(k, j) = v;
+    }
+  }
   res.nis = nis;
   if (gate > S(0) && !(nis <= gate)) {
     res.status = Status::Rejected;
