@@ -21,8 +21,12 @@
 // Measurement Jacobians: h(q) = C_bn(q) r (r = [0, 0, -1] for gravity, the reference field for
 // the magnetometer); C_bn(q exp(dtheta)) = (I - [dtheta x]) C_bn(q), so dh/ddtheta = [h x]
 // and dh/ddb = 0: each row has 2 nonzero coefficients out of 6. The rows are uncorrelated and
-// processed as scalar sequential Joseph updates (kalman_correct_diagonal). After injecting
-// dtheta the covariance is reset to the new nominal attitude (G = I - [dtheta/2 x]).
+// processed as scalar sequential updates (kalman_correct_diagonal_in_place, RowShape::Cross): in
+// the Joseph form where the gain is not optimal (the Schmidt gains below) or the row is so strong
+// that the symmetric form's rounding would matter, in the symmetric form P - k (P h)^T, one
+// multiply-add per coefficient of the lower triangle, elsewhere (RowForm::SymmetricWhereOptimal:
+// the zero-rate rows at rest, the 3-row magnetometer). After injecting dtheta the covariance is
+// reset to the new nominal attitude (G = I - [dtheta/2 x]).
 //
 // The accelerometer carries no heading information: gravity is the vertical, and a rotation
 // about it (u = C_bn e_z, the vertical in the body frame) leaves h unchanged (H u = 0). Its
@@ -47,7 +51,9 @@
 // proven or tested (an LDL^T of P - cov_floor I, floored only when that fails: covariance.hpp).
 // The proof (detail::eskf_floor_implied): every step between two time updates keeps P positive
 // semi-definite up to rounding (the scalar Joseph updates, P+ = (I - k h^T) P (I - k h^T)^T +
-// r k k^T for any gain, and the reset's congruence G P G^T), and the time update adds
+// r k k^T for any gain; the symmetric form, the same matrix for the optimal gain, with a rounding
+// of a few eps |P| per coefficient too, |k_i a_j| <= sqrt(P_ii P_jj); and the reset's congruence
+// G P G^T), and the time update adds
 // Q = diag(qa I, qb I) (plus the tilt noise, positive semi-definite); so if P was positive
 // semi-definite at the last time update, the new P - cov_floor I has no eigenvalue below
 // min(qa, qb) - cov_floor - (the rounding of one sample). When that margin exceeds a generous
@@ -155,11 +161,10 @@ template <class S> void eskf_direction_model(const Quat<S>& q, const Vec3<S>& r_
 /// error dtheta is the navigation-frame rotation phi = C_nb dtheta; dh/dphi = [J_tilt, 1].
 /// `u` (body frame) = C_nb^T e_z, the direction of a yaw change in the error space, so that
 /// H (yaw part only) = u^T; `v_tilt` = C_nb^T [J_tilt, 0] maps the tilt part. False for a
-/// (nearly) vertical field.
+/// (nearly) vertical field. Given C = C_nb(q) and the unit field in the navigation frame
+/// mn = C m_unit (shared with the magnetometer part's tests); the overload on q below computes both.
 template <class S>
-bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
-  const Mat3<S> C = quat::to_rotmat(q);  // C_nb
-  const Vec3<S> mn = C * m_unit;
+bool eskf_heading_model(const Mat3<S>& C, const Vec3<S>& mn, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
   horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
   if (!(horiz2 > S(1e-6))) return false;
   h = std::atan2(mn[1], mn[0]);
@@ -168,6 +173,13 @@ bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2
   u = C.row(2).transpose();
   v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
   return true;
+}
+
+/// The heading model at the attitude q for the unit body-frame field m_unit.
+template <class S>
+bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
+  const Mat3<S> C = quat::to_rotmat(q);  // C_nb
+  return eskf_heading_model<S>(C, Vec3<S>(C * m_unit), h, horiz2, u, v_tilt);
 }
 
 /// The gain of the accelerometer rows (the top of the file): the first `rows` rows' gains
@@ -179,6 +191,7 @@ template <class S> struct HeadingFreeRows {
   Vec3<S> u;
   Mat3<S> W;
   int rows;
+  bool optimal(int row) const { return row >= rows; }
   void operator()(int row, Vec<S, 6>& k) const {
     if (row >= rows) return;
     k.template head<3>() -= u * u.dot(k.template head<3>());
@@ -321,9 +334,14 @@ template <class S> class QuaternionEKF {
     const Status um = detail::unit_vector(mag, m);
     if (um != Status::Ok) return status_result<3>(um);
     const S gt = gate > S(0) ? gate : params_.mag_gate;
-    const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
+    // One rotation of the field for the part's tests and the heading model at the attitude before
+    // the update; the part's tests after it rotate again.
+    const Quat<S> q0 = st_.q_nb;
+    const Mat3<S> C = quat::to_rotmat(q0);
+    const Vec3<S> mn = C * m;
+    const auto field_n = [&] { return st_.q_nb == q0 ? mn : Vec3<S>(quat::rotate(st_.q_nb, m)); };
     return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
-      return params_.mag_heading_only ? update_heading(m, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
+      return params_.mag_heading_only ? update_heading(C, mn, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
     });
   }
 
@@ -374,11 +392,12 @@ template <class S> class QuaternionEKF {
 
   /// Heading-only magnetometer update (as QuaternionEKFPaper::update_heading, in the error space):
   /// H = [u^T 0], the gain's attitude part projected on u, R inflated by the tilt uncertainty.
-  UpdateResult<S, 3> update_heading(const Vec3<S>& m_unit, S gate) {
+  /// C = C_nb at the current attitude, mn = C m_unit.
+  UpdateResult<S, 3> update_heading(const Mat3<S>& C, const Vec3<S>& mn, S gate) {
     UpdateResult<S, 3> res;
     S h, horiz2;
     Vec3<S> u, vt;
-    if (!detail::eskf_heading_model(st_.q_nb, m_unit, h, horiz2, u, vt)) {
+    if (!detail::eskf_heading_model<S>(C, mn, h, horiz2, u, vt)) {
       res.status = Status::ZeroNorm;
       return res;
     }
@@ -419,12 +438,12 @@ template <class S> class QuaternionEKF {
   }
 
   /// The accelerometer's gravity update (the top of this file): the direction model of
-  /// r = [0, 0, -1] with the gain projected off the vertical u = -h (one rotation for both).
+  /// r = [0, 0, -1] with the gain projected off the vertical u = -h (one rotation for both, by
+  /// the last row of C_nb).
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
-    Vec3<S> h;
-    Mat3<S> H;
-    detail::eskf_direction_model(st_.q_nb, Vec3<S>(S(0), S(0), S(-1)), h, H);
-    return update3_model(v, h, H, sigma, gate, heading_free(Vec3<S>(-h)));
+    const Vec3<S> u = quat::nav_z_in_body(st_.q_nb);  // h = C_bn [0, 0, -1] = -u
+    const Vec3<S> h = -u;
+    return update3_model(v, h, Mat3<S>(quat::skew(h)), sigma, gate, heading_free(u));
   }
 
   /// The 3-row direction update of v (normalized here) against the reference r_n, with the
@@ -475,15 +494,17 @@ template <class S> class QuaternionEKF {
     return r;
   }
 
-  /// Scalar sequential Joseph updates of the rows of H, given by its NC nonzero columns from C0
-  /// on (their structure: Shape), on one working copy of P (tested for finiteness once, in
-  /// commit()).
+  /// Scalar sequential updates of the rows of H, given by its NC nonzero columns from C0 on
+  /// (their structure: Shape), on one working copy of P (tested for finiteness once, in
+  /// commit()): the symmetric form for a row with the optimal gain that is not too strong, the
+  /// Joseph form otherwise (RowForm::SymmetricWhereOptimal, kalman.hpp).
   template <int M, int C0, int NC, RowShape Shape, class Gain = OptimalGain>
   void apply_correction(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
                         S gate, const Gain& gain = Gain{}) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    kalman_correct_diagonal_in_place<S, 6, M, C0, NC, Shape>(P, Hc, r, y, dx, res, gate, gain);
+    kalman_correct_diagonal_in_place<S, 6, M, C0, NC, Shape, RowForm::SymmetricWhereOptimal>(P, Hc, r, y, dx, res,
+                                                                                              gate, gain);
     commit(res, P, dx);
   }
 

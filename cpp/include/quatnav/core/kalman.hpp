@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -322,9 +323,11 @@ template <class S, int N, int M, int C0 = 0, int NC = N>
 Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,
                                Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0));
 
-/// The gain of kalman_correct_diagonal_in_place as computed: the optimal one.
+/// The gain of kalman_correct_diagonal_in_place as computed: the optimal one. A gain map says
+/// by optimal(row) whether it leaves row's gain optimal (RowForm::SymmetricWhereOptimal).
 struct OptimalGain {
   template <class K> void operator()(int /*row*/, K& /*k*/) const {}
+  static constexpr bool optimal(int /*row*/) { return true; }
 };
 
 /// The structure of the rows of H that kalman_correct_diagonal_in_place exploits (its products
@@ -334,6 +337,12 @@ enum class RowShape {
   Dense,  ///< no known zeros
   Cross,  ///< row i of Hc is zero in column i % NC: the rows of a cross-product matrix [h x]
   Unit,   ///< row i of Hc is the unit row e_(i % NC): a direct measurement of the states
+};
+
+/// The covariance update of each scalar row in kalman_correct_diagonal_in_place.
+enum class RowForm {
+  Joseph,                 ///< the Joseph form for every row (joseph_update_scalar)
+  SymmetricWhereOptimal,  ///< the symmetric form P - k a^T where the gain is optimal and the row weak
 };
 
 namespace detail {
@@ -376,6 +385,67 @@ void row_product(const Mat<S, N, N>& P, const Mat<S, M, NC>& Hc, const Eigen::Ma
   }
 }
 
+/// The columns J, J+1, ... of the symmetric form's lower triangle, P(i, j) - k_i a_j for i >= j,
+/// as joseph_columns does the Joseph form's (whole SIMD packets from the packet boundary below
+/// the diagonal; the few coefficients above it are overwritten by the mirror).
+template <class S, int N, int J>
+void symmetric_columns(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a) {
+  if constexpr (J < N) {
+    constexpr int kPacket = Eigen::internal::packet_traits<S>::Vectorizable ? Eigen::internal::packet_traits<S>::size : 1;
+    constexpr int I0 = J - J % kPacket;
+    constexpr int L = N - I0;
+    auto col = P.col(J).template segment<L>(I0);
+    col = col - k.template segment<L>(I0) * a[J];
+    symmetric_columns<S, N, J + 1>(P, k, a);
+  }
+}
+
+/// The symmetric form of a scalar update with the optimal gain k = a / s: P+ = P - k a^T,
+/// evaluated once per pair (i >= j), P+(i, j) = P(i, j) - k_i a_j, and mirrored (exactly
+/// symmetric). One multiply-add per coefficient against the Joseph form's two. As
+/// joseph_update_scalar: columns as vector expressions where there is SIMD, one loop writing
+/// both halves where there is none (the same bits).
+template <class S, int N> void symmetric_update_scalar(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a) {
+  if constexpr (Eigen::internal::packet_traits<S>::Vectorizable && Eigen::internal::packet_traits<S>::size > 1) {
+    const Vec<S, N> av = a, kv = k;
+    symmetric_columns<S, N, 0>(P, kv, av);
+    mirror_lower<S, N, 0>(P);
+  } else {
+    S av[N], kv[N];
+    for (int i = 0; i < N; ++i) {
+      av[i] = a[i];
+      kv[i] = k[i];
+    }
+    S* p = P.data();  // column-major: P(i, j) = p[i + N j]
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+    for (int j = 0; j < N; ++j) {
+      const S aj = av[j];
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+      for (int i = j; i < N; ++i) {
+        const S v = p[i + N * j] - kv[i] * aj;
+        p[i + N * j] = v;
+        p[j + N * i] = v;
+      }
+    }
+  }
+}
+
+/// True when a row with innovation variance s and noise variance r is weak enough for the
+/// symmetric form. The posterior variance along h is hPh r / s; the symmetric form computes it
+/// as hPh - (hPh)^2 / s, a difference of terms of size hPh, so its rounding relative to the
+/// result grows as eps s / r (and a rounding error of the gain enters P to first order). Below
+/// s / r = min(1e6, 1 / (4096 eps)), i.e. 2,048 in float (a relative rounding of at most
+/// 2.4e-4 of the posterior) and 1e6 in double (2.2e-10), the symmetric form is used; from there
+/// on the Joseph form.
+template <class S> bool weak_row(S s, S r) {
+  constexpr S kMaxRatio = std::min(S(1e6), S(1) / (S(4096) * std::numeric_limits<S>::epsilon()));
+  return s < kMaxRatio * r;
+}
+
 }  // namespace detail
 
 /// kalman_correct_diagonal on a scratch covariance, for a filter that already works on a copy
@@ -394,7 +464,13 @@ void row_product(const Mat<S, N, N>& P, const Mat<S, M, NC>& Hc, const Eigen::Ma
 /// and the rows in turn give the same result as the projected joint gain.
 ///
 /// Shape: the structure of Hc's rows (RowShape; the products skip the known zeros, same bits).
-template <class S, int N, int M, int C0, int NC, RowShape Shape = RowShape::Dense, class Gain = OptimalGain>
+/// Form: RowForm::Joseph (the default) updates every row's covariance in the Joseph form;
+/// RowForm::SymmetricWhereOptimal uses the symmetric form P - k a^T (one multiply-add per
+/// coefficient instead of two) for a row whose gain is optimal (gain.optimal(row)) and that is
+/// weak enough (detail::weak_row: s / r below about 1 / (4096 eps)) for its rounding not to
+/// matter, the Joseph form otherwise.
+template <class S, int N, int M, int C0, int NC, RowShape Shape = RowShape::Dense, RowForm Form = RowForm::Joseph,
+          class Gain = OptimalGain>
 Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& Hc, const Vec<S, M>& r,
                                         const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0),
                                         const Gain& gain = Gain{}) {
@@ -429,6 +505,12 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
     Vec<S, N> k = a * inv_s;
     gain(i, k);
     dxw.noalias() += k * e;
+    if constexpr (Form == RowForm::SymmetricWhereOptimal) {
+      if (gain.optimal(i) && detail::weak_row(si, r[i])) {
+        detail::symmetric_update_scalar<S, N>(Pw, k, a);
+        continue;
+      }
+    }
     joseph_update_scalar<S, N>(Pw, k, a, si);
   }
   // S = L diag(s) L^T on the lower triangle, L unit lower: S(j, k) = sum_(i <= k) L(j, i) s_i L(k, i)
