@@ -158,6 +158,98 @@ template <int N, int M, int C0, int NC> void check_diagonal_in_place(unsigned se
   EXPECT_EQ(ra.innovation_cov, rb.innovation_cov);
 }
 
+// The row shapes skip only terms that are exactly zero: rows of a cross-product matrix [h x]
+// (RowShape::Cross, also two of them stacked, as the joint accelerometer + magnetometer update)
+// and unit rows (RowShape::Unit) give the bits of the dense products.
+template <int M, int C0, RowShape Shape> void check_row_shape(unsigned seed, const Mat<double, M, 3>& Hc) {
+  Randn rnd(seed);
+  const Mat<double, 6, 6> P0 = rnd.spd<Mat<double, 6, 6>>(0.1);
+  Vec<double, M> r, y;
+  for (int i = 0; i < M; ++i) {
+    r[i] = 0.05 + std::abs(rnd());
+    y[i] = rnd();
+  }
+  Mat<double, 6, 6> Pd = P0, Ps = P0;
+  Vec<double, 6> dxd, dxs;
+  UpdateResult<double, M> rd, rs;
+  ASSERT_EQ((kalman_correct_diagonal_in_place<double, 6, M, C0, 3>(Pd, Hc, r, y, dxd, rd)), Status::Ok);
+  ASSERT_EQ((kalman_correct_diagonal_in_place<double, 6, M, C0, 3, Shape>(Ps, Hc, r, y, dxs, rs)), Status::Ok);
+  EXPECT_EQ(std::memcmp(Pd.data(), Ps.data(), sizeof Pd), 0);
+  EXPECT_EQ(std::memcmp(dxd.data(), dxs.data(), sizeof dxd), 0);
+  EXPECT_EQ(rd.nis, rs.nis);
+  EXPECT_EQ(rd.innovation_cov, rs.innovation_cov);
+}
+
+Mat<double, 3, 3> cross_matrix(const Vec<double, 3>& h) {
+  Mat<double, 3, 3> m;
+  m << 0.0, -h[2], h[1], h[2], 0.0, -h[0], -h[1], h[0], 0.0;
+  return m;
+}
+
+TEST(Kalman, RowShapesGiveTheDenseBits) {
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    Randn rnd(seed + 100);
+    const Vec<double, 3> h(rnd(), rnd(), rnd()), g(rnd(), rnd(), rnd());
+    check_row_shape<3, 0, RowShape::Cross>(seed, cross_matrix(h));
+    Mat<double, 6, 3> H2;
+    H2 << cross_matrix(h), cross_matrix(g);
+    check_row_shape<6, 0, RowShape::Cross>(seed, H2);
+    check_row_shape<3, 3, RowShape::Unit>(seed, Mat<double, 3, 3>::Identity());
+  }
+}
+
+/// A gain map that projects the gain of the rows before `rows` off the first state (a Schmidt
+/// update), as QuaternionEKF's accelerometer rows do.
+struct ProjectFirstState {
+  int rows;
+  bool optimal(int row) const { return row >= rows; }
+  template <class K> void operator()(int row, K& k) const {
+    if (row < rows) k[0] = 0.0;
+  }
+};
+
+// RowForm::SymmetricWhereOptimal: the symmetric form P - k a^T for an optimal-gain row that is
+// not too strong (detail::weak_row), the Joseph form's bits for a projected gain and for a strong
+// row; exactly symmetric either way.
+TEST(Kalman, SymmetricFormWhereTheGainIsOptimalAndTheRowWeak) {
+  EXPECT_TRUE(detail::weak_row<float>(2000.0f, 1.0f));
+  EXPECT_FALSE(detail::weak_row<float>(2100.0f, 1.0f));
+  EXPECT_TRUE(detail::weak_row<double>(9e5, 1.0));
+  EXPECT_FALSE(detail::weak_row<double>(1.1e6, 1.0));
+  int differs = 0;
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    const DiagonalProblem<6, 3, 0, 3> pb(seed);
+    const Mat<double, 3, 3> Hc = pb.H.middleCols<3>(0);
+    for (const double r_scale : {1.0, 1e-9}) {  // weak rows; rows 1e9 times stronger
+      const Vec<double, 3> r = pb.r * r_scale;
+      for (const int projected : {0, 3}) {
+        const ProjectFirstState gain{projected};
+        Mat<double, 6, 6> Pj = pb.P0, Ps = pb.P0;
+        Vec<double, 6> dxj, dxs;
+        UpdateResult<double, 3> rj, rs;
+        ASSERT_EQ((kalman_correct_diagonal_in_place<double, 6, 3, 0, 3, RowShape::Dense, RowForm::Joseph>(
+                      Pj, Hc, r, pb.y, dxj, rj, 0.0, gain)),
+                  Status::Ok);
+        ASSERT_EQ((kalman_correct_diagonal_in_place<double, 6, 3, 0, 3, RowShape::Dense, RowForm::SymmetricWhereOptimal>(
+                      Ps, Hc, r, pb.y, dxs, rs, 0.0, gain)),
+                  Status::Ok);
+        EXPECT_EQ(Ps, Ps.transpose());
+        if (projected || r_scale < 1.0) {  // the Joseph form: the same bits
+          EXPECT_EQ(std::memcmp(Pj.data(), Ps.data(), sizeof Pj), 0) << seed << " " << r_scale << " " << projected;
+          EXPECT_EQ(std::memcmp(dxj.data(), dxs.data(), sizeof dxj), 0);
+        } else {  // the symmetric form: the same matrix up to rounding
+          const double scale = pb.P0.cwiseAbs().maxCoeff();
+          EXPECT_LT((Ps - Pj).norm(), 1e-13 * scale);
+          EXPECT_LT((dxs - dxj).norm(), 1e-13 * scale);
+          EXPECT_NEAR(rs.nis, rj.nis, 1e-12 * (1 + rj.nis));
+          differs += std::memcmp(Pj.data(), Ps.data(), sizeof Pj) != 0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(differs, 0) << "the symmetric form was never taken";
+}
+
 TEST(Kalman, DiagonalInPlaceMatchesCopying) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     check_diagonal_in_place<7, 3, 0, 4>(seed);

@@ -36,6 +36,8 @@ TEST(Quaternion, RotationMatrixAgreesWithEigenAndRotate) {
     const Vec3<double> v(0.3, -1.2, 2.0);
     EXPECT_LT((quat::rotate(q, v) - C * v).norm(), 1e-13);
     EXPECT_LT((quat::rotate_inv(q, v) - C.transpose() * v).norm(), 1e-13);
+    EXPECT_LT((quat::nav_z_in_body(q) - quat::rotate_inv(q, Vec3<double>(0, 0, 1))).norm(), 1e-15);
+    EXPECT_EQ(quat::nav_z_in_body(q), Vec3<double>(C.row(2).transpose()));
     EXPECT_LT(quat::angle_between(quat::from_rotmat(C), q), 1e-7);
   }
 }

@@ -89,7 +89,7 @@ bool attitude_from_acc_mag(const Vec3<S>& acc, const Vec3<S>* mag, Quat<S>& q, V
 template <class S> Mat3<S> tilt_rate_noise(const Quat<S>& q, const Vec3<S>& rate, S k, S dt) {
   const S w = k * rate.norm();
   if (!(w > S(0))) return Mat3<S>::Zero();
-  const Vec3<S> u = quat::rotate_inv(q, Vec3<S>(S(0), S(0), S(1)));
+  const Vec3<S> u = quat::nav_z_in_body(q);
   return (dt * w * w) * (Mat3<S>::Identity() - u * u.transpose());
 }
 

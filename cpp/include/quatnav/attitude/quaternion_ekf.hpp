@@ -21,8 +21,12 @@
 // Measurement Jacobians: h(q) = C_bn(q) r (r = [0, 0, -1] for gravity, the reference field for
 // the magnetometer); C_bn(q exp(dtheta)) = (I - [dtheta x]) C_bn(q), so dh/ddtheta = [h x]
 // and dh/ddb = 0: each row has 2 nonzero coefficients out of 6. The rows are uncorrelated and
-// processed as scalar sequential Joseph updates (kalman_correct_diagonal). After injecting
-// dtheta the covariance is reset to the new nominal attitude (G = I - [dtheta/2 x]).
+// processed as scalar sequential updates (kalman_correct_diagonal_in_place, RowShape::Cross): in
+// the Joseph form where the gain is not optimal (the Schmidt gains below) or the row is so strong
+// that the symmetric form's rounding would matter, in the symmetric form P - k (P h)^T, one
+// multiply-add per coefficient of the lower triangle, elsewhere (RowForm::SymmetricWhereOptimal:
+// the zero-rate rows at rest, the 3-row magnetometer). After injecting dtheta the covariance is
+// reset to the new nominal attitude (G = I - [dtheta/2 x]).
 //
 // The accelerometer carries no heading information: gravity is the vertical, and a rotation
 // about it (u = C_bn e_z, the vertical in the body frame) leaves h unchanged (H u = 0). Its
@@ -47,7 +51,9 @@
 // proven or tested (an LDL^T of P - cov_floor I, floored only when that fails: covariance.hpp).
 // The proof (detail::eskf_floor_implied): every step between two time updates keeps P positive
 // semi-definite up to rounding (the scalar Joseph updates, P+ = (I - k h^T) P (I - k h^T)^T +
-// r k k^T for any gain, and the reset's congruence G P G^T), and the time update adds
+// r k k^T for any gain; the symmetric form, the same matrix for the optimal gain, with a rounding
+// of a few eps |P| per coefficient too, |k_i a_j| <= sqrt(P_ii P_jj); and the reset's congruence
+// G P G^T), and the time update adds
 // Q = diag(qa I, qb I) (plus the tilt noise, positive semi-definite); so if P was positive
 // semi-definite at the last time update, the new P - cov_floor I has no eigenvalue below
 // min(qa, qb) - cov_floor - (the rounding of one sample). When that margin exceeds a generous
@@ -90,12 +96,17 @@ namespace detail {
 
 /// The error-state time update: nominal q+ = q * exp((w - b) dt) and F = C(dq)^T, the
 /// attitude-error block of Phi = [F -dt I; 0 I]. Returns the step's rotation dq.
-template <class S>
-Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
-  const Quat<S> dq = quat::from_rotvec(Vec3<S>((gyr - bias) * dt));
+template <class S> Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& rate, S dt, Quat<S>& q_out, Mat3<S>& F) {
+  const Quat<S> dq = quat::from_rotvec(Vec3<S>(rate * dt));
   q_out = quat::mul(q, dq);
   F = quat::to_rotmat(dq).transpose();
   return dq;
+}
+
+/// The same for a gyro sample and the bias estimate: rate = gyr - bias.
+template <class S>
+Quat<S> eskf_propagate(const Quat<S>& q, const Vec3<S>& bias, const Vec3<S>& gyr, S dt, Quat<S>& q_out, Mat3<S>& F) {
+  return eskf_propagate<S>(q, Vec3<S>(gyr - bias), dt, q_out, F);
 }
 
 /// P+ = Phi P Phi^T + Q for Phi = [F -dt I; 0 I], Q = diag(qa I, qb I), by blocks (P = [A C; C^T D]):
@@ -150,11 +161,10 @@ template <class S> void eskf_direction_model(const Quat<S>& q, const Vec3<S>& r_
 /// error dtheta is the navigation-frame rotation phi = C_nb dtheta; dh/dphi = [J_tilt, 1].
 /// `u` (body frame) = C_nb^T e_z, the direction of a yaw change in the error space, so that
 /// H (yaw part only) = u^T; `v_tilt` = C_nb^T [J_tilt, 0] maps the tilt part. False for a
-/// (nearly) vertical field.
+/// (nearly) vertical field. Given C = C_nb(q) and the unit field in the navigation frame
+/// mn = C m_unit (shared with the magnetometer part's tests); the overload on q below computes both.
 template <class S>
-bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
-  const Mat3<S> C = quat::to_rotmat(q);  // C_nb
-  const Vec3<S> mn = C * m_unit;
+bool eskf_heading_model(const Mat3<S>& C, const Vec3<S>& mn, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
   horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
   if (!(horiz2 > S(1e-6))) return false;
   h = std::atan2(mn[1], mn[0]);
@@ -163,6 +173,13 @@ bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2
   u = C.row(2).transpose();
   v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
   return true;
+}
+
+/// The heading model at the attitude q for the unit body-frame field m_unit.
+template <class S>
+bool eskf_heading_model(const Quat<S>& q, const Vec3<S>& m_unit, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
+  const Mat3<S> C = quat::to_rotmat(q);  // C_nb
+  return eskf_heading_model<S>(C, Vec3<S>(C * m_unit), h, horiz2, u, v_tilt);
 }
 
 /// The gain of the accelerometer rows (the top of the file): the first `rows` rows' gains
@@ -174,6 +191,7 @@ template <class S> struct HeadingFreeRows {
   Vec3<S> u;
   Mat3<S> W;
   int rows;
+  bool optimal(int row) const { return row >= rows; }
   void operator()(int row, Vec<S, 6>& k) const {
     if (row >= rows) return;
     k.template head<3>() -= u * u.dot(k.template head<3>());
@@ -263,9 +281,11 @@ template <class S> class QuaternionEKF {
     if (!all_finite(gyr)) return Status::NonFinite;
     if (!(dt > S(0)) || !(dt <= params_.max_dt)) return Status::InvalidDt;
     if (detail::saturated(gyr, params_.gyro_range)) return Status::Saturated;
+    const Vec3<S> rate = gyr - st_.gyro_bias;
     Quat<S> q_new;
     Mat3<S> F;
-    const Quat<S> dq = detail::eskf_propagate(st_.q_nb, st_.gyro_bias, gyr, dt, q_new, F);
+    const Quat<S> dq = detail::eskf_propagate<S>(st_.q_nb, rate, dt, q_new, F);
+    q_new /= q_new.norm();
     Mat6 P_new;
     const S qa = dt * params_.gyro_noise * params_.gyro_noise;
     const S qb = dt * params_.gyro_bias_noise * params_.gyro_bias_noise;
@@ -274,11 +294,10 @@ template <class S> class QuaternionEKF {
     const Vec3<S> clip_var = GyroClip<S>::step(params_.clip, clip, gyr, dt);
     P_new.diagonal().template head<3>() += clip_var;
     if (params_.gyro_rate_noise > S(0)) {  // positive semi-definite: the floor's argument holds
-      P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(
-          Quat<S>(q_new / q_new.norm()), Vec3<S>(gyr - st_.gyro_bias), params_.gyro_rate_noise, dt);
+      P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(q_new, rate, params_.gyro_rate_noise, dt);
     }
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
-    st_.q_nb = q_new / q_new.norm();
+    st_.q_nb = q_new;
     bool psd = true;
     if (params_.cov_floor > S(0) && !(cov_psd_ && detail::eskf_floor_implied<S, 6>(P_new, qa, qb, params_.cov_floor))) {
       Mat6 shifted = P_new;
@@ -320,9 +339,14 @@ template <class S> class QuaternionEKF {
     const Status um = detail::unit_vector(mag, m);
     if (um != Status::Ok) return status_result<3>(um);
     const S gt = gate > S(0) ? gate : params_.mag_gate;
-    const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
+    // One rotation of the field for the part's tests and the heading model at the attitude before
+    // the update; the part's tests after it rotate again.
+    const Quat<S> q0 = st_.q_nb;
+    const Mat3<S> C = quat::to_rotmat(q0);
+    const Vec3<S> mn = C * m;
+    const auto field_n = [&] { return st_.q_nb == q0 ? mn : Vec3<S>(quat::rotate(st_.q_nb, m)); };
     return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
-      return params_.mag_heading_only ? update_heading(m, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
+      return params_.mag_heading_only ? update_heading(C, mn, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
     });
   }
 
@@ -348,7 +372,7 @@ template <class S> class QuaternionEKF {
     y << a - ha, m - hm;
     r << Vec3<S>::Constant(params_.acc_sigma * params_.acc_sigma),
         Vec3<S>::Constant(params_.mag_sigma * params_.mag_sigma);
-    apply_correction<6, 0, 3>(H, r, y, res, gate, heading_free(Vec3<S>(-ha)));
+    apply_correction<6, 0, 3, RowShape::Cross>(H, r, y, res, gate, heading_free(Vec3<S>(-ha)));
     if (res.status != Status::Ok) st_.mag.ref = ref_before;
     return res;
   }
@@ -360,7 +384,8 @@ template <class S> class QuaternionEKF {
     const Mat3<S> H = Mat3<S>::Identity();
     const S r = Rest<S>::zero_rate_variance(params_.rest, params_.gyro_noise, st_.dt_last);
     UpdateResult<S, 3> res;
-    apply_correction<3, 3, 3>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias), res, S(0));
+    apply_correction<3, 3, 3, RowShape::Unit>(H, Vec3<S>::Constant(r), Rest<S>::zero_rate_innovation(st_.rest, st_.gyro_bias),
+                                              res, S(0));
   }
 
   /// The reference field in the filter's frame: [m_x, 0, m_z] turned by the declination.
@@ -372,11 +397,12 @@ template <class S> class QuaternionEKF {
 
   /// Heading-only magnetometer update (as QuaternionEKFPaper::update_heading, in the error space):
   /// H = [u^T 0], the gain's attitude part projected on u, R inflated by the tilt uncertainty.
-  UpdateResult<S, 3> update_heading(const Vec3<S>& m_unit, S gate) {
+  /// C = C_nb at the current attitude, mn = C m_unit.
+  UpdateResult<S, 3> update_heading(const Mat3<S>& C, const Vec3<S>& mn, S gate) {
     UpdateResult<S, 3> res;
     S h, horiz2;
     Vec3<S> u, vt;
-    if (!detail::eskf_heading_model(st_.q_nb, m_unit, h, horiz2, u, vt)) {
+    if (!detail::eskf_heading_model<S>(C, mn, h, horiz2, u, vt)) {
       res.status = Status::ZeroNorm;
       return res;
     }
@@ -417,24 +443,33 @@ template <class S> class QuaternionEKF {
   }
 
   /// The accelerometer's gravity update (the top of this file): the direction model of
-  /// r = [0, 0, -1] with the gain projected off the vertical u = -h.
+  /// r = [0, 0, -1] with the gain projected off the vertical u = -h (one rotation for both, by
+  /// the last row of C_nb).
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
-    const Vec3<S> g_n(S(0), S(0), S(-1));
-    return update3(v, g_n, sigma, gate, heading_free(Vec3<S>(-quat::rotate_inv(st_.q_nb, g_n))));
+    const Vec3<S> u = quat::nav_z_in_body(st_.q_nb);  // h = C_bn [0, 0, -1] = -u
+    const Vec3<S> h = -u;
+    return update3_model(v, h, Mat3<S>(quat::skew(h)), sigma, gate, heading_free(u));
   }
 
   /// The 3-row direction update of v (normalized here) against the reference r_n, with the
-  /// optimal gain or the gain map `gain` (kalman.hpp).
-  template <class Gain = OptimalGain>
-  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate, const Gain& gain = Gain{}) {
+  /// optimal gain.
+  UpdateResult<S, 3> update3(const Vec3<S>& v, const Vec3<S>& r_n, S sigma, S gate) {
+    Vec3<S> h;
+    Mat3<S> H;
+    detail::eskf_direction_model(st_.q_nb, r_n, h, H);
+    return update3_model(v, h, H, sigma, gate, OptimalGain{});
+  }
+
+  /// The 3-row direction update of v (normalized here) for the model h, H = [h x] of
+  /// eskf_direction_model, with the gain map `gain` (kalman.hpp).
+  template <class Gain>
+  UpdateResult<S, 3> update3_model(const Vec3<S>& v, const Vec3<S>& h, const Mat3<S>& H, S sigma, S gate,
+                                   const Gain& gain) {
     UpdateResult<S, 3> res;
     Vec3<S> u;
     res.status = detail::unit_vector(v, u);
     if (res.status != Status::Ok) return res;
-    Vec3<S> h;
-    Mat3<S> H;
-    detail::eskf_direction_model(st_.q_nb, r_n, h, H);
-    apply_correction<3, 0, 3>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate, gain);
+    apply_correction<3, 0, 3, RowShape::Cross>(H, Vec3<S>::Constant(sigma * sigma), Vec3<S>(u - h), res, gate, gain);
     return res;
   }
 
@@ -464,14 +499,17 @@ template <class S> class QuaternionEKF {
     return r;
   }
 
-  /// Scalar sequential Joseph updates of the rows of H, given by its NC nonzero columns from C0
-  /// on, on one working copy of P (tested for finiteness once, in commit()).
-  template <int M, int C0, int NC, class Gain = OptimalGain>
+  /// Scalar sequential updates of the rows of H, given by its NC nonzero columns from C0 on
+  /// (their structure: Shape), on one working copy of P (tested for finiteness once, in
+  /// commit()): the symmetric form for a row with the optimal gain that is not too strong, the
+  /// Joseph form otherwise (RowForm::SymmetricWhereOptimal, kalman.hpp).
+  template <int M, int C0, int NC, RowShape Shape, class Gain = OptimalGain>
   void apply_correction(const Mat<S, M, NC>& Hc, const Vec<S, M>& r, const Vec<S, M>& y, UpdateResult<S, M>& res,
                         S gate, const Gain& gain = Gain{}) {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
-    kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain);
+    kalman_correct_diagonal_in_place<S, 6, M, C0, NC, Shape, RowForm::SymmetricWhereOptimal>(P, Hc, r, y, dx, res,
+                                                                                              gate, gain);
     commit(res, P, dx);
   }
 

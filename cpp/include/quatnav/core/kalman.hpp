@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -322,10 +323,130 @@ template <class S, int N, int M, int C0 = 0, int NC = N>
 Status kalman_correct_diagonal(Mat<S, N, N>& P, const Mat<S, M, N>& H, const Vec<S, M>& r, const Vec<S, M>& y,
                                Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0));
 
-/// The gain of kalman_correct_diagonal_in_place as computed: the optimal one.
+/// The gain of kalman_correct_diagonal_in_place as computed: the optimal one. A gain map says
+/// by optimal(row) whether it leaves row's gain optimal (RowForm::SymmetricWhereOptimal).
 struct OptimalGain {
   template <class K> void operator()(int /*row*/, K& /*k*/) const {}
+  static constexpr bool optimal(int /*row*/) { return true; }
 };
+
+/// The structure of the rows of H that kalman_correct_diagonal_in_place exploits (its products
+/// skip what is known to be zero: the same sums of the same nonzero terms, so the same bits for
+/// a finite covariance).
+enum class RowShape {
+  Dense,  ///< no known zeros
+  Cross,  ///< row i of Hc is zero in column i % NC: the rows of a cross-product matrix [h x]
+  Unit,   ///< row i of Hc is the unit row e_(i % NC): a direct measurement of the states
+};
+
+/// The covariance update of each scalar row in kalman_correct_diagonal_in_place.
+enum class RowForm {
+  Joseph,                 ///< the Joseph form for every row (joseph_update_scalar)
+  SymmetricWhereOptimal,  ///< the symmetric form P - k a^T where the gain is optimal and the row weak
+};
+
+namespace detail {
+
+/// h^T v over the NC columns of row `row` of Hc (shape as RowShape), v the matching NC values.
+template <RowShape Shape, class S, int M, int NC, class V>
+S row_dot(const Mat<S, M, NC>& Hc, int row, const V& v) {
+  if constexpr (Shape == RowShape::Unit) {
+    return v[row % NC];
+  } else if constexpr (Shape == RowShape::Cross && NC == 3) {
+    const int i = row % 3, c1 = i == 0 ? 1 : 0, c2 = i == 2 ? 1 : 2;  // the two other columns
+    return Hc(row, c1) * v[c1] + Hc(row, c2) * v[c2];
+  } else {
+    return Hc.row(row).dot(v);
+  }
+}
+
+/// row_dot for the row being processed, h = that row as a contiguous vector (a dense row's
+/// products take h, as they always have: the same bits).
+template <RowShape Shape, class S, int M, int NC, class V>
+S row_dot(const Mat<S, M, NC>& Hc, const Eigen::Matrix<S, NC, 1>& h, int row, const V& v) {
+  if constexpr (Shape == RowShape::Dense) {
+    return h.dot(v);
+  } else {
+    return row_dot<Shape>(Hc, row, v);
+  }
+}
+
+/// a = P h over the NC columns from C0 (shape as RowShape; h: row `row` of Hc, contiguous).
+template <RowShape Shape, class S, int N, int M, int C0, int NC>
+void row_product(const Mat<S, N, N>& P, const Mat<S, M, NC>& Hc, const Eigen::Matrix<S, NC, 1>& h, int row,
+                 Vec<S, N>& a) {
+  if constexpr (Shape == RowShape::Unit) {
+    a = P.col(C0 + row % NC);
+  } else if constexpr (Shape == RowShape::Cross && NC == 3) {
+    const int i = row % 3, c1 = i == 0 ? 1 : 0, c2 = i == 2 ? 1 : 2;
+    a.noalias() = P.col(C0 + c1) * Hc(row, c1) + P.col(C0 + c2) * Hc(row, c2);
+  } else {
+    a.noalias() = P.template middleCols<NC>(C0).lazyProduct(h);
+  }
+}
+
+/// The columns J, J+1, ... of the symmetric form's lower triangle, P(i, j) - k_i a_j for i >= j,
+/// as joseph_columns does the Joseph form's (whole SIMD packets from the packet boundary below
+/// the diagonal; the few coefficients above it are overwritten by the mirror).
+template <class S, int N, int J>
+void symmetric_columns(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a) {
+  if constexpr (J < N) {
+    constexpr int kPacket = Eigen::internal::packet_traits<S>::Vectorizable ? Eigen::internal::packet_traits<S>::size : 1;
+    constexpr int I0 = J - J % kPacket;
+    constexpr int L = N - I0;
+    auto col = P.col(J).template segment<L>(I0);
+    col = col - k.template segment<L>(I0) * a[J];
+    symmetric_columns<S, N, J + 1>(P, k, a);
+  }
+}
+
+/// The symmetric form of a scalar update with the optimal gain k = a / s: P+ = P - k a^T,
+/// evaluated once per pair (i >= j), P+(i, j) = P(i, j) - k_i a_j, and mirrored (exactly
+/// symmetric). One multiply-add per coefficient against the Joseph form's two. As
+/// joseph_update_scalar: columns as vector expressions where there is SIMD, one loop writing
+/// both halves where there is none (the same bits).
+template <class S, int N> void symmetric_update_scalar(Mat<S, N, N>& P, const Vec<S, N>& k, const Vec<S, N>& a) {
+  if constexpr (Eigen::internal::packet_traits<S>::Vectorizable && Eigen::internal::packet_traits<S>::size > 1) {
+    const Vec<S, N> av = a, kv = k;
+    symmetric_columns<S, N, 0>(P, kv, av);
+    mirror_lower<S, N, 0>(P);
+  } else {
+    S av[N], kv[N];
+    for (int i = 0; i < N; ++i) {
+      av[i] = a[i];
+      kv[i] = k[i];
+    }
+    S* p = P.data();  // column-major: P(i, j) = p[i + N j]
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+    for (int j = 0; j < N; ++j) {
+      const S aj = av[j];
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+      for (int i = j; i < N; ++i) {
+        const S v = p[i + N * j] - kv[i] * aj;
+        p[i + N * j] = v;
+        p[j + N * i] = v;
+      }
+    }
+  }
+}
+
+/// True when a row with innovation variance s and noise variance r is weak enough for the
+/// symmetric form. The posterior variance along h is hPh r / s; the symmetric form computes it
+/// as hPh - (hPh)^2 / s, a difference of terms of size hPh, so its rounding relative to the
+/// result grows as eps s / r (and a rounding error of the gain enters P to first order). Below
+/// s / r = min(1e6, 1 / (4096 eps)), i.e. 2,048 in float (a relative rounding of at most
+/// 2.4e-4 of the posterior) and 1e6 in double (2.2e-10), the symmetric form is used; from there
+/// on the Joseph form.
+template <class S> bool weak_row(S s, S r) {
+  constexpr S kMaxRatio = std::min(S(1e6), S(1) / (S(4096) * std::numeric_limits<S>::epsilon()));
+  return s < kMaxRatio * r;
+}
+
+}  // namespace detail
 
 /// kalman_correct_diagonal on a scratch covariance, for a filter that already works on a copy
 /// of its own (it saves two N x N copies and a finiteness test of P per correction).
@@ -341,7 +462,15 @@ struct OptimalGain {
 /// out of k lie in the null space of H (h_j^T k unchanged for every row j), the innovations
 /// e_i, the pivots s_i, the NIS and the innovation covariance are those of the optimal update,
 /// and the rows in turn give the same result as the projected joint gain.
-template <class S, int N, int M, int C0, int NC, class Gain = OptimalGain>
+///
+/// Shape: the structure of Hc's rows (RowShape; the products skip the known zeros, same bits).
+/// Form: RowForm::Joseph (the default) updates every row's covariance in the Joseph form;
+/// RowForm::SymmetricWhereOptimal uses the symmetric form P - k a^T (one multiply-add per
+/// coefficient instead of two) for a row whose gain is optimal (gain.optimal(row)) and that is
+/// weak enough (detail::weak_row: s / r below about 1 / (4096 eps)) for its rounding not to
+/// matter, the Joseph form otherwise.
+template <class S, int N, int M, int C0, int NC, RowShape Shape = RowShape::Dense, RowForm Form = RowForm::Joseph,
+          class Gain = OptimalGain>
 Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& Hc, const Vec<S, M>& r,
                                         const Vec<S, M>& y, Vec<S, N>& dx, UpdateResult<S, M>& res, S gate = S(0),
                                         const Gain& gain = Gain{}) {
@@ -358,8 +487,8 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
   for (int i = 0; i < M; ++i) {
     const Eigen::Matrix<S, NC, 1> h = Hc.row(i).transpose();
     Vec<S, N> a;
-    a.noalias() = Pw.template middleCols<NC>(C0).lazyProduct(h);
-    const S si = h.dot(a.template segment<NC>(C0)) + r[i];
+    detail::row_product<Shape, S, N, M, C0, NC>(Pw, Hc, h, i, a);
+    const S si = detail::row_dot<Shape>(Hc, h, i, a.template segment<NC>(C0)) + r[i];
     if (!std::isfinite(si)) {
       res.status = Status::NumericalFailure;
       return res.status;
@@ -370,16 +499,29 @@ Status kalman_correct_diagonal_in_place(Mat<S, N, N>& Pw, const Mat<S, M, NC>& H
     }
     s[i] = si;
     const S inv_s = S(1) / si;
-    for (int j = i + 1; j < M; ++j) L(j, i) = Hc.row(j).dot(a.template segment<NC>(C0)) * inv_s;
-    const S e = y[i] - h.dot(dxw.template segment<NC>(C0));
+    for (int j = i + 1; j < M; ++j) L(j, i) = detail::row_dot<Shape>(Hc, j, a.template segment<NC>(C0)) * inv_s;
+    const S e = y[i] - detail::row_dot<Shape>(Hc, h, i, dxw.template segment<NC>(C0));
     nis += e * e * inv_s;
     Vec<S, N> k = a * inv_s;
     gain(i, k);
     dxw.noalias() += k * e;
+    if constexpr (Form == RowForm::SymmetricWhereOptimal) {
+      if (gain.optimal(i) && detail::weak_row(si, r[i])) {
+        detail::symmetric_update_scalar<S, N>(Pw, k, a);
+        continue;
+      }
+    }
     joseph_update_scalar<S, N>(Pw, k, a, si);
   }
-  res.innovation_cov.noalias() = L * s.asDiagonal() * L.transpose();
-  symmetrize(res.innovation_cov);
+  // S = L diag(s) L^T on the lower triangle, L unit lower: S(j, k) = sum_(i <= k) L(j, i) s_i L(k, i)
+  // for j >= k, mirrored (exactly symmetric).
+  for (int k = 0; k < M; ++k) {
+    for (int j = k; j < M; ++j) {
+      S v = s[k] * L(j, k);
+      for (int i = 0; i < k; ++i) v += L(j, i) * s[i] * L(k, i);
+      res.innovation_cov(j, k) = res.innovation_cov(k, j) = v;
+    }
+  }
   res.nis = nis;
   if (gate > S(0) && !(nis <= gate)) {
     res.status = Status::Rejected;

@@ -112,6 +112,13 @@ template <class S> Vec3<S> rotate(const Quat<S>& q, const Vec3<S>& v) {
 /// v_b = C_nb^T v_n.
 template <class S> Vec3<S> rotate_inv(const Quat<S>& q, const Vec3<S>& v) { return rotate(conj(q), v); }
 
+/// C_nb^T e_z: the navigation frame's z axis (down in NED) in the body frame, the last row of
+/// to_rotmat(q) (rotate_inv(q, e_z) in a third of its operations).
+template <class S> Vec3<S> nav_z_in_body(const Quat<S>& q) {
+  const S w = q[0], x = q[1], y = q[2], z = q[3];
+  return Vec3<S>(S(2) * (x * z - w * y), S(2) * (y * z + w * x), S(1) - S(2) * (x * x + y * y));
+}
+
 /// ZYX Euler angles [roll, pitch, yaw] of q_nb (paper 000 eq. 3; pitch clamped to [-pi/2, pi/2]).
 template <class S> Vec3<S> to_euler(const Quat<S>& q) {
   const S w = q[0], x = q[1], y = q[2], z = q[3];
