@@ -10,31 +10,25 @@
 #   wait_background           waits for every such stage; fails when one did
 #   print_timings [FILE]      the table of the stages (.ci/run and tools/test.sh print it at the end)
 
-# Wall time from $EPOCHREALTIME; CPU time from the shell's `times` (user + sys of the finished
-# child processes, so of everything the stage ran; a stage in the background is timed in its own
-# subshell). One line per stage in $QUATNAV_TIMINGS: name, start (s since QUATNAV_T0), wall, CPU.
+# Wall time from $EPOCHREALTIME; CPU time from `times` at the end of a subshell that runs the stage
+# (user + sys of that subshell and of its finished child processes, so of everything the stage
+# ran and nothing else: a stage beside it, reaped by the main shell meanwhile, does not count).
+# A stage therefore cannot set variables of the calling shell. One line per stage in
+# $QUATNAV_TIMINGS: name, start (s since QUATNAV_T0), wall, CPU, exit status.
 export QUATNAV_T0=${QUATNAV_T0:-$EPOCHREALTIME}
-_children_cpu() {   # sets _cpu; called without $(...), which would run `times` in a new shell
-  local f
-  f=$(mktemp "${TMPDIR:-/tmp}/quatnav-times.XXXXXX")
-  times >"$f"   # a builtin with a redirection runs in this shell
-  _cpu=$(awk 'NR == 2 { s = 0; for (i = 1; i <= 2; i++) { split($i, a, "m"); s += a[1] * 60 + a[2] } printf "%.1f\n", s }' "$f")
-  rm -f "$f"
-}
 
 timed() {
-  local name=$1 t0 c0 c1 rc=0
+  local name=$1 t0 f rc=0
   shift
   t0=$EPOCHREALTIME
-  _children_cpu
-  c0=$_cpu
-  "$@" || rc=$?
-  _children_cpu
-  c1=$_cpu
+  f=$(mktemp "${TMPDIR:-/tmp}/quatnav-times.XXXXXX")
+  ( rc=0; "$@" || rc=$?; times >"$f"; exit "$rc" ) || rc=$?
   if [ -n "${QUATNAV_TIMINGS:-}" ]; then
-    awk -v n="$name" -v t0="$t0" -v t1="$EPOCHREALTIME" -v z="$QUATNAV_T0" -v c0="$c0" -v c1="$c1" -v rc="$rc" \
-      'BEGIN { printf "%s\t%.0f\t%.0f\t%.0f\t%s\n", n, t0 - z, t1 - t0, c1 - c0, rc }' >>"$QUATNAV_TIMINGS"
+    awk -v n="$name" -v t0="$t0" -v t1="$EPOCHREALTIME" -v z="$QUATNAV_T0" -v rc="$rc" '
+      { for (i = 1; i <= 2; i++) { split($i, a, "m"); cpu += a[1] * 60 + a[2] } }
+      END { printf "%s\t%.0f\t%.0f\t%.0f\t%s\n", n, t0 - z, t1 - t0, cpu, rc }' "$f" >>"$QUATNAV_TIMINGS"
   fi
+  rm -f "$f"
   return "$rc"
 }
 
