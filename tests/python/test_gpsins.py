@@ -103,7 +103,8 @@ def test_solution_kind_sets_the_position_sigma_floor(dtype):
     is refused and leaves the filter untouched."""
     floors = dict(unknown=0.011, rtk_fixed=0.011, rtk_float=0.2, dgnss=0.7, single=2.5)
     params = dict(gps_pos_sigma_min=0.011, gps_float_sigma_min=0.2, gps_dgnss_sigma_min=0.7,
-                  gps_single_sigma_min=2.5, gps_vertical_floor_ratio=1.5, gps_time_sigma=0.0, dtype=dtype)
+                  gps_single_sigma_min=2.5, gps_vertical_floor_ratio=1.5, gps_time_sigma=0.0, gps_error_tau=0.0,
+                  dtype=dtype)  # the correlation time's raise: test_a_wandering_solution_weighs_by_its_correlation_time
     ned = np.array([1.0, 1.0, 1.5])
     lat, lon, h = 0.7, 0.2, 100.0
 
@@ -365,3 +366,34 @@ def test_messages_print_numbers_plainly():
     with pytest.raises(ValueError) as e:
         quatnav.GpsInsFilter(max_dt=np.float64(-1.0))
     assert str(e.value) == "max_dt: expected a positive finite number, got -1.0"
+
+
+@pytest.mark.parametrize("kind", ["unknown", "rtk_fixed", "rtk_float", "dgnss", "single"])
+def test_a_wandering_solution_weighs_by_its_correlation_time(kind):
+    """A fix dt after the last one, of a kind whose error wanders (RTK float, DGNSS, single), has
+    its variance in the innovation covariance raised by (1 + rho) / (1 - rho), rho = exp(-dt /
+    gps_error_tau), against the same filter with gps_error_tau = 0; an RTK-fixed fix or one of
+    unknown kind is taken as white. C++ and the numpy twin agree, and both keep the time of
+    validity of the last position they used (the start fix included)."""
+    tau, floor = 10.0, 0.2
+    params = dict(gps_float_sigma_min=floor, gps_dgnss_sigma_min=floor, gps_single_sigma_min=floor,
+                  gps_pos_sigma_min=floor, gps_vertical_floor_ratio=1.0)
+    code = quatnav.filters.gpsins.GNSS_SOLUTIONS.index(kind)
+
+    def innovation_cov(cls, tau_):
+        f = _navigating(cls, gps_error_tau=tau_, **params)  # started by a fix at t = 0, now t = 0.5
+        if cls is quatnav.GpsInsFilter:
+            r = f.update_gps(0.7, 0.2, 100.0, None, [0.005] * 3, None, age=0.1, solution=kind)[0]
+            return r.innovation_cov, f.get_state()["gps_pos_t"]
+        r = f.update_gps(0.7, 0.2, 100.0, [np.nan] * 3, [0.005] * 3, [np.nan] * 3, age=0.1, solution=code)[0]
+        return r.innovation_cov, f.s.gps_pos_t
+
+    s0, _ = innovation_cov(quatnav.GpsInsFilter, 0.0)
+    s1, t_used = innovation_cov(quatnav.GpsInsFilter, tau)
+    rho = np.exp(-0.4 / tau)  # the fix valid at 0.4 s, 0.4 s after the start fix
+    factor = (1 + rho) / (1 - rho) if kind in ("rtk_float", "dgnss", "single") else 1.0
+    np.testing.assert_allclose(np.diag(s1 - s0), floor ** 2 * (factor - 1.0), rtol=1e-9, atol=1e-15)
+    assert t_used == pytest.approx(0.4, abs=1e-9)
+    s_ref, t_ref = innovation_cov(R.GpsInsFilter, tau)
+    np.testing.assert_allclose(s1, s_ref, rtol=1e-9, atol=1e-15)
+    assert t_ref == pytest.approx(0.4, abs=1e-9)

@@ -48,12 +48,17 @@ def walk(tmp_path_factory):
 def test_gnss_from_pos_equals_csv(walk, tmp_path):
     d = walk
     a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    # The .pos file gives each fix's solution kind, the CSV none: the filter told that the
+    # simulated fixes' errors are white (gps_error_tau = 0), as it takes fixes of no kind.
+    cfg = tmp_path / "config.toml"
+    cfg.write_text((d / "config.toml").read_text().replace("[filter]\n", "[filter]\ngps_error_tau = 0.0\n"))
+    assert "gps_error_tau" in cfg.read_text()
     # the same absolute times in both runs (times near 1.8e9 s round differently from 0 s ones)
     assert cli.main(["ins", "run", "--imu", str(d / "imu_abs.csv"), "--gnss", str(d / "gnss_abs.csv"), "--baro",
-                     str(d / "baro_abs.csv"), "--config", str(d / "config.toml"), "--out", str(a)]) == 0
+                     str(d / "baro_abs.csv"), "--config", str(cfg), "--out", str(a)]) == 0
     kml, gpx, png = tmp_path / "t.kml", tmp_path / "t.gpx", tmp_path / "t.png"
     assert cli.main(["ins", "run", "--imu", str(d / "imu_abs.csv"), "--gnss", str(d / "gnss.pos"), "--baro",
-                     str(d / "baro_abs.csv"), "--config", str(d / "config.toml"), "--out", str(b),
+                     str(d / "baro_abs.csv"), "--config", str(cfg), "--out", str(b),
                      "--kml", str(kml), "--gpx", str(gpx), "--plot", str(png)]) == 0
     x, y = pd.read_csv(a), pd.read_csv(b)
     assert len(x) == len(y)

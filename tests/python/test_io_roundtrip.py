@@ -47,24 +47,27 @@ def walk(tmp_path_factory):
     return s, d
 
 
-def _cli_figures(d, tmp_path, args, name):
+def _cli_figures(d, tmp_path, args, name, config=None):
     out, js = tmp_path / f"{name}.csv", tmp_path / f"{name}.json"
-    assert cli.main(["ins", "run", *args, "--config", str(d / "config.toml"), "--out", str(out)]) == 0
+    assert cli.main(["ins", "run", *args, "--config", str(config or d / "config.toml"), "--out", str(out)]) == 0
     assert cli.main(["compare", str(out), str(d / "truth.csv"), "--json", str(js)]) == 0
     fig = json.loads(js.read_text())
     print(f"\nround trip {name}: " + ", ".join(f"{k} {fig[k]['rms']:.4g}" for k in QUANTITIES))  # pytest -s
     return fig
 
 
-def _api_figures(d, imu, gnss, baro=None, compass=None):
+def _api_figures(d, imu, gnss, baro=None, compass=None, **params):
     """GpsInsFilter on the arrays (io.Log streams), judged with compare() against the truth."""
     lever = [0.1, 0.0, -0.1]
-    f = quatnav.GpsInsFilter(lever_arm_b=lever)
+    f = quatnav.GpsInsFilter(lever_arm_b=lever, **params)
     kw = {}
     sig = gnss.sigma
     kw["gps_pos"] = quatnav.Aid(gnss.t, np.column_stack([gnss.lat, gnss.lon, gnss.h]), sig)
     if gnss.vel_n is not None and np.isfinite(gnss.vel_n).all():
         kw["gps_vel"] = quatnav.Aid(gnss.t, gnss.vel_n, gnss.sigma_vel)
+    if gnss.quality is not None and gnss.quality_kind:  # the solution kind, as the command passes it
+        from quatnav.filters.gpsins import gnss_solution
+        kw["gps_solution"] = gnss_solution(gnss.quality, gnss.quality_kind)
     if baro is not None:
         kw["baro"] = quatnav.Aid(baro.t, baro.altitude)
     if compass is not None:
@@ -138,11 +141,16 @@ def test_nmea_round_trip_with_true_heading(walk, tmp_path):
     np.testing.assert_allclose(np.angle(np.exp(1j * (c.heading - cs.yaw[k]))), 0.0, atol=1e-5)
     np.testing.assert_allclose(g.sigma[0], [2.5, 2.5, 5.0])               # HDOP 1 x 2.5 m (GPS fix)
     imu, baro, _ = _walk_streams(d)
-    # NMEA has no vertical velocity: position fixes and the true heading (the file's compass)
+    # NMEA has no vertical velocity: position fixes and the true heading (the file's compass). The
+    # fixes are GPS (single) solutions, whose errors the filter takes by default as wandering with
+    # gps_error_tau; the simulated ones are white, and the filter is told so.
+    cfg = tmp_path / "config.toml"
+    cfg.write_text((d / "config.toml").read_text().replace("[filter]\n", "[filter]\ngps_error_tau = 0.0\n"))
+    assert "gps_error_tau" in cfg.read_text()
     got = _cli_figures(d, tmp_path, ["--imu", str(d / "imu.csv"), "--gnss", str(p), "--compass", str(p),
-                                     "--baro", str(d / "baro.csv")], "nmea")
+                                     "--baro", str(d / "baro.csv")], "nmea", config=cfg)
     g.vel_n = None
-    _same(got, _api_figures(d, imu, g, baro, c))
+    _same(got, _api_figures(d, imu, g, baro, c, gps_error_tau=0.0))
     assert got["position_horizontal_m"]["rms"] < 5.0
 
 

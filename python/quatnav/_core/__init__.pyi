@@ -3887,6 +3887,14 @@ class GpsInsParams_f64:
     def gps_dgnss_sigma_min(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gps_error_tau(self) -> float:
+        """
+        correlation time of the position errors of RTK-float, DGNSS and single solutions (0: white) [s]
+        """
+    @gps_error_tau.setter
+    def gps_error_tau(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gps_float_sigma_min(self) -> float:
         """
         floor of a GPS position one-sigma of an RTK-float solution [m]
@@ -4779,6 +4787,14 @@ class GpsInsParams_f32:
         """
     @gps_dgnss_sigma_min.setter
     def gps_dgnss_sigma_min(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gps_error_tau(self) -> float:
+        """
+        correlation time of the position errors of RTK-float, DGNSS and single solutions (0: white) [s]
+        """
+    @gps_error_tau.setter
+    def gps_error_tau(self, arg1: typing.Any) -> None:
         ...
     @property
     def gps_float_sigma_min(self) -> float:

@@ -408,6 +408,8 @@ GPSINS_PARAMS = (
        "pos0"),
     _p("gps_vertical_floor_ratio", 2.0, "1", "floor of a GPS position's down one-sigma over the north and east "
        "floor of its solution kind", "pos0"),
+    _p("gps_error_tau", 20.0, "s", "correlation time of the position errors of RTK-float, DGNSS and single "
+       "solutions (0: white)", "pos0"),
     _p("gps_vel_sigma_min", 0.01, "m/s", "floor of a GPS velocity one-sigma (given or per fix)", "pos0"),
     _p("gps_time_offset", 0.0, "s", "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)",
        "real"),

@@ -34,7 +34,7 @@ from .gpsins_model import (ALIGNING, BA, BG, BO, DECISIONS, DEFAULTS, KINDS, LEV
                            POS, SA, SG, VEL, ATT, GpsInsParams, Result, _baro_height, _baro_vd, _compass,
                            _corrected, _from_euler, _gps_position, _gps_velocity, _mag_heading, _new_state,
                            _gnss_aided, _nhc, _nhc_evidence, _odometer, _qc_diag, _reset_position, _reset_velocity, _result,
-                           _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_sigma_floor, gpsins_F, huber_scales,
+                           _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_correlation_scale, gnss_sigma_floor, gpsins_F, huber_scales,
                            inject)
 from .gpsins_smoother import GpsInsRtsModel, run_smoothed  # noqa: F401
 from .kalman import kalman_correct
@@ -505,6 +505,7 @@ class GpsInsFilter:
         s.P = self._initial_P(sig, vel_sigma, level_sigma, yaw_sigma)
         s.phase, s.heading_known = NAVIGATING, True
         s.align_method, s.heading_source, s.nav_start_t = method, heading, s.t
+        s.gps_pos_t = s.t  # the fix it starts from (gnss_correlation_scale)
         s.rest_v = s.nav.v_n.copy()
         s.mot_valid = False
         s.baro_offset_valid = False
@@ -614,9 +615,15 @@ class GpsInsFilter:
                 st = self._start(lat, lon, h, psig, s.nav.q_nb, v0, p.init_vel_sigma, p.init_level_sigma,
                                  p.init_yaw_sigma, s.align_method, s.heading_source)
             return _result(st, 3, "aligned")
-        y, H, R = _gps_position(self.s, self.p, lat, lon, h, sig, age, floor)
-        return self._apply("gps_pos", y, H, R, self.p.gate_gps_pos, True,
-                           lambda s, R: _reset_position(s, self.p, (lat, lon, h), R))
+        # a fix whose error wanders repeats much of the last one's: its R raised accordingly
+        t_fix = self.s.t - age
+        k = gnss_correlation_scale(p, solution, t_fix - self.s.gps_pos_t)
+        y, H, R = _gps_position(self.s, self.p, lat, lon, h, k * sig, age, k * floor)
+        r = self._apply("gps_pos", y, H, R, self.p.gate_gps_pos, True,
+                        lambda s, R: _reset_position(s, self.p, (lat, lon, h), R))
+        if r.status == "ok" or r.decision == "reset":
+            self.s.gps_pos_t = t_fix
+        return r
 
     def update_gps_velocity(self, v_n, sigma, age=0.0):
         v_n = np.asarray(v_n, float)

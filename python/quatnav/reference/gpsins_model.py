@@ -194,6 +194,7 @@ class _State:
     gnss_speed_t: float = 0.0
     pseudo_t: float = -1e9
     gnss_t: float = -1e9
+    gps_pos_t: float = -1e9
     nhc_ms: float = -1.0
     nhc_ky: float = 0.0
     nhc_kz: float = 0.0
@@ -274,6 +275,16 @@ def gnss_sigma_floor(p, kind):
     f = {2: p.gps_float_sigma_min, 3: p.gps_dgnss_sigma_min, 4: p.gps_single_sigma_min}.get(int(kind),
                                                                                          p.gps_pos_sigma_min)
     return np.array([f, f, p.gps_vertical_floor_ratio * f])
+
+
+def gnss_correlation_scale(p, kind, dt):
+    """One-sigma scale sqrt((1 + rho) / (1 - rho)), rho = exp(-dt / gps_error_tau), of a position
+    fix whose error wanders (RTK float, DGNSS, single: codes 2, 3, 4), dt (s, at least 1 ms) after
+    the last accepted one (detail::gnss_correlation_scale); 1 otherwise."""
+    if int(kind) not in (2, 3, 4) or not p.gps_error_tau > 0:
+        return 1.0
+    rho = math.exp(-max(dt, 1e-3) / p.gps_error_tau)
+    return math.sqrt((1.0 + rho) / (1.0 - rho))
 
 
 def huber_scales(y, S, k):

@@ -14,6 +14,7 @@
 // the antenna's velocity for a position, its acceleration for a velocity) and the lever arm's.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "../../core/earth.hpp"
@@ -66,6 +67,17 @@ template <class S> Vec3<S> gnss_sigma_floor(const GpsInsParams<S>& p, GnssSoluti
   if (kind == GnssSolution::Dgnss) f = p.gps_dgnss_sigma_min;
   if (kind == GnssSolution::Single) f = p.gps_single_sigma_min;
   return Vec3<S>(f, f, p.gps_vertical_floor_ratio * f);
+}
+
+/// The one-sigma scale sqrt((1 + rho) / (1 - rho)), rho = exp(-dt / gps_error_tau), of a GNSS
+/// position of solution kind `kind` whose error is time-correlated (RTK float, DGNSS, single), dt
+/// (s, at least 1 ms) after the last accepted position fix; 1 for RTK fixed, unknown kind, or
+/// gps_error_tau = 0.
+template <class S> S gnss_correlation_scale(const GpsInsParams<S>& p, GnssSolution kind, double dt) {
+  const bool wanders = kind == GnssSolution::RtkFloat || kind == GnssSolution::Dgnss || kind == GnssSolution::Single;
+  if (!wanders || !(p.gps_error_tau > S(0))) return S(1);
+  const double rho = std::exp(-std::max(dt, 1e-3) / double(p.gps_error_tau));
+  return S(std::sqrt((1.0 + rho) / (1.0 - rho)));
 }
 
 /// Huber's weights of an innovation y with covariance S: each component z_i = y_i / sqrt(S_ii)
@@ -383,4 +395,23 @@ template <class S> struct OdometerSpeed {
 };
 
 }  // namespace gpsins_aid
+
+namespace detail {
+/// The position piece of a fix of solution kind `kind` valid `age` s before the filter's time,
+/// its one-sigma and floor raised by gnss_correlation_scale since the last position used.
+template <class S, bool SF>
+gpsins_aid::GpsPosition<S> gnss_position(const GpsInsState<S, SF>& s, const GpsInsParams<S>& p, double lat, double lon,
+                                         double h, const Vec3<S>& sig, S age, const Vec3<S>& floor, GnssSolution kind) {
+  const S k = gnss_correlation_scale(p, kind, s.t - double(age) - s.gps_pos_t);
+  return gpsins_aid::GpsPosition<S>{lat, lon, h, Vec3<S>(k * sig), age, Vec3<S>(k * floor)};
+}
+
+/// The result r of a position fix valid `age` s before the filter's time: when the fix was used
+/// (accepted, or the state reset to it) its time of validity is kept (gps_pos_t).
+template <class S, bool SF>
+GpsInsUpdate<S, 3> position_used(GpsInsState<S, SF>& s, const GpsInsUpdate<S, 3>& r, S age) {
+  if (r.status == Status::Ok || r.decision == GpsInsDecision::Reset) s.gps_pos_t = s.t - double(age);
+  return r;
+}
+}  // namespace detail
 }  // namespace quatnav

@@ -77,7 +77,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         !std::isfinite(s.mot_T) || !s.mot_v0.allFinite() || !std::isfinite(s.mot_lat) || !std::isfinite(s.mot_lon) ||
         !std::isfinite(s.mot_h) || !s.init_v.allFinite() || !std::isfinite(s.mag_ref_norm) ||
         !std::isfinite(s.mag_ref_dip) || !std::isfinite(s.gnss_speed) || !std::isfinite(s.gnss_speed_t) ||
-        int(s.align_method) > 4 || int(s.heading_source) > 5)
+        !std::isfinite(s.gps_pos_t) || int(s.align_method) > 4 || int(s.heading_source) > 5)
       return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
@@ -551,7 +551,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
       return res;
     }
-    return apply(gpsins_aid::GpsPosition<S>{lat, lon, h, sig, age, floor});
+    return detail::position_used(st_, apply(detail::gnss_position(st_, params_, lat, lon, h, sig, age, floor, kind)), age);
   }
 
   // Alignment in motion at a fix (gps_ins/alignment.hpp): NotInitialized while the window
@@ -706,7 +706,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.heading_known = true;
     s.align_method = method;
     s.heading_source = heading;
-    s.nav_start_t = s.t;
+    s.nav_start_t = s.gps_pos_t = s.t;  // gps_pos_t: the fix it starts from (gnss_correlation_scale)
     s.rest_v = v0;
     s.mot_valid = false;
     s.baro_offset_valid = false;

@@ -56,6 +56,14 @@ namespace quatnav {
   X(S, gps_single_sigma_min, S(1.5), "m", "floor of a GPS position one-sigma of a single (standalone) solution") \
   X(S, gps_vertical_floor_ratio, S(2), "1",                                                            \
     "floor of a GPS position's down one-sigma over the north and east floor of its solution kind")    \
+  /* The errors of an RTK-float, DGNSS or single solution wander (atmosphere, multipath, the float \
+     ambiguities): fixes a fraction of gps_error_tau apart repeat most of one error. Such a fix's R is \
+     raised by the factor (1 + rho) / (1 - rho), rho = exp(-dt / tau), dt the time since the last   \
+     accepted position fix: a stretch of them then weighs as one fix per 2 tau (the variance of the \
+     mean of a first-order Gauss-Markov sequence). RTK-fixed fixes and those of unknown kind are    \
+     taken as white. */                                                                               \
+  X(S, gps_error_tau, S(20), "s",                                                                      \
+    "correlation time of the position errors of RTK-float, DGNSS and single solutions (0: white)")    \
   X(S, gps_vel_sigma_min, S(0.01), "m/s", "floor of a GPS velocity one-sigma (given or per fix)")        \
   X(S, gps_time_offset, S(0), "s",                                                                      \
     "added to the GNSS times to put them on the IMU clock (a receiver latency L: -L)")                 \
@@ -294,6 +302,7 @@ struct GpsInsCounters {
   X(double, gnss_speed_t, 0.0, "s", "filter time of that speed")                                        \
   X(double, pseudo_t, -1e9, "s", "filter time of the last zero-velocity or non-holonomic update")         \
   X(double, gnss_t, -1e9, "s", "filter time of the last accepted GNSS position or velocity update")     \
+  X(double, gps_pos_t, -1e9, "s", "time of validity of the last accepted GNSS position")                \
   X(S, nhc_ms, S(-1), "m^2/s^2",                                                                        \
     "mean square lateral and vertical body velocity in GNSS-aided motion, about the mounting's (-1: none yet)") \
   X(S, nhc_ky, S(0), "1", "mean lateral body velocity per forward speed in straight GNSS-aided motion (the mounting's yaw)") \
