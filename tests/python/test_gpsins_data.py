@@ -155,6 +155,22 @@ def test_walk_rtk_outages_and_degraded(walk):
     assert d["all_fixed"]["horizontal_m"]["rms"] < 1.5
 
 
+def test_walk_perturbation_table(walk):
+    """The car's robustness table on the walk's RTK run with outages: every setting of
+    ``gpsins_car.PERTURBATIONS``, each changing what it names (the defaults' noise as ``ins run``
+    sets it: raised to the log's), and the mean drift within 1.5x of the defaults' (measured
+    0.84-1.03, docs/GPSINS_DATA.md). About 2 s."""
+    from quatnav.experiments.gpsins_car import PERTURBATIONS
+    from quatnav.experiments.walk_rtk import perturbation_table
+    t = perturbation_table(walk.path)
+    assert list(t) == list(PERTURBATIONS)
+    assert t["defaults"]["ratio"] == 1.0 and len(t["defaults"]["drift_m"]) == 3
+    assert t["noise x10"]["noise"]["gyro_noise"] > t["defaults"]["noise"]["gyro_noise"]
+    assert t["noise x10"]["drift_m"] != t["defaults"]["drift_m"]
+    assert t["lever arm +5 cm"]["drift_m"] != t["defaults"]["drift_m"]
+    assert all(1 / 1.5 < v["ratio"] < 1.5 for v in t.values()), {k: v["ratio"] for k, v in t.items()}
+
+
 def test_walk_gate_lockout_recovery(walk):
     """The walk's noise densities given ten times too small: with the plain gate (no inflation,
     no adaptation) the filter locks out of its own cm-level fixes and drifts by tens of metres;

@@ -1,5 +1,5 @@
 """GPS/INS (paper 004) on a real pedestrian walk with RTK GNSS: ``quatnav experiment walk-rtk
-[--data DIR] --json FILE [--plot FILE.png] [--seed N] [--noise-m S]``.
+[--data DIR] --json FILE [--plot FILE.png] [--seed N] [--noise-m S] [--sweep] [--perturbation]``.
 
 Real-data evidence for :class:`quatnav.GpsInsFilter` on ``gnss_imu_walk`` (a 134 s walk, IMU
 ~166 Hz, RTKLIB solution 4 Hz; RTK-fixed epochs are cm-level and serve as the reference). The IMU
@@ -24,6 +24,9 @@ Four runs, each scored against the RTK-fixed epochs (Q = 1), horizontal and vert
 
 Each run reports the decisions on the GNSS fixes (accepted, rejected, inflated, reset), the
 largest process-noise scale of the adaptation and how the filter was aligned.
+
+``--perturbation``: the robustness table of ``quatnav experiment gpsins-car`` on ``rtk_outages``
+(:func:`perturbation_table`), the noise densities set as ``quatnav ins run`` sets them.
 """
 from __future__ import annotations
 
@@ -53,6 +56,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--sweep", action="store_true",
                         help="also repeat the outage runs with the first outage at 15, 20, ..., 45 s and "
                              "summarize the drift over every outage with >= 30 RTK-fixed epochs")
+    parser.add_argument("--perturbation", action="store_true",
+                        help="also the robustness table of 'experiment gpsins-car' on the RTK run with outages, "
+                             "the noise set as 'ins run' does")
 
 
 #: Filter parameters for the walk (the measured sensor noise at rest is far lower, 5e-5 rad/s/sqrt(Hz)
@@ -183,6 +189,42 @@ def run_walk(directory=None, seed=0, noise_m=2.5, first=20.0, length=10.0, perio
     return summary, arrays
 
 
+def perturbation_table(directory=None, first=20.0, length=10.0, period=30.0) -> dict:
+    """The robustness table of the simulated car (``gpsins_car.PERTURBATIONS``) on the walk: the
+    RTK run with its outages, the noise densities as ``quatnav ins run`` sets them (the filter's
+    defaults, or the setting's, raised to the log's and lowered to 3x it; the other entries of
+    :data:`WALK_PARAMS` kept: the walk's alignment and priors), each setting changing one thing.
+    Per setting: the drift at the end of each outage with RTK-fixed epochs, their mean and its
+    ratio to the defaults', the horizontal RMS against the fixed epochs and the positions gated
+    out."""
+    from ..calibration.noise import lowered_noise, noise_in_motion, raised_noise
+    from ..datasets import gnss_imu_walk as W
+    from ..filters.tables import GPSINS_PARAMS
+    from .gpsins_car import PERTURBATIONS, noise_scaled
+    defaults = {q.name: q.default for q in GPSINS_PARAMS}
+    w = W.load(directory)
+    measured = noise_in_motion(w.imu_t, W.to_body(w.gyro_s), W.to_body(w.accel_s))
+    out = {}
+    for name, (extra, lever_err) in PERTURBATIONS.items():
+        p = {k: defaults[k] for k in NOISE_KEYS}
+        p.update(noise_scaled(float(extra[1:])) if isinstance(extra, str) else extra)
+        given = {k: p[k] for k in ("gyro_noise", "acc_noise")}
+        p.update(raised_noise(given, measured), **lowered_noise(given, measured))
+        if lever_err is not None:
+            p["lever_arm_b"] = tuple(float(x) for x in lever_err)
+        summary, _ = run_walk(directory, first=first, length=length, period=period, runs=("rtk_outages",), params=p)
+        s = summary["rtk_outages"]
+        drift = [o["horizontal_at_end_m"] for o in s["outages"] if o["fixed_epochs"]]
+        out[name] = {"drift_m": drift, "drift_mean_m": float(np.mean(drift)),
+                     "horizontal_rms_m": s["outside_outages"]["horizontal_m"]["rms"],
+                     "gps_pos": s["decisions"]["gps_pos"],
+                     "noise": {k: float(summary["params"][k]) for k in NOISE_KEYS}}
+    base = out["defaults"]["drift_mean_m"]
+    for v in out.values():
+        v["ratio"] = v["drift_mean_m"] / base
+    return out
+
+
 def outage_sweep(directory=None, firsts=range(15, 46, 5), seed=0, noise_m=2.5, length=10.0, period=30.0) -> dict:
     """Drift at the end of each outage over several outage phases (outages with >= 30 RTK-fixed
     epochs): median, 90th percentile, max, and the error over the filter's own one-sigma."""
@@ -279,6 +321,9 @@ def run(args) -> int:
     if args.sweep:
         summary["outage_sweep"] = outage_sweep(args.data, seed=args.seed, noise_m=args.noise_m,
                                                length=args.outage_length, period=args.outage_period)
+    if args.perturbation:
+        summary["perturbation"] = perturbation_table(args.data, args.outage_first, args.outage_length,
+                                                     args.outage_period)
     write_json(summary, args)
     if args.plot:
         plot(summary, arrays, args.plot)
@@ -311,4 +356,10 @@ def run(args) -> int:
             print(f"sweep {run}: {w['n']} outages, drift at end median {w['median_m']:.2f} m, 90% {w['p90_m']:.2f} m, "
                   f"max {w['max_m']:.2f} m; error/sigma median {w['error_over_sigma_median']:.2f}, "
                   f"max {w['error_over_sigma_max']:.2f}")
+    if args.perturbation:
+        print("robustness (RTK with outages, noise as 'ins run' sets it): drift at the end of each outage with "
+              "RTK-fixed epochs (m), their mean and its ratio to the defaults'")
+        for name, v in summary["perturbation"].items():
+            print(f"  {name:24s} " + ", ".join(f"{x:6.2f}" for x in v["drift_m"])
+                  + f"   mean {v['drift_mean_m']:6.2f}   ratio {v['ratio']:.2f}")
     return 0
