@@ -229,6 +229,65 @@ template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : AttitudeOps<Quate
   }
 };
 
+/// The default QuaternionEKF (the error-state filter with its robustness parts): the common
+/// operations with the parts switched on and off (rest detection and its zero-rate update run
+/// inside predict), plus the joint update, set_state and reset. Its state is compared field by field, the parts' states included.
+template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<QuaternionEKF<S>> {
+  using F = QuaternionEKF<S>;
+  using State = typename F::State;
+  static constexpr const char* name = "QuaternionEKF";
+  static typename F::Params params(Reader& r) {
+    typename F::Params p = AttitudeOps<F>::params(r);
+    p.gyro_rate_noise = (r.byte() & 1) ? r.positive<S>(p.gyro_rate_noise) : S(0);
+    p.mag_heading_only = r.byte() & 1;
+    p.acc_tilt_only = r.byte() & 1;
+    p.acc_gate = (r.byte() & 3) == 0 ? r.positive<S>(S(11)) : S(0);
+    p.mag_gate = (r.byte() & 1) ? r.positive<S>(S(9)) : S(0);
+    p.declination = (r.byte() & 3) == 0 ? S(r.raw<std::int8_t>()) / S(40) : S(0);
+    p.clip.gyro_clip = r.byte() & 1;
+    p.clip.gyro_clip_repeats = 1 + r.byte() % 3;
+    p.clip.gyro_clip_min_rate = r.positive<S>(p.clip.gyro_clip_min_rate);
+    return p;
+  }
+  static bool same(const State& a, const State& b) { return fields_bits_equal(a, b); }
+  static bool healthy(const F& f, std::string& why) {
+    const State& s = f.state();
+    if (!s.q_nb.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag.ref))
+      return why = "non-finite state", false;
+    if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
+      return why = "quaternion norm off 1", false;
+    if (!symmetric<S, 6>(s.P)) return why = "P not symmetric", false;
+    return true;
+  }
+  static State random_state(Reader& r) {
+    State s;
+    for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>();
+    if (r.byte() & 1) s.q_nb = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
+    s.gyro_bias = r.vec3<S>();
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
+    s.mag.ref.mag_ref = r.vec3<S>();
+    s.mag.ref.mag_ref_count = r.byte();
+    s.initialized = r.byte() & 1;
+    return s;
+  }
+  static StepOutcome step(F& f, Reader& r) {
+    const int op = r.byte() % 10;
+    switch (op) {
+      case 7: {
+        const Vec3<S> a = r.reading<S>(Vec3<S>(S(0.3), S(-0.2), S(-9.8))), m = r.reading<S>(Vec3<S>(S(20), S(2), S(43)));
+        return outcome(f.update_acc_mag(a, m, (r.byte() & 3) == 0 ? r.scalar<S>() : S(0)), "update_acc_mag");
+      }
+      case 8: return {f.set_state(random_state(r)), true, "set_state"};
+      case 9: {
+        const State s = random_state(r);
+        return {f.reset(s.q_nb, s.gyro_bias, s.P), true, "reset"};
+      }
+      default: return AttitudeOps<F>::common_step(f, r, op);
+    }
+  }
+};
+
 template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
   using F = EulerEKF<S>;
   using State = typename F::State;
@@ -629,28 +688,13 @@ template <class F, class Fail> bool run_one(Reader& r, Fail&& fail) {
   return true;
 }
 
-/// The fuzz entry: the first byte picks the filter and the precision (every filter, float and
-/// double; NavFilter13 with each of its three time updates).
-template <class Fail> bool fuzz_all(const std::uint8_t* data, std::size_t size, Fail&& fail) {
-  Reader r(data, size);
-  switch (r.byte() % 16) {
-    case 0: return run_one<QuaternionEKFPaper<double>>(r, fail);
-    case 1: return run_one<QuaternionEKFPaper<float>>(r, fail);
-    case 2: return run_one<EulerEKF<double>>(r, fail);
-    case 3: return run_one<EulerEKF<float>>(r, fail);
-    case 4: return run_one<MargFilter<double>>(r, fail);
-    case 5: return run_one<MargFilter<float>>(r, fail);
-    case 6: return run_one<NavFilter13<double, TimeUpdate::Ekf>>(r, fail);
-    case 7: return run_one<NavFilter13<float, TimeUpdate::Ekf>>(r, fail);
-    case 8: return run_one<NavFilter13<double, TimeUpdate::SecondOrder>>(r, fail);
-    case 9: return run_one<NavFilter13<float, TimeUpdate::SecondOrder>>(r, fail);
-    case 10: return run_one<NavFilter13<double, TimeUpdate::Ukf>>(r, fail);
-    case 11: return run_one<NavFilter13<float, TimeUpdate::Ukf>>(r, fail);
-    case 12: return run_one<GpsInsFilter<double>>(r, fail);
-    case 13: return run_one<GpsInsFilter<float>>(r, fail);
-    case 14: return run_one<GpsInsFilter<double, true>>(r, fail);
-    default: return run_one<GpsInsFilter<float, true>>(r, fail);
-  }
-}
+/// A contract violation's report (the fuzz target aborts; the GoogleTest replay fails the test).
+using FailFn = void (*)(const std::string& message);
+
+/// The fuzz target's units (tests/fuzz/fuzz_*.cpp), each compiled on its own so that the target
+/// builds on every core: the filter `which` (0..5) of a family on the input `r`.
+bool fuzz_attitude(Reader& r, int which, FailFn fail);   // QuaternionEKF, QuaternionEKFPaper, EulerEKF
+bool fuzz_marg_gpsins(Reader& r, int which, FailFn fail);  // MargFilter, GpsInsFilter (+ scale factors)
+bool fuzz_nav13(Reader& r, int which, FailFn fail);      // NavFilter13: EKF, second-order, UKF
 
 }  // namespace quatnav_fuzz

@@ -326,9 +326,11 @@ template <class S> class EulerEKF {
     Vec3<S> a;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
+    // As QuaternionEKF::update_acc: a failed update leaves the rest test and the low-pass too.
+    const State before = st_;
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
-    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
+    res = AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
       const Vec3<S> up = quat::rotate_inv(quat(), Vec3<S>(S(0), S(0), S(1)));  // the vertical, body frame
       const S sin_pitch = std::sin(st_.euler[1]);
       const Mat3<S> W = AccFilter<S>::bias_weight(params_.acc, st_.acc, up);  // I - up up^T without rotation
@@ -339,6 +341,8 @@ template <class S> class EulerEKF {
                        k.template tail<3>() = (W * k.template tail<3>()).eval();
                      });
     });
+    if (res.status != Status::Ok && res.status != Status::Rejected) st_ = before;
+    return res;
   }
 
   /// Magnetometer update: the magnetometer part (reference field, disturbance tests), then the
@@ -409,11 +413,17 @@ template <class S> class EulerEKF {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
     if (kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain) != Status::Ok) return;
-    if (!all_finite(P)) {
+    if (!all_finite(P) || !all_finite(dx)) {
       res.status = Status::NumericalFailure;
       return;
     }
     floor_covariance<S, 6>(P, params_.cov_floor);
+    // The floor's eigendecomposition of a covariance near the overflow limit can fail, and a
+    // state near it can overflow: refused, nothing changed.
+    if (!all_finite(P) || !all_finite(Vec<S, 6>(dx + (Vec<S, 6>() << st_.euler, st_.gyro_bias).finished()))) {
+      res.status = Status::NumericalFailure;
+      return;
+    }
     st_.euler += dx.template head<3>();
     st_.euler[0] = quat::wrap_pi(st_.euler[0]);
     st_.euler[2] = quat::wrap_pi(st_.euler[2]);

@@ -297,13 +297,18 @@ template <class S> class QuaternionEKF {
       P_new.template topLeftCorner<3, 3>() += detail::tilt_rate_noise<S>(q_new, rate, params_.gyro_rate_noise, dt);
     }
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
-    st_.q_nb = q_new;
     bool psd = true;
     if (params_.cov_floor > S(0) && !(cov_psd_ && detail::eskf_floor_implied<S, 6>(P_new, qa, qb, params_.cov_floor))) {
       Mat6 shifted = P_new;
       shifted.diagonal().array() -= params_.cov_floor;
-      if (!detail::has_cholesky<S, 6>(shifted)) psd = floor_covariance<S, 6>(P_new, params_.cov_floor);
+      if (!detail::has_cholesky<S, 6>(shifted)) {
+        psd = floor_covariance<S, 6>(P_new, params_.cov_floor);
+        // The floor's eigendecomposition of a covariance near the overflow limit (one given by
+        // set_state or reset) can fail: refused, nothing changed.
+        if (!all_finite(P_new)) return Status::NumericalFailure;
+      }
     }
+    st_.q_nb = q_new;
     cov_psd_ = psd;
     st_.P = P_new;
     flags_ = 0;
@@ -324,11 +329,17 @@ template <class S> class QuaternionEKF {
     Vec3<S> a;
     const Status ua = detail::unit_vector(acc, a);
     if (ua != Status::Ok) return status_result<3>(ua);
+    // The rest test (and its zero-rate update) and the low-pass take the sample before the
+    // update; an update that fails (SolveFailed, NumericalFailure) leaves all of it as it was.
+    const State before = st_;
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
-    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
-      return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
-    });
+    UpdateResult<S, 3> res =
+        AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
+          return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
+        });
+    if (res.status != Status::Ok && res.status != Status::Rejected) st_ = before;
+    return res;
   }
 
   /// Magnetometer update: the magnetometer part as in QuaternionEKFPaper::update_mag, then the

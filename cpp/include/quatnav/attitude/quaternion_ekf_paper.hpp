@@ -252,12 +252,16 @@ template <class S> class QuaternionEKFPaper {
     Vec3<S> a;
     res.status = detail::unit_vector(acc, a);
     if (res.status != Status::Ok) return res;
+    // As QuaternionEKF::update_acc: a failed update leaves the rest test and the low-pass too.
+    const State before = st_;
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
     // The 7-state filter keeps acc_lp_tau whatever its bias variance (max_bias_var 0).
-    return AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, S(0), flags_, [&](const AccSample<S>& in) {
+    res = AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, S(0), flags_, [&](const AccSample<S>& in) {
       return update3(in.acc, detail::qekf_h(st_.q_nb, S(0), S(-1)), detail::qekf_H(st_.q_nb, S(0), S(-1)),
                      params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
     });
+    if (res.status != Status::Ok && res.status != Status::Rejected) st_ = before;
+    return res;
   }
 
   /// Magnetometer update; mag in any unit, normalized here.

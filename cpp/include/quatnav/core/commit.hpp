@@ -16,6 +16,8 @@
 // NumericalFailure; a refused correction keeps the status it gave.
 #pragma once
 
+#include <cmath>
+
 #include "types.hpp"
 
 namespace quatnav {
@@ -28,6 +30,12 @@ template <class S, int M, class P_t, class Inject, class Check, class Condition,
 Status inject_and_commit(UpdateResult<S, M>& res, P_t& P, Inject&& inject, Check&& check, Condition&& condition,
                          Commit&& commit) {
   if (res.status != Status::Ok) return res.status;
+  // An accepted correction reports finite outputs: an innovation covariance that overflowed
+  // (a covariance near the overflow limit) refuses it.
+  if (!res.innovation.allFinite() || !res.innovation_cov.allFinite() || !std::isfinite(res.nis)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
   auto candidate = inject();
   if (!check(static_cast<const decltype(candidate)&>(candidate), static_cast<const P_t&>(P)) ||
       !condition(candidate, P)) {

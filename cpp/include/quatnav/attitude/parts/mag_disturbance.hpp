@@ -153,10 +153,15 @@ template <class S> struct MagDisturbance {
   template <class Field, class Update>
   static auto update(const Params& p, State& s, S norm, const Field& field_n, S dt, std::uint32_t& sample_flags,
                      Update&& filter_update) {
+    const State before = s;  // an update that fails (SolveFailed, NumericalFailure) leaves the part too
     const MagSample<S> c = screen(p, s, norm, field_n(), dt);
     using Result = decltype(filter_update());
     Result res = c.use ? filter_update() : Result{};  // one result, built in place
     if (c.use) {
+      if (res.status != Status::Ok && res.status != Status::Rejected) {
+        s = before;
+        return res;
+      }
       finish(p, s, c, res.status, field_n, dt);
     } else {
       res.status = Status::Rejected;

@@ -250,11 +250,11 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       if (params_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / params_.acc_bias_tau);
       if (params_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / params_.gyro_bias_tau);
       if (!P.allFinite()) return Status::NumericalFailure;
-      floor_covariance<S, kStates>(P, params_.cov_floor);
+      floor_covariance<S, kStates>(P, params_.cov_floor);  // may fail near the overflow limit: s.P below
       s.P = P;
     }
     if (s.phase == GpsInsPhase::Navigating) detail::gpsins_nhc_evidence(s, params_, dt);
-    if (!detail::gpsins_nav_ok(s) || !w.allFinite() || !f.allFinite() || !s.rest_acc_lp.allFinite() ||
+    if (!detail::gpsins_nav_ok(s) || !s.P.allFinite() || !w.allFinite() || !f.allFinite() || !s.rest_acc_lp.allFinite() ||
         !s.rest_v.allFinite() || !s.mot_dv.allFinite())
       return Status::NumericalFailure;
     s.omega_b = w;
@@ -773,7 +773,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         // that it comes after the injection here.
         [&](State&, Mat16& Pc) {
           floor_covariance<S, kStates>(Pc, params_.cov_floor);
-          return true;
+          return Pc.allFinite();  // the floor of a P near the overflow limit can fail: refused
         },
         [&](State& s, const Mat16& Pc) {
           s.P = Pc;
