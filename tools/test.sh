@@ -18,8 +18,9 @@
 # Environment: PYTHON (an interpreter to use as it is; default: a virtual environment in .venv,
 #              see tools/setup_env.sh), QUATNAV_JOBS (default 2),
 #              CXX_TESTS (the compiler of the GoogleTest suite, default clang++, else c++),
-#              QUATNAV_SANITIZE=1 also builds and runs the C++ tests under ASan + UBSan (CXX_SANITIZE,
-#              default clang++; docs/DEVELOPING.md, "Sanitizer build"),
+#              QUATNAV_SANITIZE=1 also builds and runs the C++ tests that exercise memory (the fault
+#              sequences of every filter, the smoothers, the batch loops) under ASan + UBSan
+#              (CXX_SANITIZE, default clang++; docs/DEVELOPING.md, "Sanitizer build": which, and why),
 #              QUATNAV_FUZZ_SECONDS=N (with clang) also fuzzes the filters for N s (tests/fuzz/run.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
