@@ -120,7 +120,8 @@ class Rest:
             return False
         self.acc_lp = lowpass(self.acc_lp, acc, dt, p.rest_tau)
         still = (np.linalg.norm(self.gyr_last - self.gyr_lp) < p.rest_gyr_th
-                 and np.linalg.norm(self.gyr_lp - gyro_bias) < p.rest_gyr_th
+                 and (np.linalg.norm(self.gyr_lp - gyro_bias) < p.rest_gyr_th
+                      or np.linalg.norm(self.gyr_lp) < p.rest_gyr_th)  # a wrong bias never locks rest out
                  and np.linalg.norm(acc - self.acc_lp) < p.rest_acc_th)
         self.rest_t = self.rest_t + dt if still else 0.0
         return self.rest_t >= p.rest_time
