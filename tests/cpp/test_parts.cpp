@@ -134,6 +134,12 @@ TYPED_TEST(Parts, AccTimeConstantFollowsTheBiasVariance) {
   EXPECT_EQ(AccFilter<S>::time_constant(p, S(0)), p.acc_lp_tau);
   EXPECT_EQ(AccFilter<S>::time_constant(p, S(0.006 * 0.006 / 2)), p.acc_lp_tau);
   EXPECT_NEAR(double(AccFilter<S>::time_constant(p, S(4 * 0.006 * 0.006))), 0.75, 1e-6);
+  // The shrink fades out with the low-passed linear acceleration (acc_lp_dev 1 m/s^2).
+  EXPECT_NEAR(double(AccFilter<S>::time_constant(p, S(4 * 0.006 * 0.006), S(0))), 0.75, 1e-6);
+  EXPECT_NEAR(double(AccFilter<S>::time_constant(p, S(4 * 0.006 * 0.006), S(0.5))), 1.875, 1e-5);
+  EXPECT_EQ(AccFilter<S>::time_constant(p, S(4 * 0.006 * 0.006), S(2)), p.acc_lp_tau);
+  p.acc_lp_dev = S(0);
+  EXPECT_NEAR(double(AccFilter<S>::time_constant(p, S(4 * 0.006 * 0.006), S(2))), 0.75, 1e-6);
   p.acc_lp_bias_sigma = S(0);
   EXPECT_EQ(AccFilter<S>::time_constant(p, S(1)), p.acc_lp_tau);
 }

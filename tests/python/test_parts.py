@@ -96,6 +96,10 @@ def test_acc_rejection_adaptive_noise_and_recovery():
     assert a.acc_reject_t == 0.0
     b = AccFilter(_params("AccFilterParams"))  # acc_lp_tau 3 s, acc_lp_bias_sigma 0.006 rad/s
     assert b.time_constant(0.0) == 3.0 and b.time_constant(4 * 0.006**2) == pytest.approx(0.75)
+    # acc_lp_dev 1 m/s^2: the shrink fades out with the low-passed linear acceleration
+    assert b.time_constant_dev(4 * 0.006**2, 0.0) == pytest.approx(0.75)
+    assert b.time_constant_dev(4 * 0.006**2, 0.5) == pytest.approx(1.875)
+    assert b.time_constant_dev(4 * 0.006**2, 2.0) == 3.0
 
 
 # ---------------------------------------------------------------------------- magnetometer part

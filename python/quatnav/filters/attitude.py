@@ -276,6 +276,10 @@ class QuaternionEKF(_AttitudeFilter):
         constant is ``acc_lp_tau * (acc_lp_bias_sigma / sigma_b)**2``: the low-pass frame, carried
         by the bias-corrected gyro, is only trusted as far as the bias is known (error-state
         filter only). 0: always ``acc_lp_tau``.
+    acc_lp_dev : float, default 1 [0]
+        The shrink above fades out as the raw samples' ``||a| - g|``, low-passed over
+        ``acc_lp_tau``, approaches this (m/s^2): under sustained linear acceleration (a swing's
+        centripetal acceleration) the low-pass stays long even while the bias is unknown. 0: off.
     mag_norm_tol : float, default 0.05
         Reject the magnetometer when ``||m| / m_ref - 1|`` exceeds this (m_ref learned).
     mag_dip_tol : float, default 0.05

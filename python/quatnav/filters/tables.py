@@ -202,7 +202,8 @@ def _cov_floor(d):
 
 # The robustness parts of the attitude filters (cpp/include/quatnav/attitude/parts/): one entry per
 # field, with each filter's default (a test checks them against the parts' C++ declarations).
-def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0, lp_bias_sigma=0.006):
+def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0, lp_bias_sigma=0.006,
+              lp_dev=1.0):
     """The accelerometer part (parts/acc_filter.hpp)."""
     return (
         _p("gravity", gravity, "m/s^2", "magnitude of gravity, in the unit of acc", "pos0"),
@@ -214,6 +215,8 @@ def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0
            "(0: off)", "pos0"),
         _p("acc_lp_bias_sigma", lp_bias_sigma, "rad/s", "above this gyro-bias one-sigma the accelerometer "
            "low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off)", "pos0"),
+        _p("acc_lp_dev", lp_dev, "m/s^2", "the shrink of acc_lp_bias_sigma fades out as the low-passed "
+           "||a|-g| of the raw samples approaches this (0: off)", "pos0"),
     )
 
 

@@ -120,7 +120,8 @@ class Rest:
             return False
         self.acc_lp = lowpass(self.acc_lp, acc, dt, p.rest_tau)
         still = (np.linalg.norm(self.gyr_last - self.gyr_lp) < p.rest_gyr_th
-                 and np.linalg.norm(self.gyr_lp - gyro_bias) < p.rest_gyr_th
+                 and (np.linalg.norm(self.gyr_lp - gyro_bias) < p.rest_gyr_th
+                      or np.linalg.norm(self.gyr_lp) < p.rest_gyr_th)  # a wrong bias never locks rest out
                  and np.linalg.norm(acc - self.acc_lp) < p.rest_acc_th)
         self.rest_t = self.rest_t + dt if still else 0.0
         return self.rest_t >= p.rest_time
@@ -146,6 +147,7 @@ class AccFilter:
         self.restart()
         self.acc_i_lp = np.zeros(3)
         self.C_i_lp = np.eye(3)
+        self.acc_dev_lp = 0.0
 
     def restart(self):
         self.acc_lp_init, self.q_i, self.acc_reject_t = False, Q.identity(), 0.0
@@ -166,6 +168,14 @@ class AccFilter:
             return p.acc_lp_tau
         return p.acc_lp_tau * (sb * sb / max_bias_var) if max_bias_var > sb * sb else p.acc_lp_tau
 
+    def time_constant_dev(self, max_bias_var, dev_lp):
+        """The same, the shrink faded out by the low-passed linear acceleration (acc_lp_dev)."""
+        p = self.p
+        tau_b = self.time_constant(max_bias_var)
+        if not p.acc_lp_dev > 0 or tau_b == p.acc_lp_tau:
+            return tau_b
+        return tau_b + (p.acc_lp_tau - tau_b) * min(1.0, dev_lp / p.acc_lp_dev)
+
     def screen(self, acc, dt, max_bias_var):
         """The sample to use (``acc``), its extra one-sigma (``sigma_add``), ``rejected``, ``recovering``."""
         p = self.p
@@ -174,10 +184,13 @@ class AccFilter:
         if p.acc_lp_tau > 0:
             a_i = Q.rotate(self.q_i, acc)
             C_ib = Q.to_rotmat(self.q_i)
+            dev_raw = abs(np.linalg.norm(acc) - p.gravity)
             if not self.acc_lp_init or not dt > 0:
                 self.acc_i_lp, self.C_i_lp, self.acc_lp_init = a_i, C_ib, True
+                self.acc_dev_lp = dev_raw
             else:
-                tau = self.time_constant(max_bias_var)
+                self.acc_dev_lp = lowpass(self.acc_dev_lp, dev_raw, dt, p.acc_lp_tau)
+                tau = self.time_constant_dev(max_bias_var, self.acc_dev_lp)
                 self.acc_i_lp = lowpass(self.acc_i_lp, a_i, dt, tau)
                 self.C_i_lp = lowpass(self.C_i_lp, C_ib, dt, tau)
             used = Q.rotate_inv(self.q_i, self.acc_i_lp)

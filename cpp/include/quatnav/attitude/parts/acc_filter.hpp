@@ -10,7 +10,15 @@
 //    over its length) while gravity stays. The frame turns by about sigma_b * tau for a gyro-bias
 //    error sigma_b, so while the filter's largest gyro-bias variance sigma_b^2 exceeds
 //    acc_lp_bias_sigma^2 the time constant is acc_lp_tau * (acc_lp_bias_sigma / sigma_b)^2: the
-//    low-pass is only trusted as far as the bias is known.
+//    low-pass is only trusted as far as the bias is known. That shorter low-pass passes the
+//    linear acceleration on to the update, harmless while the body only turns, fatal under
+//    sustained linear acceleration: a filter started in a pendulum's or a limb's swing, its bias
+//    unknown, took the swing's centripetal acceleration for gravity and learned a bias of tens of
+//    deg/s along the swinging axis (whose variance, unobserved, kept the low-pass short for the
+//    whole run): 6D and 9D errors of 90-110 deg. So the shrink fades out as the raw samples'
+//    low-passed ||a| - g| (time constant acc_lp_tau) approaches acc_lp_dev:
+//        tau = tau_b + (acc_lp_tau - tau_b) min(1, dev_lp / acc_lp_dev),
+//    tau_b the shrunk time constant above.
 //  * The bias weight (bias_weight()): the body's attitude in the same frame is low-passed with
 //    the same time constant. The low-passed sample's error (the part of a periodic linear
 //    acceleration the low-pass lets through: centripetal and tangential acceleration of a swing)
@@ -37,6 +45,7 @@
 // The part follows the input signal: the low-pass and the timer advance whatever the update does.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -57,7 +66,10 @@ namespace quatnav {
   X(S, acc_lp_tau, S(3), "s", "low-pass time constant of the accelerometer in a quasi-inertial frame (0: off)") \
   X(S, acc_lp_bias_sigma, S(0.006), "rad/s",                                                             \
     "above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by "                \
-    "(acc_lp_bias_sigma / sigma_b)^2 (0: off)")
+    "(acc_lp_bias_sigma / sigma_b)^2 (0: off)")                                                         \
+  X(S, acc_lp_dev, S(1), "m/s^2",                                                                        \
+    "the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches "  \
+    "this (0: off)")
 
 /// Parameters of the accelerometer part (the defaults are QuaternionEKF's, chosen on BROAD).
 template <class S> struct AccFilterParams {
@@ -69,6 +81,7 @@ template <class S> struct AccFilterParams {
   X(Vec3<S>, acc_i_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer in that frame")              \
   X(Mat3<S>, C_i_lp, Mat3<S>::Identity(), "1", "low-passed attitude C_ib in that frame (the bias weight)") \
   X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")                                           \
+  X(S, acc_dev_lp, S(0), "m/s^2", "low-passed ||a| - g| of the raw samples (acc_lp_dev)")                \
   X(S, acc_reject_t, S(0), "s", "time every accelerometer update was rejected")
 
 template <class S> struct AccFilterState {
@@ -94,7 +107,7 @@ template <class S> struct AccFilter {
   /// Switch the part off (the plain filters of the papers): the raw sample, never rejected, the
   /// constant noise (gravity is kept: MargFilter's eq. 7 uses it).
   static void off(Params& p) {
-    p.acc_adapt = p.acc_reject = p.acc_recovery_time = p.acc_lp_tau = p.acc_lp_bias_sigma = S(0);
+    p.acc_adapt = p.acc_reject = p.acc_recovery_time = p.acc_lp_tau = p.acc_lp_bias_sigma = p.acc_lp_dev = S(0);
   }
 
   /// When the filter starts (initialize): the low-pass and the timer start afresh.
@@ -124,6 +137,14 @@ template <class S> struct AccFilter {
     return max_bias_var > sb * sb ? p.acc_lp_tau * (sb * sb / max_bias_var) : p.acc_lp_tau;
   }
 
+  /// The same, the shrink faded out by the low-passed linear acceleration dev_lp [m/s^2]
+  /// (acc_lp_dev; the top of this file).
+  static S time_constant(const Params& p, S max_bias_var, S dev_lp) {
+    const S tau_b = time_constant(p, max_bias_var);
+    if (!(p.acc_lp_dev > S(0)) || tau_b == p.acc_lp_tau) return tau_b;
+    return tau_b + (p.acc_lp_tau - tau_b) * std::min(S(1), dev_lp / p.acc_lp_dev);
+  }
+
   /// At every accelerometer sample acc (dt: the step of the last predict): the sample to use, its
   /// extra noise and whether it is refused. The filter then updates (or not) and calls finish().
   static AccSample<S> screen(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var) {
@@ -132,12 +153,15 @@ template <class S> struct AccFilter {
     if (p.acc_lp_tau > S(0)) {
       const Vec3<S> a_i = quat::rotate(s.q_i, acc);
       const Mat3<S> C_ib = quat::to_rotmat(s.q_i);
+      const S dev_raw = std::abs(acc.norm() - p.gravity);
       if (!s.acc_lp_init || !(dt > S(0))) {
         s.acc_i_lp = a_i;
         s.C_i_lp = C_ib;
+        s.acc_dev_lp = dev_raw;
         s.acc_lp_init = true;
       } else {
-        const S tau = time_constant(p, max_bias_var);
+        detail::lowpass(s.acc_dev_lp, dev_raw, dt, p.acc_lp_tau);
+        const S tau = time_constant(p, max_bias_var, s.acc_dev_lp);
         detail::lowpass(s.acc_i_lp, a_i, dt, tau);
         detail::lowpass(s.C_i_lp, C_ib, dt, tau);
       }

@@ -2,11 +2,15 @@
 // filters (QuaternionEKFPaper, QuaternionEKF, EulerEKF, MargFilter compose it).
 //
 // Rest is declared once, for rest_time without a break, (i) the gyro stays within rest_gyr_th of
-// its low-pass, (ii) that low-pass within rest_gyr_th of the bias estimate and (iii) the
-// accelerometer within rest_acc_th of its low-pass (first-order low-passes with time constant
+// its low-pass, (ii) that low-pass within rest_gyr_th of the bias estimate or of zero and (iii)
+// the accelerometer within rest_acc_th of its low-pass (first-order low-passes with time constant
 // rest_tau, the gyro's advanced at each predict, the accelerometer's at each accelerometer
-// sample). At rest the body does not turn, so the gyro reading of the last predict is the bias
-// plus noise, a measurement of the bias:
+// sample). Test (ii) tells a slow steady rotation from rest; "or of zero" keeps a wrong bias
+// estimate from locking rest out: a filter that learned a bias of tens of deg/s in fast motion
+// (started moving, no heading reference) would otherwise never see rest again, and so never
+// learn the bias back, while a still gyro reading near zero is rest whatever the estimate. At
+// rest the body does not turn, so the gyro reading of the last predict is the bias plus noise, a
+// measurement of the bias:
 //     z = w - b = 0 + v,   E[v v^T] = (gyro_noise^2 / dt + rest_rate_noise^2) I,
 // gyro_noise^2 / dt the white noise of one sample and rest_rate_noise the residual rate (a
 // vehicle at rest still vibrates). The Kalman filters apply it to their bias block; MargFilter,
@@ -83,7 +87,8 @@ template <class S> struct Rest {
     }
     detail::lowpass(s.acc_lp, acc, dt, p.rest_tau);
     const bool still = (s.gyr_last - s.gyr_lp).norm() < p.rest_gyr_th &&
-                       (s.gyr_lp - gyro_bias).norm() < p.rest_gyr_th && (acc - s.acc_lp).norm() < p.rest_acc_th;
+                       ((s.gyr_lp - gyro_bias).norm() < p.rest_gyr_th || s.gyr_lp.norm() < p.rest_gyr_th) &&
+                       (acc - s.acc_lp).norm() < p.rest_acc_th;
     s.rest_t = still ? s.rest_t + dt : S(0);
     return s.rest_t >= p.rest_time;
   }
