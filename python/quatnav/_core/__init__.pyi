@@ -156,6 +156,14 @@ class AccFilterParams_f64:
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_tau(self) -> float:
         """
         low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
@@ -355,6 +363,14 @@ class QuaternionEKFParams_f64:
         """
     @acc_lp_bias_sigma.setter
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_tau(self) -> float:
@@ -845,6 +861,14 @@ class AccFilterParams_f32:
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_tau(self) -> float:
         """
         low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
@@ -1044,6 +1068,14 @@ class QuaternionEKFParams_f32:
         """
     @acc_lp_bias_sigma.setter
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_tau(self) -> float:
@@ -1553,6 +1585,14 @@ class EulerEKFParams_f64:
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_tau(self) -> float:
         """
         low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
@@ -1890,6 +1930,14 @@ class EulerEKFParams_f32:
         """
     @acc_lp_bias_sigma.setter
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_tau(self) -> float:
@@ -2261,6 +2309,14 @@ class MargFilterParams_f64:
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_tau(self) -> float:
         """
         low-pass time constant of the accelerometer in a quasi-inertial frame (0: off) [s]
@@ -2608,6 +2664,14 @@ class MargFilterParams_f32:
         """
     @acc_lp_bias_sigma.setter
     def acc_lp_bias_sigma(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_lp_dev(self) -> float:
+        """
+        the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches this (0: off) [m/s^2]
+        """
+    @acc_lp_dev.setter
+    def acc_lp_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_tau(self) -> float:
