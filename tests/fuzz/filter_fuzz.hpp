@@ -182,14 +182,11 @@ template <class F> struct AttitudeOps {
   }
 };
 
-template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : AttitudeOps<QuaternionEKFPaper<S>> {
-  using F = QuaternionEKFPaper<S>;
+/// The quaternion attitude EKFs (QuaternionEKFPaper: 7 states, QuaternionEKF: 6) share the health
+/// test of their estimate and the arbitrary states given to set_state and reset.
+template <class F, int N> struct QuaternionStateOps : AttitudeOps<F> {
+  using S = typename F::Scalar;
   using State = typename F::State;
-  static constexpr const char* name = "QuaternionEKFPaper";
-  static bool same(const State& a, const State& b) {
-    return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
-           same_mag(a.mag.ref, b.mag.ref) && a.initialized == b.initialized;
-  }
   static bool healthy(const F& f, std::string& why) {
     const State& s = f.state();
     // the estimate (the parts' low-passes and timers follow the input, which may be huge)
@@ -197,7 +194,7 @@ template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : AttitudeOps<Quate
       return why = "non-finite state", false;
     if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
       return why = "quaternion norm off 1", false;
-    if (!symmetric<S, 7>(s.P)) return why = "P not symmetric", false;
+    if (!symmetric<S, N>(s.P)) return why = "P not symmetric", false;
     return true;
   }
   static State random_state(Reader& r) {
@@ -205,12 +202,25 @@ template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : AttitudeOps<Quate
     for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>();
     if (r.byte() & 1) s.q_nb = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
     s.gyro_bias = r.vec3<S>();
-    for (int i = 0; i < 7; ++i)
+    for (int i = 0; i < N; ++i)
       for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
     s.mag.ref.mag_ref = r.vec3<S>();
     s.mag.ref.mag_ref_count = r.byte();
     s.initialized = r.byte() & 1;
     return s;
+  }
+};
+
+template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : QuaternionStateOps<QuaternionEKFPaper<S>, 7> {
+  using F = QuaternionEKFPaper<S>;
+  using State = typename F::State;
+  using Ops = QuaternionStateOps<F, 7>;
+  using Ops::healthy;
+  using Ops::random_state;
+  static constexpr const char* name = "QuaternionEKFPaper";
+  static bool same(const State& a, const State& b) {
+    return bits_equal(a.q_nb, b.q_nb) && bits_equal(a.gyro_bias, b.gyro_bias) && bits_equal(a.P, b.P) &&
+           same_mag(a.mag.ref, b.mag.ref) && a.initialized == b.initialized;
   }
   static StepOutcome step(F& f, Reader& r) {
     const int op = r.byte() % 10;
@@ -232,9 +242,12 @@ template <class S> struct FuzzAdapter<QuaternionEKFPaper<S>> : AttitudeOps<Quate
 /// The default QuaternionEKF (the error-state filter with its robustness parts): the common
 /// operations with the parts switched on and off (rest detection and its zero-rate update run
 /// inside predict), plus the joint update, set_state and reset. Its state is compared field by field, the parts' states included.
-template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<QuaternionEKF<S>> {
+template <class S> struct FuzzAdapter<QuaternionEKF<S>> : QuaternionStateOps<QuaternionEKF<S>, 6> {
   using F = QuaternionEKF<S>;
   using State = typename F::State;
+  using Ops = QuaternionStateOps<F, 6>;
+  using Ops::healthy;
+  using Ops::random_state;
   static constexpr const char* name = "QuaternionEKF";
   static typename F::Params params(Reader& r) {
     typename F::Params p = AttitudeOps<F>::params(r);
@@ -250,27 +263,6 @@ template <class S> struct FuzzAdapter<QuaternionEKF<S>> : AttitudeOps<Quaternion
     return p;
   }
   static bool same(const State& a, const State& b) { return fields_bits_equal(a, b); }
-  static bool healthy(const F& f, std::string& why) {
-    const State& s = f.state();
-    if (!s.q_nb.allFinite() || !s.gyro_bias.allFinite() || !s.P.allFinite() || !detail::fields_finite(s.mag.ref))
-      return why = "non-finite state", false;
-    if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
-      return why = "quaternion norm off 1", false;
-    if (!symmetric<S, 6>(s.P)) return why = "P not symmetric", false;
-    return true;
-  }
-  static State random_state(Reader& r) {
-    State s;
-    for (int i = 0; i < 4; ++i) s.q_nb[i] = r.scalar<S>();
-    if (r.byte() & 1) s.q_nb = quat::from_rotvec(Vec3<S>(r.scalar<S>(), S(0.1), S(0.2)));
-    s.gyro_bias = r.vec3<S>();
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j <= i; ++j) s.P(i, j) = s.P(j, i) = (r.byte() & 1) ? S(i == j) * S(1e-3) : r.scalar<S>();
-    s.mag.ref.mag_ref = r.vec3<S>();
-    s.mag.ref.mag_ref_count = r.byte();
-    s.initialized = r.byte() & 1;
-    return s;
-  }
   static StepOutcome step(F& f, Reader& r) {
     const int op = r.byte() % 10;
     switch (op) {
