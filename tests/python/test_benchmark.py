@@ -215,14 +215,19 @@ def test_resolve_sources(tmp_path):
     T.save_trial(make_trial(n=300), tmp_path / "x.csv")
     T.save_trial(make_trial(n=300), tmp_path / "y.h5")
     specs = resolve_sources([str(tmp_path), "sim:fast_pendulum:2"])
-    assert [s[0] for s in specs] == ["file", "file", "sim"] and specs[2][1:] == ("fast_pendulum", 2)
+    assert [s[0] for s in specs] == ["file", "file", "sim"] and specs[2][1:] == ("fast_pendulum", 2, "rest")
     with pytest.raises(ValueError, match="unknown scenario"):
         resolve_sources(["sim:nope"])
     with pytest.raises(FileNotFoundError):
         resolve_sources([str(tmp_path / "missing")])
     specs = resolve_sources(["sim"])
     from quatnav.sim import FAST_MOTION
-    assert [(s[1], s[2]) for s in specs] == list(FAST_MOTION)
+    assert [(s[1], s[2]) for s in specs] == list(FAST_MOTION) and {s[3] for s in specs} == {"rest"}
+    specs = resolve_sources(["sim-moving", "sim-moving:fast_shaking:3"])
+    assert [(s[1], s[2]) for s in specs] == [*FAST_MOTION, ("fast_shaking", 3)]
+    assert {s[3] for s in specs} == {"moving"}
+    with pytest.raises(ValueError, match="unknown scenario"):
+        resolve_sources(["sim-moving:nope"])
 
 
 def test_cli_eval_on_own_trials(tmp_path, capsys):
@@ -261,6 +266,7 @@ def test_cli_eval_checks_a_trial_file_once(tmp_path, capsys):
     ((), "give a source"),
     (("nowhere",), "nowhere: no such file or folder"),
     (("sim:nope",), "unknown scenario 'nope'"),
+    (("sim-moving:fast_pendulum:x",), "the seed must be"),
     (("broad", "--modes", "7d"), "--modes 7d"),
 ])
 def test_cli_eval_errors(args, expect, capsys, tmp_path, monkeypatch):
@@ -281,3 +287,38 @@ def test_scenario_trial_reference_is_the_imu_frame():
     assert f_n[2] == pytest.approx(-9.8, abs=0.3)
     assert tr.has_mag and np.isnan(tr.mag).all(axis=1).any()  # 50 Hz field on a 200 Hz IMU
     assert not tr.movement[tr.t < 4.9].any() and tr.movement[-1]
+
+
+def test_scenario_trial_started_in_the_motion():
+    """``start="moving"``: the first rest is cut off (the first sample is already in the swing) and
+    every remaining sample is scored; the samples are those of the trial started at rest."""
+    from quatnav.datasets.simulated import scenario_trial
+    rest = scenario_trial("fast_pendulum", 1)
+    moving = scenario_trial("fast_pendulum", 1, start="moving")
+    cut = int(np.argmax(rest.movement))
+    assert cut > 0 and len(moving.t) == len(rest.t) - cut and moving.movement.all()
+    assert np.array_equal(moving.gyr, rest.gyr[cut:]) and np.array_equal(moving.quat_ref, rest.quat_ref[cut:])
+    assert np.array_equal(moving.mag, rest.mag[cut:], equal_nan=True)
+    first_s = moving.t < moving.t[0] + 1.0  # no rest to start from: the swing within the first second
+    assert np.linalg.norm(moving.gyr[first_s], axis=1).max() > np.radians(30)
+    assert moving.dataset == "sim-moving" and moving.name.endswith(":moving")
+    assert moving.source == "sim-moving:fast_pendulum:1"
+    with pytest.raises(ValueError, match="start"):
+        scenario_trial("fast_pendulum", 1, start="late")
+
+
+def test_cli_eval_started_in_the_motion(tmp_path, capsys):
+    """The started-in-motion set is a source of ``quatnav eval`` beside the one started at rest:
+    its own data set in the tables, the first seconds scored (so a filter's convergence from a
+    level guess inside the swing costs it)."""
+    out = tmp_path / "r.json"
+    rc = quatnav.cli.main(["eval", "sim:fast_shaking", "sim-moving:fast_shaking", "--filters", "qekf",
+                           "--peers", "none", "--modes", "9d", "--json", str(out), "--quiet"])
+    assert rc == 0
+    data = json.loads(out.read_text())
+    tr = data["trials"]
+    assert set(tr) == {"sim/fast_shaking:0", "sim-moving/fast_shaking:0:moving"}
+    at_rest = tr["sim/fast_shaking:0"]["results"]["qekf 9D"]["total"]
+    moving = tr["sim-moving/fast_shaking:0:moving"]["results"]["qekf 9D"]["total"]
+    assert 0 < at_rest < moving < 10, (at_rest, moving)
+    assert "sim-moving mean total" in capsys.readouterr().out

@@ -20,7 +20,9 @@ reference:
 
 Sources: ``"broad"`` (the BROAD folder of :func:`quatnav.datasets.broad.default_dir`), ``"sim"``
 (the simulated fast-motion set, :data:`quatnav.sim.FAST_MOTION`), ``"sim:NAME[:SEED]"`` (one
-:mod:`quatnav.sim` scenario), a folder of trial files, one trial file (the generic format of
+:mod:`quatnav.sim` scenario), ``"sim-moving"`` and ``"sim-moving:NAME[:SEED]"`` (the same started
+in the motion: the first rest cut off, every sample scored;
+:func:`quatnav.datasets.simulated.scenario_trial`), a folder of trial files, one trial file (the generic format of
 :mod:`quatnav.datasets.trials`: CSV, HDF5 or .mat), or :class:`~quatnav.datasets.trials.Trial`
 objects. The (trial, estimator, mode) runs go through any :class:`concurrent.futures.Executor`
 (default: in this process, one after the other); each worker loads a trial once.
@@ -64,11 +66,11 @@ METRICS = ("total", "heading", "inclination")
 # ----------------------------------------------------------------------------------------------
 def resolve_sources(sources, ref_frame: str | None = None) -> list:
     """The trials of ``sources`` as small picklable specs for :func:`load_source_trial`:
-    ``("file", path, ref_frame)``, ``("sim", name, seed)`` or a Trial itself.
+    ``("file", path, ref_frame)``, ``("sim", name, seed, start)`` or a Trial itself.
 
     Raises FileNotFoundError / ValueError naming a source that gives no trial."""
     from ..datasets import broad
-    from ..datasets.simulated import parse_sim_source
+    from ..datasets.simulated import SIM_PREFIXES, parse_sim_source
     from ..datasets.trials import Trial, TRIAL_SUFFIXES, list_trial_files
     if isinstance(sources, (str, Path, Trial)):
         sources = [sources]
@@ -85,15 +87,15 @@ def resolve_sources(sources, ref_frame: str | None = None) -> list:
                 raise FileNotFoundError(2, "no BROAD trials (give the folder, or set QUATNAV_DATA to the folder "
                                            "that holds broad/)", str(d))
             specs += [("file", str(p), ref_frame) for p in files]
-        elif s == "sim":
+        elif s in SIM_PREFIXES:
             from ..sim import FAST_MOTION
-            specs += [("sim", name, seed) for name, seed in FAST_MOTION]
-        elif s.startswith("sim:"):
+            specs += [("sim", name, seed, SIM_PREFIXES[s]) for name, seed in FAST_MOTION]
+        elif s.split(":", 1)[0] in SIM_PREFIXES and ":" in s:
             name, seed = parse_sim_source(s)
             from ..sim import list_scenarios
             if name not in list_scenarios():
                 raise ValueError(f"{s}: unknown scenario {name!r} (quatnav simulate --list)")
-            specs.append(("sim", name, seed))
+            specs.append(("sim", name, seed, SIM_PREFIXES[s.split(":", 1)[0]]))
         else:
             p = Path(s)
             if p.is_dir():
@@ -104,7 +106,7 @@ def resolve_sources(sources, ref_frame: str | None = None) -> list:
             elif p.is_file():
                 specs.append(("file", str(p), ref_frame))
             else:
-                raise FileNotFoundError(2, "no such file or folder (a source is broad, sim, sim:NAME[:SEED], "
+                raise FileNotFoundError(2, "no such file or folder (a source is broad, sim, sim:NAME[:SEED], sim-moving, "
                                            "a folder of trials or a trial file)", str(p))
     return specs
 
@@ -117,7 +119,7 @@ def _load_cached(spec):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the main process checked the references already
             return load_trial(spec[1], ref_frame=spec[2])
-    return scenario_trial(spec[1], spec[2])
+    return scenario_trial(spec[1], spec[2], start=spec[3] if len(spec) > 3 else "rest")
 
 
 def load_source_trial(spec):
@@ -360,7 +362,8 @@ def benchmark(sources, algorithms=DEFAULT_ALGORITHMS, modes=MODES, *, params: di
     Parameters
     ----------
     sources : str, Path, Trial or a sequence of them
-        See the module text (``"broad"``, ``"sim"``, ``"sim:NAME[:SEED]"``, folders, files, Trials).
+        See the module text (``"broad"``, ``"sim"``, ``"sim:NAME[:SEED]"``, ``"sim-moving"``, folders,
+        files, Trials).
     algorithms : sequence of str
         Keys of :data:`quatnav.evaluation.algorithms.ALGORITHMS`; an estimator whose package is
         missing is skipped with a note.

@@ -266,13 +266,19 @@ def _broad_dir(arg) -> Path:
     return d
 
 
+def _is_sim(word: str) -> bool:
+    from ..datasets.simulated import SIM_PREFIXES
+    return word.split(":", 1)[0] in SIM_PREFIXES
+
+
 def _sources(words) -> list:
     """The sources of ``quatnav eval``: ``broad`` (alone: the default BROAD folder; followed by a
-    folder: that folder), ``sim``, ``sim:NAME[:SEED]``, folders and files."""
+    folder: that folder), ``sim``, ``sim:NAME[:SEED]``, ``sim-moving[:NAME[:SEED]]``, folders and
+    files."""
     from .._command import UsageError
     words = list(words)
     if not words:
-        raise UsageError("give a source (broad, sim, sim:NAME[:SEED], a folder of trial files or a trial file; "
+        raise UsageError("give a source (broad, sim, sim:NAME[:SEED], sim-moving, a folder of trial files or a trial file; "
                          "see 'quatnav eval -h')")
     out = []
     i = 0
@@ -280,17 +286,17 @@ def _sources(words) -> list:
         w = words[i]
         if w == "broad":
             nxt = words[i + 1] if i + 1 < len(words) else None
-            if nxt is not None and nxt not in ("broad", "sim") and not nxt.startswith("sim:"):
+            if nxt is not None and not _is_sim(nxt) and nxt != "broad":
                 out.append(str(_broad_dir(nxt)))
                 i += 2
                 continue
             out.append(str(_broad_dir(None)))
-        elif w == "sim" or w.startswith("sim:"):
+        elif _is_sim(w):
             out.append(w)
         else:
             p = Path(w)
             if not p.exists():
-                raise UsageError(f"{w}: no such file or folder (a source is broad, sim, sim:NAME[:SEED], a folder "
+                raise UsageError(f"{w}: no such file or folder (a source is broad, sim, sim:NAME[:SEED], sim-moving, a folder "
                                  "of trial files or a trial file)")
             out.append(w)
         i += 1
@@ -339,6 +345,8 @@ sources:
   sim              the simulated fast-motion set (quatnav.sim.FAST_MOTION: pendulum, limb swing,
                    running, shaking, gyro saturation, scale factors and misalignment, vibration)
   sim:NAME[:SEED]  one simulated scenario (quatnav simulate --list)
+  sim-moving       the same set started in the motion: the first rest cut off, every sample
+                   scored, the convergence included (also sim-moving:NAME[:SEED])
   FOLDER, FILE     your own trials: CSV (columns time gyro_x gyro_y gyro_z accel_x accel_y accel_z
                    [mag_x mag_y mag_z] q_w q_x q_y q_z [movement], '# ref_frame: ENU' or NED),
                    HDF5 or .mat (the same names: time or rate, gyro, accel, mag, quat, movement,
@@ -371,7 +379,7 @@ def add_parser(sub) -> None:
                                    "trial of the sources and score them against the reference: per trial, per "
                                    "group and per data set.",
                        epilog=EVAL_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("source", nargs="*", metavar="SOURCE", help="broad, sim, sim:NAME[:SEED], a folder or a file")
+    p.add_argument("source", nargs="*", metavar="SOURCE", help="broad, sim, sim:NAME[:SEED], sim-moving, a folder or a file")
     default_filters = ",".join(a for a in DEFAULT_ALGORITHMS if a in FILTERS)
     default_peers = ",".join(a for a in DEFAULT_ALGORITHMS if a in PEERS)
     p.add_argument("--filters", default=default_filters,
