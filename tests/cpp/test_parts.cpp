@@ -144,6 +144,29 @@ TYPED_TEST(Parts, AccTimeConstantFollowsTheBiasVariance) {
   EXPECT_EQ(AccFilter<S>::time_constant(p, S(1)), p.acc_lp_tau);
 }
 
+TYPED_TEST(Parts, AccBiasWeightGrowsOverTheLowPassFirstTwoTimeConstants) {
+  // The low-pass has averaged nothing at its first sample: the bias weight is 0 there, a quarter
+  // of I - u u^T after tau / 2, the whole after 2 tau, and stays (the age stops counting).
+  using S = TypeParam;
+  AccFilterParams<S> p;  // acc_lp_tau 3 s: the ramp ends at 6 s
+  AccFilterState<S> s;
+  const S dt = S(0.01), g = p.gravity;
+  const Vec3<S> f_b(S(0), S(0), -g), u(S(0), S(0), S(1));
+  const Mat3<S> full = Mat3<S>::Identity() - u * u.transpose();
+  Eigen::internal::set_is_malloc_allowed(false);
+  AccFilter<S>::screen(p, s, f_b, dt, S(0));
+  EXPECT_LT(double(AccFilter<S>::bias_weight(p, s, u).norm()), 1e-12);
+  for (int k = 0; k < 150; ++k) AccFilter<S>::screen(p, s, f_b, dt, S(0));
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, s, u) - full * S(0.25)).norm()), 1e-5);
+  for (int k = 0; k < 1000; ++k) AccFilter<S>::screen(p, s, f_b, dt, S(0));
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(s.acc_lp_age, S(2) * p.acc_lp_tau);
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, s, u) - full).norm()), 1e-6);
+  AccFilter<S>::restart(s);  // a new start ramps again
+  AccFilter<S>::screen(p, s, f_b, dt, S(0));
+  EXPECT_LT(double(AccFilter<S>::bias_weight(p, s, u).norm()), 1e-12);
+}
+
 TYPED_TEST(Parts, AccRejectionAdaptiveNoiseAndRecovery) {
   using S = TypeParam;
   AccFilterParams<S> p;

@@ -148,6 +148,7 @@ class AccFilter:
         self.acc_i_lp = np.zeros(3)
         self.C_i_lp = np.eye(3)
         self.acc_dev_lp = 0.0
+        self.acc_lp_age = 0.0
 
     def restart(self):
         self.acc_lp_init, self.q_i, self.acc_reject_t = False, Q.identity(), 0.0
@@ -188,7 +189,9 @@ class AccFilter:
             if not self.acc_lp_init or not dt > 0:
                 self.acc_i_lp, self.C_i_lp, self.acc_lp_init = a_i, C_ib, True
                 self.acc_dev_lp = dev_raw
+                self.acc_lp_age = 0.0
             else:
+                self.acc_lp_age = min(self.acc_lp_age + dt, 2.0 * p.acc_lp_tau)
                 self.acc_dev_lp = lowpass(self.acc_dev_lp, dev_raw, dt, p.acc_lp_tau)
                 tau = self.time_constant_dev(max_bias_var, self.acc_dev_lp)
                 self.acc_i_lp = lowpass(self.acc_i_lp, a_i, dt, tau)
@@ -205,11 +208,14 @@ class AccFilter:
     def bias_weight(self, u):
         """The weight of the accelerometer's gain in the gyro-bias block for the body-frame vertical
         ``u``: ``C^T (I - g g^T) C`` with C the low-passed C_ib, g = C_ib u (``acc_filter.hpp``);
-        ``I - u u^T`` without the low-pass or before its first sample."""
+        ``I - u u^T`` without the low-pass or before its first sample; times the ramp
+        ``min(1, age / (2 acc_lp_tau))`` over the low-pass's first 2 time constants."""
         if not (self.p.acc_lp_tau > 0 and self.acc_lp_init):
             return np.eye(3) - np.outer(u, u)
         g = Q.rotate(self.q_i, u)
-        return self.C_i_lp.T @ (np.eye(3) - np.outer(g, g)) @ self.C_i_lp
+        W = self.C_i_lp.T @ (np.eye(3) - np.outer(g, g)) @ self.C_i_lp
+        ramp_end = 2.0 * self.p.acc_lp_tau
+        return W * (self.acc_lp_age / ramp_end) if self.acc_lp_age < ramp_end else W
 
     def finish(self, status, dt):
         if status == "ok":

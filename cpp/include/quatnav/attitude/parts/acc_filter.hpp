@@ -35,6 +35,13 @@
 //    rotation W = I - u u^T, the plain projection off the vertical. (Projecting W off the
 //    current vertical as well, P_u W P_u, couples the swinging directions again, in phase with
 //    the swing: 6.4 deg on the pendulum in 6D against 1.5.)
+//    A low-pass has averaged nothing before it has run for about its time constant: its first
+//    sample, with whatever linear acceleration it holds, keeps a weight of e^(-t/tau). So W
+//    grows from 0 to full over the low-pass's first 2 acc_lp_tau (W times min(1, age / (2
+//    acc_lp_tau)), age the time since its first sample): a filter started in a swing or a run no
+//    longer learns, in its first seconds, a bias that the motion's linear acceleration made up
+//    and that it then keeps where the bias is unobservable (docs/broad.md). A filter started at
+//    rest learns its bias there from the zero-rate rows (parts/rest.hpp) meanwhile.
 //  * Rejection (acc_reject > 0): a sample with ||a| - g| > acc_reject is not used.
 //  * Adaptive noise: the filter's one-sigma of the normalized sample grows by
 //    acc_adapt * ||a| - g| / g (MargFilter lowers its gain instead).
@@ -82,6 +89,7 @@ template <class S> struct AccFilterParams {
   X(Mat3<S>, C_i_lp, Mat3<S>::Identity(), "1", "low-passed attitude C_ib in that frame (the bias weight)") \
   X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")                                           \
   X(S, acc_dev_lp, S(0), "m/s^2", "low-passed ||a| - g| of the raw samples (acc_lp_dev)")                \
+  X(S, acc_lp_age, S(0), "s", "time since the low-pass's first sample (the bias weight's ramp)")          \
   X(S, acc_reject_t, S(0), "s", "time every accelerometer update was rejected")
 
 template <class S> struct AccFilterState {
@@ -158,8 +166,10 @@ template <class S> struct AccFilter {
         s.acc_i_lp = a_i;
         s.C_i_lp = C_ib;
         s.acc_dev_lp = dev_raw;
+        s.acc_lp_age = S(0);
         s.acc_lp_init = true;
       } else {
+        s.acc_lp_age = std::min(s.acc_lp_age + dt, S(2) * p.acc_lp_tau);
         detail::lowpass(s.acc_dev_lp, dev_raw, dt, p.acc_lp_tau);
         const S tau = time_constant(p, max_bias_var, s.acc_dev_lp);
         detail::lowpass(s.acc_i_lp, a_i, dt, tau);
@@ -176,8 +186,8 @@ template <class S> struct AccFilter {
   }
 
   /// The weight of the accelerometer's gain in the gyro-bias block (the top of this file) for the
-  /// filter's body-frame vertical u (unit): W = C^T (I - g g^T) C, g = C_ib u; I - u u^T
-  /// without the low-pass or before its first sample.
+  /// filter's body-frame vertical u (unit): W = C^T (I - g g^T) C, g = C_ib u, times the ramp
+  /// min(1, age / (2 acc_lp_tau)); I - u u^T without the low-pass or before its first sample.
   static Mat3<S> bias_weight(const Params& p, const State& s, const Vec3<S>& u) {
     if (!(p.acc_lp_tau > S(0)) || !s.acc_lp_init) return Mat3<S>::Identity() - u * u.transpose();
     const Vec3<S> g = quat::rotate(s.q_i, u);
@@ -185,6 +195,8 @@ template <class S> struct AccFilter {
     Mat3<S> W;
     W.noalias() = s.C_i_lp.transpose() * s.C_i_lp;
     W.noalias() -= gC.transpose() * gC;
+    const S ramp_end = S(2) * p.acc_lp_tau;
+    if (s.acc_lp_age < ramp_end) W *= s.acc_lp_age / ramp_end;
     return W;
   }
 
