@@ -556,6 +556,10 @@ template <class S, bool SF> struct FuzzAdapter<GpsInsFilter<S, SF>> {
     if (std::abs(s.nav.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
     if (!symmetric<S, F::kStates>(s.P)) return why = "P not symmetric", false;
     if (s.phase == GpsInsPhase::Navigating && !(std::abs(s.nav.lat) < 1.5707)) return why = "latitude at a pole", false;
+    // Every state the filter keeps is one it takes back: set_state checks every field (all finite,
+    // the covariance symmetric with a non-negative diagonal, the enums in range).
+    F g(f.params());
+    if (g.set_state(s) != Status::Ok) return why = "a state set_state refuses", false;
     return true;
   }
   static double angle(Reader& r, double typical) {

@@ -2,19 +2,136 @@
 // NavFilter13 tests are in nav13.cpp.
 #include "robustness.hpp"
 
-// 300 inputs each, not the 3000 the other filters replay without sanitizers: more inputs find
-// contract violations not fixed yet (a non-finite state accepted after update_baro or update_gps
-// from a state near the overflow limit; update_gps_position refused with NumericalFailure after
-// changing the state; first at input 1937 of seed 17 and 2155 of seed 19).
+// As many inputs as every other filter (kFaultInputsScale). Each cause the longer replay found has
+// a focused test below (GpsInsContract), the shortest sequence of calls that showed it.
 TEST(FaultSequences, GpsInsFilter) {
-  random_fault_sequences<GpsInsFilter<double>>(17, 300, 1);
-  random_fault_sequences<GpsInsFilter<float>>(18, 300, 1);
+  random_fault_sequences<GpsInsFilter<double>>(17, 300);
+  random_fault_sequences<GpsInsFilter<float>>(18, 300);
 }
 
 TEST(FaultSequences, GpsInsFilterScaleFactors) {
-  random_fault_sequences<GpsInsFilter<double, true>>(19, 300, 1);
-  random_fault_sequences<GpsInsFilter<float, true>>(20, 300, 1);
+  random_fault_sequences<GpsInsFilter<double, true>>(19, 300);
+  random_fault_sequences<GpsInsFilter<float, true>>(20, 300);
 }
+
+// --- the causes the replay found, one test each ------------------------------------------------
+// A step that refuses leaves the state bit for bit; one that succeeds (or records an aid before
+// navigation) leaves a state set_state() takes back (FuzzAdapter::healthy: finite, P symmetric with
+// a non-negative diagonal). Each failed before its fix.
+
+template <class F> void expect_refused_kept(const F& f, const typename F::State& before, Status got, Status want) {
+  EXPECT_EQ(got, want);
+  EXPECT_TRUE(FuzzAdapter<F>::same(before, f.state()));
+}
+
+template <class F> void expect_healthy(const F& f) {
+  std::string why;
+  EXPECT_TRUE(FuzzAdapter<F>::healthy(f, why)) << why;
+}
+
+template <class F> F gpsins_navigating(double h, const Mat<typename F::Scalar, F::kStates, F::kStates>* P = nullptr) {
+  using S = typename F::Scalar;
+  F f;
+  EXPECT_EQ(f.reset(quat::identity<S>(), Vec3<S>::Zero(), 0.6, 0.2, h, Vec3<S>::Zero(), Vec3<S>::Zero(),
+                    P ? *P : f.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5))),
+            Status::Ok);
+  return f;
+}
+
+/// The altimeter offset (its reading minus the INS height) overflowing: the first sample in
+/// navigation made the offset infinite and returned Ok (replay: seed 17, input 1937, float64);
+/// a sample recorded before navigation did so at the start of navigation (seed 100, input 782).
+template <class F> void gpsins_baro_offset_overflow() {
+  using S = typename F::Scalar;
+  F f = gpsins_navigating<F>(-1e308);
+  const auto before = f.state();
+  expect_refused_kept(f, before, f.update_baro(1e308).height.status, Status::NumericalFailure);
+  ASSERT_EQ(f.update_baro(100.0).height.status, Status::Ok);  // a sample that fits starts the offset
+  EXPECT_TRUE(f.state().baro_offset_valid);
+  expect_healthy(f);
+
+  F g;
+  ASSERT_EQ(g.set_initial(quat::identity<S>(), Vec3<S>::Zero(), true, Vec3<S>::Zero(), Vec3<S>::Zero()), Status::Ok);
+  EXPECT_EQ(g.update_baro(1e308).height.status, Status::NotInitialized);  // recorded for the start
+  EXPECT_EQ(g.update_gps_position(0.6, 0.2, -1e308, Vec3<S>::Constant(S(3))).status, Status::Ok);
+  EXPECT_TRUE(g.navigating());
+  EXPECT_FALSE(g.state().baro_offset_valid);  // left to the next sample
+  expect_healthy(g);
+}
+
+/// Before navigation: a fix whose start of navigation is refused (here a course window that ends
+/// beyond the largest latitude the filter navigates at) had recorded the window's GNSS speed on the
+/// way (replay: seed 17, input 2978; seed 19, input 2621, an overflowing displacement); a velocity
+/// near the float maximum recorded an infinite speed.
+template <class F> void gpsins_prenav_fix_refused() {
+  using S = typename F::Scalar;
+  typename F::Params p;
+  p.align_time = S(0.1);
+  F f(p);
+  const Vec3<S> w = Vec3<S>::Zero(), fb(S(0), S(0), S(-9.81));
+  for (int k = 0; k < 12; ++k) ASSERT_EQ(f.predict(w, fb, S(0.01)), Status::Ok);
+  ASSERT_EQ(f.phase(), GpsInsPhase::Levelled);  // levelled, no heading: the course between fixes
+  const Vec3<S> sig = Vec3<S>::Constant(S(0.01));
+  EXPECT_EQ(f.update_gps_position(1.57075, 0.2, 100.0, sig).status, Status::NotInitialized);  // opens the window
+  for (int k = 0; k < 100; ++k) ASSERT_EQ(f.predict(w, fb, S(0.01)), Status::Ok);
+  const auto before = f.state();
+  // 255 m north in 1 s: the course is known, but 1.57079 rad is past detail::kGpsInsMaxAbsLat.
+  expect_refused_kept(f, before, f.update_gps_position(1.57079, 0.2, 100.0, sig).status, Status::NumericalFailure);
+  const S big = std::numeric_limits<S>::max();
+  EXPECT_EQ(f.update_gps_velocity(Vec3<S>(big, big, S(0)), Vec3<S>::Constant(S(0.1))).status, Status::NotInitialized);
+  expect_healthy(f);  // it gave the heading (heading_from_gps); its speed is not recorded:
+  EXPECT_TRUE(quatnav_fuzz::bits_equal(before.gnss_speed, f.state().gnss_speed));
+}
+
+/// A correction whose Joseph-form covariance loses its non-negative diagonal (an indefinite P here,
+/// as set_state and reset take it; in the replay also P ill-conditioned beyond the precision, seed
+/// 100, input 4) was committed: refused now. The compass row on the yaw with the velocity north
+/// correlated beyond 1: P_vv+ = P_vv - P_v,yaw^2 / (P_yaw + R) < 0.
+template <class F> void gpsins_update_loses_psd() {
+  using S = typename F::Scalar;
+  F f0;
+  Mat<S, F::kStates, F::kStates> P = f0.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5));
+  P(3, 3) = S(0.01);
+  P(8, 8) = S(1);
+  P(3, 8) = P(8, 3) = S(0.5);
+  F f = gpsins_navigating<F>(100.0, &P);
+  const auto before = f.state();
+  expect_refused_kept(f, before, f.update_compass(S(0)).status, Status::NumericalFailure);
+  expect_healthy(f);
+}
+
+/// The time update: a rate near the range's end (no gyro_range) while aligning left the motion
+/// window's rotation NaN (seed 100, input 524) and the rest low-pass infinite (seed 107, input
+/// 1781); an indefinite P propagated to a negative variance. Each refused now.
+template <class F> void gpsins_predict_refused() {
+  using S = typename F::Scalar;
+  const Vec3<S> fb(S(0), S(0), S(-9.81));
+  F a;
+  ASSERT_EQ(a.predict(Vec3<S>::Zero(), fb, S(0.01)), Status::Ok);
+  const auto before = a.state();
+  const S huge = sizeof(S) == 4 ? S(3e38f) : S(1e200);
+  expect_refused_kept(a, before, a.predict(Vec3<S>(S(0), huge, S(0)), fb, S(0.01)), Status::NumericalFailure);
+
+  F f0;
+  Mat<S, F::kStates, F::kStates> P = f0.initial_covariance(Vec3<S>(S(3), S(3), S(5)), S(0.5));
+  P(0, 0) = P(3, 3) = S(1e-6);
+  P(0, 3) = P(3, 0) = S(-10);  // P_pp+ = P_pp + 2 dt P_pv + ... < 0
+  F f = gpsins_navigating<F>(100.0, &P);
+  const auto b2 = f.state();
+  expect_refused_kept(f, b2, f.predict(Vec3<S>::Zero(), fb, S(0.01)), Status::NumericalFailure);
+}
+
+#define QUATNAV_GPSINS_CONTRACT_TEST(NAME, FN)      \
+  TEST(GpsInsContract, NAME) {                      \
+    FN<GpsInsFilter<double>>();                     \
+    FN<GpsInsFilter<float>>();                      \
+    FN<GpsInsFilter<double, true>>();               \
+    FN<GpsInsFilter<float, true>>();                \
+  }
+QUATNAV_GPSINS_CONTRACT_TEST(AltimeterOffsetOverflowRefused, gpsins_baro_offset_overflow)
+QUATNAV_GPSINS_CONTRACT_TEST(PreNavigationFixRefusedKept, gpsins_prenav_fix_refused)
+QUATNAV_GPSINS_CONTRACT_TEST(CorrectionLosingPsdRefused, gpsins_update_loses_psd)
+QUATNAV_GPSINS_CONTRACT_TEST(TimeUpdateNonFiniteRefused, gpsins_predict_refused)
 
 template <class S> void gpsins_bad_input() {
   GpsInsParams<S> p;

@@ -123,6 +123,22 @@ template <int K0, class S, bool SF> void reset_block(GpsInsState<S, SF>& s, cons
   s.P.template middleCols<3>(K0).setZero();
   s.P.template block<3, 3>(K0, K0) = R;
 }
+
+/// The altimeter offset state from one altimeter sample h_baro and the INS height: its error is the
+/// INS height error (dp_D) plus the sample's noise (baro_sigma, m). False, s untouched, when the
+/// offset or its variance overflows (a height or an INS height near the double or float maximum).
+template <class S, bool SF> bool gpsins_init_baro_offset(GpsInsState<S, SF>& s, double h_baro, S baro_sigma) {
+  constexpr int D = gpsins::kPos + 2, B = gpsins::kBo;
+  const double offset = h_baro - s.nav.h;
+  const S var = s.P(D, D) + baro_sigma * baro_sigma;
+  if (!std::isfinite(offset) || !std::isfinite(var)) return false;
+  s.baro_offset = offset;
+  s.P.row(B) = s.P.row(D);
+  s.P.col(B) = s.P.col(D);
+  s.P(B, B) = var;
+  s.baro_offset_valid = true;
+  return true;
+}
 }  // namespace detail
 
 /// The pieces. Each has: kind (its counters), M (rows), C0, NC (the columns of the error state

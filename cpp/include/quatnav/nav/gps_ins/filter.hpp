@@ -66,19 +66,9 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
   const State& state() const { return st_; }
   /// Restore a state; InvalidArgument (nothing changed) when it is not finite.
   Status set_state(const State& s) {
-    // As the filter keeps them: everything finite, |q| = 1, the latitude off the poles
-    // (detail::gpsins_nav_ok), P exactly symmetric with a non-negative diagonal.
-    if (!detail::gpsins_nav_ok(s) || !std::isfinite(s.t) || !s.omega_b.allFinite() || !s.f_b.allFinite() ||
-        !s.align_sum.allFinite() || !std::isfinite(s.align_time) || !std::isfinite(s.baro_last) ||
-        !std::isfinite(s.baro_ref_h) || !std::isfinite(s.baro_ref_t) || !(s.q_scale >= S(1)) ||
-        !std::isfinite(s.q_scale) || !detail::acceptable_covariance<S, kStates>(s.P) || int(s.phase) > 2 ||
-        !std::isfinite(s.dt_last) || !s.rest_gyr_lp.allFinite() || !s.rest_acc_lp.allFinite() ||
-        !s.rest_v.allFinite() || !std::isfinite(s.rest_t) || !std::isfinite(s.pseudo_t) || !s.mot_q.allFinite() || !s.mot_dv.allFinite() ||
-        !std::isfinite(s.mot_T) || !s.mot_v0.allFinite() || !std::isfinite(s.mot_lat) || !std::isfinite(s.mot_lon) ||
-        !std::isfinite(s.mot_h) || !s.init_v.allFinite() || !std::isfinite(s.mag_ref_norm) ||
-        !std::isfinite(s.mag_ref_dip) || !std::isfinite(s.gnss_speed) || !std::isfinite(s.gnss_speed_t) ||
-        !std::isfinite(s.gps_pos_t) || int(s.align_method) > 4 || int(s.heading_source) > 5)
-      return Status::InvalidArgument;
+    // As the filter keeps them (detail::gpsins_state_ok): everything finite, |q| = 1, the
+    // latitude off the poles, P exactly symmetric with a non-negative diagonal, the enums in range.
+    if (!detail::gpsins_state_ok(s)) return Status::InvalidArgument;
     st_ = s;
     return Status::Ok;
   }
@@ -223,6 +213,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
           s.align_sum.setZero();
           s.align_time = 0.0;
           s.t += double(dt);
+          if (!detail::gpsins_state_ok(s)) return Status::NumericalFailure;
           st_ = s;
           return Status::Ok;
         }
@@ -254,13 +245,14 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       s.P = P;
     }
     if (s.phase == GpsInsPhase::Navigating) detail::gpsins_nhc_evidence(s, params_, dt);
-    if (!detail::gpsins_nav_ok(s) || !s.P.allFinite() || !w.allFinite() || !f.allFinite() || !s.rest_acc_lp.allFinite() ||
-        !s.rest_v.allFinite() || !s.mot_dv.allFinite())
-      return Status::NumericalFailure;
     s.omega_b = w;
     s.f_b = f;
     s.dt_last = double(dt);
     s.t += double(dt);
+    // The whole candidate as set_state() would take it: the rest low-passes and the motion window
+    // of a reading near the float maximum, a propagated P that lost its non-negative diagonal (an
+    // indefinite or ill-conditioned P) are refused.
+    if (!detail::gpsins_state_ok(s)) return Status::NumericalFailure;
     st_ = s;
     return Status::Ok;
   }
@@ -386,9 +378,12 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       res.status = Status::NotInitialized;
       const S speed = std::sqrt(v_n[0] * v_n[0] + v_n[1] * v_n[1]);
       // The speed less three of its sigmas: the noise of a fix at rest does not make it move.
+      // A speed that overflows (components near the float maximum) is not recorded.
       const S moving = speed - S(3) * std::sqrt(sig[0] * sig[0] + sig[1] * sig[1]);
-      st_.gnss_speed = moving > S(0) ? moving : S(0);
-      st_.gnss_speed_t = st_.t;
+      if (std::isfinite(moving)) {
+        st_.gnss_speed = moving > S(0) ? moving : S(0);
+        st_.gnss_speed_t = st_.t;
+      }
       if (st_.phase == GpsInsPhase::Levelled && !st_.heading_known && params_.heading_from_gps) {
         if (speed >= params_.min_speed_for_heading) {
           set_yaw(std::atan2(v_n[1], v_n[0]));
@@ -438,8 +433,14 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     }
     if (!st_.baro_offset_valid) {
       // First altimeter sample in navigation: the offset state from the INS height (the sample is
-      // used: Ok, decision Aligned, innovation and NIS zero).
-      init_baro_offset(st_, h_baro);
+      // used: Ok, decision Aligned, innovation and NIS zero). A height whose difference from the
+      // INS height overflows (a reading near the double maximum) is refused, nothing kept.
+      if (!detail::gpsins_init_baro_offset(st_, h_baro, params_.baro_sigma)) {
+        restore(saved);
+        r.height.status = Status::NumericalFailure;
+        count(GpsInsAid::Baro, r.height);
+        return r;
+      }
       r.height.status = Status::Ok;
       r.height.decision = GpsInsDecision::Aligned;
     } else {
@@ -528,30 +529,35 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     }
     const Vec3<S> floor = detail::gnss_sigma_floor(params_, kind);
     const Vec3<S> psig = sig.cwiseMax(floor);
-    if (st_.phase == GpsInsPhase::Aligning) {
-      res.status = align_in_motion(lat, lon, h, psig, v0_n, gps_vel_sigma(vel_sigma));
-      if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
-      return res;
-    }
-    if (st_.phase == GpsInsPhase::Levelled) {
-      res.status = Status::NotInitialized;
-      if (!st_.heading_known) {
-        // Levelled at rest, no heading yet: the course between position fixes once moving.
-        Quat<S> q;
-        Vec3<S> v;
-        S vs, ys, ls;
-        if (!window_course(lat, lon, h, psig, false, q, v, vs, ys, ls)) return res;
-        res.status = start(lat, lon, h, psig, q, v, vs, params_.init_level_sigma, ys, st_.align_method,
-                           GpsInsHeading::GnssCourse);
-      } else {
-        const Vec3<S> v0 = st_.init_v_valid ? st_.init_v : (v0_n.allFinite() ? v0_n : Vec3<S>::Zero());
-        res.status = start(lat, lon, h, psig, st_.nav.q_nb, v0, params_.init_vel_sigma, params_.init_level_sigma,
-                           params_.init_yaw_sigma, st_.align_method, st_.heading_source);
-      }
-      if (res.status == Status::Ok) res.decision = GpsInsDecision::Aligned;
+    if (st_.phase != GpsInsPhase::Navigating) {
+      // Before navigation a fix is recorded (NotInitialized) or starts navigation (Ok); a refused
+      // start (NumericalFailure) undoes what the fix recorded on the way (window, GNSS speed).
+      const State saved = st_;
+      res.status = st_.phase == GpsInsPhase::Aligning ? align_in_motion(lat, lon, h, psig, v0_n, gps_vel_sigma(vel_sigma))
+                                                      : levelled_fix(lat, lon, h, psig, v0_n);
+      if (res.status == Status::Ok)
+        res.decision = GpsInsDecision::Aligned;
+      else if (res.status != Status::NotInitialized)
+        restore(saved);
       return res;
     }
     return detail::position_used(st_, apply(detail::gnss_position(st_, params_, lat, lon, h, sig, age, floor, kind)), age);
+  }
+
+  // Levelled, a fix: with a heading known it starts navigation; without, the course between
+  // position fixes once moving (NotInitialized while too close).
+  Status levelled_fix(double lat, double lon, double h, const Vec3<S>& psig, const Vec3<S>& v0_n) {
+    if (!st_.heading_known) {
+      Quat<S> q;
+      Vec3<S> v;
+      S vs, ys, ls;
+      if (!window_course(lat, lon, h, psig, false, q, v, vs, ys, ls)) return Status::NotInitialized;
+      return start(lat, lon, h, psig, q, v, vs, params_.init_level_sigma, ys, st_.align_method,
+                   GpsInsHeading::GnssCourse);
+    }
+    const Vec3<S> v0 = st_.init_v_valid ? st_.init_v : (v0_n.allFinite() ? v0_n : Vec3<S>::Zero());
+    return start(lat, lon, h, psig, st_.nav.q_nb, v0, params_.init_vel_sigma, params_.init_level_sigma,
+                 params_.init_yaw_sigma, st_.align_method, st_.heading_source);
   }
 
   // Alignment in motion at a fix (gps_ins/alignment.hpp): NotInitialized while the window
@@ -621,7 +627,8 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     const S dist = std::sqrt(d[0] * d[0] + d[1] * d[1]);
     const S sh = std::sqrt(psig[0] * psig[0] + psig[1] * psig[1]);
     const double T = st_.mot_T;
-    if (T > 0.0 && S(2) * sh / S(T) < S(0.5) * params_.rest_speed) {  // the window tells rest from motion
+    // The window tells rest from motion (a speed that overflows is not recorded).
+    if (T > 0.0 && S(2) * sh / S(T) < S(0.5) * params_.rest_speed && std::isfinite(dist / S(T))) {
       st_.gnss_speed = dist / S(T);
       st_.gnss_speed_t = st_.t;
     }
@@ -662,17 +669,6 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     return true;
   }
 
-  // The altimeter offset state from one altimeter sample h_baro and the INS height: its error is
-  // the INS height error (dp_D) plus the sample's noise.
-  void init_baro_offset(State& s, double h_baro) const {
-    constexpr int D = gpsins::kPos + 2, B = gpsins::kBo;
-    s.baro_offset = h_baro - s.nav.h;
-    s.P.row(B) = s.P.row(D);
-    s.P.col(B) = s.P.col(D);
-    s.P(B, B) = s.P(D, D) + params_.baro_sigma * params_.baro_sigma;
-    s.baro_offset_valid = true;
-  }
-
   void set_yaw(S yaw) {
     const Vec3<S> e = quat::to_euler(st_.nav.q_nb);
     st_.nav.q_nb = quat::from_euler(e[0], e[1], yaw);
@@ -710,7 +706,9 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     s.rest_v = v0;
     s.mot_valid = false;
     s.baro_offset_valid = false;
-    if (s.baro_last_valid) init_baro_offset(s, s.baro_last);
+    // From the last altimeter sample; one whose offset overflows leaves it to the next sample.
+    if (s.baro_last_valid) detail::gpsins_init_baro_offset(s, s.baro_last, params_.baro_sigma);
+    if (!detail::gpsins_state_ok(s)) return Status::NumericalFailure;
     st_ = s;
     return Status::Ok;
   }
@@ -773,7 +771,9 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
         // that it comes after the injection here.
         [&](State&, Mat16& Pc) {
           floor_covariance<S, kStates>(Pc, params_.cov_floor);
-          return Pc.allFinite();  // the floor of a P near the overflow limit can fail: refused
+          // The floor of a P near the overflow limit can fail; a P ill-conditioned beyond the
+          // precision loses its non-negative diagonal in the Joseph form: refused.
+          return detail::acceptable_covariance<S, kStates>(Pc);
         },
         [&](State& s, const Mat16& Pc) {
           s.P = Pc;
@@ -830,7 +830,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
           // R holds outer products (the GNSS time's and the lever arm's terms) that need not be
           // symmetric to the last bit: the covariance block it becomes must be.
           const Mat<S, M, M> R = S(0.5) * (m.R + m.R.transpose());
-          if (aid.reset(s, params_, R) && detail::gpsins_nav_ok(s)) {
+          if (aid.reset(s, params_, R) && detail::gpsins_nav_ok(s) && detail::acceptable_covariance<S, kStates>(s.P)) {
             st_ = s;
             res.decision = GpsInsDecision::Reset;
             run = 0;

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "../../core/checks.hpp"
+#include "../../core/covariance.hpp"
 #include "../../core/earth.hpp"
 #include "../../core/quaternion.hpp"
 #include "../../core/types.hpp"
@@ -47,6 +49,16 @@ template <class S, bool SF> bool gpsins_nav_ok(const GpsInsState<S, SF>& s) {
          std::isfinite(s.nav.h) && std::abs(s.nav.lat) < kGpsInsMaxAbsLat && s.acc_bias.allFinite() &&
          s.gyro_bias.allFinite() && std::isfinite(s.baro_offset) && std::abs(s.nav.q_nb.norm() - S(1)) <= S(1e-3) &&
          scale_ok;
+}
+
+/// A state as the filter keeps it, and as set_state() takes it back: every floating-point field
+/// finite (detail::fields_finite: the low-passes, the motion window, the times too), the nominal
+/// state as gpsins_nav_ok, P exactly symmetric with a non-negative diagonal, q_scale >= 1 and the
+/// enums in range. Checked by set_state() and at the end of every time update; an update checks
+/// its candidate with gpsins_nav_ok and its covariance with acceptable_covariance.
+template <class S, bool SF> bool gpsins_state_ok(const GpsInsState<S, SF>& s) {
+  return fields_finite(s) && gpsins_nav_ok(s) && acceptable_covariance<S, gpsins::kStates<SF>>(s.P) &&
+         s.q_scale >= S(1) && int(s.phase) <= 2 && int(s.align_method) <= 4 && int(s.heading_source) <= 5;
 }
 
 /// The IMU corrected by the bias (and scale-factor) estimates, in the body axes: the rate or
