@@ -63,7 +63,9 @@ def test_scale_factors_are_estimated_and_improve_the_heading(car):
     est_g, sig_g = r.gyro_scale[-1], r.sigma[-1, 19:22]
     est_a, sig_a = r.acc_scale[-1], r.sigma[-1, 16:19]
     # Within 3 sigma of the truth on every axis (measured: gyro z 5838 +/- 2062 ppm for 8000;
-    # accelerometer x, y -3961 +/- 1618 and 2961 +/- 1485 for -3000 and 4000).
+    # accelerometer x, y -3961 +/- 1618 and 2961 +/- 1485 for -3000 and 4000). An accuracy bound on
+    # one car whose sensors the default parameters do not match, not a consistency test (an
+    # under-confident filter passes it): that is the Monte Carlo of test_gpsins_consistency.py.
     assert np.all(np.abs(est_g - true_g) < 3 * sig_g), (est_g, true_g, sig_g)
     assert np.all(np.abs(est_a - true_a) < 3 * sig_a), (est_a, true_a, sig_a)
     # Observable where the car excites it: the yaw-rate scale (turns) and the horizontal
