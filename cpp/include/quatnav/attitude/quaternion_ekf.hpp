@@ -468,15 +468,35 @@ template <class S> class QuaternionEKF {
     const Status ua = detail::unit_vector(acc, a);
     if (ua != Status::Ok) return status_result<3>(ua);
     // The rest test (and its zero-rate update) and the low-pass take the sample before the
-    // update; an update that fails (SolveFailed, NumericalFailure) leaves all of it as it was.
-    const State before = st_;
-    if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
+    // update; an update that fails (SolveFailed, NumericalFailure) leaves all of it as it was:
+    // the two parts' states, and q, b and P where the zero-rate update changed them (the gravity
+    // update changes them only when it succeeds).
+    const RestState<S> rest_before = st_.rest;
+    const AccFilterState<S> acc_before = st_.acc;
+    Quat<S> q_before;
+    Vec3<S> b_before;
+    Mat6 P_before;
+    const bool zero_rate = Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last);
+    if (zero_rate) {
+      q_before = st_.q_nb;
+      b_before = st_.gyro_bias;
+      P_before = st_.P;
+      update_zero_rate();
+    }
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
     UpdateResult<S, 3> res =
         AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
           return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
         });
-    if (res.status != Status::Ok && res.status != Status::Rejected) st_ = before;
+    if (res.status != Status::Ok && res.status != Status::Rejected) {
+      st_.rest = rest_before;
+      st_.acc = acc_before;
+      if (zero_rate) {
+        st_.q_nb = q_before;
+        st_.gyro_bias = b_before;
+        st_.P = P_before;
+      }
+    }
     return res;
   }
 
