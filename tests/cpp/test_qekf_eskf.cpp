@@ -16,6 +16,7 @@
 #include <quatnav/attitude/quaternion_ekf_paper.hpp>
 
 #include "consistency.hpp"
+#include "random_matrix.hpp"
 #include "same_fields.hpp"
 
 using namespace quatnav;
@@ -443,4 +444,78 @@ TEST(EskfConsistency, DISABLED_MeasureIndependentSamplesPerRun) {
   for (double x : r) m += x / double(r.size());
   for (double x : r) v += (x - m) * (x - m) / double(r.size() - 1);
   std::printf("independent 6-dof samples per run: %.1f (mean NEES / dof %.3f)\n", 2.0 / (6.0 * v), m);
+}
+
+// The block Joseph update for any gain (here a random, non-optimal one) against the dense
+// Joseph form (I - K H) P (I - K H)^T + K R K^T of joseph_update (core/kalman.hpp), for a dense
+// H; exactly symmetric. Odd and even N (columns that start above their diagonal), float and double.
+template <class S, int N, int M> void expect_block_joseph_is_joseph(unsigned seed, double tol) {
+  quatnav_test::Randn rnd(seed);
+  const Mat<double, N, N> Pd = rnd.spd<Mat<double, N, N>>(0.5);
+  const Mat<double, M, N> Hd = rnd.matrix<Mat<double, M, N>>();
+  const Mat<double, N, M> Kd = rnd.matrix<Mat<double, N, M>>() * 0.3;
+  const Mat<double, M, M> Rd = rnd.spd<Mat<double, M, M>>(0.2);
+  Mat<double, N, N> ref;
+  joseph_update<double, N, M, 0, N>(Pd, Kd, Hd, Rd, ref);
+  const Mat<S, N, M> A = (Pd * Hd.transpose()).template cast<S>();
+  const Mat<S, M, M> Sm = (Hd * Pd * Hd.transpose() + Rd).template cast<S>();
+  Mat<S, N, N> P = Pd.template cast<S>();
+  detail::joseph_update_block<S, N, M>(P, Mat<S, N, M>(Kd.template cast<S>()), A, Sm);
+  EXPECT_LT((P.template cast<double>() - ref).norm(), tol * ref.norm()) << "N = " << N << ", M = " << M;
+  EXPECT_TRUE(P == P.transpose());
+}
+
+TEST(EskfGravity, BlockJosephIsTheJosephForm) {
+  expect_block_joseph_is_joseph<double, 6, 2>(11, 1e-13);
+  expect_block_joseph_is_joseph<double, 7, 3>(12, 1e-13);
+  expect_block_joseph_is_joseph<double, 15, 2>(13, 1e-13);
+  expect_block_joseph_is_joseph<float, 6, 2>(14, 1e-5);
+  expect_block_joseph_is_joseph<float, 9, 3>(15, 1e-5);
+}
+
+// The accelerometer's three gravity rows as two rows in the tangent plane of h (one 2-row
+// block) give what the three sequential scalar rows give: the same corrected covariance,
+// correction, NIS and body-axes innovation covariance, with the heading-free (Schmidt) gain
+// and with the optimal one, for random covariances, attitudes and readings (h near an axis
+// too, where the basis changes axis). A gated reading is refused before P is touched.
+TEST(EskfGravity, TangentPlaneRowsAreTheThreeRows) {
+  quatnav_test::Randn rnd(21);
+  for (int trial = 0; trial < 60; ++trial) {
+    const Mat<double, 6, 6> P0 = rnd.spd<Mat<double, 6, 6>>(0.05) * 1e-3;
+    Vec3<double> h = rnd.matrix<Vec3<double>>();
+    if (trial % 4 == 0) h = Vec3<double>(1e-3 * h[0], 2e-3 * h[1], -1.0);  // nearly level
+    h.normalize();
+    const Vec3<double> u = -h;
+    Vec3<double> v = h + 0.05 * rnd.matrix<Vec3<double>>();
+    v.normalize();
+    const Vec3<double> y = v - h;
+    const double r = 0.02 * (1 + trial % 3);
+    Mat3<double> W = Mat3<double>::Identity() - u * u.transpose();
+    if (trial % 2) W *= 0.5;
+    for (int rows : {3, 0}) {  // heading-free (acc_tilt_only), optimal
+      const detail::HeadingFreeRows<double> gain{u, W, rows};
+      Mat<double, 6, 6> P_ref = P0;
+      Vec<double, 6> dx_ref;
+      UpdateResult<double, 3> res_ref;
+      kalman_correct_diagonal_in_place<double, 6, 3, 0, 3, RowShape::Cross>(
+          P_ref, Mat3<double>(quat::skew(h)), Vec3<double>::Constant(r), y, dx_ref, res_ref, 0.0, gain);
+      ASSERT_EQ(res_ref.status, Status::Ok);
+      Mat<double, 6, 6> P = P0;
+      Vec<double, 6> dx;
+      UpdateResult<double, 3> res;
+      ASSERT_EQ(detail::eskf_gravity_correct<double>(P, h, y, r, dx, res, 0.0, gain), Status::Ok);
+      EXPECT_LT((P - P_ref).norm(), 1e-12 * P_ref.norm()) << trial << " " << rows;
+      EXPECT_TRUE(P == P.transpose());
+      EXPECT_LT((dx - dx_ref).norm(), 1e-12 * dx_ref.norm() + 1e-18) << trial << " " << rows;
+      EXPECT_NEAR(res.nis, res_ref.nis, 1e-11 * res_ref.nis) << trial;
+      EXPECT_LT((res.innovation_cov - res_ref.innovation_cov).norm(), 1e-12 * res_ref.innovation_cov.norm());
+      EXPECT_TRUE(res.innovation == y);
+      if (rows) EXPECT_NEAR(u.dot(dx.head<3>()), 0.0, 1e-15);  // no heading correction
+      // Gated below its NIS: refused, P untouched bit for bit.
+      Mat<double, 6, 6> Pg = P0;
+      UpdateResult<double, 3> rg;
+      EXPECT_EQ(detail::eskf_gravity_correct<double>(Pg, h, y, r, dx, rg, 0.5 * res.nis, gain), Status::Rejected);
+      EXPECT_EQ(std::memcmp(Pg.data(), P0.data(), sizeof(P0)), 0);
+    }
+  }
 }

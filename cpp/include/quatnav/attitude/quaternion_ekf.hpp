@@ -25,8 +25,12 @@
 // the Joseph form where the gain is not optimal (the Schmidt gains below) or the row is so strong
 // that the symmetric form's rounding would matter, in the symmetric form P - k (P h)^T, one
 // multiply-add per coefficient of the lower triangle, elsewhere (RowForm::SymmetricWhereOptimal:
-// the zero-rate rows at rest, the 3-row magnetometer). After injecting dtheta the covariance is
-// reset to the new nominal attitude (G = I - [dtheta/2 x]).
+// the zero-rate rows at rest, the 3-row magnetometer). The accelerometer's three rows are one
+// 2-row block in the tangent plane of h instead (detail::eskf_gravity_correct): with R = sigma^2 I
+// and a unit h, H = [h x] has rank 2 (H h = 0), and the rows along an orthonormal basis of the
+// plane normal to h are the same measurement, exactly; the third row, along h, has a zero
+// Jacobian and only adds its NIS term. After injecting dtheta the covariance is reset to the new
+// nominal attitude (G = I - [dtheta/2 x]).
 //
 // The accelerometer carries no heading information: gravity is the vertical, and a rotation
 // about it (u = C_bn e_z, the vertical in the body frame) leaves h unchanged (H u = 0). Its
@@ -199,6 +203,140 @@ template <class S> struct HeadingFreeRows {
   }
 };
 
+/// The columns J, J+1, ... of joseph_update_block's lower triangle, as joseph_columns
+/// (core/kalman.hpp) does the scalar form's: whole SIMD packets from the packet boundary below
+/// the diagonal (the few coefficients above it are overwritten by the mirror).
+template <class S, int N, int M, int J>
+void joseph_block_columns(Mat<S, N, N>& P, const Mat<S, N, M>& A, const Mat<S, N, M>& K, const Mat<S, N, M>& B) {
+  if constexpr (J < N) {
+    constexpr int kPacket = Eigen::internal::packet_traits<S>::Vectorizable ? Eigen::internal::packet_traits<S>::size : 1;
+    constexpr int I0 = J - J % kPacket;
+    constexpr int L = N - I0;
+    auto col = P.col(J).template segment<L>(I0);
+    for (int m = 0; m < M; ++m)
+      col = col - A.col(m).template segment<L>(I0) * K(J, m) - K.col(m).template segment<L>(I0) * B(J, m);
+    joseph_block_columns<S, N, M, J + 1>(P, A, K, B);
+  }
+}
+
+/// The Joseph-form update of an M-row block for any gain K (N x M), given A = P H^T (N x M)
+/// and the innovation covariance Sm = H P H^T + R (M x M, symmetric):
+///   P+ = (I - K H) P (I - K H)^T + K R K^T = P - A K^T - K A^T + K Sm K^T = P - A K^T - K B^T,
+/// B = A - K Sm (as joseph_update_scalar's b: rounding noise for the optimal gain K = A Sm^-1).
+/// One pass over the lower triangle, 2 M multiply-adds per coefficient, P+(i, j) = P(i, j) -
+/// sum_m (A(i, m) K(j, m) + K(i, m) B(j, m)), mirrored (exactly symmetric). In place. Columns as
+/// vector expressions where there is SIMD, one loop writing both halves where there is none.
+/// (Here, not in core/kalman.hpp, while the gravity rows below are its only user.)
+template <class S, int N, int M>
+void joseph_update_block(Mat<S, N, N>& P, const Mat<S, N, M>& K, const Mat<S, N, M>& A, const Mat<S, M, M>& Sm) {
+  Mat<S, N, M> B = A;
+  B.noalias() -= K.lazyProduct(Sm);
+  if constexpr (Eigen::internal::packet_traits<S>::Vectorizable && Eigen::internal::packet_traits<S>::size > 1) {
+    joseph_block_columns<S, N, M, 0>(P, A, K, B);
+    mirror_lower<S, N, 0>(P);
+  } else {
+    S* p = P.data();  // column-major: P(i, j) = p[i + N j]
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+    for (int j = 0; j < N; ++j) {
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 16
+#endif
+      for (int i = j; i < N; ++i) {
+        S v = p[i + N * j];
+        for (int m = 0; m < M; ++m) v = v - A(i, m) * K(j, m) - K(i, m) * B(j, m);
+        p[i + N * j] = v;
+        p[j + N * i] = v;
+      }
+    }
+  }
+}
+
+/// The three gravity rows, H = [h x] for the unit direction h and R = r I, as two rows in the
+/// tangent plane of h (the top of this file). For an orthonormal body-frame basis (c1, c2, h),
+/// T = [c1 c2 h]^T is orthogonal and T R T^T = R, so the rows T y = T H dtheta + T n are the same
+/// measurement; since c^T [h x] dtheta = (c x h)^T dtheta, they are
+///   c1 . y = (c1 x h)^T dtheta,   c2 . y = (c2 x h)^T dtheta,   h . y = 0 (+ noise):
+/// the third has a zero Jacobian and adds only its term (h . y)^2 / r to the NIS. With b1 the unit
+/// vector along e_k x h (k the axis least aligned with h) and b2 = h x b1: c1 = b2, c2 = -b1, whose
+/// rows are G = [b1^T; b2^T]. The two rows are one block: A = P G^T, Sm = G A_top + r I (2 x 2,
+/// inverted in closed form), K = A Sm^-1 mapped by `gain` (HeadingFreeRows: the projection off
+/// the vertical u = -h, which lies in the null space of G, so the innovations, Sm and the NIS
+/// are those of the optimal update), dx = K y', and the Joseph form for that gain in one pass
+/// (detail::joseph_update_block). Exactly the sequential three rows of kalman_correct_diagonal_in_place
+/// (the same gain, the same covariance; the rows' projected gains give the projected joint
+/// gain), up to rounding, in two rows' work; a gated sample is refused before P is touched. The
+/// result's innovation is y and its covariance H P H^T + r I in body axes, rebuilt as
+/// r I + C2 (Sm - r I) C2^T with C2 = [c1 c2]. Statuses and the contract on Pw as
+/// kalman_correct_diagonal_in_place (Pw is written only for Ok; the caller tests it for finiteness).
+template <class S, class Gain>
+Status eskf_gravity_correct(Mat<S, 6, 6>& Pw, const Vec3<S>& h, const Vec3<S>& y, S r, Vec<S, 6>& dx,
+                            UpdateResult<S, 3>& res, S gate, const Gain& gain) {
+  res.innovation = y;
+  if (!all_finite(h) || !std::isfinite(r) || !all_finite(y)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  const Vec3<S> ah = h.cwiseAbs();
+  const int k = ah[0] <= ah[1] ? (ah[0] <= ah[2] ? 0 : 2) : (ah[1] <= ah[2] ? 1 : 2);
+  Vec3<S> b1 = Vec3<S>::Zero();  // e_k x h
+  b1[(k + 1) % 3] = -h[(k + 2) % 3];
+  b1[(k + 2) % 3] = h[(k + 1) % 3];
+  b1 /= b1.norm();  // |e_k x h|^2 = 1 - h_k^2 >= 2/3
+  const Vec3<S> b2 = h.cross(b1);
+  Mat<S, 6, 2> A;
+  A.col(0).noalias() = Pw.template leftCols<3>() * b1;
+  A.col(1).noalias() = Pw.template leftCols<3>() * b2;
+  Mat<S, 2, 2> D;  // G P_aa G^T
+  D(0, 0) = b1.dot(A.col(0).template head<3>());
+  D(1, 1) = b2.dot(A.col(1).template head<3>());
+  D(0, 1) = D(1, 0) = b1.dot(A.col(1).template head<3>());
+  Mat<S, 2, 2> Sm = D;
+  Sm.diagonal().array() += r;
+  // C2 D C2^T for C2 = [b2, -b1]: the body-axes innovation covariance beside r I.
+  const Vec3<S> w0 = b2 * D(0, 0) - b1 * D(0, 1), w1 = b2 * D(0, 1) - b1 * D(1, 1);
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i)
+      res.innovation_cov(i, j) = res.innovation_cov(j, i) = w0[i] * b2[j] - w1[i] * b1[j] + (i == j ? r : S(0));
+  if (!all_finite(Sm)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  const S det = Sm(0, 0) * Sm(1, 1) - Sm(0, 1) * Sm(0, 1);
+  if (!(Sm(0, 0) > S(0)) || !(det > S(0))) {
+    res.status = Status::SolveFailed;
+    return res.status;
+  }
+  const Vec<S, 2> yt(b2.dot(y), -b1.dot(y));
+  const S y3 = h.dot(y);
+  const S inv_det = S(1) / det;
+  Mat<S, 2, 2> Si;
+  Si << Sm(1, 1) * inv_det, -Sm(0, 1) * inv_det, -Sm(0, 1) * inv_det, Sm(0, 0) * inv_det;
+  const Vec<S, 2> z = Si * yt;
+  res.nis = yt.dot(z) + y3 * y3 / r;
+  if (gate > S(0) && !(res.nis <= gate)) {
+    res.status = Status::Rejected;
+    return res.status;
+  }
+  Mat<S, 6, 2> K;
+  K.noalias() = A * Si;
+  for (int m = 0; m < 2; ++m) {
+    Vec<S, 6> km = K.col(m);
+    gain(0, km);
+    K.col(m) = km;
+  }
+  const Vec<S, 6> dxw = K * yt;
+  if (!all_finite(dxw) || !std::isfinite(res.nis)) {
+    res.status = Status::NumericalFailure;
+    return res.status;
+  }
+  joseph_update_block<S, 6, 2>(Pw, K, A, Sm);
+  dx = dxw;
+  res.status = Status::Ok;
+  return res.status;
+}
+
 /// The covariance reset after injecting dtheta: the error of q+ = q * exp(dtheta) is
 /// dtheta+ = G (dtheta_true - dtheta), G = I - [dtheta/2 x] to first order, so
 /// P_aa <- G P_aa G^T and P_ab <- G P_ab (the bias block is unchanged). In place, symmetric.
@@ -330,15 +468,35 @@ template <class S> class QuaternionEKF {
     const Status ua = detail::unit_vector(acc, a);
     if (ua != Status::Ok) return status_result<3>(ua);
     // The rest test (and its zero-rate update) and the low-pass take the sample before the
-    // update; an update that fails (SolveFailed, NumericalFailure) leaves all of it as it was.
-    const State before = st_;
-    if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last)) update_zero_rate();
+    // update; an update that fails (SolveFailed, NumericalFailure) leaves all of it as it was:
+    // the two parts' states, and q, b and P where the zero-rate update changed them (the gravity
+    // update changes them only when it succeeds).
+    const RestState<S> rest_before = st_.rest;
+    const AccFilterState<S> acc_before = st_.acc;
+    Quat<S> q_before;
+    Vec3<S> b_before;
+    Mat6 P_before;
+    const bool zero_rate = Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, st_.dt_last);
+    if (zero_rate) {
+      q_before = st_.q_nb;
+      b_before = st_.gyro_bias;
+      P_before = st_.P;
+      update_zero_rate();
+    }
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
     UpdateResult<S, 3> res =
         AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
           return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
         });
-    if (res.status != Status::Ok && res.status != Status::Rejected) st_ = before;
+    if (res.status != Status::Ok && res.status != Status::Rejected) {
+      st_.rest = rest_before;
+      st_.acc = acc_before;
+      if (zero_rate) {
+        st_.q_nb = q_before;
+        st_.gyro_bias = b_before;
+        st_.P = P_before;
+      }
+    }
     return res;
   }
 
@@ -457,9 +615,17 @@ template <class S> class QuaternionEKF {
   /// r = [0, 0, -1] with the gain projected off the vertical u = -h (one rotation for both, by
   /// the last row of C_nb).
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
+    UpdateResult<S, 3> res;
+    Vec3<S> a;
+    res.status = detail::unit_vector(v, a);
+    if (res.status != Status::Ok) return res;
     const Vec3<S> u = quat::nav_z_in_body(st_.q_nb);  // h = C_bn [0, 0, -1] = -u
     const Vec3<S> h = -u;
-    return update3_model(v, h, Mat3<S>(quat::skew(h)), sigma, gate, heading_free(u));
+    Mat6 P = st_.P;
+    Vec<S, 6> dx;
+    detail::eskf_gravity_correct<S>(P, h, Vec3<S>(a - h), sigma * sigma, dx, res, gate, heading_free(u));
+    commit(res, P, dx);
+    return res;
   }
 
   /// The 3-row direction update of v (normalized here) against the reference r_n, with the

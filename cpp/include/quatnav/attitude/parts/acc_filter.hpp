@@ -159,8 +159,8 @@ template <class S> struct AccFilter {
     AccSample<S> out;
     out.acc = acc;
     if (p.acc_lp_tau > S(0)) {
-      const Vec3<S> a_i = quat::rotate(s.q_i, acc);
-      const Mat3<S> C_ib = quat::to_rotmat(s.q_i);
+      const Mat3<S> C_ib = quat::to_rotmat(s.q_i);  // one rotation matrix for its three uses here
+      const Vec3<S> a_i = C_ib * acc;
       const S dev_raw = std::abs(acc.norm() - p.gravity);
       if (!s.acc_lp_init || !(dt > S(0))) {
         s.acc_i_lp = a_i;
@@ -175,7 +175,7 @@ template <class S> struct AccFilter {
         detail::lowpass(s.acc_i_lp, a_i, dt, tau);
         detail::lowpass(s.C_i_lp, C_ib, dt, tau);
       }
-      out.acc = quat::rotate_inv(s.q_i, s.acc_i_lp);
+      out.acc.noalias() = C_ib.transpose() * s.acc_i_lp;
     }
     const S g = p.gravity;
     const S dev = g > S(0) ? std::abs(out.acc.norm() - g) : S(0);
