@@ -167,6 +167,30 @@ TYPED_TEST(Parts, AccBiasWeightGrowsOverTheLowPassFirstTwoTimeConstants) {
   EXPECT_LT(double(AccFilter<S>::bias_weight(p, s, u).norm()), 1e-12);
 }
 
+TYPED_TEST(Parts, AccBiasWeightFallsWithTheLinearAcceleration) {
+  // W times 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a| - g| of the raw
+  // samples: a body whose specific force keeps a norm 2 m/s^2 off g gets half the weight with the
+  // default 2 m/s^2, one at g the whole.
+  using S = TypeParam;
+  AccFilterParams<S> p;
+  ASSERT_EQ(p.acc_bias_dev, S(2));
+  AccFilterState<S> still, moving;
+  const S dt = S(0.01), g = p.gravity;
+  const Vec3<S> u(S(0), S(0), S(1));
+  const Mat3<S> full = Mat3<S>::Identity() - u * u.transpose();
+  for (int k = 0; k < 1000; ++k) {  // past the ramp (6 s) and the deviation's low-pass (3 s)
+    AccFilter<S>::screen(p, still, Vec3<S>(S(0), S(0), -g), dt, S(0));
+    AccFilter<S>::screen(p, moving, Vec3<S>(S(0), S(0), -(g + S(2))), dt, S(0));
+  }
+  EXPECT_NEAR(double(moving.acc_dev_lp), 2.0, 1e-3);
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, still, u) - full).norm()), 1e-5);
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, moving, u) - full * S(0.5)).norm()), 1e-4);
+  p.acc_bias_dev = S(0);  // off: the whole weight whatever the acceleration
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, moving, u) - full).norm()), 1e-5);
+  p.acc_bias_dev = S(1);
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, moving, u) - full * S(0.2)).norm()), 1e-4);
+}
+
 TYPED_TEST(Parts, AccRejectionAdaptiveNoiseAndRecovery) {
   using S = TypeParam;
   AccFilterParams<S> p;

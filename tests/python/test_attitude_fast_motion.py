@@ -29,12 +29,15 @@ def pendulum_bias():
     return make_scenario("fast_pendulum", seed=0).imu.gyro_bias
 
 
-@pytest.mark.parametrize("cls,heading_deg,bias_dps", [(quatnav.QuaternionEKF, 2.5, 0.1), (quatnav.EulerEKF, 6.0, 1.0)])
+@pytest.mark.parametrize("cls,heading_deg,bias_dps", [(quatnav.QuaternionEKF, 2.5, 0.1), (quatnav.EulerEKF, 8.0, 1.0)])
 def test_pendulum_6d_heading_holds(cls, heading_deg, bias_dps, pendulum_bias):
     """A minute of +-57 deg pendulum swing in 6D: the gyro bias stays near where the first rest
     put it and the heading error stays small. The projection off the instantaneous vertical
     alone let the string-axis bias run 1.4 deg/s and the heading 12 deg RMS (QuaternionEKF;
-    EulerEKF: 59 deg; now 0.01 deg/s and 1.0 deg, EulerEKF 0.6 deg/s and 4.4 deg)."""
+    EulerEKF: 59 deg; now 0.01 deg/s and 1.0 deg, EulerEKF 0.14 deg/s and 6.3 deg). EulerEKF's
+    heading here was 2.6 deg before the accelerometer's bias weight fell with the linear
+    acceleration (acc_bias_dev 2 m/s^2), which costs it this trial and gains it every other one
+    of the set (6D mean 5.96 -> 5.67 deg, BROAD 6D 2.54 -> 2.32; docs/broad.md)."""
     r, err = _run(cls, "fast_pendulum", "6D")
     b_true = np.mean(pendulum_bias, axis=0) if np.ndim(pendulum_bias) == 2 else pendulum_bias
     end = np.searchsorted(r.t, r.t[-1] - 5.0)  # the end of the swinging, before the last rest
@@ -270,3 +273,16 @@ def test_running_started_in_the_motion_9d_no_made_up_bias():
     # The vertical bias learned through the dip: 5.2 deg/s before, 3.5 now (true 0.35): less, not gone.
     assert np.abs(b[(t > 4) & (t < 15), 2]).max() < 4.3
 
+
+
+@pytest.mark.parametrize("bias_dev,ok", [(None, True), (0.0, False)])
+def test_pendulum_started_in_the_swing_6d_learns_no_string_axis_bias(bias_dev, ok):
+    """The whole pendulum started in the swing (sim-moving), 6D: the accelerometer's bias weight
+    falls with the low-passed ||a| - g| (acc_bias_dev), so the swing's centripetal acceleration,
+    passed on by the low-pass of the first seconds, no longer becomes a bias along the string,
+    unobservable afterwards and a heading drift: 7.4 deg total RMSE (VQF 3.6); without it
+    (acc_bias_dev=0) 18.9. The bound, 12 deg, lies between the two."""
+    tr = scenario_trial("fast_pendulum", 0, start="moving")
+    params = {} if bias_dev is None else {"acc_bias_dev": bias_dev}
+    _, e = _run(quatnav.QuaternionEKF, "fast_pendulum", "6D", trial=tr, **params)
+    assert (e["total"] < 12.0) == ok, e

@@ -280,6 +280,12 @@ class QuaternionEKF(_AttitudeFilter):
         The shrink above fades out as the raw samples' ``||a| - g|``, low-passed over
         ``acc_lp_tau``, approaches this (m/s^2): under sustained linear acceleration (a swing's
         centripetal acceleration) the low-pass stays long even while the bias is unknown. 0: off.
+    acc_bias_dev : float, default 2 [0]
+        The accelerometer's weight in the gyro-bias block falls as ``1 / (1 + (dev_lp /
+        acc_bias_dev)**2)``, ``dev_lp`` the raw samples' ``||a| - g|`` low-passed over
+        ``acc_lp_tau`` (m/s^2): the low-passed sample's error, the linear acceleration the low-pass
+        lets through, is correlated over its time constant, so under a swing or a run the
+        accelerometer teaches the bias little (rest does). 0: off.
     mag_norm_tol : float, default 0.05
         Reject the magnetometer when ``||m| / m_ref - 1|`` exceeds this (m_ref learned).
     mag_dip_tol : float, default 0.05

@@ -203,7 +203,7 @@ def _cov_floor(d):
 # The robustness parts of the attitude filters (cpp/include/quatnav/attitude/parts/): one entry per
 # field, with each filter's default (a test checks them against the parts' C++ declarations).
 def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0, lp_bias_sigma=0.006,
-              lp_dev=1.0):
+              lp_dev=1.0, bias_dev=2.0):
     """The accelerometer part (parts/acc_filter.hpp)."""
     return (
         _p("gravity", gravity, "m/s^2", "magnitude of gravity, in the unit of acc", "pos0"),
@@ -217,6 +217,8 @@ def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0
            "low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off)", "pos0"),
         _p("acc_lp_dev", lp_dev, "m/s^2", "the shrink of acc_lp_bias_sigma fades out as the low-passed "
            "||a|-g| of the raw samples approaches this (0: off)", "pos0"),
+        _p("acc_bias_dev", bias_dev, "m/s^2", "the accelerometer's weight in the gyro-bias block falls as "
+           "1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off)", "pos0"),
     )
 
 

@@ -182,7 +182,7 @@ class QuaternionEKF(_Base):
                            init_att_sigma=0.05, init_gyro_bias_sigma=0.01, mag_heading_only=False,
                            acc_tilt_only=False, acc_adapt=0.0,
                            acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
-                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
+                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
                            mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False,
                            gyro_clip=False)
     n_states = 7
@@ -633,7 +633,7 @@ class EulerEKF(_Base):
     defaults = table_defaults(EULER_PARAMS)
     #: EulerEKFParams::paper(): the robustness parts off (a test compares it with the C++).
     paper_overrides = dict(acc_tilt_only=False, exact_propagation=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
-                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
+                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
                            mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
     n_states = 6

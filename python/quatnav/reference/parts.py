@@ -209,13 +209,18 @@ class AccFilter:
         """The weight of the accelerometer's gain in the gyro-bias block for the body-frame vertical
         ``u``: ``C^T (I - g g^T) C`` with C the low-passed C_ib, g = C_ib u (``acc_filter.hpp``);
         ``I - u u^T`` without the low-pass or before its first sample; times the ramp
-        ``min(1, age / (2 acc_lp_tau))`` over the low-pass's first 2 time constants."""
+        ``min(1, age / (2 acc_lp_tau))`` over the low-pass's first 2 time constants and by
+        ``1 / (1 + (dev_lp / acc_bias_dev)**2)``, dev_lp the low-passed ``||a| - g|``."""
         if not (self.p.acc_lp_tau > 0 and self.acc_lp_init):
             return np.eye(3) - np.outer(u, u)
         g = Q.rotate(self.q_i, u)
         W = self.C_i_lp.T @ (np.eye(3) - np.outer(g, g)) @ self.C_i_lp
         ramp_end = 2.0 * self.p.acc_lp_tau
-        return W * (self.acc_lp_age / ramp_end) if self.acc_lp_age < ramp_end else W
+        if self.acc_lp_age < ramp_end:
+            W = W * (self.acc_lp_age / ramp_end)
+        if self.p.acc_bias_dev > 0:
+            W = W / (1.0 + (self.acc_dev_lp / self.p.acc_bias_dev) ** 2)
+        return W
 
     def finish(self, status, dt):
         if status == "ok":

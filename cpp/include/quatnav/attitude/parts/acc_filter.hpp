@@ -42,6 +42,16 @@
 //    longer learns, in its first seconds, a bias that the motion's linear acceleration made up
 //    and that it then keeps where the bias is unobservable (docs/broad.md). A filter started at
 //    rest learns its bias there from the zero-rate rows (parts/rest.hpp) meanwhile.
+//    And W falls with the linear acceleration the raw samples show: times
+//        1 / (1 + (dev_lp / acc_bias_dev)^2),   dev_lp the low-passed ||a| - g| above.
+//    The low-passed sample's error is the part of the linear acceleration the low-pass lets
+//    through, correlated over its time constant, while the update takes it as white noise at
+//    every sample: what the accelerometer says about the bias is worth the less the more linear
+//    acceleration there is. A body that only turns (dev_lp at the noise's level) keeps the full
+//    gain and learns its bias in motion as before; a run or a vibrating mount (dev_lp of several
+//    m/s^2) learns it from rest, or more slowly. With acc_bias_dev = 2 m/s^2, started in a
+//    pendulum's swing, 6D: 18.9 -> 8.5 deg; every data set and mode of docs/broad.md moved by
+//    at most 0.001 deg the wrong way (chosen there beside 0.25, 0.5 and 1).
 //  * Rejection (acc_reject > 0): a sample with ||a| - g| > acc_reject is not used.
 //  * Adaptive noise: the filter's one-sigma of the normalized sample grows by
 //    acc_adapt * ||a| - g| / g (MargFilter lowers its gain instead).
@@ -76,7 +86,10 @@ namespace quatnav {
     "(acc_lp_bias_sigma / sigma_b)^2 (0: off)")                                                         \
   X(S, acc_lp_dev, S(1), "m/s^2",                                                                        \
     "the shrink of acc_lp_bias_sigma fades out as the low-passed ||a|-g| of the raw samples approaches "  \
-    "this (0: off)")
+    "this (0: off)")                                                                                     \
+  X(S, acc_bias_dev, S(2), "m/s^2",                                                                      \
+    "the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), "   \
+    "dev_lp the low-passed ||a|-g| of the raw samples (0: off)")
 
 /// Parameters of the accelerometer part (the defaults are QuaternionEKF's, chosen on BROAD).
 template <class S> struct AccFilterParams {
@@ -115,7 +128,8 @@ template <class S> struct AccFilter {
   /// Switch the part off (the plain filters of the papers): the raw sample, never rejected, the
   /// constant noise (gravity is kept: MargFilter's eq. 7 uses it).
   static void off(Params& p) {
-    p.acc_adapt = p.acc_reject = p.acc_recovery_time = p.acc_lp_tau = p.acc_lp_bias_sigma = p.acc_lp_dev = S(0);
+    p.acc_adapt = p.acc_reject = p.acc_recovery_time = p.acc_lp_tau = p.acc_lp_bias_sigma = p.acc_lp_dev =
+        p.acc_bias_dev = S(0);
   }
 
   /// When the filter starts (initialize): the low-pass and the timer start afresh.
@@ -187,7 +201,8 @@ template <class S> struct AccFilter {
 
   /// The weight of the accelerometer's gain in the gyro-bias block (the top of this file) for the
   /// filter's body-frame vertical u (unit): W = C^T (I - g g^T) C, g = C_ib u, times the ramp
-  /// min(1, age / (2 acc_lp_tau)); I - u u^T without the low-pass or before its first sample.
+  /// min(1, age / (2 acc_lp_tau)) and 1 / (1 + (dev_lp / acc_bias_dev)^2); I - u u^T without the
+  /// low-pass or before its first sample.
   static Mat3<S> bias_weight(const Params& p, const State& s, const Vec3<S>& u) {
     if (!(p.acc_lp_tau > S(0)) || !s.acc_lp_init) return Mat3<S>::Identity() - u * u.transpose();
     const Vec3<S> g = quat::rotate(s.q_i, u);
@@ -197,6 +212,10 @@ template <class S> struct AccFilter {
     W.noalias() -= gC.transpose() * gC;
     const S ramp_end = S(2) * p.acc_lp_tau;
     if (s.acc_lp_age < ramp_end) W *= s.acc_lp_age / ramp_end;
+    if (p.acc_bias_dev > S(0)) {
+      const S r = s.acc_dev_lp / p.acc_bias_dev;
+      W *= S(1) / (S(1) + r * r);
+    }
     return W;
   }
 
