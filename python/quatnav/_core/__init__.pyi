@@ -148,6 +148,14 @@ class AccFilterParams_f64:
     def acc_adapt(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_bias_sigma(self) -> float:
         """
         above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
@@ -347,6 +355,14 @@ class QuaternionEKFParams_f64:
         """
     @acc_adapt.setter
     def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_gate(self) -> float:
@@ -853,6 +869,14 @@ class AccFilterParams_f32:
     def acc_adapt(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_bias_sigma(self) -> float:
         """
         above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
@@ -1052,6 +1076,14 @@ class QuaternionEKFParams_f32:
         """
     @acc_adapt.setter
     def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_gate(self) -> float:
@@ -1577,6 +1609,14 @@ class EulerEKFParams_f64:
     def acc_adapt(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_bias_sigma(self) -> float:
         """
         above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
@@ -1922,6 +1962,14 @@ class EulerEKFParams_f32:
         """
     @acc_adapt.setter
     def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_bias_sigma(self) -> float:
@@ -2301,6 +2349,14 @@ class MargFilterParams_f64:
     def acc_adapt(self, arg1: typing.Any) -> None:
         ...
     @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def acc_lp_bias_sigma(self) -> float:
         """
         above this gyro-bias one-sigma the accelerometer low-pass time constant shrinks by (acc_lp_bias_sigma / sigma_b)^2 (0: off) [rad/s]
@@ -2656,6 +2712,14 @@ class MargFilterParams_f32:
         """
     @acc_adapt.setter
     def acc_adapt(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def acc_bias_dev(self) -> float:
+        """
+        the accelerometer's weight in the gyro-bias block falls as 1 / (1 + (dev_lp / acc_bias_dev)^2), dev_lp the low-passed ||a|-g| of the raw samples (0: off) [m/s^2]
+        """
+    @acc_bias_dev.setter
+    def acc_bias_dev(self, arg1: typing.Any) -> None:
         ...
     @property
     def acc_lp_bias_sigma(self) -> float:
