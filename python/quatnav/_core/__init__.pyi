@@ -4079,6 +4079,14 @@ class GpsInsParams_f64:
     def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gyro_rate_noise(self) -> float:
+        """
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| on each axis (0: off) [1/sqrt(Hz)]
+        """
+    @gyro_rate_noise.setter
+    def gyro_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gyro_scale_noise(self) -> float:
         """
         gyro scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
@@ -4979,6 +4987,14 @@ class GpsInsParams_f32:
         """
     @gyro_range.setter
     def gyro_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def gyro_rate_noise(self) -> float:
+        """
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| on each axis (0: off) [1/sqrt(Hz)]
+        """
+    @gyro_rate_noise.setter
+    def gyro_rate_noise(self, arg1: typing.Any) -> None:
         ...
     @property
     def gyro_scale_noise(self) -> float:

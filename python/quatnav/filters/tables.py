@@ -373,6 +373,8 @@ GPSINS_PARAMS = (
     _p("acc_bias_tau", 0.0, "s", "Gauss-Markov time constant of the accelerometer bias (0: random walk)",
        "pos0"),
     _p("init_gyro_bias_sigma", 0.005, "rad/s", "gyro-bias one-sigma at the start of navigation", "pos0"),
+    _p("gyro_rate_noise", 0.0, "1/sqrt(Hz)", "rate-proportional attitude process noise: density gyro_rate_noise "
+       "* |w - b| on each axis (0: off)", "pos0"),
     _p("scale_factors", False, "-", "estimate the gyro and accelerometer scale factors (22 error states "
        "instead of 16)", "bool", core=None),
     _p("gyro_scale_noise", 1e-5, "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)",

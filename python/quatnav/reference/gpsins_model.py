@@ -128,6 +128,22 @@ def gpsins_F(nav: StrapdownState, f_b, p, w_b=None, acc_scale=None, gyro_scale=N
     return F
 
 
+def _qc_rate(p, q_scale, q_nb, w_b, scale_factors=False):
+    """The attitude's rate-proportional process noise (3 x 3, NED): k^2 |w|^2 I, k =
+    gyro_rate_noise, w the corrected rate w - b; with the scale factors k^2 C_nb diag(|w|^2 -
+    w_i^2) C_nb^T, the misalignment that remains once the scale factors are states. None when
+    zero. The derivation is at gpsins_Qc_rate (model.hpp)."""
+    w_b = np.asarray(w_b, float)
+    w2 = float(w_b @ w_b)
+    if not (p.gyro_rate_noise > 0 and w2 > 0):
+        return None
+    k2 = q_scale * p.gyro_rate_noise ** 2
+    if scale_factors:
+        C = Q.to_rotmat(q_nb)
+        return C @ np.diag(k2 * (w2 - w_b ** 2)) @ C.T
+    return k2 * w2 * np.eye(3)
+
+
 def _qc_diag(p, q_scale, n=N):
     """Qc: the IMU and bias densities scaled by the adaptation's q_scale, the offset's random walk;
     with the scale factors (n = 22) their random walks, scaled like the biases."""

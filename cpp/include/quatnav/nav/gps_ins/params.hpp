@@ -22,6 +22,10 @@ namespace quatnav {
   X(S, gyro_bias_tau, S(0), "s", "Gauss-Markov time constant of the gyro bias (0: random walk)")        \
   X(S, acc_bias_tau, S(0), "s", "Gauss-Markov time constant of the accelerometer bias (0: random walk)") \
   X(S, init_gyro_bias_sigma, S(5.0e-3), "rad/s", "gyro-bias one-sigma at the start of navigation")      \
+  /* The gyro's scale-factor and misalignment errors as an attitude noise that grows with the rate \
+     (gpsins_Qc_rate, model.hpp); the attitude filters' name and unit */                            \
+  X(S, gyro_rate_noise, S(0), "1/sqrt(Hz)",                                                           \
+    "rate-proportional attitude process noise: density gyro_rate_noise * |w - b| on each axis (0: off)") \
   /* Scale-factor states (GpsInsFilter<S, true>, Python scale_factors=True; unused otherwise) */      \
   X(S, gyro_scale_noise, S(1.0e-5), "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)") \
   X(S, acc_scale_noise, S(1.0e-5), "1/sqrt(s)", "accelerometer scale-factor random-walk density (scale-factor states only)") \
