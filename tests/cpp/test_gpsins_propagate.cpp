@@ -132,7 +132,7 @@ template <class S, bool SF> void check_blockwise(double tol) {
     if constexpr (!SF) {
       ASSERT_EQ(detail::gpsins_Phi<S>(d.nav, d.f_b, d.dt, d.p), Phi);
     }
-    MatN<S, SF> P = detail::gpsins_propagate<S, SF>(blocks, d.P, d.qc, d.dt, d.qa);
+    MatN<S, SF> P = detail::gpsins_propagate<S, SF>(blocks, d.P, d.qc, d.dt, &d.qa);
     symmetrize(P);
     ASSERT_TRUE(P.allFinite());
     const double e = max_rel<S, N>(P, dense_update(d));

@@ -235,8 +235,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
       if (!resolved) detail::gpsins_rest_velocity(s, params_, Vec3<S>(s.nav.v_n - v0), g);
-      Mat16 P = detail::gpsins_propagate<S, SF_>(Phi, s.P, detail::gpsins_Qc_diag<S, SF_>(params_, s.q_scale), dt,
-                                                 detail::gpsins_Qc_rate<S, SF_>(params_, s.q_scale, s.nav.q_nb, w));
+      Mat16 P = detail::gpsins_propagate_P<S, SF_>(Phi, s.P, params_, s.q_scale, s.nav.q_nb, w, dt);
       symmetrize(P);
       if (params_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / params_.acc_bias_tau);
       if (params_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / params_.gyro_bias_tau);

@@ -321,16 +321,18 @@ Mat16<S> gpsins_Phi(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, cons
 /// P_nb^T).
 /// With the scale-factor states the navigation rows gain Sa P'_sa + [0; Sg] P'_sg in T and
 /// T_sa Sa^T + T_sg [0; Sg]^T in P_nn; their own block of diag(...) has 1 for each scale factor.
-/// qc_att: a full 3 x 3 term added to Qc's attitude block (gpsins_Qc_rate; zero by default).
+/// qc_att: a full 3 x 3 term added to Qc's attitude block (gpsins_Qc_rate); null (the default,
+/// gyro_rate_noise = 0) adds nothing and costs nothing.
 template <class S, bool SF>
 MatN<S, SF> gpsins_propagate(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, const VecN<S, SF>& qc, S dt,
-                             const Mat3<S>& qc_att = Mat3<S>::Zero()) {
+                             const Mat3<S>* qc_att = nullptr) {
   constexpr int N = gpsins::kStates<SF>, NB = N - 9;
   const VecN<S, SF> q2 = (S(0.5) * dt) * qc;
-  const Mat3<S> qa2 = (S(0.5) * dt) * qc_att;
+  Mat3<S> qa2;
+  if (qc_att) qa2 = (S(0.5) * dt) * *qc_att;
   MatN<S, SF> P1 = P;
   P1.diagonal() += q2;
-  P1.template block<3, 3>(6, 6) += qa2;
+  if (qc_att) P1.template block<3, 3>(6, 6) += qa2;
   Mat<S, 9, N> T = fixed_mul(Phi.N, P1.template topRows<9>());
   T += fixed_mul(Phi.Ba, P1.template middleRows<3>(gpsins::kBa));
   T.template bottomRows<6>() += fixed_mul(Phi.Bg, P1.template middleRows<3>(gpsins::kBg));
@@ -357,7 +359,7 @@ MatN<S, SF> gpsins_propagate(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, 
   Pn.template bottomRightCorner<NB, NB>() =
       d.asDiagonal() * P1.template bottomRightCorner<NB, NB>() * d.asDiagonal();
   Pn.diagonal() += q2;
-  Pn.template block<3, 3>(6, 6) += qa2;
+  if (qc_att) Pn.template block<3, 3>(6, 6) += qa2;
   return Pn;
 }
 
@@ -416,6 +418,17 @@ Mat3<S> gpsins_Qc_rate(const GpsInsParams<S>& p, S q_scale, const Quat<S>& q_nb,
   } else {
     return (k2 * w2) * Mat3<S>::Identity();
   }
+}
+
+/// P's time update with the filter's Qc at the corrected rate w_b and the attitude after the step;
+/// the rate-proportional attitude term is neither computed nor added while gyro_rate_noise is 0.
+template <class S, bool SF>
+MatN<S, SF> gpsins_propagate_P(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, const GpsInsParams<S>& p,
+                               S q_scale, const Quat<S>& q_nb, const Vec3<S>& w_b, S dt) {
+  const VecN<S, SF> qc = gpsins_Qc_diag<S, SF>(p, q_scale);
+  if (!(p.gyro_rate_noise > S(0))) return gpsins_propagate<S, SF>(Phi, P, qc, dt);
+  const Mat3<S> qa = gpsins_Qc_rate<S, SF>(p, q_scale, q_nb, w_b);
+  return gpsins_propagate<S, SF>(Phi, P, qc, dt, &qa);
 }
 
 /// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).
