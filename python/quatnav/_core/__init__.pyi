@@ -503,7 +503,7 @@ class QuaternionEKFParams_f64:
     @property
     def gyro_rate_noise(self) -> float:
         """
-        rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off) [1/sqrt(Hz)]
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
         """
     @gyro_rate_noise.setter
     def gyro_rate_noise(self, arg1: typing.Any) -> None:
@@ -1208,7 +1208,7 @@ class QuaternionEKFParams_f32:
     @property
     def gyro_rate_noise(self) -> float:
         """
-        rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off) [1/sqrt(Hz)]
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
         """
     @gyro_rate_noise.setter
     def gyro_rate_noise(self, arg1: typing.Any) -> None:
@@ -4081,7 +4081,7 @@ class GpsInsParams_f64:
     @property
     def gyro_rate_noise(self) -> float:
         """
-        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| on each axis (0: off) [1/sqrt(Hz)]
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
         """
     @gyro_rate_noise.setter
     def gyro_rate_noise(self, arg1: typing.Any) -> None:
@@ -4991,7 +4991,7 @@ class GpsInsParams_f32:
     @property
     def gyro_rate_noise(self) -> float:
         """
-        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| on each axis (0: off) [1/sqrt(Hz)]
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
         """
     @gyro_rate_noise.setter
     def gyro_rate_noise(self, arg1: typing.Any) -> None:

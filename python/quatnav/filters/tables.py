@@ -275,8 +275,8 @@ QEKF_PARAMS = (
        "the other arguments are applied on top", "bool", None),
     _gyro_noise(0.01),
     _gyro_bias_noise(1e-4),
-    _p("gyro_rate_noise", 0.004, "1/sqrt(Hz)", "rate-proportional tilt process noise: density "
-       "gyro_rate_noise * |w - b| in the tilt (0: off)", "pos0"),
+    _p("gyro_rate_noise", 0.004, "1/sqrt(Hz)", "rate-proportional attitude process noise: density "
+       "gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only", "pos0"),
     _p("acc_sigma", 0.4, "1 (normalized)", "std of each component of the normalized accelerometer"),
     _p("mag_sigma", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer"),
     _p("init_att_sigma", 0.5, "rad", "attitude one-sigma after initialize"),
@@ -374,7 +374,7 @@ GPSINS_PARAMS = (
        "pos0"),
     _p("init_gyro_bias_sigma", 0.005, "rad/s", "gyro-bias one-sigma at the start of navigation", "pos0"),
     _p("gyro_rate_noise", 0.0, "1/sqrt(Hz)", "rate-proportional attitude process noise: density gyro_rate_noise "
-       "* |w - b| on each axis (0: off)", "pos0"),
+       "* |w - b| (0: off); the attitude filters apply it to the tilt only", "pos0"),
     _p("scale_factors", False, "-", "estimate the gyro and accelerometer scale factors (22 error states "
        "instead of 16)", "bool", core=None),
     _p("gyro_scale_noise", 1e-5, "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)",

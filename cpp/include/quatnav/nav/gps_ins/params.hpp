@@ -25,7 +25,7 @@ namespace quatnav {
   /* The gyro's scale-factor and misalignment errors as an attitude noise that grows with the rate \
      (gpsins_Qc_rate, model.hpp); the attitude filters' name and unit */                            \
   X(S, gyro_rate_noise, S(0), "1/sqrt(Hz)",                                                           \
-    "rate-proportional attitude process noise: density gyro_rate_noise * |w - b| on each axis (0: off)") \
+    "rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only") \
   /* Scale-factor states (GpsInsFilter<S, true>, Python scale_factors=True; unused otherwise) */      \
   X(S, gyro_scale_noise, S(1.0e-5), "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)") \
   X(S, acc_scale_noise, S(1.0e-5), "1/sqrt(s)", "accelerometer scale-factor random-walk density (scale-factor states only)") \
