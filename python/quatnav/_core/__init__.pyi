@@ -4271,6 +4271,14 @@ class GpsInsParams_f64:
     def nhc(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_arm(self) -> float:
+        """
+        largest distance of the IMU from the non-slipping axle: the constraint's lateral variance gains (w_z nhc_arm)^2 (0: off) [m]
+        """
+    @nhc_arm.setter
+    def nhc_arm(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_auto(self) -> bool:
         """
         apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit (RMS); its R is then the larger of nhc_sigma^2 and that mean square [-]
@@ -4317,6 +4325,14 @@ class GpsInsParams_f64:
         """
     @nhc_lateral_aided.setter
     def nhc_lateral_aided(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_lever_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        the non-slipping point (the middle of the rear axle) relative to the IMU, body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b [m]
+        """
+    @nhc_lever_b.setter
+    def nhc_lever_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_mount_tau_pitch(self) -> float:
@@ -5181,6 +5197,14 @@ class GpsInsParams_f32:
     def nhc(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_arm(self) -> float:
+        """
+        largest distance of the IMU from the non-slipping axle: the constraint's lateral variance gains (w_z nhc_arm)^2 (0: off) [m]
+        """
+    @nhc_arm.setter
+    def nhc_arm(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_auto(self) -> bool:
         """
         apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit (RMS); its R is then the larger of nhc_sigma^2 and that mean square [-]
@@ -5227,6 +5251,14 @@ class GpsInsParams_f32:
         """
     @nhc_lateral_aided.setter
     def nhc_lateral_aided(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_lever_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        """
+        the non-slipping point (the middle of the rear axle) relative to the IMU, body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b [m]
+        """
+    @nhc_lever_b.setter
+    def nhc_lever_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_mount_tau_pitch(self) -> float:

@@ -468,6 +468,10 @@ GPSINS_PARAMS = (
        "forward speed) is learned from straight GNSS-aided driving (0: not learned)", "pos0"),
     _p("nhc_lateral_aided", False, "-", "apply the learned non-holonomic constraint's lateral row while GNSS-aided "
        "too (default: in outages only; its mounting yaw is learned from the aided heading)", "bool"),
+    _p("nhc_arm", 0.0, "m", "largest distance of the IMU from the non-slipping axle: the constraint's lateral "
+       "variance gains (w_z nhc_arm)^2 (0: off)", "pos0"),
+    _p("nhc_lever_b", (0.0, 0.0, 0.0), "m", "the non-slipping point (the middle of the rear axle) relative to the IMU, "
+       "body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b", "vec3"),
     _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),

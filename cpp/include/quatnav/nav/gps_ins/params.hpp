@@ -133,6 +133,10 @@ namespace quatnav {
     "time constant over which the IMU's mounting in pitch (vertical velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned)") \
   X(bool, nhc_lateral_aided, false, "-",                                                                 \
     "apply the learned non-holonomic constraint's lateral row while GNSS-aided too (default: in outages only; its mounting yaw is learned from the aided heading)") \
+  X(S, nhc_arm, S(0), "m",                                                                               \
+    "largest distance of the IMU from the non-slipping axle: the constraint's lateral variance gains (w_z nhc_arm)^2 (0: off)") \
+  X(Vec3<S>, nhc_lever_b, Vec3<S>::Zero(), "m",                                                         \
+    "the non-slipping point (the middle of the rear axle) relative to the IMU, body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b") \
   X(S, pseudo_interval, S(0.1), "s", "shortest interval between two zero-velocity or non-holonomic updates") \
   X(S, odometer_sigma, S(0.05), "m/s", "one-sigma of an odometer speed")                                \
   X(S, gate_odometer, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)")          \
