@@ -67,9 +67,11 @@ TYPED_TEST(GpsInsTest, NoHeapAndNavigatesAtRest) {
 TYPED_TEST(GpsInsTest, NoHeapWithRobustWeightingAndSolutionKinds) {
   // GNSS fixes a few centimetres off in turn, of every solution kind, with the Huber weighting on:
   // every step without the heap; fixes weighted; each kind's floor in the innovation covariance.
+  // The rate-proportional attitude noise on (its 3 x 3 block of Qc, gps_ins/model.hpp).
   using S = TypeParam;
   GpsInsParams<S> p;
   p.gps_robust_k = S(1);
+  p.gyro_rate_noise = S(4.4e-3);
   p.gps_time_sigma = S(0);
   GpsInsFilter<S> f(p);
   const double lat = 0.6, lon = 2.2, h = 50.0;

@@ -254,6 +254,56 @@ TEST(GpsInsAids, NonHolonomicWithoutTheLateralRow) {
   EXPECT_TRUE(vert.R == full.R);
 }
 
+// nhc_arm: in a turn the IMU a distance L from the non-slipping axle moves sideways at w_z L, so
+// the lateral row's variance gains (w_z L)^2 (here 0.25 rad/s and 1.5 m: 0.14 m^2/s^2 against
+// nhc_sigma^2's 0.01); the vertical row, the residual and H stay as they are, and 0 is off.
+TEST(GpsInsAids, NonHolonomicLateralVarianceGrowsWithTheYawRate) {
+  GpsInsParams<double> p = params();
+  GpsInsState<double> s = a_state();
+  s.omega_b << 0.03, -0.02, 0.25;
+  AidMeasurement<double, 2, 16> off, arm;
+  gpsins_aid::NonHolonomic<double>{}.measure(s, p, off);
+  EXPECT_EQ(off.R(0, 0), p.nhc_sigma * p.nhc_sigma);  // the default: off
+  p.nhc_arm = 1.5;
+  gpsins_aid::NonHolonomic<double>{}.measure(s, p, arm);
+  EXPECT_NEAR(arm.R(0, 0), 0.01 + 0.375 * 0.375, 1e-15);
+  EXPECT_EQ(arm.R(1, 1), off.R(1, 1));
+  EXPECT_EQ(arm.R(0, 1), 0.0);
+  EXPECT_TRUE(arm.y == off.y);
+  EXPECT_TRUE(arm.H == off.H);
+  s.omega_b[2] = -0.25;  // either way round
+  gpsins_aid::NonHolonomic<double>{0.02}.measure(s, p, arm);
+  EXPECT_NEAR(arm.R(0, 0), 0.02 + 0.375 * 0.375, 1e-15);
+  EXPECT_EQ(arm.R(1, 1), 0.02);
+}
+
+// nhc_lever_b: the constraint holds the velocity at the non-slipping point. An IMU 1.2 m ahead of
+// the rear axle turning at 0.25 rad/s moves sideways at 0.3 m/s while the axle does not: the
+// residual is zero there (0.3 m/s at the IMU), H is unchanged (the bias term is left out).
+TEST(GpsInsAids, NonHolonomicAtTheAxle) {
+  GpsInsParams<double> p = params();
+  GpsInsState<double> s = a_state();
+  s.omega_b << 0.0, 0.0, 0.25;
+  s.nav.v_n = quat::rotate(s.nav.q_nb, Vec3<double>(10.0, 0.3, 0.0));
+  AidMeasurement<double, 2, 16> imu, axle;
+  gpsins_aid::NonHolonomic<double>{}.measure(s, p, imu);
+  EXPECT_NEAR(imu.y[0], 0.3, 1e-12);
+  p.nhc_lever_b << -1.2, 0.0, 0.0;
+  gpsins_aid::NonHolonomic<double>{}.measure(s, p, axle);
+  EXPECT_NEAR(axle.y[0], 0.0, 1e-12);
+  EXPECT_NEAR(axle.y[1], imu.y[1], 1e-12);
+  EXPECT_TRUE(axle.H == imu.H);
+  // the evidence of a wheeled vehicle is taken at the axle too: no lateral mean square in the turn
+  s.t = 100.0;
+  s.gnss_t = 99.5;
+  detail::gpsins_nhc_evidence(s, p, 0.01);
+  EXPECT_NEAR(s.nhc_ms, 0.0, 1e-20);
+  p.nhc_lever_b.setZero();
+  s.nhc_ms = -1.0;
+  detail::gpsins_nhc_evidence(s, p, 0.01);
+  EXPECT_NEAR(s.nhc_ms, 0.09, 1e-12);
+}
+
 // The learned constraint (nhc_auto) leaves its lateral row out while GNSS-aided (an accepted fix
 // within 2.5 s: the heading is the GNSS's, and the mounting's yaw is learned from it) and applies
 // it in an outage; nhc_lateral_aided and the forced constraint (nhc) apply it always.

@@ -1,7 +1,8 @@
 // GpsInsFilter's covariance time update by blocks (detail::gpsins_Phi_blocks,
 // detail::gpsins_propagate) against the dense products it replaces:
 //   Phi = I + F dt + (F dt)^2 / 2,  Qd = (Phi Qc Phi^T + Qc) dt / 2,  P <- Phi P Phi^T + Qd,
-// on random nominal states, specific forces, intervals, process noise and covariances, in double
+// on random nominal states, specific forces, intervals, process noise (with or without the
+// attitude's rate-proportional block, detail::gpsins_Qc_rate) and covariances, in double
 // and float, with 16 error states and with the 22 of the scale-factor states (random scale
 // factors and rates). The two differ only by the order of their sums: the bound is relative, per
 // coefficient, to sqrt(P_ii P_jj) of the dense result (1e-12 in double, 1e-5 in float).
@@ -25,9 +26,10 @@ template <class S, bool SF> struct Draw {
   S dt;
   GpsInsParams<S> p;
   Vec<S, N> qc;
+  Mat3<S> qa;  // the full 3 x 3 attitude block added to Qc
   Mat<S, N, N> P;
   Draw() = default;
-  Draw(const Draw& o) : st(o.st), f_b(o.f_b), w_b(o.w_b), dt(o.dt), p(o.p), qc(o.qc), P(o.P) {}
+  Draw(const Draw& o) : st(o.st), f_b(o.f_b), w_b(o.w_b), dt(o.dt), p(o.p), qc(o.qc), qa(o.qa), P(o.P) {}
   Draw& operator=(const Draw& o) {
     st = o.st;
     f_b = o.f_b;
@@ -35,6 +37,7 @@ template <class S, bool SF> struct Draw {
     dt = o.dt;
     p = o.p;
     qc = o.qc;
+    qa = o.qa;
     P = o.P;
     return *this;
   }
@@ -62,7 +65,10 @@ template <class S, bool SF> Draw<S, SF> draw(quatnav_test::Randn& rn, int k) {
   d.p.gyro_bias_tau = k % 4 < 2 ? S(200 + 50 * u()) : S(0);
   d.p.acc_scale_noise = S(1e-4 * (1 + u()));
   d.p.gyro_scale_noise = S(1e-4 * (1 + u()));
-  d.qc = detail::gpsins_Qc_diag<S, SF>(d.p, S(1 + 4 * (1 + u())));
+  d.p.gyro_rate_noise = k % 2 ? S(0) : S(5e-3 * (1 + u()));  // off, or on
+  const S q_scale = S(1 + 4 * (1 + u()));
+  d.qc = detail::gpsins_Qc_diag<S, SF>(d.p, q_scale);
+  d.qa = detail::gpsins_Qc_rate<S, SF>(d.p, q_scale, d.nav.q_nb, d.w_b);
   // A covariance with the scales of a running filter (m, m/s, rad, m/s^2, rad/s, m; scale factors
   // 1) and random correlations: D (A A^T + I) D.
   Vec<double, N> sig;
@@ -88,8 +94,9 @@ template <class S, bool SF> MatN<S, SF> dense_Phi(const Draw<S, SF>& d) {
 
 template <class S, bool SF> MatN<S, SF> dense_update(const Draw<S, SF>& d) {
   const MatN<S, SF> Phi = dense_Phi(d);
-  MatN<S, SF> Qd = S(0.5) * d.dt * (Phi * d.qc.asDiagonal() * Phi.transpose());
-  Qd.diagonal() += S(0.5) * d.dt * d.qc;
+  MatN<S, SF> Qc = d.qc.asDiagonal();
+  Qc.template block<3, 3>(6, 6) += d.qa;
+  const MatN<S, SF> Qd = S(0.5) * d.dt * (Phi * Qc * Phi.transpose() + Qc);
   MatN<S, SF> P = Phi * d.P * Phi.transpose() + Qd;
   symmetrize(P);
   return P;
@@ -125,7 +132,7 @@ template <class S, bool SF> void check_blockwise(double tol) {
     if constexpr (!SF) {
       ASSERT_EQ(detail::gpsins_Phi<S>(d.nav, d.f_b, d.dt, d.p), Phi);
     }
-    MatN<S, SF> P = detail::gpsins_propagate<S, SF>(blocks, d.P, d.qc, d.dt);
+    MatN<S, SF> P = detail::gpsins_propagate<S, SF>(blocks, d.P, d.qc, d.dt, &d.qa);
     symmetrize(P);
     ASSERT_TRUE(P.allFinite());
     const double e = max_rel<S, N>(P, dense_update(d));
@@ -143,7 +150,9 @@ TEST(GpsInsPropagate, ScaleFactorsBlockwiseEqualsDenseDouble) { check_blockwise<
 TEST(GpsInsPropagate, ScaleFactorsBlockwiseEqualsDenseFloat) { check_blockwise<float, true>(1e-5); }
 
 // The filter's time update is the block-wise one: its covariance after predict() is the dense
-// update from the state before (the filter symmetrizes; cov_floor is off by default).
+// update from the state before (the filter symmetrizes; cov_floor is off by default). In every
+// other draw with the rate-proportional attitude noise, written out here from its derivation
+// (detail::gpsins_Qc_rate) at the corrected rate w and the attitude after the step.
 template <class S, bool SF> void check_filter(double tol) {
   constexpr int N = gpsins::kStates<SF>;
   quatnav_test::Randn rn(7);
@@ -168,6 +177,14 @@ template <class S, bool SF> void check_filter(double tol) {
     ref.w_b = detail::gpsins_correct<S, SF>(w, bg, st.gyro_scale);
     ref.P = P0;
     ref.qc = detail::gpsins_Qc_diag<S, SF>(d.p, f.q_scale());
+    // Without the scale-factor states k^2 |w|^2 I; with them k^2 C_nb diag(|w|^2 - w_i^2) C_nb^T.
+    const S k2 = f.q_scale() * d.p.gyro_rate_noise * d.p.gyro_rate_noise, w2 = ref.w_b.squaredNorm();
+    const Mat3<S> C = quat::to_rotmat(f.state().nav.q_nb);
+    const Vec3<S> body = SF ? Vec3<S>(Vec3<S>::Constant(w2) - ref.w_b.cwiseAbs2()) : Vec3<S>::Constant(w2);
+    ref.qa = C * (k2 * body).asDiagonal() * C.transpose();
+    if (k % 2 == 0) {
+      EXPECT_GT(ref.qa.norm(), S(0)) << "k " << k;
+    }
     EXPECT_LE((max_rel<S, N>(f.covariance(), dense_update(ref))), tol) << "k " << k;
   }
 }

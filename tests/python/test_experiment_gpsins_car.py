@@ -22,6 +22,23 @@ def test_nees_is_one_for_errors_drawn_from_the_sigmas():
     assert X.nees_per_run(r, errs2, t0=1.0, every=0.01)["all"] > 2.0
 
 
+def test_nees_per_axis_splits_the_samples_at_the_outage_windows():
+    """Inside the windows the errors are 2x their sigmas (NEES 4), outside 1x (NEES 1): each part
+    gets its own, per axis."""
+    n = 10000
+    t = np.arange(n) * 0.01  # 100 s
+    sigma = np.full((n, 16), 0.1)
+    out = (t >= 50.0) & (t < 70.0)
+    e = np.where(out[:, None], 2.0, 1.0) * sigma[:, :9] * np.array([1, -1, 1, 1, 1, -1, 1, 1, 1])
+    r = SimpleNamespace(t=t, navigating=np.ones(n, bool), sigma=sigma)
+    errs = {"dp": e[:, 0:3], "dv": e[:, 3:6], "psi": e[:, 6:9]}
+    inside = X.nees_per_axis(r, errs, [(50.0, 70.0)], t0=40.0)
+    aided = X.nees_per_axis(r, errs, [(50.0, 70.0)], inside=False, t0=40.0)
+    for b in ("position", "velocity", "attitude"):
+        np.testing.assert_allclose(inside[b], [4.0] * 3, rtol=1e-12)
+        np.testing.assert_allclose(aided[b], [1.0] * 3, rtol=1e-12)
+
+
 def test_outage_drift_is_the_error_before_the_first_fix_after():
     t = np.arange(0.0, 100.0, 0.01)
     dp = np.zeros((len(t), 3))
@@ -42,6 +59,9 @@ def test_one_drive_gives_every_figure():
     assert 0.0 < res["all"]["horizontal_rms_m"] < 2.0 and res["all"]["navigating_from_s"] < 60.0
     summary = X.summarize([{"defaults": res}], ("defaults",))["defaults"]
     assert summary["30"]["drift_worst_m"] == max(res["30"]["drift_m"])
+    for kind in ("30", "60"):
+        for part in ("nees_outage", "nees_aided"):
+            assert all(len(v) == 3 and np.all(np.isfinite(v)) for v in summary[kind][part].values())
 
 
 def test_the_truth_is_taken_at_the_output_stamps_on_the_gnss_clock():

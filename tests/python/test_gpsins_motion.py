@@ -109,14 +109,15 @@ def test_given_initial_state(car):
 
 
 @pytest.mark.parametrize("case", ["velocity", "positions", "static_mag_zupt", "initial", "nhc_auto", "solutions",
-                                  "robust"])
+                                  "robust", "nhc_arm", "nhc_lever"])
 def test_cpp_matches_reference_step_by_step(car, case):
     s = car
     n = 2500 if case != "static_mag_zupt" else 2000
     t0 = 0.0 if case == "static_mag_zupt" else 12.0
     gyr, acc, t = _cut(s, t0)
     gyr, acc, t = gyr[:n], acc[:n], t[:n]
-    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto", "solutions", "robust"))
+    kw = _gnss(s, t0, velocity=case in ("velocity", "nhc_auto", "solutions", "robust", "nhc_arm",
+                                              "nhc_lever"))
     if case == "solutions":  # every solution kind in turn, each with its own sigma floor
         kw["gps_solution"] = np.arange(len(kw["gps_pos"].t)) % 5
     # nhc_auto: the constraint by evidence (the default), after 5 s of it instead of 20.
@@ -124,6 +125,10 @@ def test_cpp_matches_reference_step_by_step(car, case):
                                                                                      nhc_auto_time=5.0)
     if case == "robust":  # Huber weighting of the GNSS aids, with a threshold that weights many fixes
         params["gps_robust_k"] = 1.0
+    if case == "nhc_arm":  # the lateral row's variance raised with the yaw rate (the turn from 30 s, 12 deg/s)
+        params["nhc_arm"] = 1.5
+    if case == "nhc_lever":  # the constraint and its evidence at a rear axle 1.2 m behind the IMU
+        params.update(nhc_lever_b=(-1.2, 0.0, 0.0), nhc_auto_time=5.0)
     f = quatnav.GpsInsFilter(**params)
     ref = R.GpsInsFilter(**params)
     mag = None
@@ -158,8 +163,15 @@ def test_cpp_matches_reference_step_by_step(car, case):
         assert r.aids["mag"].accepted.sum() > 100
     if case == "robust":
         assert r.counters["gps_pos"]["weighted"] > 10 and r.counters["gps_vel"]["weighted"] > 10, r.counters
-    if case in ("velocity", "positions", "nhc_auto", "solutions", "robust"):
+    if case in ("velocity", "positions", "nhc_auto", "solutions", "robust", "nhc_arm", "nhc_lever"):
         assert r.aids["nhc"].accepted.sum() > 100
+    if case in ("nhc_arm", "nhc_lever"):  # the parameter moved the run (in the turn)
+        plain = f.__class__(**{k: v for k, v in params.items() if k not in ("nhc_arm", "nhc_lever_b")}).run(
+            gyr, acc, t=t, **kw)
+        if case == "nhc_arm":  # the turn's lateral row weighs less: the attitude sigma moved (by up to 45 %)
+            assert np.abs(plain.sigma[nav, 6:9] / r.sigma[nav, 6:9] - 1).max() > 0.05
+        else:  # the residual is the axle's: the attitude moved (the yaw by up to 1.5 deg)
+            assert np.degrees(np.abs(np.angle(np.exp(1j * (plain.euler[nav] - r.euler[nav])))).max()) > 0.1
     if case == "solutions":
         # the floors moved the run: the same fixes as unknown kind give another covariance
         same = f.__class__(**params).run(gyr, acc, t=t, **{k: v for k, v in kw.items() if k != "gps_solution"})

@@ -519,7 +519,7 @@ class QuaternionEKFParams_f64:
     @property
     def gyro_rate_noise(self) -> float:
         """
-        rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off) [1/sqrt(Hz)]
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
         """
     @gyro_rate_noise.setter
     def gyro_rate_noise(self, arg1: typing.Any) -> None:
@@ -1240,7 +1240,7 @@ class QuaternionEKFParams_f32:
     @property
     def gyro_rate_noise(self) -> float:
         """
-        rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off) [1/sqrt(Hz)]
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
         """
     @gyro_rate_noise.setter
     def gyro_rate_noise(self, arg1: typing.Any) -> None:
@@ -4143,6 +4143,14 @@ class GpsInsParams_f64:
     def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gyro_rate_noise(self) -> float:
+        """
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
+        """
+    @gyro_rate_noise.setter
+    def gyro_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gyro_scale_noise(self) -> float:
         """
         gyro scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
@@ -4327,6 +4335,14 @@ class GpsInsParams_f64:
     def nhc(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_arm(self) -> float:
+        """
+        largest distance of the IMU from the non-slipping axle: the constraint's lateral variance gains (w_z nhc_arm)^2 (0: off) [m]
+        """
+    @nhc_arm.setter
+    def nhc_arm(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_auto(self) -> bool:
         """
         apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit (RMS); its R is then the larger of nhc_sigma^2 and that mean square [-]
@@ -4373,6 +4389,14 @@ class GpsInsParams_f64:
         """
     @nhc_lateral_aided.setter
     def nhc_lateral_aided(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_lever_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        the non-slipping point (the middle of the rear axle) relative to the IMU, body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b [m]
+        """
+    @nhc_lever_b.setter
+    def nhc_lever_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_mount_tau_pitch(self) -> float:
@@ -5045,6 +5069,14 @@ class GpsInsParams_f32:
     def gyro_range(self, arg1: typing.Any) -> None:
         ...
     @property
+    def gyro_rate_noise(self) -> float:
+        """
+        rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only [1/sqrt(Hz)]
+        """
+    @gyro_rate_noise.setter
+    def gyro_rate_noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def gyro_scale_noise(self) -> float:
         """
         gyro scale-factor random-walk density (scale-factor states only) [1/sqrt(s)]
@@ -5229,6 +5261,14 @@ class GpsInsParams_f32:
     def nhc(self, arg1: typing.Any) -> None:
         ...
     @property
+    def nhc_arm(self) -> float:
+        """
+        largest distance of the IMU from the non-slipping axle: the constraint's lateral variance gains (w_z nhc_arm)^2 (0: off) [m]
+        """
+    @nhc_arm.setter
+    def nhc_arm(self, arg1: typing.Any) -> None:
+        ...
+    @property
     def nhc_auto(self) -> bool:
         """
         apply the non-holonomic constraint once the vehicle has shown it: nhc_auto_time s of GNSS-aided motion above nhc_auto_speed with the lateral and vertical body velocity within nhc_auto_limit (RMS); its R is then the larger of nhc_sigma^2 and that mean square [-]
@@ -5275,6 +5315,14 @@ class GpsInsParams_f32:
         """
     @nhc_lateral_aided.setter
     def nhc_lateral_aided(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def nhc_lever_b(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        """
+        the non-slipping point (the middle of the rear axle) relative to the IMU, body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b [m]
+        """
+    @nhc_lever_b.setter
+    def nhc_lever_b(self, arg1: typing.Any) -> None:
         ...
     @property
     def nhc_mount_tau_pitch(self) -> float:

@@ -154,6 +154,23 @@ def nees_per_run(r, e, t0=40.0, every=1.0):
             "attitude": float(z2[:, 6:9].mean()), "heading": float(z2[:, 8].mean()), "all": float(z2.mean())}
 
 
+def nees_per_axis(r, e, outages, inside=True, t0=40.0, every=1.0):
+    """Per block (position, velocity, attitude) the mean of the squared error over the filter's
+    variance for each NED axis (attitude: north and east are tilt, down the heading), over the
+    samples every ``every`` s after ``t0`` inside the outage windows (``inside``) or outside them
+    (while aided)."""
+    t = r.t - r.t[0]
+    k = np.searchsorted(t, np.arange(t0, t[-1], every))
+    k = k[r.navigating[k]]
+    w = np.zeros(len(k), bool)
+    for a, b in outages:
+        w |= (r.t[k] >= a) & (r.t[k] < b)
+    k = k[w] if inside else k[~w]
+    z2 = (np.column_stack([e["dp"][k], e["dv"][k], e["psi"][k]]) / r.sigma[k, :9]) ** 2
+    m = z2.mean(axis=0)
+    return {"position": m[0:3].tolist(), "velocity": m[3:6].tolist(), "attitude": m[6:9].tolist()}
+
+
 def outage_drift(s, r, e, outages):
     """Horizontal error (m) at the end of each outage: the last IMU sample before the first fix
     after it (the outage windows on the GNSS clock, put on the IMU's by gps_time_offset)."""
@@ -205,7 +222,9 @@ def run_seed(seed: int, settings=("defaults",), base=None, noise_from_log=True) 
                               "rejected": rejected_by_quality(s, r), "nees": nees_per_run(r, e),
                               "navigating_from_s": float(t[np.argmax(r.navigating)])}
             else:
-                row[kind] = {"drift_m": outage_drift(s, r, e, outages), "nees": nees_per_run(r, e)}
+                row[kind] = {"drift_m": outage_drift(s, r, e, outages), "nees": nees_per_run(r, e),
+                             "nees_outage": nees_per_axis(r, e, outages),
+                             "nees_aided": nees_per_axis(r, e, outages, inside=False)}
         res[setting] = row
     return res
 
@@ -231,6 +250,10 @@ def summarize(runs: list, settings) -> dict:
                            "drift_median_m": float(np.median(drift)),
                            "drift_mean_per_outage_m": drift.mean(axis=0).tolist(),
                            "nees": {b: _mean_se([r[kind]["nees"][b] for r in rows]) for b in rows[0][kind]["nees"]}}
+                for part in ("nees_outage", "nees_aided"):
+                    if part in rows[0][kind]:
+                        d[kind][part] = {b: np.mean([r[kind][part][b] for r in rows], axis=0).tolist()
+                                         for b in rows[0][kind][part]}
         out[setting] = d
     return out
 
@@ -268,6 +291,10 @@ def table(res) -> str:
                          f"worst {k['drift_worst_m']:.2f}; per outage " + ", ".join(f"{x:.2f}" for x in
                                                                                   k["drift_mean_per_outage_m"])
                          + "; NEES all " + f"{k['nees']['all']['mean']:.2f}")
+            for part, label in (("nees_outage", "inside the outages"), ("nees_aided", "while aided")):
+                if part in k:
+                    lines.append(f"    NEES per axis N/E/D {label}: " + "; ".join(
+                        f"{b} " + "/".join(f"{x:.2f}" for x in v) for b, v in k[part].items()))
     if len(sm) > 1:
         base = sm["defaults"]["30"]["drift_mean_m"]
         lines.append("robustness, 30 s drift mean / worst (m) and the mean's ratio to the defaults':")

@@ -277,8 +277,8 @@ QEKF_PARAMS = (
        "the other arguments are applied on top", "bool", None),
     _gyro_noise(0.01),
     _gyro_bias_noise(1e-4),
-    _p("gyro_rate_noise", 0.004, "1/sqrt(Hz)", "rate-proportional tilt process noise: density "
-       "gyro_rate_noise * |w - b| in the tilt (0: off)", "pos0"),
+    _p("gyro_rate_noise", 0.004, "1/sqrt(Hz)", "rate-proportional attitude process noise: density "
+       "gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only", "pos0"),
     _p("acc_sigma", 0.4, "1 (normalized)", "std of each component of the normalized accelerometer"),
     _p("mag_sigma", 1.0, "1 (normalized)", "std of each component of the normalized magnetometer"),
     _p("init_att_sigma", 0.5, "rad", "attitude one-sigma after initialize"),
@@ -375,6 +375,8 @@ GPSINS_PARAMS = (
     _p("acc_bias_tau", 0.0, "s", "Gauss-Markov time constant of the accelerometer bias (0: random walk)",
        "pos0"),
     _p("init_gyro_bias_sigma", 0.005, "rad/s", "gyro-bias one-sigma at the start of navigation", "pos0"),
+    _p("gyro_rate_noise", 0.0, "1/sqrt(Hz)", "rate-proportional attitude process noise: density gyro_rate_noise "
+       "* |w - b| (0: off); the attitude filters apply it to the tilt only", "pos0"),
     _p("scale_factors", False, "-", "estimate the gyro and accelerometer scale factors (22 error states "
        "instead of 16)", "bool", core=None),
     _p("gyro_scale_noise", 1e-5, "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)",
@@ -468,6 +470,10 @@ GPSINS_PARAMS = (
        "forward speed) is learned from straight GNSS-aided driving (0: not learned)", "pos0"),
     _p("nhc_lateral_aided", False, "-", "apply the learned non-holonomic constraint's lateral row while GNSS-aided "
        "too (default: in outages only; its mounting yaw is learned from the aided heading)", "bool"),
+    _p("nhc_arm", 0.0, "m", "largest distance of the IMU from the non-slipping axle: the constraint's lateral "
+       "variance gains (w_z nhc_arm)^2 (0: off)", "pos0"),
+    _p("nhc_lever_b", (0.0, 0.0, 0.0), "m", "the non-slipping point (the middle of the rear axle) relative to the IMU, "
+       "body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b", "vec3"),
     _p("pseudo_interval", 0.1, "s", "shortest interval between two zero-velocity or non-holonomic updates", "pos0"),
     _p("odometer_sigma", 0.05, "m/s", "one-sigma of an odometer speed"),
     _p("gate_odometer", 15.137, "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)", "pos0"),

@@ -33,7 +33,7 @@ from . import gpsins_batch
 from .gpsins_model import (ALIGNING, BA, BG, BO, DECISIONS, DEFAULTS, KINDS, LEVELLED, NAVIGATING, N, N_SF,  # noqa: F401
                            POS, SA, SG, VEL, ATT, GpsInsParams, Result, _baro_height, _baro_vd, _compass,
                            _corrected, _from_euler, _gps_position, _gps_velocity, _mag_heading, _new_state,
-                           _gnss_aided, _nhc, _nhc_evidence, _odometer, _qc_diag, _reset_position, _reset_velocity, _result,
+                           _gnss_aided, _nhc, _nhc_evidence, _odometer, _qc_diag, _qc_rate, _reset_position, _reset_velocity, _result,
                            _triad, _zaru, _zupt, geodetic_add, geodetic_diff, gnss_correlation_scale, gnss_sigma_floor, gpsins_F, huber_scales,
                            inject)
 from .gpsins_smoother import GpsInsRtsModel, run_smoothed  # noqa: F401
@@ -218,6 +218,10 @@ class GpsInsFilter:
             self.last_transition = Phi  # the smoother's (GpsInsRtsModel)
             qc = _qc_diag(p, s.q_scale, len(F))
             Qd = 0.5 * dt * (Phi * qc) @ Phi.T + np.diag(0.5 * dt * qc)
+            qa = _qc_rate(p, s.q_scale, s.nav.q_nb, w, self.scale_factors)  # at the attitude after the step
+            if qa is not None:
+                Qd += 0.5 * dt * (Phi[:, ATT:ATT + 3] @ qa @ Phi[:, ATT:ATT + 3].T)
+                Qd[ATT:ATT + 3, ATT:ATT + 3] += 0.5 * dt * qa
             P = Phi @ s.P @ Phi.T + Qd
             P = 0.5 * (P + P.T)
             if p.acc_bias_tau > 0:

@@ -42,6 +42,7 @@ def GpsInsParams(**params) -> SimpleNamespace:
                         f"known: {', '.join(DEFAULTS)}")
     p = SimpleNamespace(**{**DEFAULTS, **params})
     p.lever_arm_b = np.asarray(p.lever_arm_b, float).reshape(3)
+    p.nhc_lever_b = np.asarray(p.nhc_lever_b, float).reshape(3)
     p.imu_rotation = np.asarray(p.imu_rotation, float).reshape(3, 3)
     return p
 
@@ -126,6 +127,22 @@ def gpsins_F(nav: StrapdownState, f_b, p, w_b=None, acc_scale=None, gyro_scale=N
     if p.gyro_bias_tau > 0:
         F[12:15, 12:15] = -np.eye(3) / p.gyro_bias_tau
     return F
+
+
+def _qc_rate(p, q_scale, q_nb, w_b, scale_factors=False):
+    """The attitude's rate-proportional process noise (3 x 3, NED): k^2 |w|^2 I, k =
+    gyro_rate_noise, w the corrected rate w - b; with the scale factors k^2 C_nb diag(|w|^2 -
+    w_i^2) C_nb^T, the misalignment that remains once the scale factors are states. None when
+    zero. The derivation is at gpsins_Qc_rate (model.hpp)."""
+    w_b = np.asarray(w_b, float)
+    w2 = float(w_b @ w_b)
+    if not (p.gyro_rate_noise > 0 and w2 > 0):
+        return None
+    k2 = q_scale * p.gyro_rate_noise ** 2
+    if scale_factors:
+        C = Q.to_rotmat(q_nb)
+        return C @ np.diag(k2 * (w2 - w_b ** 2)) @ C.T
+    return k2 * w2 * np.eye(3)
 
 
 def _qc_diag(p, q_scale, n=N):
@@ -397,16 +414,21 @@ def _zaru(s, p):
 
 def _nhc(s, p, var=0.0, lateral=True):
     """No lateral or vertical velocity of the vehicle: the body velocity's rows 1, 2 less the
-    mounting's share of the forward speed (s.nhc_ky, s.nhc_kz; as gpsins_aid::NonHolonomic);
-    without ``lateral`` the lateral row is zero (no information)."""
+    mounting's share of the forward speed (s.nhc_ky, s.nhc_kz; as gpsins_aid::NonHolonomic); the
+    lateral row's variance gains (w_z nhc_arm)^2; without ``lateral`` the lateral row is zero (no
+    information)."""
     v, Hb = _body_velocity_rows(s, [0, 1, 2])
+    v = v + np.cross(s.omega_b, p.nhc_lever_b)  # at the non-slipping point (its bias term left out of H)
     k = np.array([s.nhc_ky, s.nhc_kz])
     y = v[1:] - k * v[0]
     H = Hb[1:] - k[:, None] * Hb[0]
     if not lateral:
         y[0] = 0.0
         H[0] = 0.0
-    return y, H, (var if var > 0 else p.nhc_sigma ** 2) * np.eye(2)
+    R = (var if var > 0 else p.nhc_sigma ** 2) * np.eye(2)
+    if p.nhc_arm > 0:
+        R[0, 0] += (s.omega_b[2] * p.nhc_arm) ** 2
+    return y, H, R
 
 
 def _gnss_aided(s):
@@ -422,7 +444,7 @@ def _nhc_evidence(s, p, dt):
     (lost above twice the limit, held in between)."""
     if not p.nhc_auto or not _gnss_aided(s):
         return
-    v_b = Q.rotate_inv(s.nav.q_nb, s.nav.v_n)
+    v_b = Q.rotate_inv(s.nav.q_nb, s.nav.v_n) + np.cross(s.omega_b, p.nhc_lever_b)  # at the axle
     if not abs(v_b[0]) > p.nhc_auto_speed:
         return
     if abs(s.omega_b[2]) <= p.nhc_auto_rate:

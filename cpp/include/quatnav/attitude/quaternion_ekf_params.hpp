@@ -36,7 +36,7 @@ namespace quatnav {
   /* the gyro's scale-factor and misalignment errors grow with the rate and the accelerometer            \
      corrects them in the tilt only (attitude.hpp, detail::tilt_rate_noise) */                     \
   X(S, gyro_rate_noise, S(0.004), "1/sqrt(Hz)",                                                          \
-    "rate-proportional tilt process noise: density gyro_rate_noise * |w - b| in the tilt (0: off)")      \
+    "rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only") \
   X(S, acc_sigma, S(0.4), "1 (normalized)", "std of each component of the normalized accelerometer")     \
   X(S, mag_sigma, S(1.0), "1 (normalized)", "std of each component of the normalized magnetometer")      \
   X(S, init_att_sigma, S(0.5), "rad", "attitude one-sigma after initialize")                             \

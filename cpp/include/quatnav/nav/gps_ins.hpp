@@ -43,8 +43,10 @@
 //   P <- Phi P Phi^T + Qd,
 // evaluated by blocks, with only the nonzero blocks of F and Phi, as Phi (P + Qc dt / 2) Phi^T +
 // Qc dt / 2 (detail::gpsins_Phi_blocks, detail::gpsins_propagate in gps_ins/model.hpp).
-// Qc: accelerometer white noise on dv, gyro white noise on psi, bias driving noise on db (all
-// scaled by the adaptation's q_scale, see below), the offset's random walk.
+// Qc: accelerometer white noise on dv, gyro white noise on psi and, with gyro_rate_noise, a term
+// that grows with the rate for the gyro's scale-factor and misalignment errors (a full 3 x 3 block,
+// detail::gpsins_Qc_rate, off by default), bias driving noise on db (all scaled by the
+// adaptation's q_scale, see below), the offset's random walk.
 //
 // Measurements (eq. 11: z = INS minus aid = H dx + noise; the innovation reported is INS minus
 // aid), each at its own rate, each one piece of one measurement shape (gps_ins/aids.hpp, where

@@ -365,10 +365,15 @@ template <class S> struct ZeroRate {
 /// at the IMU; with the IMU's mounting k = (k_y, k_z) (the lateral and vertical body velocity per
 /// forward speed, learned by detail::gpsins_nhc_evidence; 0: the body axes are the vehicle's),
 /// y = (v_b,y - k_y v_b,x, v_b,z - k_z v_b,x) with v_b = C_nb^T v_n, H the same combination of the
-/// rows of v_b's (the lever arm to the axle and side slip are in nhc_sigma). Without k a mounting
-/// off by a degree is a constraint off by 0.4 m/s at 25 m/s, a bias that the updates at 10 Hz
-/// turn into a pitch or yaw error. `var`: the variance of each row (0: nhc_sigma^2). Without
-/// `lateral` the lateral row is left out (its residual and H zero: it carries no information).
+/// rows of v_b's (side slip is in nhc_sigma). Without k a mounting off by a degree is a constraint
+/// off by 0.4 m/s at 25 m/s, a bias that the updates at 10 Hz turn into a pitch or yaw error.
+/// `var`: the variance of each row (0: nhc_sigma^2). The lateral row's variance gains
+/// (w_z nhc_arm)^2, w_z the corrected body yaw rate: an IMU a distance L ahead of or behind the
+/// non-slipping axle moves sideways at w_z L in a turn (1.2 m at 14 deg/s: 0.29 m/s against
+/// nhc_sigma's 0.1), which the row would otherwise force to zero through the tilt and heading.
+/// With nhc_lever_b the rows hold the velocity at the non-slipping point, v_b + w x nhc_lever_b;
+/// the lever term's dependence on the gyro bias (1 mm/s per mrad/s at 1 m) is left out of H.
+/// Without `lateral` the lateral row is left out (its residual and H zero: it carries no information).
 template <class S> struct NonHolonomic {
   static constexpr GpsInsAid kind = GpsInsAid::Nhc;
   static constexpr int M = 2, C0 = 3, NC = 6;
@@ -383,10 +388,15 @@ template <class S> struct NonHolonomic {
     Vec3<S> v;
     Mat<S, 3, N> H = Mat<S, 3, N>::Zero();
     detail_body::body_velocity_rows<S, 3>(s, rows, v, H);
+    v += s.omega_b.cross(p.nhc_lever_b);
     m.y << v[1] - ky * v[0], v[2] - kz * v[0];
     m.H.row(0) = H.row(1) - ky * H.row(0);
     m.H.row(1) = H.row(2) - kz * H.row(0);
     m.R.diagonal().setConstant(var > S(0) ? var : p.nhc_sigma * p.nhc_sigma);
+    if (p.nhc_arm > S(0)) {
+      const S u = s.omega_b[2] * p.nhc_arm;
+      m.R(0, 0) += u * u;
+    }
     if (!lateral) {
       m.y[0] = S(0);
       m.H.row(0).setZero();

@@ -59,7 +59,7 @@ template <class S, bool SF> bool gpsins_gnss_aided(const GpsInsState<S, SF>& s) 
 /// velocity is the constrained INS's own) it is held.
 template <class S, bool SF> void gpsins_nhc_evidence(GpsInsState<S, SF>& s, const GpsInsParams<S>& p, S dt) {
   if (!p.nhc_auto || !gpsins_gnss_aided(s)) return;
-  const Vec3<S> v_b = quat::rotate_inv(s.nav.q_nb, s.nav.v_n);
+  const Vec3<S> v_b = quat::rotate_inv(s.nav.q_nb, s.nav.v_n) + s.omega_b.cross(p.nhc_lever_b);  // at the axle
   if (!(std::abs(v_b[0]) > p.nhc_auto_speed)) return;
   if (std::abs(s.omega_b[2]) <= p.nhc_auto_rate) {
     if (p.nhc_mount_tau_yaw > S(0)) lowpass(s.nhc_ky, S(v_b[1] / v_b[0]), dt, p.nhc_mount_tau_yaw);

@@ -1,7 +1,6 @@
-// quatnav: GpsInsFilter, the loosely coupled GPS/INS feedback Kalman filter of paper 004: the class
-// (alignment phases, time update, one update per aid through one gated correction path). The model,
-// the equations and the paper's slips are in the comment of nav/gps_ins.hpp; the pieces it is made
-// of in params.hpp, model.hpp, aids.hpp and alignment.hpp; its batch run in batch.hpp.
+// quatnav: GpsInsFilter, the loosely coupled GPS/INS feedback Kalman filter of paper 004: the class (alignment
+// phases, time update, one update per aid through one gated correction path). Model, equations and the paper's
+// slips: nav/gps_ins.hpp; its pieces: params.hpp, model.hpp, aids.hpp, alignment.hpp; its batch run: batch.hpp.
 #pragma once
 
 #include <cmath>
@@ -236,7 +235,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
       const Status st = strapdown_step(s.nav, w, f, dt, sp);
       if (st != Status::Ok) return st;
       if (!resolved) detail::gpsins_rest_velocity(s, params_, Vec3<S>(s.nav.v_n - v0), g);
-      Mat16 P = detail::gpsins_propagate<S, SF_>(Phi, s.P, detail::gpsins_Qc_diag<S, SF_>(params_, s.q_scale), dt);
+      Mat16 P = detail::gpsins_propagate_P<S, SF_>(Phi, s.P, params_, s.q_scale, s.nav.q_nb, w, dt);
       symmetrize(P);
       if (params_.acc_bias_tau > S(0)) s.acc_bias *= std::exp(-dt / params_.acc_bias_tau);
       if (params_.gyro_bias_tau > S(0)) s.gyro_bias *= std::exp(-dt / params_.gyro_bias_tau);

@@ -321,12 +321,18 @@ Mat16<S> gpsins_Phi(const StrapdownState<S>& nav, const Vec3<S>& f_b, S dt, cons
 /// P_nb^T).
 /// With the scale-factor states the navigation rows gain Sa P'_sa + [0; Sg] P'_sg in T and
 /// T_sa Sa^T + T_sg [0; Sg]^T in P_nn; their own block of diag(...) has 1 for each scale factor.
+/// qc_att: a full 3 x 3 term added to Qc's attitude block (gpsins_Qc_rate); null (the default,
+/// gyro_rate_noise = 0) adds nothing and costs nothing.
 template <class S, bool SF>
-MatN<S, SF> gpsins_propagate(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, const VecN<S, SF>& qc, S dt) {
+MatN<S, SF> gpsins_propagate(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, const VecN<S, SF>& qc, S dt,
+                             const Mat3<S>* qc_att = nullptr) {
   constexpr int N = gpsins::kStates<SF>, NB = N - 9;
   const VecN<S, SF> q2 = (S(0.5) * dt) * qc;
+  Mat3<S> qa2;
+  if (qc_att) qa2 = (S(0.5) * dt) * *qc_att;
   MatN<S, SF> P1 = P;
   P1.diagonal() += q2;
+  if (qc_att) P1.template block<3, 3>(6, 6) += qa2;
   Mat<S, 9, N> T = fixed_mul(Phi.N, P1.template topRows<9>());
   T += fixed_mul(Phi.Ba, P1.template middleRows<3>(gpsins::kBa));
   T.template bottomRows<6>() += fixed_mul(Phi.Bg, P1.template middleRows<3>(gpsins::kBg));
@@ -353,6 +359,7 @@ MatN<S, SF> gpsins_propagate(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, 
   Pn.template bottomRightCorner<NB, NB>() =
       d.asDiagonal() * P1.template bottomRightCorner<NB, NB>() * d.asDiagonal();
   Pn.diagonal() += q2;
+  if (qc_att) Pn.template block<3, 3>(6, 6) += qa2;
   return Pn;
 }
 
@@ -370,6 +377,58 @@ template <class S, bool SF = false> VecN<S, SF> gpsins_Qc_diag(const GpsInsParam
     q.template segment<3>(gpsins::kSg).setConstant(q_scale * p.gyro_scale_noise * p.gyro_scale_noise);
   }
   return q;
+}
+
+/// The attitude's rate-proportional process noise (k = gyro_rate_noise, 1/sqrt(Hz), the name and
+/// unit of the attitude filters'): Qc_att = k^2 |w|^2 I (rad^2/s, NED) at the corrected rate w =
+/// w_m - b; with the scale-factor states k^2 C_nb diag(|w|^2 - w_i^2) C_nb^T (below).
+/// Derivation. The gyro reads (I + E) w + b + n: E holds the scale-factor errors on its diagonal
+/// and the misalignment (non-orthogonality) errors off it, nine entries taken independent, each
+/// of one-sigma sigma_E; the model has no state for E (16 states), so the rate error E w turns
+/// the attitude unseen: dpsi_n/dt = -C_nb E w. Its covariance, E[(E w)(E w)^T]_ij =
+/// sum_kl E[E_ik E_jl] w_k w_l = sigma_E^2 |w|^2 delta_ij, is isotropic: the same in NED. Over a
+/// turn about a fixed axis u (fixed in the body and in NED) by theta = |w| T:
+///  * along u the error u^T E u |w| is constant and grows with the angle: variance
+///    sigma_E^2 theta^2;
+///  * across u it is constant in the body, turns with it in NED and integrates to a chord,
+///    2 sin(theta / 2) / |w| times it: variance 4 sigma_E^2 sin^2(theta / 2) per axis, within
+///    20 % of sigma_E^2 theta^2 up to 90 deg, at most 4 sigma_E^2 beyond.
+/// E is constant; white noise of density q gives q T over the turn, sigma_E^2 |w|^2 T^2 wants q =
+/// sigma_E^2 T |w|^2: the rate error taken as correlated over one turn and white beyond (turns
+/// go either way: for turns in random directions the variance of their sum is the sum of theirs),
+/// k = sigma_E sqrt(T_turn), T_turn = (int |w| dt)^2 / int |w|^2 dt for a turn whose rate ramps,
+/// the same on every axis: exact along the axis, and across it for turns up to about 90 deg,
+/// conservative for longer ones (a 270 deg loop: 22 sigma_E^2 where E gives 2). For the simulated
+/// car (0.1 % scale, 1 mrad misalignment: sigma_E = 1e-3) and its 19 s on-ramp loop, k = 4.4e-3
+/// sqrt(s). Off by default: on the car, NaveGo and the real walk it moved the figures by their
+/// noise, some for the worse (docs/GPSINS_DATA.md, 2026-12-06).
+/// With the scale-factor states (SF) the diagonal of E is estimated and the misalignment remains:
+/// E[(E' w)(E' w)^T] = sigma_E^2 diag(|w|^2 - w_i^2) in the body (E' = E off its diagonal),
+/// rotated into NED by C_nb. Scaled by the adaptation's q_scale like the IMU densities; zero when
+/// k = 0 or w = 0.
+template <class S, bool SF>
+Mat3<S> gpsins_Qc_rate(const GpsInsParams<S>& p, S q_scale, const Quat<S>& q_nb, const Vec3<S>& w_b) {
+  const S w2 = w_b.squaredNorm();
+  if (!(p.gyro_rate_noise > S(0) && w2 > S(0))) return Mat3<S>::Zero();
+  const S k2 = q_scale * p.gyro_rate_noise * p.gyro_rate_noise;
+  if constexpr (SF) {
+    const Mat3<S> C = quat::to_rotmat(q_nb);
+    const Vec3<S> d = (Vec3<S>::Constant(w2) - w_b.cwiseAbs2()) * k2;
+    return C * d.asDiagonal() * C.transpose();
+  } else {
+    return (k2 * w2) * Mat3<S>::Identity();
+  }
+}
+
+/// P's time update with the filter's Qc at the corrected rate w_b and the attitude after the step;
+/// the rate-proportional attitude term is neither computed nor added while gyro_rate_noise is 0.
+template <class S, bool SF>
+MatN<S, SF> gpsins_propagate_P(const GpsInsPhi<S, SF>& Phi, const MatN<S, SF>& P, const GpsInsParams<S>& p,
+                               S q_scale, const Quat<S>& q_nb, const Vec3<S>& w_b, S dt) {
+  const VecN<S, SF> qc = gpsins_Qc_diag<S, SF>(p, q_scale);
+  if (!(p.gyro_rate_noise > S(0))) return gpsins_propagate<S, SF>(Phi, P, qc, dt);
+  const Mat3<S> qa = gpsins_Qc_rate<S, SF>(p, q_scale, q_nb, w_b);
+  return gpsins_propagate<S, SF>(Phi, P, qc, dt, &qa);
 }
 
 /// Inject an error estimate into a copy of the state (the feedback of paper Fig. 2).

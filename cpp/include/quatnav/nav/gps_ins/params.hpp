@@ -22,6 +22,10 @@ namespace quatnav {
   X(S, gyro_bias_tau, S(0), "s", "Gauss-Markov time constant of the gyro bias (0: random walk)")        \
   X(S, acc_bias_tau, S(0), "s", "Gauss-Markov time constant of the accelerometer bias (0: random walk)") \
   X(S, init_gyro_bias_sigma, S(5.0e-3), "rad/s", "gyro-bias one-sigma at the start of navigation")      \
+  /* The gyro's scale-factor and misalignment errors as an attitude noise that grows with the rate \
+     (gpsins_Qc_rate, model.hpp); the attitude filters' name and unit */                            \
+  X(S, gyro_rate_noise, S(0), "1/sqrt(Hz)",                                                           \
+    "rate-proportional attitude process noise: density gyro_rate_noise * |w - b| (0: off); the attitude filters apply it to the tilt only") \
   /* Scale-factor states (GpsInsFilter<S, true>, Python scale_factors=True; unused otherwise) */      \
   X(S, gyro_scale_noise, S(1.0e-5), "1/sqrt(s)", "gyro scale-factor random-walk density (scale-factor states only)") \
   X(S, acc_scale_noise, S(1.0e-5), "1/sqrt(s)", "accelerometer scale-factor random-walk density (scale-factor states only)") \
@@ -129,6 +133,10 @@ namespace quatnav {
     "time constant over which the IMU's mounting in pitch (vertical velocity per forward speed) is learned from straight GNSS-aided driving (0: not learned)") \
   X(bool, nhc_lateral_aided, false, "-",                                                                 \
     "apply the learned non-holonomic constraint's lateral row while GNSS-aided too (default: in outages only; its mounting yaw is learned from the aided heading)") \
+  X(S, nhc_arm, S(0), "m",                                                                               \
+    "largest distance of the IMU from the non-slipping axle: the constraint's lateral variance gains (w_z nhc_arm)^2 (0: off)") \
+  X(Vec3<S>, nhc_lever_b, Vec3<S>::Zero(), "m",                                                         \
+    "the non-slipping point (the middle of the rear axle) relative to the IMU, body FRD: the constraint holds the velocity there, v_b + w x nhc_lever_b") \
   X(S, pseudo_interval, S(0.1), "s", "shortest interval between two zero-velocity or non-holonomic updates") \
   X(S, odometer_sigma, S(0.05), "m/s", "one-sigma of an odometer speed")                                \
   X(S, gate_odometer, S(15.137), "1 (chi-square, 1 dof)", "NIS gate of the odometer (0: off)")          \
