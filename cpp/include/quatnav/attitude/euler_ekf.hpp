@@ -304,7 +304,7 @@ template <class S> class EulerEKF {
     floor_covariance<S, 6>(P, params_.cov_floor);
     // An indefinite P (set_state and reset take one) propagated without a floor can lose its
     // non-negative diagonal, a state set_state would refuse: refused, nothing changed.
-    if (!detail::acceptable_covariance<S, 6>(P)) return Status::NumericalFailure;
+    if (!detail::nonnegative_diagonal<S, 6>(P)) return Status::NumericalFailure;
     e[0] = quat::wrap_pi(e[0]);
     e[2] = quat::wrap_pi(e[2]);
     // The accelerometer part's frame turns by (w - b) dt: a rate that overflows that rotation
@@ -429,7 +429,7 @@ template <class S> class EulerEKF {
     // The floor's eigendecomposition of a covariance near the overflow limit can fail, a state
     // near it can overflow, and a correction of an indefinite P (set_state and reset take one)
     // can lose the non-negative diagonal: refused, nothing changed.
-    if (!detail::acceptable_covariance<S, 6>(P) ||
+    if (!all_finite(P) || !detail::nonnegative_diagonal<S, 6>(P) ||
         !all_finite(Vec<S, 6>(dx + (Vec<S, 6>() << st_.euler, st_.gyro_bias).finished()))) {
       res.status = Status::NumericalFailure;
       return;

@@ -448,7 +448,7 @@ template <class S> class QuaternionEKF {
     }
     // A P given by set_state or reset may be indefinite: propagated (without a floor) it can
     // lose its non-negative diagonal, a state set_state would refuse: refused, nothing changed.
-    if (!detail::acceptable_covariance<S, 6>(P_new)) return Status::NumericalFailure;
+    if (!detail::nonnegative_diagonal<S, 6>(P_new)) return Status::NumericalFailure;
     st_.q_nb = q_new;
     cov_psd_ = psd;
     st_.P = P_new;
@@ -706,7 +706,7 @@ template <class S> class QuaternionEKF {
         // P as set_state takes it: a correction of an indefinite P (as set_state and reset take
         // it) or of one ill-conditioned beyond the precision can lose the non-negative diagonal.
         [&](const Quat<S>& q, const Mat6& Pk) {
-          return detail::acceptable_covariance<S, 6>(Pk) && all_finite(dx) && all_finite(q);
+          return all_finite(Pk) && detail::nonnegative_diagonal<S, 6>(Pk) && all_finite(dx) && all_finite(q);
         },
         Always{},
         [&](const Quat<S>& q, const Mat6& Pk) {

@@ -231,7 +231,7 @@ template <class S> class QuaternionEKFPaper {
     detail::qekf_floor_symmetric_covariance(q_unit, P_new, params_.cov_floor);
     // An indefinite P (set_state and reset take one) propagated without a floor can lose its
     // non-negative diagonal, a state set_state would refuse: refused, nothing changed.
-    if (!detail::acceptable_covariance<S, 7>(P_new)) return Status::NumericalFailure;
+    if (!detail::nonnegative_diagonal<S, 7>(P_new)) return Status::NumericalFailure;
     st_.q_nb = q_unit;
     st_.P = P_new;
     flags_ = 0;
@@ -475,7 +475,7 @@ template <class S> class QuaternionEKFPaper {
   bool condition_candidate(Quat<S>& q, Mat7& P) const {
     detail::qekf_normalize(q, P);
     detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
-    return detail::acceptable_covariance<S, 7>(P);
+    return detail::nonnegative_diagonal<S, 7>(P);
   }
 
   void commit_candidate(const Quat<S>& q, const Vec3<S>& dbias, const Mat7& P) {
