@@ -6,7 +6,8 @@
 // arbitrary scalars: NaN, +-inf, +-0, huge, denormal, epsilon, raw bit patterns and ordinary
 // values. After every operation the driver checks the contract of every filter:
 //   * a status other than Ok or Rejected left the state bit for bit as it was;
-//   * after Ok (or Rejected), the whole state is finite, the quaternion has unit norm and P is symmetric;
+//   * after Ok (or Rejected), the whole state is finite, the quaternion has unit norm, P is symmetric,
+//     and it is a state set_state() takes back (a fresh filter with the same parameters accepts it);
 //   * an accepted update reports a finite innovation, innovation covariance and NIS.
 // A violation calls `fail(message)` (abort in the fuzzer, a test failure under GoogleTest).
 //
@@ -106,6 +107,16 @@ template <class S> bool same_mag(const MagRef<S>& a, const MagRef<S>& b) {
          a.mag_ref_count == b.mag_ref_count && a.mag_ref_fixed == b.mag_ref_fixed;
 }
 
+/// Every state a filter keeps is one it takes back: a fresh filter with the same parameters
+/// accepts it through set_state() (its checks: every field finite, the quaternion of unit norm, P
+/// exactly symmetric with a non-negative diagonal, the filter's own ranges). The last check of
+/// every adapter's `healthy`.
+template <class F> bool taken_back(const F& f, std::string& why) {
+  F g(f.params());
+  if (g.set_state(f.state()) != Status::Ok) return why = "a state set_state refuses", false;
+  return true;
+}
+
 template <class F> struct FuzzAdapter;  // one specialization per filter
 
 /// What a step reported: its status and, for updates, whether the outputs are finite.
@@ -195,7 +206,7 @@ template <class F, int N> struct QuaternionStateOps : AttitudeOps<F> {
     if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3))  // set_state accepts 1e-3
       return why = "quaternion norm off 1", false;
     if (!symmetric<S, N>(s.P)) return why = "P not symmetric", false;
-    return true;
+    return taken_back(f, why);
   }
   static State random_state(Reader& r) {
     State s;
@@ -294,7 +305,7 @@ template <class S> struct FuzzAdapter<EulerEKF<S>> : AttitudeOps<EulerEKF<S>> {
       return why = "non-finite state", false;
     if (!f.quat().allFinite()) return why = "non-finite quaternion", false;
     if (!symmetric<S, 6>(s.P)) return why = "P not symmetric", false;
-    return true;
+    return taken_back(f, why);
   }
   static State random_state(Reader& r) {
     State s;
@@ -357,7 +368,7 @@ template <class S> struct FuzzAdapter<MargFilter<S>> {
     const State& s = f.state();
     if (!detail::fields_finite(s)) return why = "non-finite state", false;
     if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
-    return true;
+    return taken_back(f, why);
   }
   static StepOutcome step(F& f, Reader& r) {
     const Vec3<S> g_b(S(0.3), S(-0.2), S(-9.8)), m_b(S(20), S(2), S(43)), w_b(S(0.1), S(-0.05), S(0.2));
@@ -440,7 +451,7 @@ template <class S, TimeUpdate TU> struct FuzzAdapter<NavFilter13<S, TU>> {
     if (s.initialized && std::abs(s.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
     if (!symmetric<S, 13>(s.P)) return why = "P not symmetric", false;
     if (!(std::abs(s.lat) < S(1.5))) return why = "latitude at a pole", false;
-    return true;
+    return taken_back(f, why);
   }
   static Mat<S, 13, 13> random_P(Reader& r) {
     Mat<S, 13, 13> P = Mat<S, 13, 13>::Identity() * S(1e-4);
@@ -556,11 +567,8 @@ template <class S, bool SF> struct FuzzAdapter<GpsInsFilter<S, SF>> {
     if (std::abs(s.nav.q_nb.norm() - S(1)) > S(1.001e-3)) return why = "quaternion norm off 1", false;
     if (!symmetric<S, F::kStates>(s.P)) return why = "P not symmetric", false;
     if (s.phase == GpsInsPhase::Navigating && !(std::abs(s.nav.lat) < 1.5707)) return why = "latitude at a pole", false;
-    // Every state the filter keeps is one it takes back: set_state checks every field (all finite,
-    // the covariance symmetric with a non-negative diagonal, the enums in range).
-    F g(f.params());
-    if (g.set_state(s) != Status::Ok) return why = "a state set_state refuses", false;
-    return true;
+    // set_state also checks the enums in range.
+    return taken_back(f, why);
   }
   static double angle(Reader& r, double typical) {
     return (r.byte() & 1) ? typical + double(r.raw<std::int8_t>()) * 1e-6 : double(r.scalar<S>());

@@ -22,7 +22,10 @@ def _unit(v):
     v = np.asarray(v, dtype=float)
     if not np.all(np.isfinite(v)):
         return "non_finite", None
-    n = np.linalg.norm(v)
+    with np.errstate(over="ignore"):
+        n = np.linalg.norm(v)
+    if not np.isfinite(n):  # finite components whose norm overflows (detail::unit_vector)
+        return "non_finite", None
     if not n > np.sqrt(np.finfo(float).tiny):
         return "zero_norm", None
     return "ok", v / n

@@ -219,3 +219,133 @@ TEST(NoHeap, FloorAndSaturationChecks) {
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_GE(P(0, 0), 1e-6 * 0.99);
 }
+
+// --- every state a filter keeps is one set_state takes back ------------------------------------
+// FuzzAdapter::healthy ends with that check (a fresh filter with the same parameters accepts the
+// state); the fault replay above found these causes, one test each, the shortest sequence of calls
+// that shows it. Each failed before its fix.
+
+/// A reading with finite components whose norm overflows (|v|^2 beyond the largest S): its unit
+/// vector was v / inf = 0 and the update went on, leaving the accelerometer low-pass's deviation
+/// (replay: QuaternionEKF seed 5, input 49: a low-passed sample, then this one: the low-pass of
+/// v dt / acc_lp_tau has a finite norm, its raw deviation |v| - g is infinite) or the magnetometer
+/// part's reference norm (float, seed 6, input 562: initialize, predict, update_mag) infinite.
+/// Refused now as a non-finite input (detail::unit_vector), nothing changed.
+template <class F> void reading_norm_overflow() {
+  using S = typename F::Scalar;
+  typename F::Params p;
+  if constexpr (!std::is_same_v<F, EulerEKF<S>>) p.mag_heading_only = false;  // the 3-row update
+  F f(p);
+  const Vec3<S> g(S(0.3), S(-0.2), S(-9.8)), w(S(0.1), S(0), S(0));
+  ASSERT_EQ(f.initialize(g), Status::Ok);
+  ASSERT_EQ(f.predict(w, S(0.01)), Status::Ok);
+  ASSERT_EQ(f.update_acc(g).status, Status::Ok);
+  ASSERT_EQ(f.predict(w, S(0.01)), Status::Ok);
+  const auto before = f.state();
+  const Vec3<S> huge(sizeof(S) == 4 ? S(1e20f) : S(1e155), S(0.3), S(-9.8));  // |v|^2 > max(S)
+  expect_refused_kept(f, before, f.update_acc(huge).status, Status::NonFinite);
+  expect_refused_kept(f, before, f.update_mag(huge).status, Status::NonFinite);
+  expect_healthy(f);
+}
+
+/// The level state of an attitude filter with the covariance P (reset).
+template <class F, class P_t> Status reset_level(F& f, const P_t& P) {
+  using S = typename F::Scalar;
+  if constexpr (std::is_same_v<F, EulerEKF<S>>)
+    return f.reset(Vec3<S>::Zero(), Vec3<S>::Zero(), P);
+  else
+    return f.reset(quat::identity<S>(), Vec3<S>::Zero(), P);
+}
+
+/// A level filter's covariance (attitude variance a, gyro-bias variance b on the diagonal) with
+/// the tilt about x and the gyro bias about x correlated by c: indefinite when c^2 > a b, as
+/// set_state and reset take it (they check the diagonal, not the eigenvalues). Row/column of the
+/// tilt about x and of the bias about x: 0 and 3 in the 6-state filters, q_x (1, where the
+/// quaternion block is a / 4 Xi Xi^T at identity) and 4 in QuaternionEKFPaper.
+template <class F> Mat<typename F::Scalar, F::kStates, F::kStates> correlated_P(double a, double b, double c) {
+  using S = typename F::Scalar;
+  constexpr int N = F::kStates, kTilt = N == 7 ? 1 : 0, kBias = N == 7 ? 4 : 3;
+  Mat<S, N, N> P = Mat<S, N, N>::Zero();
+  if constexpr (N == 7) {
+    const Mat43<S> X = quat::xi(quat::identity<S>());
+    P.template topLeftCorner<4, 4>() = S(a / 4) * X * X.transpose();
+  } else {
+    P.diagonal().template head<3>().setConstant(S(a));
+  }
+  P.diagonal().template tail<3>().setConstant(S(b));
+  P(kTilt, kBias) = P(kBias, kTilt) = S(c);
+  return P;
+}
+
+/// The papers' filters (parts off) without the covariance floor, which would repair an
+/// indefinite P: what the filter commits is then the correction's or the time update's own.
+template <class F> F unfloored() {
+  typename F::Params p = F::Params::paper();
+  p.cov_floor = 0;
+  return F(p);
+}
+
+/// A correction whose covariance loses its non-negative diagonal was committed (replay: every
+/// filter, e.g. QuaternionEKF seed 5, input 103: reset with an indefinite P, update_acc; in float
+/// also P ill-conditioned beyond the precision, 115 of QuaternionEKF float's 305 failing inputs
+/// after update_acc_mag): refused now. Tilt variance 1e-2, bias variance 1e-6, their covariance
+/// 1e-2 (correlation 100): the accelerometer observes the tilt, and the bias variance becomes
+/// 1e-6 - (1e-2)^2 / (1e-2 + r) < 0 for the accelerometer's r = acc_sigma^2 (below 0.16 in every
+/// filter's paper() parameters, so below -5e-4).
+template <class F> void correction_loses_psd() {
+  using S = typename F::Scalar;
+  F f = unfloored<F>();
+  ASSERT_EQ(reset_level(f, correlated_P<F>(1e-2, 1e-6, 1e-2)), Status::Ok);
+  const auto before = f.state();
+  expect_refused_kept(f, before, f.update_acc(Vec3<S>(S(0.3), S(-0.2), S(-9.8))).status, Status::NumericalFailure);
+  expect_healthy(f);
+}
+
+/// A time update that propagates an indefinite P to a negative variance was committed (replay:
+/// QuaternionEKF seed 5, input 88: set_state, predict): refused now. Tilt and bias variance 1e-6,
+/// their covariance 1e-2: the tilt about x integrates -dt times the bias about x (-dt / 2 in the
+/// quaternion of QuaternionEKFPaper), so its variance becomes about 1e-6 - 2 dt 1e-2 = -2e-4 at
+/// dt = 0.01 (-1e-4 in the quaternion), beyond the process noise dt gyro_noise^2 (<= 1e-5).
+template <class F> void time_update_loses_psd() {
+  using S = typename F::Scalar;
+  F f = unfloored<F>();
+  ASSERT_EQ(reset_level(f, correlated_P<F>(1e-6, 1e-6, 1e-2)), Status::Ok);
+  const auto before = f.state();
+  expect_refused_kept(f, before, f.predict(Vec3<S>::Zero(), S(0.01)), Status::NumericalFailure);
+  expect_healthy(f);
+}
+
+#define QUATNAV_ATTITUDE_CONTRACT_TEST(NAME, FN) \
+  TEST(AttitudeContract, NAME) {                 \
+    FN<QuaternionEKF<double>>();                 \
+    FN<QuaternionEKF<float>>();                  \
+    FN<QuaternionEKFPaper<double>>();            \
+    FN<QuaternionEKFPaper<float>>();             \
+    FN<EulerEKF<double>>();                      \
+    FN<EulerEKF<float>>();                       \
+  }
+QUATNAV_ATTITUDE_CONTRACT_TEST(ReadingNormOverflowRefused, reading_norm_overflow)
+QUATNAV_ATTITUDE_CONTRACT_TEST(CorrectionLosingPsdRefused, correction_loses_psd)
+QUATNAV_ATTITUDE_CONTRACT_TEST(TimeUpdateLosingPsdRefused, time_update_loses_psd)
+
+/// EulerEKF: a rate whose rotation over the step overflows the accelerometer part's frame (the
+/// Euler angles wrap, the part's quaternion exp((w - b) dt) does not: |w dt|^2 overflows) left
+/// that frame NaN after an Ok step (replay: seed 3, input 1972: initialize, predict). Refused
+/// now. At level the rate about x moves only the roll (E's first column is e_x), so paper 004's
+/// Euler step and its covariance stay finite and only the part overflows.
+template <class S> void euler_rate_overflows_acc_frame() {
+  EulerEKFParams<S> p;
+  p.exact_propagation = false;  // the exact step's own quaternion overflows too (and was refused)
+  EulerEKF<S> f(p);
+  ASSERT_GT(f.params().acc.acc_lp_tau, S(0));  // the part's frame is carried
+  ASSERT_EQ(f.initialize(Vec3<S>(S(0), S(0), S(-9.81))), Status::Ok);
+  const auto before = f.state();
+  const Vec3<S> w(std::numeric_limits<S>::max() / S(2), S(0), S(0));
+  expect_refused_kept(f, before, f.predict(w, S(0.01)), Status::NumericalFailure);
+  expect_healthy(f);
+}
+
+TEST(AttitudeContract, EulerRateOverflowingAccFrameRefused) {
+  euler_rate_overflows_acc_frame<double>();
+  euler_rate_overflows_acc_frame<float>();
+}

@@ -19,16 +19,6 @@ TEST(FaultSequences, GpsInsFilterScaleFactors) {
 // navigation) leaves a state set_state() takes back (FuzzAdapter::healthy: finite, P symmetric with
 // a non-negative diagonal). Each failed before its fix.
 
-template <class F> void expect_refused_kept(const F& f, const typename F::State& before, Status got, Status want) {
-  EXPECT_EQ(got, want);
-  EXPECT_TRUE(FuzzAdapter<F>::same(before, f.state()));
-}
-
-template <class F> void expect_healthy(const F& f) {
-  std::string why;
-  EXPECT_TRUE(FuzzAdapter<F>::healthy(f, why)) << why;
-}
-
 template <class F> F gpsins_navigating(double h, const Mat<typename F::Scalar, F::kStates, F::kStates>* P = nullptr) {
   using S = typename F::Scalar;
   F f;

@@ -20,6 +20,89 @@ TEST(NavFilter13Robust, BadInputRefusedStateKept) {
   nav13_bad_input<NavFilter13<float, TimeUpdate::Ukf>>();
 }
 
+// --- every state the filter keeps is one set_state takes back ---------------------------------
+// FuzzAdapter::healthy ends with that check (a fresh filter with the same parameters accepts the
+// state); the fault replay above found these causes, one test each, the shortest sequence of calls
+// that shows it. Each failed before its fix. cov_floor is 0 (the default), as in the replay.
+
+template <class F> Status nav13_reset_level(F& f, const Mat<typename F::Scalar, 13, 13>& P) {
+  using S = typename F::Scalar;
+  return f.reset(Vec3<S>::Zero(), quat::identity<S>(), Vec3<S>::Zero(), Vec3<S>::Zero(), P, 0.6, 0.2, 100.0);
+}
+
+/// reset() took a covariance with a negative variance, which set_state refuses (replay: most of
+/// the failing inputs of the six variants, e.g. ekf float64 seed 11, input 1082: one reset):
+/// refused now (InvalidArgument), as the attitude filters' reset refuses it.
+template <class F> void nav13_reset_negative_variance() {
+  using S = typename F::Scalar;
+  F f;
+  ASSERT_EQ(nav13_reset_level(f, nav13_P0<S>()), Status::Ok);
+  const auto before = f.state();
+  Mat<S, 13, 13> P = nav13_P0<S>();
+  P(8, 8) = S(-1e-3);
+  expect_refused_kept(f, before, nav13_reset_level(f, P), Status::InvalidArgument);
+  expect_healthy(f);
+}
+
+/// A level filter's covariance (nav13_P0) with the north velocity (row 0) and the accelerometer
+/// bias north (row 7) of variances pv and pb correlated by c: indefinite when c^2 > pv pb, as
+/// reset and set_state take it (they check the diagonal, not the eigenvalues).
+template <class S> Mat<S, 13, 13> nav13_correlated_P(double pv, double pb, double c) {
+  Mat<S, 13, 13> P = nav13_P0<S>();
+  P(0, 0) = S(pv);
+  P(7, 7) = S(pb);
+  P(0, 7) = P(7, 0) = S(c);
+  return P;
+}
+
+/// A correction that loses the non-negative diagonal was committed (replay: float, e.g. ekf seed
+/// 12, input 649, update_velocity_yaw; also update_yaw and update_velocity): refused now. Velocity
+/// variance 1e-2, bias variance 1e-6, covariance 1e-2: after a velocity update the bias variance is
+/// 1e-6 - (1e-2)^2 / (1e-2 + gps_vel_sigma^2) = -0.009 (gps_vel_sigma = 0.03 m/s).
+template <class F> void nav13_correction_loses_psd() {
+  using S = typename F::Scalar;
+  F f;
+  ASSERT_EQ(nav13_reset_level(f, nav13_correlated_P<S>(1e-2, 1e-6, 1e-2)), Status::Ok);
+  const auto before = f.state();
+  expect_refused_kept(f, before, f.update_velocity(Vec3<S>(S(0.1), S(0), S(0))).status, Status::NumericalFailure);
+  expect_healthy(f);
+}
+
+/// A time update that propagates an indefinite P to a negative variance (no case in the replay,
+/// whose random covariances rarely survive to a predict; the same check as the updates): refused
+/// now. Velocity and bias variance 1e-6, covariance 1e-2: v_N integrates -dt b_a,N (level, q = 1),
+/// so its variance becomes about 1e-6 - 2 dt 1e-2 = -2e-4 at dt = 0.01. The EKF and second-order
+/// time updates; the unscented one refuses such a P already (its sigma points need P's Cholesky
+/// factor: SolveFailed).
+template <class F> void nav13_time_update_loses_psd() {
+  using S = typename F::Scalar;
+  F f;
+  ASSERT_EQ(nav13_reset_level(f, nav13_correlated_P<S>(1e-6, 1e-6, 1e-2)), Status::Ok);
+  const auto before = f.state();
+  const Vec3<S> g_n = earth::gravity_n(S(0.6), S(100));
+  expect_refused_kept(f, before, f.predict(Vec3<S>::Zero(), Vec3<S>(-g_n), S(0.01)), Status::NumericalFailure);
+  expect_healthy(f);
+}
+
+#define QUATNAV_NAV13_CONTRACT_TEST(NAME, FN)          \
+  TEST(Nav13Contract, NAME) {                         \
+    FN<NavFilter13<double, TimeUpdate::Ekf>>();         \
+    FN<NavFilter13<float, TimeUpdate::Ekf>>();          \
+    FN<NavFilter13<double, TimeUpdate::SecondOrder>>(); \
+    FN<NavFilter13<float, TimeUpdate::SecondOrder>>();  \
+    FN<NavFilter13<double, TimeUpdate::Ukf>>();         \
+    FN<NavFilter13<float, TimeUpdate::Ukf>>();          \
+  }
+QUATNAV_NAV13_CONTRACT_TEST(ResetNegativeVarianceRefused, nav13_reset_negative_variance)
+QUATNAV_NAV13_CONTRACT_TEST(CorrectionLosingPsdRefused, nav13_correction_loses_psd)
+
+TEST(Nav13Contract, TimeUpdateLosingPsdRefused) {
+  nav13_time_update_loses_psd<NavFilter13<double, TimeUpdate::Ekf>>();
+  nav13_time_update_loses_psd<NavFilter13<float, TimeUpdate::Ekf>>();
+  nav13_time_update_loses_psd<NavFilter13<double, TimeUpdate::SecondOrder>>();
+  nav13_time_update_loses_psd<NavFilter13<float, TimeUpdate::SecondOrder>>();
+}
+
 TEST(NavFilter13Robust, BatchFlagsSaturation) {
   NavFilter13Params<double> p;
   p.gyro_range = 10;

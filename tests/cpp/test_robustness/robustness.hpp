@@ -61,6 +61,19 @@ template <class F> void random_fault_sequences(unsigned seed, int inputs, int sc
   }
 }
 
+/// The focused tests of the causes the replay found (the units' *Contract tests): a step that
+/// refuses leaves the state bit for bit; after one that succeeds the filter is healthy
+/// (FuzzAdapter::healthy: finite, P symmetric, and a state set_state takes back).
+template <class F> void expect_refused_kept(const F& f, const typename F::State& before, Status got, Status want) {
+  EXPECT_EQ(got, want);
+  EXPECT_TRUE(FuzzAdapter<F>::same(before, f.state()));
+}
+
+template <class F> void expect_healthy(const F& f) {
+  std::string why;
+  EXPECT_TRUE(FuzzAdapter<F>::healthy(f, why)) << why;
+}
+
 // --- the navigation filters ------------------------------------------------------------------
 template <class S> Mat<S, 13, 13> nav13_P0() {
   Mat<S, 13, 13> P = Mat<S, 13, 13>::Zero();

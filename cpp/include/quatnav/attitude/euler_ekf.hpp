@@ -302,9 +302,17 @@ template <class S> class EulerEKF {
     symmetrize(P);
     if (!all_finite(P) || !all_finite(e)) return Status::NumericalFailure;
     floor_covariance<S, 6>(P, params_.cov_floor);
+    // An indefinite P (set_state and reset take one) propagated without a floor can lose its
+    // non-negative diagonal, a state set_state would refuse: refused, nothing changed.
+    if (!detail::nonnegative_diagonal<S, 6>(P)) return Status::NumericalFailure;
     e[0] = quat::wrap_pi(e[0]);
     e[2] = quat::wrap_pi(e[2]);
-    AccFilter<S>::predict_rate(params_.acc, st_.acc, Vec3<S>(gyr - st_.gyro_bias), dt);
+    // The accelerometer part's frame turns by (w - b) dt: a rate that overflows that rotation
+    // (the Euler angles wrap, the quaternion of the frame does not) is refused, nothing changed.
+    AccFilterState<S> acc = st_.acc;
+    AccFilter<S>::predict_rate(params_.acc, acc, Vec3<S>(gyr - st_.gyro_bias), dt);
+    if (!all_finite(acc.q_i)) return Status::NumericalFailure;
+    st_.acc = acc;
     st_.euler = e;
     st_.P = P;
     singular_ = singular;
@@ -418,9 +426,11 @@ template <class S> class EulerEKF {
       return;
     }
     floor_covariance<S, 6>(P, params_.cov_floor);
-    // The floor's eigendecomposition of a covariance near the overflow limit can fail, and a
-    // state near it can overflow: refused, nothing changed.
-    if (!all_finite(P) || !all_finite(Vec<S, 6>(dx + (Vec<S, 6>() << st_.euler, st_.gyro_bias).finished()))) {
+    // The floor's eigendecomposition of a covariance near the overflow limit can fail, a state
+    // near it can overflow, and a correction of an indefinite P (set_state and reset take one)
+    // can lose the non-negative diagonal: refused, nothing changed.
+    if (!all_finite(P) || !detail::nonnegative_diagonal<S, 6>(P) ||
+        !all_finite(Vec<S, 6>(dx + (Vec<S, 6>() << st_.euler, st_.gyro_bias).finished()))) {
       res.status = Status::NumericalFailure;
       return;
     }

@@ -446,6 +446,9 @@ template <class S> class QuaternionEKF {
         if (!all_finite(P_new)) return Status::NumericalFailure;
       }
     }
+    // A P given by set_state or reset may be indefinite: propagated (without a floor) it can
+    // lose its non-negative diagonal, a state set_state would refuse: refused, nothing changed.
+    if (!detail::nonnegative_diagonal<S, 6>(P_new)) return Status::NumericalFailure;
     st_.q_nb = q_new;
     cov_psd_ = psd;
     st_.P = P_new;
@@ -700,7 +703,11 @@ template <class S> class QuaternionEKF {
           const Quat<S> q = quat::mul(st_.q_nb, quat::from_rotvec(Vec3<S>(dx.template head<3>())));
           return Quat<S>(q / q.norm());
         },
-        [&](const Quat<S>& q, const Mat6& Pk) { return all_finite(Pk) && all_finite(dx) && all_finite(q); },
+        // P as set_state takes it: a correction of an indefinite P (as set_state and reset take
+        // it) or of one ill-conditioned beyond the precision can lose the non-negative diagonal.
+        [&](const Quat<S>& q, const Mat6& Pk) {
+          return all_finite(Pk) && detail::nonnegative_diagonal<S, 6>(Pk) && all_finite(dx) && all_finite(q);
+        },
         Always{},
         [&](const Quat<S>& q, const Mat6& Pk) {
           st_.q_nb = q;

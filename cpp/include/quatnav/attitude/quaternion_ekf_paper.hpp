@@ -227,8 +227,12 @@ template <class S> class QuaternionEKFPaper {
     auto P_qq = P_new.template topLeftCorner<4, 4>();
     symmetrize(P_qq);  // the other blocks are symmetric by construction
     if (!all_finite(P_new) || !all_finite(q_new)) return Status::NumericalFailure;
-    st_.q_nb = q_new / q_new.norm();
-    detail::qekf_floor_symmetric_covariance(st_.q_nb, P_new, params_.cov_floor);
+    const Quat<S> q_unit = q_new / q_new.norm();
+    detail::qekf_floor_symmetric_covariance(q_unit, P_new, params_.cov_floor);
+    // An indefinite P (set_state and reset take one) propagated without a floor can lose its
+    // non-negative diagonal, a state set_state would refuse: refused, nothing changed.
+    if (!detail::nonnegative_diagonal<S, 7>(P_new)) return Status::NumericalFailure;
+    st_.q_nb = q_unit;
     st_.P = P_new;
     flags_ = 0;
     st_.dt_last = dt;
@@ -465,11 +469,13 @@ template <class S> class QuaternionEKFPaper {
   }
 
   /// The conditioning of a corrected candidate (core/commit.hpp): q renormalized with P
-  /// projected, then the error-state floor.
+  /// projected, then the error-state floor; refused when P is not one set_state takes (a
+  /// correction of an indefinite P, or of one ill-conditioned beyond the precision, can lose the
+  /// non-negative diagonal).
   bool condition_candidate(Quat<S>& q, Mat7& P) const {
     detail::qekf_normalize(q, P);
     detail::qekf_floor_symmetric_covariance(q, P, params_.cov_floor);
-    return true;
+    return detail::nonnegative_diagonal<S, 7>(P);
   }
 
   void commit_candidate(const Quat<S>& q, const Vec3<S>& dbias, const Mat7& P) {

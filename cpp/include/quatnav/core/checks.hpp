@@ -21,10 +21,13 @@ template <class S> bool saturated(const Vec3<S>& v, S range) {
   return range > S(0) && v.allFinite() && v.cwiseAbs().maxCoeff() >= range;
 }
 
-/// Normalize a vector that must not be zero; false on non-finite or (near) zero input.
+/// Normalize a vector that must not be zero: NonFinite on non-finite input and on finite input
+/// whose norm overflows (|v| beyond the largest S, e.g. 2e19 in float: v / inf would be the zero
+/// vector, and the parts that keep |v| would keep inf), ZeroNorm on (near) zero input.
 template <class S> Status unit_vector(const Vec3<S>& v, Vec3<S>& u) {
   if (!v.allFinite()) return Status::NonFinite;
   const S n = v.norm();
+  if (!std::isfinite(n)) return Status::NonFinite;
   if (!(n > std::sqrt(std::numeric_limits<S>::min()))) return Status::ZeroNorm;
   u = v / n;
   return Status::Ok;

@@ -173,5 +173,15 @@ template <class S, int N> bool acceptable_covariance(const Mat<S, N, N>& P) {
   return P.allFinite() && P == P.transpose() && (P.diagonal().array() >= S(0)).all();
 }
 
+/// What a step checks of the covariance it commits, beside its finiteness (which it checks
+/// anyway) and its symmetry (which every filter keeps by construction): a non-negative diagonal
+/// (a NaN fails), so that set_state (acceptable_covariance) takes the state back. N comparisons,
+/// against about 3 N^2 operations for acceptable_covariance.
+template <class S, int N> bool nonnegative_diagonal(const Mat<S, N, N>& P) {
+  for (int i = 0; i < N; ++i)
+    if (!(P(i, i) >= S(0))) return false;
+  return true;
+}
+
 }  // namespace detail
 }  // namespace quatnav

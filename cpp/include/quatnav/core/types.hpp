@@ -47,7 +47,7 @@ Eigen::Matrix<typename A::Scalar, A::RowsAtCompileTime, B::ColsAtCompileTime> fi
 enum class Status : std::uint8_t {
   Ok = 0,             ///< step applied
   NotInitialized,     ///< the filter has no attitude yet (call initialize or reset)
-  NonFinite,          ///< an input was NaN or infinite; nothing changed
+  NonFinite,          ///< an input was NaN or infinite (or a vector's norm overflowed); nothing changed
   ZeroNorm,           ///< a vector that must be normalized had (near) zero norm; nothing changed
   InvalidDt,          ///< dt <= 0, non-finite, or above the filter's max_dt; nothing changed
   Saturated,          ///< a reading was at or above the sensor's range; nothing changed

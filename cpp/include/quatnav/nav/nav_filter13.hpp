@@ -527,6 +527,8 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     // normalizes to zero (finite, so the check is on the normalized norm).
     if (!detail::nav13_state_ok(xv, Pn)) return Status::InvalidArgument;
     detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), Pn, params_.cov_floor);
+    // A negative variance, given or made by the projection of an indefinite P: a state set_state refuses.
+    if (!detail::nonnegative_diagonal<S, 13>(Pn)) return Status::InvalidArgument;
     unpack(xv, s);
     s.P = Pn;
     s.lat = lat;
@@ -590,6 +592,9 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
     // terms of the next step would not be finite.
     if (!std::isfinite(lon) || !std::isfinite(h) || !(std::abs(lat) < 1.5)) return Status::NumericalFailure;
     detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), P, params_.cov_floor);
+    // An indefinite P (set_state and reset take one) propagated without a floor can lose its
+    // non-negative diagonal, a state set_state would refuse: refused, nothing changed.
+    if (!detail::nonnegative_diagonal<S, 13>(P)) return Status::NumericalFailure;
     unpack(xv, st_);
     st_.P = P;
     st_.lat = lat;
@@ -701,7 +706,8 @@ template <class S, TimeUpdate TU = TimeUpdate::Ekf> class NavFilter13 {
           detail::nav13_normalize(xv, Pc);
           if (!detail::nav13_state_ok(xv, Pc)) return false;
           detail::nav13_floor_covariance<S>(xv.template segment<4>(detail::kQ), Pc, params_.cov_floor);
-          return true;
+          // A correction of an indefinite P can lose the non-negative diagonal: refused.
+          return detail::nonnegative_diagonal<S, 13>(Pc);
         },
         [&](const Vec13& xv, const Mat13& Pc) {
           unpack(xv, st_);
