@@ -349,3 +349,8 @@ TEST(AttitudeContract, EulerRateOverflowingAccFrameRefused) {
   euler_rate_overflows_acc_frame<double>();
   euler_rate_overflows_acc_frame<float>();
 }
+
+/// EulerEKF float32: a state taken by set_state whose magnetometer update returned Ok with a
+/// non-finite innovation covariance (replay: seed 4, input 18861; found by a replay ten times the
+/// default length). Refused now: an accepted update reports finite outputs.
+TEST(AttitudeContract, EulerUpdateWithNonFiniteOutputsRefused) { replay_input<EulerEKF<float>>(4, 18861); }

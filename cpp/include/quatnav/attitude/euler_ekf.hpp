@@ -421,7 +421,10 @@ template <class S> class EulerEKF {
     Mat6 P = st_.P;
     Vec<S, 6> dx;
     if (kalman_correct_diagonal_in_place<S, 6, M, C0, NC>(P, Hc, r, y, dx, res, gate, gain) != Status::Ok) return;
-    if (!all_finite(P) || !all_finite(dx)) {
+    // An accepted update reports a finite innovation, innovation covariance and NIS (a P near the
+    // float limit set by set_state can overflow H P H^T while the gain stays finite).
+    if (!all_finite(P) || !all_finite(dx) || !all_finite(res.innovation) || !all_finite(res.innovation_cov) ||
+        !std::isfinite(res.nis)) {
       res.status = Status::NumericalFailure;
       return;
     }

@@ -422,6 +422,13 @@ template <class S> class MargFilter {
       return res;
     }
     const S dt = st_.dt_last;
+    // The parts follow the sample before the update; an update that fails (SolveFailed,
+    // NumericalFailure) leaves the state as it was, so what they took is put back.
+    const RestState<S> rest_before = st_.rest;
+    const AccFilterState<S> acc_before = st_.acc;
+    const MagDisturbanceState<S> mag_before = st_.mag;
+    const Vec3<S> bias_before = st_.gyro_bias;
+    const std::uint32_t flags_before = flags_;
     if (Rest<S>::update(params_.rest, st_.rest, acc, st_.gyro_bias, dt)) {
       // No covariance to weigh a zero-rate measurement with: the low-passed gyro is the bias.
       flags_ |= flags::kAtRest;
@@ -441,6 +448,14 @@ template <class S> class MargFilter {
       const Vec3<S>& a = gps ? acc : in.acc;
       const S gain = gps ? params_.gain : params_.gain / (S(1) + in.sigma_add);
       res = mc.use ? update_impl<2>(a, &m_unit, gain) : update_impl<1>(a, nullptr, gain);
+      if (res.status != Status::Ok && res.status != Status::Rejected) {
+        st_.rest = rest_before;
+        st_.acc = acc_before;
+        st_.mag = mag_before;
+        st_.gyro_bias = bias_before;
+        flags_ = flags_before;
+        return res;
+      }
     }
     AccFilter<S>::finish(params_.acc, st_.acc, res.status, dt);
     if (res.status == Status::Rejected) flags_ |= flags::kAccRejected;
