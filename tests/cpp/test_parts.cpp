@@ -381,3 +381,69 @@ TYPED_TEST(Parts, MagReferenceFollowsTheFieldWithMagRefTau) {
   MagDisturbance<S>::finish(p, s, c, Status::Ok, [] { return field<S>(S(1.1)); }, dt);
   EXPECT_EQ(s.ref.mag_ref, field<S>(S(0.5)));
 }
+
+// The dip's variance from the attitude covariance (dip_variance): its direction a_b against finite
+// differences of the dip of the field rotated by q exp(dtheta), and its null direction (a rotation
+// about the field's horizontal direction keeps the dip).
+TYPED_TEST(Parts, MagDipVarianceIsTheDipsFirstOrderVariance) {
+  using S = TypeParam;
+  MagDisturbanceParams<S> p;  // mag_dip_tol 0.05
+  p.mag_dip_sigmas = S(3);
+  const double dip = 1.1;
+  const Vec3<S> m_n0(S(std::cos(dip)), S(0), S(std::sin(dip)));  // magnetic north frame
+  const Quat<S> q = quat::from_euler(Vec3<S>(S(0.3), S(-0.2), S(2.0)));
+  const Mat3<S> C = quat::to_rotmat(q);
+  const Vec3<S> m_b = C.transpose() * m_n0;  // the body-frame field at q
+  Eigen::internal::set_is_malloc_allowed(false);
+  // P = e_i e_i^T: the variance is a_b,i^2; the finite difference of the dip along e_i gives a_b,i.
+  constexpr bool kFloat = std::is_same_v<S, float>;
+  const double h = kFloat ? 1e-3 : 1e-6;
+  for (int i = 0; i < 3; ++i) {
+    Mat3<S> P = Mat3<S>::Zero();
+    P(i, i) = S(1);
+    const S var = MagDisturbance<S>::dip_variance(p, C, m_n0, P);
+    Vec3<S> d = Vec3<S>::Zero();
+    d[i] = S(h);
+    const Vec3<S> mp = quat::rotate(quat::mul(q, quat::from_rotvec(d)), m_b);
+    const Vec3<S> mm = quat::rotate(quat::mul(q, quat::from_rotvec(Vec3<S>(-d))), m_b);
+    const double slope = (std::asin(double(mp[2])) - std::asin(double(mm[2]))) / (2 * h);
+    EXPECT_NEAR(double(var), slope * slope, kFloat ? 2e-3 : 1e-8) << i;
+  }
+  // Isotropic P = s^2 I: s^2 (a_b is a unit vector); P along the field's horizontal direction: 0.
+  EXPECT_NEAR(double(MagDisturbance<S>::dip_variance(p, C, m_n0, Mat3<S>::Identity() * S(4e-4))), 4e-4, 1e-9);
+  const Vec3<S> along = C.transpose() * Vec3<S>(S(1), S(0), S(0));
+  EXPECT_NEAR(double(MagDisturbance<S>::dip_variance(p, C, m_n0, Mat3<S>(along * along.transpose()))), 0.0, 1e-7);
+  // Off (mag_dip_sigmas 0 or mag_dip_tol 0), or a vertical field: 0.
+  MagDisturbanceParams<S> off = p;
+  off.mag_dip_sigmas = S(0);
+  EXPECT_EQ(MagDisturbance<S>::dip_variance(off, C, m_n0, Mat3<S>::Identity()), S(0));
+  EXPECT_EQ(MagDisturbance<S>::dip_variance(p, C, Vec3<S>(S(0), S(0), S(1)), Mat3<S>::Identity()), S(0));
+  Eigen::internal::set_is_malloc_allowed(true);
+}
+
+// The dip test's tolerance: a field whose dip at the estimated attitude is 0.1 rad off (a tilt
+// error of 0.1 rad about the dip's axis) is rejected by the fixed 0.05 rad tolerance; with the
+// filter's own dip sigma of 0.04 rad and mag_dip_sigmas 3 the tolerance is sqrt(0.05^2 + 0.12^2)
+// = 0.13 rad and it is used; a 0.2 rad disturbance is still rejected at that sigma.
+TYPED_TEST(Parts, MagDipToleranceGrowsWithTheFiltersDipSigma) {
+  using S = TypeParam;
+  MagDisturbanceParams<S> p;
+  EXPECT_EQ(p.mag_dip_sigmas, S(0));  // off by default: the fixed tolerance
+  p.mag_dip_sigmas = S(3);
+  p.mag_ref_samples = 1;
+  p.mag_ref_tau = S(0);
+  const S dip = S(1.0), dt = S(0.01), var = S(0.04 * 0.04);
+  EXPECT_NEAR(double(MagDisturbance<S>::dip_tolerance(p, var)), std::sqrt(0.05 * 0.05 + 9 * 0.04 * 0.04), 1e-6);
+  EXPECT_EQ(MagDisturbance<S>::dip_tolerance(p, S(0)), p.mag_dip_tol);
+  auto used = [&](const MagDisturbanceParams<S>& pp, S d, S v) {
+    MagDisturbanceState<S> s;
+    MagDisturbance<S>::start(pp, s, field<S>(dip), S(50));
+    return MagDisturbance<S>::screen(pp, s, S(50), field<S>(d), dt, v).use;
+  };
+  EXPECT_FALSE(used(p, dip + S(0.1), S(0)));
+  EXPECT_TRUE(used(p, dip + S(0.1), var));
+  EXPECT_FALSE(used(p, dip + S(0.2), var));
+  MagDisturbanceParams<S> fixed = p;
+  fixed.mag_dip_sigmas = S(0);
+  EXPECT_FALSE(used(fixed, dip + S(0.1), var));
+}

@@ -43,6 +43,30 @@ def test_cpp_matches_twin_step_by_step_with_the_parts(kw):
         assert not (c.flags & EXTRA_BITS).any()
 
 
+def test_cpp_matches_twin_with_the_widened_dip_test():
+    """mag_dip_sigmas (the dip test's tolerance widened by the filter's own dip sigma, from
+    attitude_covariance()): C++ against the twin step by step, on a dip disturbance near the
+    widened tolerance, so that the rejections differ from the fixed tolerance's."""
+    from quatnav.core import quaternion as Q
+    burst = lambda k: np.array([5.0, 0.0, 0.0]) if 250 <= k < 300 else np.zeros(3)
+    rot = lambda k: np.zeros(3) if k < 230 else wobble(k)
+    quat, gyr, acc, mag, dt = simulate(n=500, rot_rate=rot, lin_acc=burst, seed=7, bias=(0.01, 0, -0.01))
+    ry = Q.from_rotvec(np.array([0.0, DIP_OFF, 0.0]))
+    for k in range(320, 420):
+        mag[k] = Q.rotate_inv(quat[k], Q.rotate(ry, Q.rotate(quat[k], mag[k])))
+    kw = dict(mag_dip_tol=0.05, mag_dip_sigmas=3.0, acc_sigma=0.4)  # a tilt sigma of 0.6-2.4 deg
+    c = quatnav.EulerEKF(**kw).run(gyr, acc, mag, dt=dt)
+    r = reference.EulerEKF(**kw).run(gyr, acc, mag, dt=dt)
+    np.testing.assert_allclose(c.quat, r.quat, atol=1e-9)
+    np.testing.assert_allclose(c.sigma, r.sigma, atol=1e-9)
+    np.testing.assert_array_equal(c.flags & EXTRA_BITS, r.flags & EXTRA_BITS)
+    fixed = quatnav.EulerEKF(**dict(kw, mag_dip_sigmas=0.0)).run(gyr, acc, mag, dt=dt)
+    assert (c.flag("mag_rejected") != fixed.flag("mag_rejected")).sum() > 10
+
+
+DIP_OFF = 0.06  # rad: 100 samples rejected with the fixed tolerance, 78 widened
+
+
 def test_paper_switches_every_part_off():
     quat, gyr, acc, mag, dt = _scenario()
     p = quatnav.EulerEKF(paper=True).params

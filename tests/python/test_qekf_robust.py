@@ -130,6 +130,42 @@ def test_magnetic_disturbance_rejected_and_heading_kept():
     assert h_rob < 3.0
 
 
+def test_dip_disturbance_still_rejected_with_the_widened_tolerance():
+    """The dip test widened by 3 of the filter's own dip sigmas (mag_dip_sigmas = 3; the
+    tolerance mag_dip_tol 0.05 rad): a field whose dip is 0.2 rad off, with its norm unchanged, is still
+    rejected. Here the filter's tilt sigma is 2.0-2.6 deg (acc_sigma 0.4), so the tolerance is at
+    most sqrt(0.05^2 + (3 * 0.046)^2) = 0.147 rad; mag_dip_sigmas = 10 would use every sample."""
+    quat, gyr, acc, mag, dt = simulate(n=2000, rot_rate=wobble, seed=2)
+    ry = Q.from_rotvec(np.array([0.0, 0.2, 0.0]))  # turns the NED field [c, 0, s] in its plane
+    for k in range(1000, 1600):
+        m_n = Q.rotate(quat[k], mag[k])
+        mag[k] = Q.rotate_inv(quat[k], Q.rotate(ry, m_n))
+    res = quatnav.QuaternionEKF(mag_dip_sigmas=3.0).run(gyr, acc, mag, dt=dt)
+    assert res.flag("mag_rejected")[1000:1600].mean() > 0.95
+    assert res.flag("mag_rejected")[300:900].mean() < 0.02
+    off = quatnav.QuaternionEKF(mag_dip_sigmas=3.0, mag_dip_tol=0.0).run(gyr, acc, mag, dt=dt)  # test off: used
+    assert off.flag("mag_rejected")[1000:1600].mean() < 0.05
+
+
+def test_dip_test_keeps_good_samples_under_running_by_the_filters_tilt_sigma():
+    """Started in a run (sim-moving fast_running, seed 0), the estimated tilt is 2-3 deg off and
+    the field's dip at the estimated attitude with it: the fixed 0.05 rad tolerance
+    (mag_dip_sigmas=0) rejected 36 % of the good samples, for 10 s at a time, while the heading
+    drifted 41 deg; widened by 3 of the filter's dip sigmas it rejects 18 %, and the heading RMS
+    falls from 11.4 to 8.7 deg (the figures as measured; the bounds leave room for rounding and
+    platform)."""
+    from quatnav.datasets.simulated import scenario_trial
+    from quatnav.evaluation.metrics import aligned_errors_deg
+    tr = scenario_trial("fast_running", 0, start="moving")
+    has = np.all(np.isfinite(tr.mag), axis=1)
+    out = {}
+    for k in (0.0, 3.0):
+        r = quatnav.QuaternionEKF(mag_dip_sigmas=k).run(tr.gyr, tr.acc, tr.mag, t=tr.t, on_invalid="skip")
+        out[k] = (r.flag("mag_rejected")[has].mean(), aligned_errors_deg(r.quat, tr.quat_ref, tr.movement)["heading"])
+    assert out[0.0][0] > 0.3 and out[3.0][0] < 0.25
+    assert out[3.0][1] < out[0.0][1] - 2.0
+
+
 def test_mag_gate_rejects_outliers():
     spikes = lambda k: np.array([0.0, 60.0, 0.0]) if k % 50 == 0 and k > 300 else np.zeros(3)
     quat, gyr, acc, mag, dt = simulate(n=1200, rot_rate=wobble, mag_dist=spikes, seed=4)
@@ -187,6 +223,27 @@ def test_cpp_matches_reference_with_robustness(extra):
         assert c.flag("at_rest").any() and c.flag("mag_rejected").any()
         if extra.get("acc_lp_tau") == 0.0:
             assert c.flag("acc_rejected").any()
+
+
+@pytest.mark.parametrize("paper", [False, True], ids=["error-state", "paper"])
+def test_cpp_matches_reference_with_the_widened_dip_test(paper):
+    """mag_dip_sigmas: the C++ filter and its twin step by step, in both forms; the scenario's
+    rejections differ from the fixed tolerance's, so the widening is exercised."""
+    burst = lambda k: np.array([5.0, 0.0, 0.0]) if 250 <= k < 300 else np.zeros(3)
+    rot = lambda k: np.zeros(3) if k < 230 else wobble(k)
+    quat, gyr, acc, mag, dt = simulate(n=500, rot_rate=rot, lin_acc=burst, seed=7, bias=(0.01, 0, -0.01))
+    # a dip disturbance near the widened tolerance (the paper form's tilt sigma is about half)
+    ry = Q.from_rotvec(np.array([0.0, 0.06 if paper else 0.12, 0.0]))
+    for k in range(320, 420):
+        mag[k] = Q.rotate_inv(quat[k], Q.rotate(ry, Q.rotate(quat[k], mag[k])))
+    kw = dict(paper=True, mag_norm_tol=0.1, mag_dip_tol=0.05, mag_gate=16.0, acc_sigma=0.4, init_att_sigma=0.5) if paper else {}
+    c = quatnav.QuaternionEKF(mag_dip_sigmas=3.0, **kw).run(gyr, acc, mag, dt=dt)
+    r = reference.QuaternionEKF(mag_dip_sigmas=3.0, **kw).run(gyr, acc, mag, dt=dt)
+    np.testing.assert_allclose(c.quat, r.quat, atol=1e-9)
+    np.testing.assert_allclose(c.sigma, r.sigma, atol=1e-9)
+    np.testing.assert_array_equal(c.flag("mag_rejected"), (r.flags & quatnav.FLAGS["mag_rejected"]) != 0)
+    fixed = quatnav.QuaternionEKF(mag_dip_sigmas=0.0, **kw).run(gyr, acc, mag, dt=dt)
+    assert (c.flag("mag_rejected") != fixed.flag("mag_rejected")).sum() > 10
 
 
 def test_split_run_with_robustness_state():

@@ -290,6 +290,13 @@ class QuaternionEKF(_AttitudeFilter):
         Reject the magnetometer when ``||m| / m_ref - 1|`` exceeds this (m_ref learned).
     mag_dip_tol : float, default 0.05
         Reject the magnetometer when its dip differs from the learned dip by more, rad.
+    mag_dip_sigmas : float, default 0
+        The dip test's tolerance grows to ``sqrt(mag_dip_tol**2 + (mag_dip_sigmas *
+        sigma_dip)**2)``, ``sigma_dip`` the dip's one-sigma from the filter's own attitude
+        covariance: the dip is the field's at the estimated attitude, so a tilt error the filter
+        knows it has (2-3 deg in a run's turns) need not reject good samples. 0 (default): the
+        fixed tolerance alone. 3 halves the rejections of a simulated run but lets in part of a
+        magnet's field on BROAD (docs/broad.md). MargFilter keeps no covariance and ignores it.
     mag_gate : float, default 9
         Default NIS gate of the magnetometer update.
     mag_settle_time : float, default 0
@@ -389,7 +396,7 @@ class EulerEKF(_AttitudeFilter):
     (``rest_*``: at rest a zero-rate measurement of the gyro bias, flag ``at_rest``), the
     accelerometer part (``gravity``, ``acc_lp_tau``, ``acc_lp_bias_sigma``, ``acc_reject``,
     ``acc_adapt``, ``acc_recovery_time``; flag ``acc_rejected``) and the magnetometer part
-    (``mag_ref_samples``, ``mag_norm_tol``, ``mag_dip_tol``, ``mag_settle_time``, ``mag_ref_tau``,
+    (``mag_ref_samples``, ``mag_norm_tol``, ``mag_dip_tol``, ``mag_dip_sigmas``, ``mag_settle_time``, ``mag_ref_tau``,
     ``mag_recovery_time``; flag ``mag_rejected``). ``EulerEKF(paper=True)`` switches them off: the
     plain baseline of paper 000.
     """

@@ -222,7 +222,8 @@ def _acc_part(gravity=9.81, adapt=0.0, reject=0.0, recovery_time=0.0, lp_tau=3.0
     )
 
 
-def _mag_part(ref_samples=100, norm_tol=0.05, dip_tol=0.05, settle_time=0.0, ref_tau=30.0, recovery_time=0.0):
+def _mag_part(ref_samples=100, norm_tol=0.05, dip_tol=0.05, dip_sigmas=0.0, settle_time=0.0, ref_tau=30.0,
+              recovery_time=0.0):
     """The magnetometer part (parts/mag_disturbance.hpp)."""
     return (
         _p("mag_ref_samples", ref_samples, "1", "magnetometer samples over which the reference dip is averaged",
@@ -231,6 +232,9 @@ def _mag_part(ref_samples=100, norm_tol=0.05, dip_tol=0.05, settle_time=0.0, ref
            "pos0"),
         _p("mag_dip_tol", dip_tol, "rad", "reject the magnetometer when its dip differs from the reference by "
            "more (0: off)", "pos0"),
+        _p("mag_dip_sigmas", dip_sigmas, "1", "the dip test's tolerance grows by this many of the filter's own "
+           "one-sigmas of the dip, in quadrature: sqrt(mag_dip_tol^2 + (mag_dip_sigmas sigma_dip)^2) "
+           "(0: mag_dip_tol alone)", "pos0"),
         _p("mag_settle_time", settle_time, "s", "after a disturbance, the field must pass the tests this long",
            "pos0"),
         _p("mag_ref_tau", ref_tau, "s", "time constant with which the reference norm and dip follow the field",

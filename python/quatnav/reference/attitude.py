@@ -185,7 +185,7 @@ class QuaternionEKF(_Base):
                            init_att_sigma=0.05, init_gyro_bias_sigma=0.01, mag_heading_only=False,
                            acc_tilt_only=False, acc_adapt=0.0,
                            acc_reject=0.0, acc_gate=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
-                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_gate=0.0,
+                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_dip_sigmas=0.0, mag_gate=0.0,
                            mag_settle_time=0.0, mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False,
                            gyro_clip=False)
     n_states = 7
@@ -368,10 +368,17 @@ class QuaternionEKF(_Base):
             rx, rz, ry = self.mag_reference()
             return self._update3(mag, rx, rz, self.p.mag_sigma, gt, ry=ry)
 
-        res = self.mag.update(np.linalg.norm(mag), lambda: Q.rotate(self.q, m), self.dt_last, update)
+        field_n = lambda: Q.rotate(self.q, m)  # noqa: E731
+        dip_var = self.mag.dip_variance(self.q, field_n(), self.attitude_covariance())
+        res = self.mag.update(np.linalg.norm(mag), field_n, self.dt_last, update, dip_var)
         if res.status == "rejected":
             self.flags |= FLAG_MAG_REJECTED
         return res
+
+    def attitude_covariance(self):
+        """Covariance of the body-frame rotation vector: 4 Xi^T P_qq Xi (quat_block.hpp)."""
+        X = Q.xi(self.q)
+        return 4.0 * X.T @ self.P[:4, :4] @ X
 
     @staticmethod
     def heading_model(q, m_unit):
@@ -493,6 +500,9 @@ class _QuaternionEKFErrorState(QuaternionEKF):
 
     def _max_bias_var(self):
         return float(np.max(np.diag(self.P)[3:]))
+
+    def attitude_covariance(self):
+        return self.P[:3, :3]
 
     @staticmethod
     def propagate(q, bias, gyr, dt):
@@ -636,7 +646,7 @@ class EulerEKF(_Base):
     defaults = table_defaults(EULER_PARAMS)
     #: EulerEKFParams::paper(): the robustness parts off (a test compares it with the C++).
     paper_overrides = dict(acc_tilt_only=False, exact_propagation=False, acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
-                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
+                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_dip_sigmas=0.0, mag_settle_time=0.0,
                            mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
     rts_model = "EulerModel"  #: the model of its smoother (quatnav.reference.attitude_smoother)
     n_states = 6
@@ -659,6 +669,12 @@ class EulerEKF(_Base):
     @property
     def quat(self):
         return Q.from_euler(self.euler)
+
+    def attitude_covariance(self):
+        """Covariance of the body-frame rotation vector, W P_ee W^T (euler_ekf.hpp)."""
+        cr, sr, cp, sp = np.cos(self.euler[0]), np.sin(self.euler[0]), np.cos(self.euler[1]), np.sin(self.euler[1])
+        W = np.array([[1.0, 0.0, -sp], [0.0, cr, sr * cp], [0.0, -sr, cr * cp]])
+        return W @ self.P[:3, :3] @ W.T
 
     @staticmethod
     def cbn(e):
@@ -788,8 +804,11 @@ class EulerEKF(_Base):
         status, m = _unit(mag)
         if status != "ok":
             return SimpleNamespace(status=status)
-        res = self.mag.update(np.linalg.norm(mag), lambda: Q.rotate(self.quat, m), self.dt_last,
-                              lambda: self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_sigma, gate))
+        field_n = lambda: Q.rotate(self.quat, m)  # noqa: E731
+        dip_var = self.mag.dip_variance(self.quat, field_n(), self.attitude_covariance())
+        res = self.mag.update(np.linalg.norm(mag), field_n, self.dt_last,
+                              lambda: self._update3(mag, self.mag_ref[0], self.mag_ref[2], self.p.mag_sigma, gate),
+                              dip_var)
         if res.status == "rejected":
             self.flags |= FLAG_MAG_REJECTED
         return res

@@ -90,7 +90,7 @@ class MargFilter:
     defaults = table_defaults(MARG_PARAMS)
     #: MargFilterParams::paper(): the robustness parts off (a test compares it with the C++).
     paper_overrides = dict(acc_adapt=0.0, acc_reject=0.0, acc_recovery_time=0.0, acc_lp_tau=0.0,
-                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_settle_time=0.0,
+                           acc_lp_bias_sigma=0.0, acc_lp_dev=0.0, acc_bias_dev=0.0, mag_norm_tol=0.0, mag_dip_tol=0.0, mag_dip_sigmas=0.0, mag_settle_time=0.0,
                            mag_ref_tau=0.0, mag_recovery_time=0.0, rest_detection=False)
 
     def __init__(self, paper=False, **params):

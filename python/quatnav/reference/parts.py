@@ -270,14 +270,34 @@ class MagDisturbance:
         """The dip test |d - d_ref| > tol."""
         return abs(MagDisturbance.dip_offset(ref, m_n)) > tol
 
-    def screen(self, norm, m_n, dt):
+    def dip_tolerance(self, dip_var):
+        """mag_dip_tol widened in quadrature by mag_dip_sigmas of the filter's own dip sigma."""
+        p = self.p
+        if not (p.mag_dip_sigmas > 0 and dip_var > 0):
+            return p.mag_dip_tol
+        return float(np.sqrt(p.mag_dip_tol**2 + p.mag_dip_sigmas**2 * dip_var))
+
+    def dip_variance(self, q, m_n, P_att):
+        """The dip's variance from the body-frame attitude covariance ``P_att`` at ``q`` (rad^2):
+        a . dtheta_n, a = (m_y, -m_x, 0) / cos(dip); 0 when the widening is off or the field is
+        vertical (mag_disturbance.hpp ``dip_variance``)."""
+        p = self.p
+        if not (p.mag_dip_sigmas > 0 and p.mag_dip_tol > 0):
+            return 0.0
+        h2 = m_n[0] ** 2 + m_n[1] ** 2
+        if not h2 > 1e-12:
+            return 0.0
+        a_b = Q.to_rotmat(q).T @ (np.array([m_n[1], -m_n[0], 0.0]) / np.sqrt(h2))
+        return float(a_b @ np.asarray(P_att, float) @ a_b)
+
+    def screen(self, norm, m_n, dt, dip_var=0.0):
         p = self.p
         c = SimpleNamespace(use=True, disturbed=False, norm=norm, before=self.ref.copy())
         self.ref.learn(m_n, p.mag_ref_samples)
         if not self.mag_norm_ref > 0:
             self.mag_norm_ref = norm
         c.disturbed = bool((p.mag_norm_tol > 0 and abs(norm / self.mag_norm_ref - 1) > p.mag_norm_tol)
-                           or (p.mag_dip_tol > 0 and self.dip_differs(self.ref.mag_ref, m_n, p.mag_dip_tol)))
+                           or (p.mag_dip_tol > 0 and self.dip_differs(self.ref.mag_ref, m_n, self.dip_tolerance(dip_var))))
         if p.mag_settle_time > 0:
             self.mag_ok_t = 0.0 if c.disturbed else self.mag_ok_t + dt
         if c.disturbed or self.mag_ok_t < p.mag_settle_time:
@@ -306,9 +326,10 @@ class MagDisturbance:
         if status != "ok" and not c.disturbed:
             self.ref = c.before
 
-    def update(self, norm, field_n, dt, filter_update):
-        """screen(), the filter's ``filter_update()`` (not for a rejected sample), finish()."""
-        c = self.screen(float(norm), field_n(), dt)
+    def update(self, norm, field_n, dt, filter_update, dip_var=0.0):
+        """screen(), the filter's ``filter_update()`` (not for a rejected sample), finish();
+        ``dip_var``: the dip's variance from the filter's attitude covariance (dip_variance)."""
+        c = self.screen(float(norm), field_n(), dt, dip_var)
         if not c.use:
             return SimpleNamespace(status="rejected")
         res = filter_update()

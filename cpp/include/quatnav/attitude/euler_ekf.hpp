@@ -362,10 +362,16 @@ template <class S> class EulerEKF {
     res.status = detail::unit_vector(mag, m);
     if (res.status != Status::Ok) return res;
     const auto field_n = [&] { return Vec3<S>(quat::rotate(quat(), m)); };
-    return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
-      const Vec3<S>& r = MagDisturbance<S>::reference(st_.mag);
-      return update3(mag, r[0], r[2], params_.mag_sigma, gate);
-    });
+    // The dip test's tolerance grows with the filter's own dip variance (parts/mag_disturbance.hpp).
+    const S dip_var = MagDisturbance<S>::dip_variance(params_.mag, quat::to_rotmat(quat()), field_n(),
+                                                      attitude_covariance());
+    return MagDisturbance<S>::update(
+        params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_,
+        [&] {
+          const Vec3<S>& r = MagDisturbance<S>::reference(st_.mag);
+          return update3(mag, r[0], r[2], params_.mag_sigma, gate);
+        },
+        dip_var);
   }
 
  private:

@@ -517,9 +517,16 @@ template <class S> class QuaternionEKF {
     const Mat3<S> C = quat::to_rotmat(q0);
     const Vec3<S> mn = C * m;
     const auto field_n = [&] { return st_.q_nb == q0 ? mn : Vec3<S>(quat::rotate(st_.q_nb, m)); };
-    return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
-      return params_.mag_heading_only ? update_heading(C, mn, gt) : update3(mag, mag_reference(), params_.mag_sigma, gt);
-    });
+    // The dip test compares the field's dip at the estimated attitude with the reference's, so
+    // the filter's own tilt error enters it: its tolerance grows with the dip's variance from P.
+    const S dip_var = MagDisturbance<S>::dip_variance(params_.mag, C, mn, st_.P.template topLeftCorner<3, 3>());
+    return MagDisturbance<S>::update(
+        params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_,
+        [&] {
+          return params_.mag_heading_only ? update_heading(C, mn, gt)
+                                          : update3(mag, mag_reference(), params_.mag_sigma, gt);
+        },
+        dip_var);
   }
 
   /// Joint accelerometer + magnetometer update (6 scalar rows).

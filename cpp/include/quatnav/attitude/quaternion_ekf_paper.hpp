@@ -284,13 +284,19 @@ template <class S> class QuaternionEKFPaper {
     if (res.status != Status::Ok) return res;
     const S gt = gate > S(0) ? gate : params_.mag_gate;
     const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
-    return MagDisturbance<S>::update(params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_, [&] {
-      if (params_.mag_heading_only) return update_heading(m, gt);
-      Vec3<S> h;
-      Mat34<S> Hm;
-      mag_model(h, Hm);
-      return update3(mag, h, Hm, params_.mag_sigma, gt);
-    });
+    // The dip test's tolerance grows with the filter's own dip variance (parts/mag_disturbance.hpp).
+    const S dip_var = MagDisturbance<S>::dip_variance(params_.mag, quat::to_rotmat(st_.q_nb), field_n(),
+                                                      attitude_covariance());
+    return MagDisturbance<S>::update(
+        params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_,
+        [&] {
+          if (params_.mag_heading_only) return update_heading(m, gt);
+          Vec3<S> h;
+          Mat34<S> Hm;
+          mag_model(h, Hm);
+          return update3(mag, h, Hm, params_.mag_sigma, gt);
+        },
+        dip_var);
   }
 
   /// Joint accelerometer + magnetometer update, eq. (11)-(12) as one 6-vector.

@@ -6,7 +6,15 @@
 //    norm mag_norm_ref (the first sample's, in the unit of mag).
 //  * Disturbance tests: a sample is disturbed when its norm differs from mag_norm_ref by more than
 //    mag_norm_tol (relative) or its dip from the reference's by more than mag_dip_tol. A disturbed
-//    sample is not used.
+//    sample is not used. The dip is the field's at the estimated attitude, so the filter's own
+//    tilt error moves it too: a filter that gives its attitude covariance (QuaternionEKF) widens
+//    the tolerance to sqrt(mag_dip_tol^2 + (mag_dip_sigmas sigma_dip)^2), sigma_dip the dip's
+//    one-sigma from that covariance (dip_variance()). Off by default (mag_dip_sigmas 0): with the
+//    fixed tolerance a tilt error of 2-3 deg in a run's turns rejects every good sample for 10 s
+//    at a time while the heading drifts by up to 40 deg, and 3 sigmas halve those rejections
+//    (heading 11.4 -> 8.7 deg); but the attitude filters' tilt sigma is an effective one (2-3 deg
+//    where the error is a few tenths), so the wider tolerance also lets in a magnet's field:
+//    BROAD's attached-magnet trial 3.40 -> 4.70 deg, the 9D mean 1.63 -> 1.82 (docs/broad.md).
 //  * Settling (mag_settle_time > 0): after a disturbance the field must pass the tests this long
 //    before it is used again (a field passing them by chance inside a disturbance is not trusted).
 //  * Recovery (mag_recovery_time > 0): after that long with every sample rejected, the current
@@ -34,6 +42,9 @@ namespace quatnav {
   X(S, mag_norm_tol, S(0.05), "1", "reject the magnetometer when ||m|/m_ref - 1| exceeds it (0: off)")    \
   X(S, mag_dip_tol, S(0.05), "rad",                                                                      \
     "reject the magnetometer when its dip differs from the reference by more (0: off)")                  \
+  X(S, mag_dip_sigmas, S(0), "1",                                                                       \
+    "the dip test's tolerance grows by this many of the filter's own one-sigmas of the dip, in "        \
+    "quadrature: sqrt(mag_dip_tol^2 + (mag_dip_sigmas sigma_dip)^2) (0: mag_dip_tol alone)")             \
   X(S, mag_settle_time, S(0), "s", "after a disturbance, the field must pass the tests this long")       \
   X(S, mag_ref_tau, S(30), "s", "time constant with which the reference norm and dip follow the field")   \
   X(S, mag_recovery_time, S(0), "s",                                                                     \
@@ -70,7 +81,7 @@ template <class S> struct MagDisturbance {
   /// Switch the disturbance tests off (the plain filters of the papers): every sample is used; the
   /// reference is still learned from the first mag_ref_samples.
   static void off(Params& p) {
-    p.mag_norm_tol = p.mag_dip_tol = p.mag_settle_time = p.mag_ref_tau = p.mag_recovery_time = S(0);
+    p.mag_norm_tol = p.mag_dip_tol = p.mag_dip_sigmas = p.mag_settle_time = p.mag_ref_tau = p.mag_recovery_time = S(0);
   }
 
   /// When the filter starts (initialize): the timers start afresh.
@@ -93,14 +104,14 @@ template <class S> struct MagDisturbance {
   /// (tentatively), run the disturbance tests and the settle and recovery timers. m_n: the unit
   /// field rotated into the navigation frame by the current attitude; norm: |mag|; dt: the step
   /// of the last predict.
-  static MagSample<S> screen(const Params& p, State& s, S norm, const Vec3<S>& m_n, S dt) {
+  static MagSample<S> screen(const Params& p, State& s, S norm, const Vec3<S>& m_n, S dt, S dip_var = S(0)) {
     MagSample<S> c;
     c.norm = norm;
     c.before = s.ref;
     s.ref.learn(m_n, p.mag_ref_samples);
     if (!(s.mag_norm_ref > S(0))) s.mag_norm_ref = norm;
     c.disturbed = (p.mag_norm_tol > S(0) && std::abs(norm / s.mag_norm_ref - S(1)) > p.mag_norm_tol) ||
-                  (p.mag_dip_tol > S(0) && dip_differs(s.ref.mag_ref, m_n, p.mag_dip_tol));
+                  (p.mag_dip_tol > S(0) && dip_differs(s.ref.mag_ref, m_n, dip_tolerance(p, dip_var)));
     if (p.mag_settle_time > S(0)) s.mag_ok_t = c.disturbed ? S(0) : s.mag_ok_t + dt;
     if (c.disturbed || s.mag_ok_t < p.mag_settle_time) {
       s.mag_reject_t += dt;
@@ -152,9 +163,9 @@ template <class S> struct MagDisturbance {
   /// the update); norm: |mag|.
   template <class Field, class Update>
   static auto update(const Params& p, State& s, S norm, const Field& field_n, S dt, std::uint32_t& sample_flags,
-                     Update&& filter_update) {
+                     Update&& filter_update, S dip_var = S(0)) {
     const State before = s;  // an update that fails (SolveFailed, NumericalFailure) leaves the part too
-    const MagSample<S> c = screen(p, s, norm, field_n(), dt);
+    const MagSample<S> c = screen(p, s, norm, field_n(), dt, dip_var);
     using Result = decltype(filter_update());
     Result res = c.use ? filter_update() : Result{};  // one result, built in place
     if (c.use) {
@@ -168,6 +179,30 @@ template <class S> struct MagDisturbance {
     }
     if (res.status == Status::Rejected) sample_flags |= flags::kMagRejected;
     return res;
+  }
+
+  /// The dip test's tolerance [rad]: mag_dip_tol, widened in quadrature by mag_dip_sigmas of the
+  /// filter's own one-sigma of the dip (dip_var, rad^2: dip_variance()); dip_differs() takes any.
+  static S dip_tolerance(const Params& p, S dip_var) {
+    if (!(p.mag_dip_sigmas > S(0)) || !(dip_var > S(0))) return p.mag_dip_tol;
+    const S k2 = p.mag_dip_sigmas * p.mag_dip_sigmas;
+    return std::sqrt(p.mag_dip_tol * p.mag_dip_tol + k2 * dip_var);
+  }
+
+  /// The variance of the dip [rad^2] of the unit field m_n (navigation frame, at the attitude
+  /// C_nb) that the filter's attitude error dtheta (body frame, q_true = q exp(dtheta), covariance
+  /// P_att) gives: dtheta_n = C_nb dtheta turns m_n by dtheta_n x m_n, whose vertical component
+  /// dm_z = dtheta_n,x m_y - dtheta_n,y m_x changes the dip d = asin(m_z) by dm_z / cos d, cos d =
+  /// |(m_x, m_y)|: d_dip = a . dtheta_n with a = (m_y, -m_x, 0) / cos d, the tilt about the
+  /// horizontal normal of the field's vertical plane. 0 for a vertical field (no direction).
+  /// 0 when the widening is off (mag_dip_sigmas or mag_dip_tol 0), so that the caller's argument
+  /// then costs only its evaluation.
+  static S dip_variance(const Params& p, const Mat3<S>& C_nb, const Vec3<S>& m_n, const Mat3<S>& P_att) {
+    if (!(p.mag_dip_sigmas > S(0)) || !(p.mag_dip_tol > S(0))) return S(0);
+    const S h2 = m_n[0] * m_n[0] + m_n[1] * m_n[1];
+    if (!(h2 > S(1e-12))) return S(0);
+    const Vec3<S> a_b = C_nb.transpose() * (Vec3<S>(m_n[1], -m_n[0], S(0)) / std::sqrt(h2));
+    return a_b.dot(P_att * a_b);
   }
 
   /// The dip (inclination, positive down) of a unit field in the navigation frame [rad].
