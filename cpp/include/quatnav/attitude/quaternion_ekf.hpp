@@ -171,7 +171,7 @@ template <class S>
 bool eskf_heading_model(const Mat3<S>& C, const Vec3<S>& mn, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
   horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
   if (!(horiz2 > S(1e-6))) return false;
-  h = std::atan2(mn[1], mn[0]);
+  h = quat::atan2_small(mn[1], mn[0]);  // near 0 while the heading tracks (no declination)
   const Eigen::Matrix<S, 1, 3> dpsi_dmn(-mn[1] / horiz2, mn[0] / horiz2, S(0));
   const Eigen::Matrix<S, 1, 3> J = -dpsi_dmn * quat::skew(mn);
   u = C.row(2).transpose();
@@ -580,7 +580,10 @@ template <class S> class QuaternionEKF {
     }
     const Mat3<S> A = st_.P.template topLeftCorner<3, 3>();
     const S R = params_.mag_sigma * params_.mag_sigma / horiz2 + vt.dot(A * vt);
-    const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
+    // Without a declination, -h itself: atan2 lies in [-pi, pi], and wrap_pi maps -pi (h = pi)
+    // to pi; its fmod would only round the small innovation to the resolution of pi.
+    const S pi = S(3.14159265358979323846);
+    const S y = params_.declination == S(0) ? (h < pi ? -h : h) : quat::wrap_pi(params_.declination - h);
     Vec<S, 6> PHt;
     PHt.noalias() = st_.P.template leftCols<3>() * u;
     const S Sv = u.dot(PHt.template head<3>()) + R;
