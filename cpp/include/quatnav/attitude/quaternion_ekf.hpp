@@ -172,10 +172,11 @@ bool eskf_heading_model(const Mat3<S>& C, const Vec3<S>& mn, S& h, S& horiz2, Ve
   horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
   if (!(horiz2 > S(1e-6))) return false;
   h = quat::atan2_small(mn[1], mn[0]);  // near 0 while the heading tracks (no declination)
-  const Eigen::Matrix<S, 1, 3> dpsi_dmn(-mn[1] / horiz2, mn[0] / horiz2, S(0));
-  const Eigen::Matrix<S, 1, 3> J = -dpsi_dmn * quat::skew(mn);
+  // J_tilt = -(dpsi/dmn) [mn x] = (mn x dpsi/dmn)^T for dpsi/dmn = [-mn_y, mn_x, 0] / horiz2:
+  // its first two components -mn_z [mn_x, mn_y] / horiz2 (the third is 1, the yaw's own).
+  const S g = -mn[2] / horiz2;
   u = C.row(2).transpose();
-  v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
+  v_tilt = C.row(0).transpose() * (g * mn[0]) + C.row(1).transpose() * (g * mn[1]);
   return true;
 }
 
