@@ -101,6 +101,39 @@ TEST(Quaternion, CosSincIsAsCloseAsLibm) {
   EXPECT_FALSE(std::isfinite(c) || std::isfinite(sc));
 }
 
+// atan2_small replaces libm by the Taylor polynomial of atan(y/x) for x > 0, |y/x| <= 1/8: as close
+// as libm there (within 2 units in the last place of long-double libm in double and in float: the
+// quotient's rounding and Horner's), the same signs and zeros, and libm's result elsewhere
+// (beyond the switch, x <= 0, infinities, NaN).
+TEST(Quaternion, Atan2SmallIsAsCloseAsLibm) {
+  auto check = [](double y, double x) {
+    const double a = quat::atan2_small(y, x);
+    const double a_true = double(std::atan2((long double)y, (long double)x));
+    EXPECT_LE(std::abs(a - a_true), 2 * std::numeric_limits<double>::epsilon() * std::abs(a_true)) << y << " " << x;
+    const float yf = float(y), xf = float(x);
+    const float af = quat::atan2_small(yf, xf);
+    const double af_true = double(std::atan2((long double)yf, (long double)xf));
+    EXPECT_LE(std::abs(double(af) - af_true), 2 * std::numeric_limits<float>::epsilon() * std::abs(af_true)) << y << " " << x;
+  };
+  for (int i = -4000; i <= 4000; ++i) {
+    check(0.2 * i / 4000.0, 1.0);
+    check(0.2 * i / 4000.0 * 3e-5, 3e-5);  // a scale other than 1 (the dip's cosine, a field)
+  }
+  for (double t : {0.125 * (1 - 1e-16), 0.125, 0.125 * (1 + 1e-16), 0.125 * (1 - 1e-7), -0.125}) check(t, 1.0);
+  for (double x : {-1.0, -1e-3, 0.0}) {
+    check(0.01, x);
+    check(-0.01, x);
+  }
+  check(1.0, 0.5);
+  EXPECT_EQ(std::signbit(quat::atan2_small(-0.0, 1.0)), true);
+  EXPECT_EQ(quat::atan2_small(0.0, 1.0), 0.0);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(quat::atan2_small(1.0, inf), 0.0);
+  EXPECT_EQ(quat::atan2_small(inf, inf), std::atan2(inf, inf));
+  EXPECT_TRUE(std::isnan(quat::atan2_small(nan, 1.0)));
+  EXPECT_TRUE(std::isnan(quat::atan2_small(0.01, nan)));
+}
+
 TEST(Quaternion, EnuNedConversion) {
   // A body aligned with ENU axes (q_enu_b = identity) has, w.r.t. NED, C_nb = [[0,1,0],[1,0,0],[0,0,-1]].
   const Quat<double> q = quat::enu_to_ned(quat::identity<double>());

@@ -171,11 +171,12 @@ template <class S>
 bool eskf_heading_model(const Mat3<S>& C, const Vec3<S>& mn, S& h, S& horiz2, Vec3<S>& u, Vec3<S>& v_tilt) {
   horiz2 = mn[0] * mn[0] + mn[1] * mn[1];
   if (!(horiz2 > S(1e-6))) return false;
-  h = std::atan2(mn[1], mn[0]);
-  const Eigen::Matrix<S, 1, 3> dpsi_dmn(-mn[1] / horiz2, mn[0] / horiz2, S(0));
-  const Eigen::Matrix<S, 1, 3> J = -dpsi_dmn * quat::skew(mn);
+  h = quat::atan2_small(mn[1], mn[0]);  // near 0 while the heading tracks (no declination)
+  // J_tilt = -(dpsi/dmn) [mn x] = (mn x dpsi/dmn)^T for dpsi/dmn = [-mn_y, mn_x, 0] / horiz2:
+  // its first two components -mn_z [mn_x, mn_y] / horiz2 (the third is 1, the yaw's own).
+  const S g = -mn[2] / horiz2;
   u = C.row(2).transpose();
-  v_tilt = C.row(0).transpose() * J[0] + C.row(1).transpose() * J[1];
+  v_tilt = C.row(0).transpose() * (g * mn[0]) + C.row(1).transpose() * (g * mn[1]);
   return true;
 }
 
@@ -587,7 +588,10 @@ template <class S> class QuaternionEKF {
     }
     const Mat3<S> A = st_.P.template topLeftCorner<3, 3>();
     const S R = params_.mag_sigma * params_.mag_sigma / horiz2 + vt.dot(A * vt);
-    const S y = quat::wrap_pi(params_.declination == S(0) ? -h : params_.declination - h);
+    // Without a declination, -h itself: atan2 lies in [-pi, pi], and wrap_pi maps -pi (h = pi)
+    // to pi; its fmod would only round the small innovation to the resolution of pi.
+    const S pi = S(3.14159265358979323846);
+    const S y = params_.declination == S(0) ? (h < pi ? -h : h) : quat::wrap_pi(params_.declination - h);
     Vec<S, 6> PHt;
     PHt.noalias() = st_.P.template leftCols<3>() * u;
     const S Sv = u.dot(PHt.template head<3>()) + R;
@@ -625,6 +629,16 @@ template <class S> class QuaternionEKF {
   /// r = [0, 0, -1] with the gain projected off the vertical u = -h (one rotation for both, by
   /// the last row of C_nb).
   UpdateResult<S, 3> update_gravity(const Vec3<S>& v, S sigma, S gate) {
+    if constexpr (!(Eigen::internal::packet_traits<S>::Vectorizable && Eigen::internal::packet_traits<S>::size > 1)) {
+      // Without SIMD (a Cortex-M4) the three scalar rows of the same measurement and gain
+      // (EskfGravity.TangentPlaneRowsAreTheThreeRows) cost fewer instructions than the 2-row
+      // block, whose one pass saves no multiply-adds there while its basis, 2 x 2 algebra and
+      // body-axes covariance are extra: 7,626 -> 7,042 per step on the Cortex-M4 at -O2
+      // (bench/README.md, 2026-12-06).
+      const Vec3<S> u = quat::nav_z_in_body(st_.q_nb);
+      const Vec3<S> h = -u;
+      return update3_model(v, h, Mat3<S>(quat::skew(h)), sigma, gate, heading_free(u));
+    }
     UpdateResult<S, 3> res;
     Vec3<S> a;
     res.status = detail::unit_vector(v, a);

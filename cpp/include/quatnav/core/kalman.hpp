@@ -442,7 +442,9 @@ template <class S, int N> void symmetric_update_scalar(Mat<S, N, N>& P, const Ve
 /// 2.4e-4 of the posterior) and 1e6 in double (2.2e-10), the symmetric form is used; from there
 /// on the Joseph form.
 template <class S> bool weak_row(S s, S r) {
-  constexpr S kMaxRatio = std::min(S(1e6), S(1) / (S(4096) * std::numeric_limits<S>::epsilon()));
+  // const, not constexpr: a scalar type without constexpr constructors (the benchmark's
+  // counting scalar, bench/cpp/flop_counter.hpp) instantiates it too.
+  const S kMaxRatio = std::min(S(1e6), S(1) / (S(4096) * std::numeric_limits<S>::epsilon()));
   return s < kMaxRatio * r;
 }
 

@@ -158,6 +158,22 @@ template <class S> void cos_sinc(S x2, S& c, S& sinc) {
   }
 }
 
+/// atan2(y, x) without a libm call for the small angles of an innovation or a dip offset: for
+/// x > 0 and |y / x| <= 1/8, the Taylor polynomial of atan(t), t = y / x, by Horner in t^2, for
+/// float through t^7, for double through t^17 (an alternating series: the first term left out,
+/// |t|^9 / 9 and |t|^19 / 19, is below 2^-24 |t| / 9 and 2^-54 |t| / 19, so the result is as
+/// close as libm's). libm elsewhere (and for NaN: every test above fails).
+template <class S> S atan2_small(S y, S x) {
+  const S t = y / x;
+  if (x > S(0) && std::abs(t) <= S(0.125)) {
+    const S t2 = t * t;
+    if (sizeof(S) <= 4) return t * (S(1) + t2 * (S(-1) / S(3) + t2 * (S(1) / S(5) + t2 * (S(-1) / S(7)))));
+    return t * (S(1) + t2 * (S(-1) / S(3) + t2 * (S(1) / S(5) + t2 * (S(-1) / S(7) + t2 * (S(1) / S(9) +
+           t2 * (S(-1) / S(11) + t2 * (S(1) / S(13) + t2 * (S(-1) / S(15) + t2 * (S(1) / S(17))))))))));
+  }
+  return std::atan2(y, x);
+}
+
 /// Exponential map of a rotation vector: the unit quaternion of a rotation by |r| about r/|r|.
 template <class S> Quat<S> from_rotvec(const Vec3<S>& r) {
   S c, sinc;  // cos(|r|/2), sin(|r|/2)/(|r|/2)

@@ -140,7 +140,7 @@ template <class S> struct MagDisturbance {
           // The dip d_ref + a (d - d_ref): the reference turned by a (d - d_ref) in its plane.
           S cd, sd;
           dip_offset(s.ref.mag_ref, m_n_after(), cd, sd);
-          const S phi = detail::lowpass_gain(dt, p.mag_ref_tau) * std::atan2(sd, cd);
+          const S phi = detail::lowpass_gain(dt, p.mag_ref_tau) * quat::atan2_small(sd, cd);
           S cp, sincp;
           quat::cos_sinc(phi * phi, cp, sincp);
           const S sp = sincp * phi;
