@@ -191,6 +191,39 @@ TYPED_TEST(Parts, AccBiasWeightFallsWithTheLinearAcceleration) {
   EXPECT_LT(double((AccFilter<S>::bias_weight(p, moving, u) - full * S(0.2)).norm()), 1e-4);
 }
 
+TYPED_TEST(Parts, AccBiasWeightProjectsOffTheLowPassedVertical) {
+  // W projects off the filter's vertical in the low-pass frame, low-passed like C (g_i_lp): a
+  // vertical that swings by +-0.3 rad about x at 1 Hz (the filter's tilt error in phase with a
+  // swing) averages to the z axis, so W stays I - z z^T (to the average's second order) while the
+  // current vertical tilts by 0.3 rad; without a vertical given (a filter that uses no W) the
+  // current one is used, as before.
+  using S = TypeParam;
+  AccFilterParams<S> p;
+  p.acc_bias_dev = S(0);
+  AccFilterState<S> s, none;
+  const S dt = S(0.01), g = p.gravity;
+  const Vec3<S> z(S(0), S(0), S(1));
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int k = 0; k < 1000; ++k) {  // 10 s: past the ramp (6 s)
+    const S a = S(0.3 * std::sin(2 * 3.141592653589793 * 0.01 * k));
+    const Vec3<S> up(S(0), -std::sin(a), std::cos(a));
+    AccFilter<S>::screen(p, s, Vec3<S>(S(0), S(0), -g), dt, S(0), up);
+    AccFilter<S>::screen(p, none, Vec3<S>(S(0), S(0), -g), dt, S(0));
+  }
+  Eigen::internal::set_is_malloc_allowed(true);
+  const Mat3<S> Wz = Mat3<S>::Identity() - z * z.transpose();
+  EXPECT_GT(double(s.g_i_lp.norm()), 0.9);
+  // The low-pass leaves 0.3 / |1 + 2 pi i f tau| = 0.016 rad of the swing (f 1 Hz, tau 3 s):
+  // |W - Wz| ~ sqrt(2) 0.016 = 0.023, bound 0.05; W of the current vertical at the swing's peak,
+  // 0.3 rad away, differs from Wz by about 0.42.
+  const Vec3<S> peak(S(0), -std::sin(S(0.3)), std::cos(S(0.3)));
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, s, peak) - Wz).norm()), 0.05);
+  EXPECT_EQ(none.g_i_lp, Vec3<S>::Zero());
+  const Mat3<S> Wpeak = Mat3<S>::Identity() - peak * peak.transpose();
+  EXPECT_LT(double((AccFilter<S>::bias_weight(p, none, peak) - Wpeak).norm()), 1e-5);
+  EXPECT_GT(double((Wpeak - Wz).norm()), 0.3);
+}
+
 TYPED_TEST(Parts, AccRejectionAdaptiveNoiseAndRecovery) {
   using S = TypeParam;
   AccFilterParams<S> p;

@@ -333,13 +333,16 @@ class QuaternionEKF(_Base):
         if self.rest.update(acc, self.bias, self.dt_last):
             self._update_zero_rate()
         res = self.acc.update(acc, self.dt_last, self._max_bias_var(), lambda a: self._update_gravity(
-            a.acc, self.p.acc_sigma + a.sigma_add, a.gate(gate, self.p.acc_gate)))
+            a.acc, self.p.acc_sigma + a.sigma_add, a.gate(gate, self.p.acc_gate)), self._acc_up())
         if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res
 
     def _max_bias_var(self):
         return 0.0  # the 7-state filter keeps acc_lp_tau (acc_lp_bias_sigma: error-state filter only)
+
+    def _acc_up(self):
+        return None  # the 7-state filter uses no bias weight (error-state filter only)
 
     def _update_gravity(self, acc, sigma, gate):
         """The accelerometer's rows 1-3 of eq. (12) (the 7-state filter: the paper's update)."""
@@ -503,6 +506,10 @@ class _QuaternionEKFErrorState(QuaternionEKF):
 
     def attitude_covariance(self):
         return self.P[:3, :3]
+
+    def _acc_up(self):
+        """The body-frame vertical at the current attitude, for the bias weight's low-pass."""
+        return Q.rotate_inv(self.q, np.array([0.0, 0.0, 1.0]))
 
     @staticmethod
     def propagate(q, bias, gyr, dt):
@@ -792,7 +799,7 @@ class EulerEKF(_Base):
                 return k
             return self._update3(a.acc, *GRAVITY_REF, self.p.acc_sigma + a.sigma_add, a.gate(gate, 0.0),
                                  gain=heading_free if self.p.acc_tilt_only else None)
-        res = self.acc.update(acc, self.dt_last, max_bias_var, update)
+        res = self.acc.update(acc, self.dt_last, max_bias_var, update)  # the current vertical in W
         if res.status == "rejected":
             self.flags |= FLAG_ACC_REJECTED
         return res

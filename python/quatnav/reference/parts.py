@@ -147,6 +147,7 @@ class AccFilter:
         self.restart()
         self.acc_i_lp = np.zeros(3)
         self.C_i_lp = np.eye(3)
+        self.g_i_lp = np.zeros(3)
         self.acc_dev_lp = 0.0
         self.acc_lp_age = 0.0
 
@@ -177,17 +178,20 @@ class AccFilter:
             return tau_b
         return tau_b + (p.acc_lp_tau - tau_b) * min(1.0, dev_lp / p.acc_lp_dev)
 
-    def screen(self, acc, dt, max_bias_var):
-        """The sample to use (``acc``), its extra one-sigma (``sigma_add``), ``rejected``, ``recovering``."""
+    def screen(self, acc, dt, max_bias_var, up=None):
+        """The sample to use (``acc``), its extra one-sigma (``sigma_add``), ``rejected``, ``recovering``;
+        ``up``: the filter's body-frame vertical, low-passed in the frame for the bias weight."""
         p = self.p
         acc = np.asarray(acc, float)
         used = acc
         if p.acc_lp_tau > 0:
             a_i = Q.rotate(self.q_i, acc)
             C_ib = Q.to_rotmat(self.q_i)
+            g_i = C_ib @ (np.zeros(3) if up is None else np.asarray(up, float))
             dev_raw = abs(np.linalg.norm(acc) - p.gravity)
             if not self.acc_lp_init or not dt > 0:
                 self.acc_i_lp, self.C_i_lp, self.acc_lp_init = a_i, C_ib, True
+                self.g_i_lp = g_i
                 self.acc_dev_lp = dev_raw
                 self.acc_lp_age = 0.0
             else:
@@ -196,6 +200,7 @@ class AccFilter:
                 tau = self.time_constant_dev(max_bias_var, self.acc_dev_lp)
                 self.acc_i_lp = lowpass(self.acc_i_lp, a_i, dt, tau)
                 self.C_i_lp = lowpass(self.C_i_lp, C_ib, dt, tau)
+                self.g_i_lp = lowpass(self.g_i_lp, g_i, dt, tau)
             used = Q.rotate_inv(self.q_i, self.acc_i_lp)
         g = p.gravity
         dev = abs(np.linalg.norm(used) - g) if g > 0 else 0.0
@@ -207,13 +212,15 @@ class AccFilter:
 
     def bias_weight(self, u):
         """The weight of the accelerometer's gain in the gyro-bias block for the body-frame vertical
-        ``u``: ``C^T (I - g g^T) C`` with C the low-passed C_ib, g = C_ib u (``acc_filter.hpp``);
+        ``u``: ``C^T (I - g g^T) C`` with C the low-passed C_ib, g the low-passed C_ib u normalized
+        (the current one where that average is shorter than 0.5) (``acc_filter.hpp``);
         ``I - u u^T`` without the low-pass or before its first sample; times the ramp
         ``min(1, age / (2 acc_lp_tau))`` over the low-pass's first 2 time constants and by
         ``1 / (1 + (dev_lp / acc_bias_dev)**2)``, dev_lp the low-passed ``||a| - g|``."""
         if not (self.p.acc_lp_tau > 0 and self.acc_lp_init):
             return np.eye(3) - np.outer(u, u)
-        g = Q.rotate(self.q_i, u)
+        n2 = float(self.g_i_lp @ self.g_i_lp)
+        g = self.g_i_lp / np.sqrt(n2) if n2 > 0.25 else Q.rotate(self.q_i, u)
         W = self.C_i_lp.T @ (np.eye(3) - np.outer(g, g)) @ self.C_i_lp
         ramp_end = 2.0 * self.p.acc_lp_tau
         if self.acc_lp_age < ramp_end:
@@ -228,9 +235,9 @@ class AccFilter:
         elif status == "rejected" and self.p.acc_recovery_time > 0:
             self.acc_reject_t += dt
 
-    def update(self, acc, dt, max_bias_var, filter_update):
+    def update(self, acc, dt, max_bias_var, filter_update, up=None):
         """screen(), the filter's ``filter_update(sample)`` (not for a refused sample), finish()."""
-        sample = self.screen(acc, dt, max_bias_var)
+        sample = self.screen(acc, dt, max_bias_var, up)
         res = SimpleNamespace(status="rejected") if sample.rejected else filter_update(sample)
         self.finish(res.status, dt)
         return res

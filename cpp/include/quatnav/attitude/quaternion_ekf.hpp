@@ -488,10 +488,13 @@ template <class S> class QuaternionEKF {
       update_zero_rate();
     }
     const S bias_var = st_.P.diagonal().template tail<3>().maxCoeff();
-    UpdateResult<S, 3> res =
-        AccFilter<S>::update(params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_, [&](const AccSample<S>& in) {
+    const Vec3<S> up = quat::rotate_inv(st_.q_nb, Vec3<S>(S(0), S(0), S(1)));  // the vertical, body frame
+    UpdateResult<S, 3> res = AccFilter<S>::update(
+        params_.acc, st_.acc, acc, st_.dt_last, bias_var, flags_,
+        [&](const AccSample<S>& in) {
           return update_gravity(in.acc, params_.acc_sigma + in.sigma_add, in.gate(gate, params_.acc_gate));
-        });
+        },
+        up);
     if (res.status != Status::Ok && res.status != Status::Rejected) {
       st_.rest = rest_before;
       st_.acc = acc_before;

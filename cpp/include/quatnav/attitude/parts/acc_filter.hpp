@@ -27,14 +27,22 @@
 //    motion's frequency, where that error lives, and learning it from the accelerometer turns
 //    the error into a bias (a pendulum's string axis: 1.4 deg/s in a minute, 12 deg of 6D
 //    heading). So the accelerometer's gain in the bias block is weighted by
-//        W = C^T (I - g g^T) C,   C = the low-passed C_ib, g = C_ib u
-//    (u the body-frame vertical of the filter, g the vertical in the low-pass frame): the body
-//    directions that stayed horizontal over the time constant keep their gain, those that swung
-//    through the vertical lose it (VQF estimates the bias in motion through a low-passed
+//        W = C^T (I - g g^T) C,   C = the low-passed C_ib, g = the low-passed C_ib u, normalized
+//    (u the body-frame vertical of the filter, C_ib u the vertical in the low-pass frame): the
+//    body directions that stayed horizontal over the time constant keep their gain, those that
+//    swung through the vertical lose it (VQF estimates the bias in motion through a low-passed
 //    rotation matrix in the same way). W is symmetric with eigenvalues in [0, 1]; without
 //    rotation W = I - u u^T, the plain projection off the vertical. (Projecting W off the
 //    current vertical as well, P_u W P_u, couples the swinging directions again, in phase with
-//    the swing: 6.4 deg on the pendulum in 6D against 1.5.)
+//    the swing: 6.4 deg on the pendulum in 6D against 1.5.) The vertical in the low-pass frame
+//    is constant but for the filter's tilt error, which under a swing oscillates with the swing;
+//    g is therefore low-passed as C is (g_i_lp, the current one while that average is shorter
+//    than 0.5). With the current vertical, W swung in the same phase as the accelerometer's
+//    error and the string axis of a pendulum started in the swing still learned a bias: 6D 8.5
+//    -> 5.7 deg, and 8.8 / 7.8 / 5.9 -> 6.3 / 4.8 / 4.0 on three held-out seeds; a run's
+//    torso, whose vertical barely swings, loses 0.6-1.8 deg in 6D instead (docs/broad.md).
+//    QuaternionEKF gives screen() its vertical; EulerEKF does not and keeps the current one
+//    (with the low-passed one its 6D figure started in the motion went 8.89 -> 9.13 deg).
 //    A low-pass has averaged nothing before it has run for about its time constant: its first
 //    sample, with whatever linear acceleration it holds, keeps a weight of e^(-t/tau). So W
 //    grows from 0 to full over the low-pass's first 2 acc_lp_tau (W times min(1, age / (2
@@ -100,6 +108,7 @@ template <class S> struct AccFilterParams {
   X(Quat<S>, q_i, quat::identity<S>(), "1", "gyro-only frame of the accelerometer low-pass, q_ib")      \
   X(Vec3<S>, acc_i_lp, Vec3<S>::Zero(), "m/s^2", "low-passed accelerometer in that frame")              \
   X(Mat3<S>, C_i_lp, Mat3<S>::Identity(), "1", "low-passed attitude C_ib in that frame (the bias weight)") \
+  X(Vec3<S>, g_i_lp, Vec3<S>::Zero(), "1", "low-passed body-frame vertical of the filter in that frame (the bias weight)") \
   X(bool, acc_lp_init, false, "-", "acc_i_lp holds a sample")                                           \
   X(S, acc_dev_lp, S(0), "m/s^2", "low-passed ||a| - g| of the raw samples (acc_lp_dev)")                \
   X(S, acc_lp_age, S(0), "s", "time since the low-pass's first sample (the bias weight's ramp)")          \
@@ -169,16 +178,21 @@ template <class S> struct AccFilter {
 
   /// At every accelerometer sample acc (dt: the step of the last predict): the sample to use, its
   /// extra noise and whether it is refused. The filter then updates (or not) and calls finish().
-  static AccSample<S> screen(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var) {
+  /// up: the filter's body-frame vertical (unit) at its current attitude, for the bias weight
+  /// (zero: a filter that does not use bias_weight()).
+  static AccSample<S> screen(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var,
+                             const Vec3<S>& up = Vec3<S>::Zero()) {
     AccSample<S> out;
     out.acc = acc;
     if (p.acc_lp_tau > S(0)) {
-      const Mat3<S> C_ib = quat::to_rotmat(s.q_i);  // one rotation matrix for its three uses here
+      const Mat3<S> C_ib = quat::to_rotmat(s.q_i);  // one rotation matrix for its uses here
       const Vec3<S> a_i = C_ib * acc;
+      const Vec3<S> g_i = C_ib * up;
       const S dev_raw = std::abs(acc.norm() - p.gravity);
       if (!s.acc_lp_init || !(dt > S(0))) {
         s.acc_i_lp = a_i;
         s.C_i_lp = C_ib;
+        s.g_i_lp = g_i;
         s.acc_dev_lp = dev_raw;
         s.acc_lp_age = S(0);
         s.acc_lp_init = true;
@@ -188,6 +202,7 @@ template <class S> struct AccFilter {
         const S tau = time_constant(p, max_bias_var, s.acc_dev_lp);
         detail::lowpass(s.acc_i_lp, a_i, dt, tau);
         detail::lowpass(s.C_i_lp, C_ib, dt, tau);
+        detail::lowpass(s.g_i_lp, g_i, dt, tau);
       }
       out.acc.noalias() = C_ib.transpose() * s.acc_i_lp;
     }
@@ -205,7 +220,10 @@ template <class S> struct AccFilter {
   /// low-pass or before its first sample.
   static Mat3<S> bias_weight(const Params& p, const State& s, const Vec3<S>& u) {
     if (!(p.acc_lp_tau > S(0)) || !s.acc_lp_init) return Mat3<S>::Identity() - u * u.transpose();
-    const Vec3<S> g = quat::rotate(s.q_i, u);
+    // The vertical in the low-pass frame, low-passed as C is (g_i_lp; the top of this file); the
+    // current one where that average has no direction (a frame that turned the vertical away).
+    const S n2 = s.g_i_lp.squaredNorm();
+    const Vec3<S> g = n2 > S(0.25) ? Vec3<S>(s.g_i_lp / std::sqrt(n2)) : Vec3<S>(quat::rotate(s.q_i, u));
     const Eigen::Matrix<S, 1, 3> gC = g.transpose() * s.C_i_lp;
     Mat3<S> W;
     W.noalias() = s.C_i_lp.transpose() * s.C_i_lp;
@@ -224,8 +242,8 @@ template <class S> struct AccFilter {
   /// kAccRejected in sample_flags when the sample was rejected (norm test or the filter's gate).
   template <class Update>
   static auto update(const Params& p, State& s, const Vec3<S>& acc, S dt, S max_bias_var, std::uint32_t& sample_flags,
-                     Update&& filter_update) {
-    const AccSample<S> in = screen(p, s, acc, dt, max_bias_var);
+                     Update&& filter_update, const Vec3<S>& up = Vec3<S>::Zero()) {
+    const AccSample<S> in = screen(p, s, acc, dt, max_bias_var, up);
     using Result = decltype(filter_update(in));
     Result res = in.rejected ? Result{} : filter_update(in);  // one result, built in place
     if (in.rejected) res.status = Status::Rejected;
