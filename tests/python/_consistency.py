@@ -34,8 +34,8 @@ import numpy as np
 VARIANCE_SCALE_ENV = "QUATNAV_TEST_VARIANCE_SCALE"
 
 #: Parameters whose name says noise or one-sigma but that are not a variance the filter is told
-#: (a threshold): never scaled.
-NOT_NOISE = frozenset({"acc_lp_bias_sigma"})
+#: (a threshold; a number of the filter's own one-sigmas): never scaled.
+NOT_NOISE = frozenset({"acc_lp_bias_sigma", "mag_dip_sigmas"})
 
 
 def variance_scale() -> float:
