@@ -523,7 +523,9 @@ template <class S> class QuaternionEKF {
     const auto field_n = [&] { return st_.q_nb == q0 ? mn : Vec3<S>(quat::rotate(st_.q_nb, m)); };
     // The dip test compares the field's dip at the estimated attitude with the reference's, so
     // the filter's own tilt error enters it: its tolerance grows with the dip's variance from P.
-    const S dip_var = MagDisturbance<S>::dip_variance(params_.mag, C, mn, st_.P.template topLeftCorner<3, 3>());
+    const S dip_var = MagDisturbance<S>::widened(params_.mag)
+                          ? MagDisturbance<S>::dip_variance(params_.mag, C, mn, st_.P.template topLeftCorner<3, 3>())
+                          : S(0);
     return MagDisturbance<S>::update(
         params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_,
         [&] {

@@ -285,8 +285,10 @@ template <class S> class QuaternionEKFPaper {
     const S gt = gate > S(0) ? gate : params_.mag_gate;
     const auto field_n = [&] { return Vec3<S>(quat::rotate(st_.q_nb, m)); };
     // The dip test's tolerance grows with the filter's own dip variance (parts/mag_disturbance.hpp).
-    const S dip_var = MagDisturbance<S>::dip_variance(params_.mag, quat::to_rotmat(st_.q_nb), field_n(),
-                                                      attitude_covariance());
+    const S dip_var = MagDisturbance<S>::widened(params_.mag)
+                          ? MagDisturbance<S>::dip_variance(params_.mag, quat::to_rotmat(st_.q_nb), field_n(),
+                                                            attitude_covariance())
+                          : S(0);
     return MagDisturbance<S>::update(
         params_.mag, st_.mag, mag.norm(), field_n, st_.dt_last, flags_,
         [&] {

@@ -195,8 +195,9 @@ template <class S> struct MagDisturbance {
   /// dm_z = dtheta_n,x m_y - dtheta_n,y m_x changes the dip d = asin(m_z) by dm_z / cos d, cos d =
   /// |(m_x, m_y)|: d_dip = a . dtheta_n with a = (m_y, -m_x, 0) / cos d, the tilt about the
   /// horizontal normal of the field's vertical plane. 0 for a vertical field (no direction).
-  /// 0 when the widening is off (mag_dip_sigmas or mag_dip_tol 0), so that the caller's argument
-  /// then costs only its evaluation.
+  /// 0 when the widening is off (widened() false); a filter tests widened() first, so that it
+  /// forms the arguments (its attitude covariance) only when they are used.
+  static bool widened(const Params& p) { return p.mag_dip_sigmas > S(0) && p.mag_dip_tol > S(0); }
   static S dip_variance(const Params& p, const Mat3<S>& C_nb, const Vec3<S>& m_n, const Mat3<S>& P_att) {
     if (!(p.mag_dip_sigmas > S(0)) || !(p.mag_dip_tol > S(0))) return S(0);
     const S h2 = m_n[0] * m_n[0] + m_n[1] * m_n[1];
