@@ -181,6 +181,10 @@ template <class S> struct MagDisturbance {
     return res;
   }
 
+  /// Whether the dip test is widened by the filter's dip variance: a filter tests it before it
+  /// forms its attitude covariance for dip_variance(), so that the default costs nothing.
+  static bool widened(const Params& p) { return p.mag_dip_sigmas > S(0) && p.mag_dip_tol > S(0); }
+
   /// The dip test's tolerance [rad]: mag_dip_tol, widened in quadrature by mag_dip_sigmas of the
   /// filter's own one-sigma of the dip (dip_var, rad^2: dip_variance()); dip_differs() takes any.
   static S dip_tolerance(const Params& p, S dip_var) {
@@ -194,12 +198,10 @@ template <class S> struct MagDisturbance {
   /// P_att) gives: dtheta_n = C_nb dtheta turns m_n by dtheta_n x m_n, whose vertical component
   /// dm_z = dtheta_n,x m_y - dtheta_n,y m_x changes the dip d = asin(m_z) by dm_z / cos d, cos d =
   /// |(m_x, m_y)|: d_dip = a . dtheta_n with a = (m_y, -m_x, 0) / cos d, the tilt about the
-  /// horizontal normal of the field's vertical plane. 0 for a vertical field (no direction).
-  /// 0 when the widening is off (widened() false); a filter tests widened() first, so that it
-  /// forms the arguments (its attitude covariance) only when they are used.
-  static bool widened(const Params& p) { return p.mag_dip_sigmas > S(0) && p.mag_dip_tol > S(0); }
+  /// horizontal normal of the field's vertical plane. 0 for a vertical field (no direction), and
+  /// 0 when the widening is off (widened()).
   static S dip_variance(const Params& p, const Mat3<S>& C_nb, const Vec3<S>& m_n, const Mat3<S>& P_att) {
-    if (!(p.mag_dip_sigmas > S(0)) || !(p.mag_dip_tol > S(0))) return S(0);
+    if (!widened(p)) return S(0);
     const S h2 = m_n[0] * m_n[0] + m_n[1] * m_n[1];
     if (!(h2 > S(1e-12))) return S(0);
     const Vec3<S> a_b = C_nb.transpose() * (Vec3<S>(m_n[1], -m_n[0], S(0)) / std::sqrt(h2));
