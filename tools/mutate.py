@@ -182,7 +182,7 @@ MUTATIONS: list[Mutation] = [
     _m("to_rotvec: the angle halved (beyond the small-angle branch)", "core", QUAT,
        "  return (S(2) * std::atan2(sn, q[0]) / sn) * v;", "  return (std::atan2(sn, q[0]) / sn) * v;",
        cpp=("test_quaternion",)),
-    # ---- GpsInsFilter (paper 004; reworked in parallel: update these patterns with it) -----------
+    # ---- GpsInsFilter (paper 004) ---------------------------------------------------------------
     _m("GPS velocity: the lever-arm term's sign", "gpsins", GPSINS_AIDS,
        "  return s.nav.v_n + C * s.omega_b.cross(p.lever_arm_b);",
        "  return s.nav.v_n - C * s.omega_b.cross(p.lever_arm_b);",
@@ -194,7 +194,7 @@ MUTATIONS: list[Mutation] = [
     _m("batch: the compass applied one IMU sample early", "gpsins", GPSINS_BATCH,
        "      for (; ic < io.nc && io.compass_t[ic] <= tk; ++ic) {",
        "      for (; ic < io.nc && io.compass_t[ic] <= tk + (k + 1 < io.n ? io.t[k + 1] - tk : 0.0); ++ic) {",
-       py=("tests/python/test_gpsins.py",)),
+       cpp=("test_gpsins_smoother",), py=("tests/python/test_gpsins.py",)),
 ]
 
 #: Every consistency test, run with the filter told Q, R and P0 scaled (each must fail).

@@ -2,7 +2,7 @@
 // of its innovation, perturbing the nominal state through the filter's own injection (the error
 // state is estimate minus truth: an error +e is the injection of -e), at a state with a lever
 // arm, a rotation rate, a specific force, an age and an altimeter offset; and each piece's H
-// zero outside the columns it declares.
+// zero outside the columns it declares; the rest constraints' R against their documented values.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -131,6 +131,23 @@ TEST(GpsInsAids, ConstraintsMatchFiniteDifferences) {
   check(gpsins_aid::NonHolonomic<double>{}, 1e-5);
   check(gpsins_aid::NonHolonomic<double>{0.0, 0.02, -0.015}, 1e-5);  // with a learned mounting
   check(gpsins_aid::OdometerSpeed<double>{12.5}, 1e-5);
+}
+
+TEST(GpsInsAids, RestConstraintsNoiseIsTheDocumentedOne) {
+  // The finite differences above check H and y, not R: the rest constraints' R against their
+  // documented values (aids.hpp): ZUPT zupt_sigma^2 I; ZARU (gyro_noise^2 / dt + zaru_sigma^2) I,
+  // dt the last interval. A mis-scaled R (a ZUPT twice as confident, say) fails here.
+  const GpsInsState<double> s = a_state();
+  GpsInsParams<double> p = params();
+  p.zupt_sigma = 0.03;
+  p.zaru_sigma = 0.004;
+  AidMeasurement<double, 3> z, w;
+  gpsins_aid::ZeroVelocity<double>{}.measure(s, p, z);
+  gpsins_aid::ZeroRate<double>{}.measure(s, p, w);
+  EXPECT_EQ(z.R, Mat3<double>(Mat3<double>::Identity() * (0.03 * 0.03)));
+  const double rw = p.gyro_noise * p.gyro_noise / s.dt_last + 0.004 * 0.004;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(w.R(i, j), i == j ? rw : 0.0, 1e-15 * rw) << i << "," << j;
 }
 
 TEST(GpsInsAids, TheCheckDetectsAnError) {

@@ -3,7 +3,8 @@
 // position error inside the outage below the forward one, smoothed sigmas never above the
 // forward ones, the last sample equal to the forward one, the forward decisions unchanged, the same
 // bits whatever the checkpoint interval, no heap in the forward loop or the backward pass; the
-// transition against finite differences of the time update. float and double.
+// transition against finite differences of the time update; the batch loop against the step loop
+// written out, with compass and altimeter samples between IMU samples. float and double.
 #define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
@@ -182,6 +183,83 @@ TYPED_TEST(GpsInsSmootherTest, SmoothedRunBeatsForwardInsideAnOutage) {
   std::printf("outage worst horizontal error: forward %.3f m, smoothed %.3f m\n", worst_f, worst_s);
   EXPECT_GT(worst_f, 2.0);  // the outage makes the forward filter drift
   EXPECT_LT(worst_s, 0.5 * worst_f);
+}
+
+TYPED_TEST(GpsInsSmootherTest, BatchIsTheStepLoop) {
+  // gpsins_batch against the documented step loop written out (batch.hpp: per sample k >= 1 the
+  // time update, the constraints, then the aids with times in (t[k-1], t[k]]: compass, altimeter,
+  // GNSS), bit for bit at every sample. The compass and altimeter times fall between IMU samples,
+  // so an aid applied one sample early or late changes the state from that sample on: a slip in
+  // the batch loop's aid times fails here without the Python tests.
+  using S = TypeParam;
+  GpsInsCase<S> c;
+  c.n = 6001;  // the first 60 s, with the filter's ZUPT, NHC, compass and altimeter all in play
+  std::vector<double> gps_t;
+  for (double tg : c.gps_t)
+    if (tg <= c.t[c.n - 1]) gps_t.push_back(tg);
+  std::vector<double> comp_t, baro_t, baro_h;
+  std::vector<S> comp_yaw;
+  std::mt19937 g(3);
+  std::normal_distribution<double> nd;
+  quatnav_test::NavTruth tr;
+  for (double tc = 0.504; tc < c.t[c.n - 1]; tc += 1.0) {  // 4 ms after a sample
+    comp_t.push_back(tc);
+    comp_yaw.push_back(S(tr.att.euler(tc)[2] + 0.01 * nd(g)));
+  }
+  for (double tb = 0.253; tb < c.t[c.n - 1]; tb += 0.5) {
+    const std::size_t k = std::size_t(std::lround(tb / GpsInsCase<S>::kDt));
+    baro_t.push_back(tb);
+    baro_h.push_back(c.truth_llh[3 * k + 2] + 0.3 * nd(g));
+  }
+  typename GpsInsCase<S>::Out o(c.n, gps_t.size());
+  GpsInsBatchIo<S> io = c.io(o);
+  io.n = std::size_t(c.n);
+  io.ng = gps_t.size();
+  io.compass_t = comp_t.data();
+  io.compass_yaw = comp_yaw.data();
+  io.nc = comp_t.size();
+  io.baro_t = baro_t.data();
+  io.baro_h = baro_h.data();
+  io.nb = baro_t.size();
+  std::vector<std::uint8_t> comp_status(comp_t.size());
+  io.report.compass.status = comp_status.data();
+  GpsInsFilter<S> fb = c.filter;
+  gpsins_batch(fb, io);
+
+  GpsInsFilter<S> f = c.filter;
+  std::size_t ic = 0, ib = 0, ig = 0, comp_used = 0, baro_used = 0, gps_used = 0;
+  for (int k = 0; k < c.n; ++k) {
+    if (k > 0) {
+      const S dt = S(c.t[k] - c.t[k - 1]);
+      ASSERT_EQ(f.predict(Vec3<S>(Eigen::Map<const Vec3<S>>(&c.gyro[3 * k])),
+                          Vec3<S>(Eigen::Map<const Vec3<S>>(&c.accel[3 * k])), dt),
+                Status::Ok);
+      f.update_constraints();
+      const double tk = c.t[k];
+      for (; ic < comp_t.size() && comp_t[ic] <= tk; ++ic) {
+        const auto r = f.update_compass(comp_yaw[ic]);
+        comp_used += r.status == Status::Ok;
+        ASSERT_EQ(comp_status[ic], std::uint8_t(r.status)) << "compass " << ic;
+      }
+      for (; ib < baro_t.size() && baro_t[ib] <= tk; ++ib) baro_used += f.update_baro(baro_h[ib]).height.status == Status::Ok;
+      for (; ig < gps_t.size() && gps_t[ig] <= tk; ++ig) {
+        const double* llh = &c.gps_llh[3 * ig];
+        const auto r = f.update_gps(llh[0], llh[1], llh[2], Vec3<S>(Eigen::Map<const Vec3<S>>(&c.gps_vel[3 * ig])),
+                                    Vec3<S>(Eigen::Map<const Vec3<S>>(&c.gps_ps[3 * ig])),
+                                    Vec3<S>(Eigen::Map<const Vec3<S>>(&c.gps_vs[3 * ig])), S(tk - gps_t[ig]),
+                                    GnssSolution::Unknown);
+        gps_used += r.pos.status == Status::Ok;
+      }
+    }
+    ASSERT_TRUE(f.navigating());
+    const Vec3<double> l = f.llh();
+    for (int i = 0; i < 3; ++i) ASSERT_EQ(o.llh[3 * k + i], l[i]) << "sample " << k;
+    ASSERT_EQ(Vec4<S>(Eigen::Map<const Vec4<S>>(&o.q[4 * k])), Vec4<S>(f.q_nb())) << "sample " << k;
+  }
+  // Every aid took part (a loop that skipped one would pass the comparison above trivially).
+  EXPECT_GT(comp_used, comp_t.size() / 2);
+  EXPECT_GT(baro_used, baro_t.size() / 2);
+  EXPECT_GT(gps_used, gps_t.size() / 2);
 }
 
 TYPED_TEST(GpsInsSmootherTest, TransitionIsTheTimeUpdates) {
