@@ -64,6 +64,49 @@ TYPED_TEST(GpsInsTest, NoHeapAndNavigatesAtRest) {
   EXPECT_TRUE(s.P.allFinite());
 }
 
+TYPED_TEST(GpsInsTest, RobustWeightingRejectsOnlyGrossOutliers) {
+  // With gps_robust_k the gate judges the fix down-weighted: 5 sigma north (NIS 25 > 21.1, refused
+  // without the weighting) is applied weighted; 10 sigma (weighted NIS 40) stays refused and the
+  // state stays as it was, bit for bit. (tests/python/test_gpsins.py has the twin and the
+  // equivalence with a plain update at the raised sigma.)
+  using S = TypeParam;
+  auto navigating = [](S k) {
+    GpsInsParams<S> p;
+    p.gps_robust_k = k;
+    p.gps_pos_sigma_min = S(0.001);
+    p.gps_time_sigma = S(0);
+    GpsInsFilter<S> f(p);
+    EXPECT_EQ(f.set_initial(quat::from_euler<S>(S(0), S(0), S(0.3)), Vec3<S>::Zero(), true, Vec3<S>::Zero(),
+                            Vec3<S>::Zero()),
+              Status::Ok);
+    const Vec3<S> s5(S(0.005), S(0.005), S(0.005)), v5(S(0.05), S(0.05), S(0.05));
+    f.update_gps(0.7, 0.2, 100.0, Vec3<S>::Zero(), s5, v5);
+    for (int i = 0; i < 50; ++i) f.predict(Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(-9.81)), S(0.01));
+    EXPECT_TRUE(f.navigating());
+    return f;
+  };
+  GpsInsFilter<S> f = navigating(S(2.5)), plain = navigating(S(0)), g = navigating(S(2.5));
+  const S sig = std::sqrt(f.covariance()(gpsins::kPos, gpsins::kPos));
+  const double s_n = std::sqrt(2.0) * double(sig);  // the innovation's sigma: the INS's and the fix's
+  const Vec3<S> sv(sig, sig, sig);
+  auto fix = [&](GpsInsFilter<S>& h, double north) {
+    return h.update_gps_position(0.7 + north / 6.37e6, 0.2, 100.0, sv);
+  };
+  const auto r0 = fix(plain, 5 * s_n);
+  EXPECT_EQ(r0.status, Status::Rejected);
+  EXPECT_GT(r0.nis, S(21.108));
+  const auto r = fix(f, 5 * s_n);
+  EXPECT_EQ(r.status, Status::Ok);
+  EXPECT_EQ(r.decision, GpsInsDecision::Weighted);
+  EXPECT_NEAR(double(r.nis), double(r0.nis), 1e-3 * double(r0.nis));  // the NIS as the fix came
+  EXPECT_GT(f.llh()[0], 0.7 + 0.5 * s_n / 6.37e6);  // pulled north
+  const auto before = g.state();
+  const auto rg = fix(g, 10 * s_n);
+  EXPECT_EQ(rg.status, Status::Rejected);
+  EXPECT_EQ(g.llh(), Vec3<double>(before.nav.lat, before.nav.lon, before.nav.h));
+  EXPECT_EQ(g.covariance(), before.P);
+}
+
 TYPED_TEST(GpsInsTest, NoHeapWithRobustWeightingAndSolutionKinds) {
   // GNSS fixes a few centimetres off in turn, of every solution kind, with the Huber weighting on:
   // every step without the heap; fixes weighted; each kind's floor in the innovation covariance.

@@ -211,6 +211,34 @@ def test_robust_weighting_raises_the_variance_of_far_components(cls):
     np.testing.assert_array_equal(_llh_cov(g1)[1], before[1])
 
 
+@pytest.mark.parametrize("cls", [quatnav.GpsInsFilter, R.GpsInsFilter])
+def test_robust_weighting_rejects_only_gross_outliers(cls):
+    """With gps_robust_k, the gate judges the fix down-weighted: a fix 5 sigma off north (NIS 25,
+    above the 3-dof gate of 21.1, refused without the weighting) is applied as a fix whose north
+    variance is raised by |z| / k = 2 (k = 2.5; the fix as good as the INS, so the weighted NIS is
+    25 * 2 / 3 = 16.7); one at 10 sigma (weighted NIS 100 * 2 / 5 = 40) is a gross outlier,
+    refused with the state untouched."""
+    k, gate = 2.5, 21.108
+    f = _navigating(cls, gps_robust_k=k, gps_pos_sigma_min=0.001)
+    sig = float(np.sqrt(_llh_cov(f)[1][0, 0]))
+    s_n = float(np.sqrt(_llh_cov(f)[1][0, 0] + sig ** 2))
+    plain = _navigating(cls, gps_robust_k=0.0, gps_pos_sigma_min=0.001)
+    r0, d0 = _fix(plain, 5 * s_n, [sig] * 3)
+    assert d0 == "rejected" and r0.nis > gate, r0.nis  # refused without the weighting
+    r, decision = _fix(f, 5 * s_n, [sig] * 3)
+    z = abs(r.innovation[0]) / np.sqrt(r.innovation_cov[0, 0])
+    assert decision == "weighted" and 4.5 < z < 5.5 and r.nis > gate, (decision, z, r.nis)  # the NIS as it came
+    same = _navigating(cls, gps_robust_k=0.0, gps_pos_sigma_min=0.001)
+    _fix(same, 5 * s_n, [sig * np.sqrt(z / k), sig, sig])  # the plain update with the raised sigma
+    np.testing.assert_allclose(_llh_cov(f)[0], _llh_cov(same)[0], rtol=0, atol=1e-14)
+    np.testing.assert_allclose(_llh_cov(f)[1], _llh_cov(same)[1], rtol=1e-9, atol=1e-18)
+    g = _navigating(cls, gps_robust_k=k, gps_pos_sigma_min=0.001)
+    before = [x.copy() for x in _llh_cov(g)]
+    assert _fix(g, 10 * s_n, [sig] * 3)[1] == "rejected"
+    np.testing.assert_array_equal(_llh_cov(g)[0], before[0])
+    np.testing.assert_array_equal(_llh_cov(g)[1], before[1])
+
+
 def test_gnss_time_offset_and_age():
     """A GNSS latency: fixes stamped 0.2 s after their time of validity. Given gps_time_offset =
     -0.2 the result equals the run with the true times; a fix between IMU samples is applied with

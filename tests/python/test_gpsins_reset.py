@@ -145,12 +145,14 @@ def test_inflation_leaves_the_heading_alone(rtk_car):
     lever arm: 39 deg off at the start of a 30 s outage in a curve, 167 m of drift. Every
     inflated update leaves the attitude sigma where it was, and the heading at the start of
     every outage is within a few degrees. The noise as given and the down floor the north and east
-    one (``gps_vertical_floor_ratio = 1``): the log's accelerometer noise and the default's larger
-    down floor let nearly every such fix pass the gate, and this test is about those that fail it."""
+    one (``gps_vertical_floor_ratio = 1``), and the weighting off (``gps_robust_k = 0``): the log's
+    accelerometer noise, the default's larger down floor and the weighted gate let nearly every such
+    fix through, and this test is about those that fail it."""
     from quatnav.experiments import gpsins_car as gc
     s = rtk_car
     outages = s.params["events"]["outages_30"]
-    r = quatnav.GpsInsFilter(**gc.filter_params(s, base=dict(gps_time_sigma=0.02, gps_vertical_floor_ratio=1.0),
+    r = quatnav.GpsInsFilter(**gc.filter_params(s, base=dict(gps_time_sigma=0.02, gps_vertical_floor_ratio=1.0,
+                                                                   gps_robust_k=0.0),
                                                  noise_from_log=False)).run(
         s.imu.gyro, s.imu.accel, t=s.imu.t, outages=outages, **gc.aids(s))
     g = r.aids["gps_pos"]

@@ -473,7 +473,8 @@ def test_initial_state_mag_odometer_increments_and_diagnostics(walk, files, tmp_
     assert tuple(rows[0]) == DIAGNOSTICS_COLUMNS
     aids = {r["aid"] for r in rows}
     assert {"gps_pos", "gps_vel", "mag", "odometer"} <= aids
-    assert all(r["decision"] in ("accepted", "rejected", "inflated", "reset", "skipped", "aligned", "none") for r in rows)
+    assert all(r["decision"] in ("accepted", "weighted", "rejected", "inflated", "reset", "skipped", "aligned", "none")
+               for r in rows)
     times = [float(r["time"]) for r in rows]
     assert times == sorted(times)
     for r in rows:  # every number a plain float ('nan' where none), as any CSV reader takes it

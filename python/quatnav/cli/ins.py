@@ -141,7 +141,7 @@ other inputs: --log FILE (PX4 .ulg, ROS 1 .bag / ROS 2 bag folder, CSV; read by 
 --json FILE writes a summary (rows, navigation start, alignment, gaps, decisions, warnings);
   --json - prints it
 --diagnostics FILE.csv writes one row per aiding sample: aid, time (s), innovation_0..2 (INS
-  minus aid), nis, status, decision (accepted, rejected, inflated, reset, skipped, aligned, none),
+  minus aid), nis, status, decision (accepted, weighted, rejected, inflated, reset, skipped, aligned, none),
   inflation, q_scale (the process-noise scale at that sample)
 alignment: at rest (the IMU still for align_time) roll and pitch from the accelerometer, heading
   from the compass, the magnetometer or, once moving, the GNSS course; started while moving, the

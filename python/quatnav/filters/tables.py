@@ -426,8 +426,8 @@ GPSINS_PARAMS = (
        "real"),
     _p("gps_time_sigma", 0.005, "s", "one-sigma of the GNSS time on the IMU clock", "pos0"),
     _p("lever_arm_sigma", 0.0, "m", "one-sigma of each lever-arm component", "pos0"),
-    _p("gps_robust_k", 0.0, "1", "Huber threshold of the GNSS aids: an innovation component beyond it (in its "
-       "sigmas) is down-weighted (0: off)", "pos0"),
+    _p("gps_robust_k", 3.0, "1", "Huber threshold of the GNSS aids: an innovation component beyond it (in its "
+       "sigmas) is down-weighted, and the gate judges the fix so weighted (0: off)", "pos0"),
     _p("inflate_after", 1.0, "1", "consecutive gate rejections of a GNSS aid after which the next failing fix "
        "inflates the covariance (0: never)", "pos0"),
     _p("inflate_max", 1e4, "1", "largest covariance inflation; a fix that needs more resets the state to it"),

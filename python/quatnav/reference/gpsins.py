@@ -384,16 +384,19 @@ class GpsInsFilter:
         return res
 
     def _correct_commit(self, P, H, R, y, gate, robust_k=0.0):
-        """Correct, inject, commit; with robust_k > 0 a correction the gate passed is made again
-        with R raised where the innovation lies beyond robust_k sigmas (huber_scales). Returns
-        (status, S, nis, weighted) with the S and NIS the gate saw."""
+        """Correct, inject, commit; with robust_k > 0 a correction is made again with R raised where
+        the innovation lies beyond robust_k sigmas (huber_scales), and a fix the gate refused is
+        judged again by the gate on that weighted innovation (detail::gpsins_huber_correct: only a
+        gross outlier stays refused). Returns (status, S, nis, weighted) with the S and NIS of the
+        fix as it came."""
         status, dx, P_new, S, nis = kalman_correct(P, H, R, y, gate)
         weighted = False
-        if status == "ok" and robust_k > 0:
+        if status in ("ok", "rejected") and robust_k > 0:
             d = huber_scales(y, S, robust_k)
             if d is not None:
-                status, dx, P_new, _, _ = kalman_correct(P, H, d[:, None] * R * d[None, :], y, 0.0)
-                weighted = True
+                status, dx, P_new, _, _ = kalman_correct(P, H, d[:, None] * R * d[None, :], y,
+                                                         gate if status == "rejected" else 0.0)
+                weighted = status == "ok"
         if status == "ok":
             s = self.s.copy()
             s.P = P_new

@@ -96,24 +96,32 @@ template <class S, int M> bool huber_scales(const Vec<S, M>& y, const Mat<S, M, 
   return any;
 }
 
-/// The robust weighting of a correction the gate passed (res.status Ok; robust_k > 0): when a
-/// component of the innovation lies beyond robust_k sigmas (huber_scales), the correction of P0
-/// is made again into P and dx with R raised to D R D. res keeps what the gate saw but takes the
-/// status of the new correction. True when the weighted correction was made.
+/// The robust weighting of a correction (robust_k > 0): when a component of the innovation lies
+/// beyond robust_k sigmas (huber_scales), the correction of P0 is made again into P and dx with R
+/// raised to D R D. A correction the gate passed is weighted whatever its weighted NIS; one the
+/// gate refused (res.status Rejected) is judged again by the gate on the weighted innovation, so
+/// that only a gross outlier, one whose NIS exceeds the gate even down-weighted, stays refused
+/// (IGG-III's rejection region; where R dominates the innovation's variance, a single component
+/// beyond gate / robust_k sigmas: 8.4 for 2.5 and the 3-dof gate). res keeps the
+/// innovation, its covariance and NIS as the fix came but takes the status of the new correction;
+/// P and dx are left as they were when it is not Ok. True when the weighted correction was made.
 template <class Aid, class S, int N>
-bool gpsins_huber_correct(const Mat<S, N, N>& P0, const AidMeasurement<S, Aid::M, N>& m, S robust_k, Mat<S, N, N>& P,
-                          Vec<S, N>& dx, UpdateResult<S, Aid::M>& res) {
+bool gpsins_huber_correct(const Mat<S, N, N>& P0, const AidMeasurement<S, Aid::M, N>& m, S robust_k, S gate,
+                          Mat<S, N, N>& P, Vec<S, N>& dx, UpdateResult<S, Aid::M>& res) {
   constexpr int M = Aid::M;
   Vec<S, M> d;
-  if (res.status != Status::Ok || !(robust_k > S(0)) || !huber_scales<S, M>(m.y, res.innovation_cov, robust_k, d))
-    return false;
+  const bool judged = res.status == Status::Ok || res.status == Status::Rejected;
+  if (!judged || !(robust_k > S(0)) || !huber_scales<S, M>(m.y, res.innovation_cov, robust_k, d)) return false;
   const Mat<S, M, M> Rw = d.asDiagonal() * m.R * d.asDiagonal();
   UpdateResult<S, M> rw;
-  P = P0;
-  dx.setZero();
-  kalman_correct<S, N, M, Aid::C0, Aid::NC>(P, m.H, Rw, m.y, dx, rw, S(0));
+  Mat<S, N, N> Pw = P0;
+  Vec<S, N> dxw = Vec<S, N>::Zero();
+  kalman_correct<S, N, M, Aid::C0, Aid::NC>(Pw, m.H, Rw, m.y, dxw, rw, res.status == Status::Rejected ? gate : S(0));
   res.status = rw.status;
-  return rw.status == Status::Ok;
+  if (rw.status != Status::Ok) return false;
+  P = Pw;
+  dx = dxw;
+  return true;
 }
 
 /// After a reset of the 3 states from K0 to a fix: their covariance block is the fix's R and their

@@ -745,9 +745,10 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
 
   /// The Kalman correction of an aid with the covariance P (its H nonzero only in the piece's
   /// columns), injected into the nominal state and committed; the status says what happened.
-  /// With robust_k > 0 a correction the gate passed is made again with R raised where the
-  /// innovation's components lie beyond robust_k of their sigmas (detail::huber_scales;
-  /// *weighted says so); res keeps the innovation, its covariance and NIS the gate saw.
+  /// With robust_k > 0 a correction is made again with R raised where the innovation's components
+  /// lie beyond robust_k of their sigmas (detail::huber_scales; *weighted says so), and a fix the
+  /// gate refused is judged again on that weighted innovation (detail::gpsins_huber_correct: only
+  /// a gross outlier stays refused); res keeps the innovation, its covariance and NIS as it came.
   template <class Aid>
   Status correct_and_commit(const Mat16& P0, const AidMeasurement<S, Aid::M, kStates>& m, S gate,
                             UpdateResult<S, Aid::M>& res, S robust_k = S(0), bool* weighted = nullptr) {
@@ -756,7 +757,7 @@ template <class S_, bool SF_ = false> class GpsInsFilter {
     // kalman_correct refuses an infinite NIS (a finite reading near the float maximum, a height
     // of 1e300 m) with NumericalFailure.
     kalman_correct<S, kStates, Aid::M, Aid::C0, Aid::NC>(P, m.H, m.R, m.y, dx, res, gate);
-    const bool w = detail::gpsins_huber_correct<Aid>(P0, m, robust_k, P, dx, res);
+    const bool w = detail::gpsins_huber_correct<Aid>(P0, m, robust_k, gate, P, dx, res);
     if (weighted) *weighted = w;
     return inject_and_commit(
         res, P,
