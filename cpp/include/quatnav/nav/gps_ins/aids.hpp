@@ -102,7 +102,7 @@ template <class S, int M> bool huber_scales(const Vec<S, M>& y, const Mat<S, M, 
 /// gate refused (res.status Rejected) is judged again by the gate on the weighted innovation, so
 /// that only a gross outlier, one whose NIS exceeds the gate even down-weighted, stays refused
 /// (IGG-III's rejection region; where R dominates the innovation's variance, a single component
-/// beyond gate / robust_k sigmas: 8.4 for 2.5 and the 3-dof gate). res keeps the
+/// beyond gate / robust_k sigmas: 7 for the default 3 and the 3-dof gate). res keeps the
 /// innovation, its covariance and NIS as the fix came but takes the status of the new correction;
 /// P and dx are left as they were when it is not Ok. True when the weighted correction was made.
 template <class Aid, class S, int N>
