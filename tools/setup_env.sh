@@ -83,7 +83,7 @@ pip_build() {
   start=$SECONDS
   # build-system.requires of pyproject.toml, with cmake and ninja
   pip_quiet "scikit-build-core>=0.10" "pybind11>=2.12" "cmeel-eigen>=3.4" cmake ninja
-  echo "== pip install $* (compiles the C++ extension with ${_ext_cxx:-c++}: about 4.5 minutes on 2 cores the first time; log $log)"
+  echo "== pip install $* (compiles the C++ extension with ${_ext_cxx:-c++}: about 4 minutes on 2 cores the first time; log $log)"
   ( while sleep 15; do echo "   ... still building ($((SECONDS - start)) s)"; done ) &
   hb=$!
   set +e
