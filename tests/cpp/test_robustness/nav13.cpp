@@ -1,5 +1,5 @@
-// test_robustness: NavFilter13 (its helpers are instantiated for each time update in
-// nav13_<time update>.cpp); GpsInsFilter is in gpsins.cpp.
+// test_robustness: NavFilter13 with each time update (robustness.hpp); GpsInsFilter is in
+// gpsins.cpp.
 #include "robustness.hpp"
 
 TEST(FaultSequences, NavFilter13) {

@@ -4,11 +4,10 @@
 // target tests/fuzz/fuzz_filters.cpp, here on a fixed random corpus so that every ctest run, also
 // under ASan + UBSan, exercises them).
 //
-// One executable, one unit per filter family (attitude.cpp, marg.cpp, nav13.cpp, gpsins.cpp,
-// covariance.cpp), so that they compile in parallel and each stays small under ASan. The
-// NavFilter13 helpers are instantiated for each time update in its own unit (nav13_ekf.cpp,
-// nav13_second_order.cpp, nav13_ukf.cpp); the `extern template` declarations below keep the
-// unit that calls them (nav13.cpp) from compiling them again.
+// One unit per filter family (attitude.cpp, marg.cpp, nav13.cpp, gpsins.cpp, covariance.cpp).
+// The units of the filters are compiled in their filters' test groups (tests/cpp/CMakeLists.txt:
+// the group's tests instantiate the same filters, whose code is then compiled once); the
+// covariance unit is the executable test_robustness.
 #pragma once
 
 // Before any Eigen header, in every unit of the executable alike: this header comes first.
@@ -190,15 +189,3 @@ template <class S, TimeUpdate TU> double nav13_near_singular(S floor, int steps,
               sizeof(S) == 4 ? "float32" : "float64", double(floor), steps, min_eig);
   return min_eig;
 }
-
-// Instantiated in nav13_ekf.cpp, nav13_second_order.cpp and nav13_ukf.cpp.
-#define QUATNAV_ROBUSTNESS_NAV13(EXTERN, TU)                                     \
-  EXTERN template void random_fault_sequences<NavFilter13<double, TU>>(unsigned, int, int); \
-  EXTERN template void random_fault_sequences<NavFilter13<float, TU>>(unsigned, int, int); \
-  EXTERN template void nav13_bad_input<NavFilter13<double, TU>>();                     \
-  EXTERN template void nav13_bad_input<NavFilter13<float, TU>>();                      \
-  EXTERN template double nav13_near_singular<double, TU>(double, int, int);            \
-  EXTERN template double nav13_near_singular<float, TU>(float, int, int);
-QUATNAV_ROBUSTNESS_NAV13(extern, TimeUpdate::Ekf)
-QUATNAV_ROBUSTNESS_NAV13(extern, TimeUpdate::SecondOrder)
-QUATNAV_ROBUSTNESS_NAV13(extern, TimeUpdate::Ukf)

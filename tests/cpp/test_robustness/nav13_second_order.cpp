@@ -1,5 +1,0 @@
-// test_robustness: the NavFilter13 helpers of robustness.hpp for TimeUpdate::SecondOrder, float64 and
-// float32 (their tests are in nav13.cpp).
-#include "robustness.hpp"
-
-QUATNAV_ROBUSTNESS_NAV13(, TimeUpdate::SecondOrder)
