@@ -28,7 +28,7 @@ heap or exception support linked, attitude difference above --tol-deg).
 
 Needs: arm-none-eabi-gcc with newlib and the C++ standard headers (Debian: gcc-arm-none-eabi
 libnewlib-arm-none-eabi libstdc++-arm-none-eabi-dev; the images link no C++ runtime library),
-qemu-system-arm, a host C++ compiler, Eigen 3.4 (the cmeel-eigen wheel or libeigen3-dev) and
+qemu-system-arm, a host C++ compiler ($CXX, else clang++ where installed, else c++), Eigen 3.4 (the cmeel-eigen wheel or libeigen3-dev) and
 the quatnav Python package (for quatnav.sim). Compilations are cached in build/embedded
 (keyed on the command line and the content of every source and header).
 
@@ -348,6 +348,17 @@ def build_target(job, build, eigen, digest):
     return elf
 
 
+def host_cxx():
+    """The host programs' compiler: $CXX when set, else clang++ where it is installed (it compiles
+    these Eigen-heavy programs in about two thirds of GCC's CPU time: docs/DEVELOPING.md,
+    "Embedded check"), else the system's c++. The host runs are references (double) and a
+    comparison (float32), not the product: the Python module stays GCC's."""
+    cxx = os.environ.get("CXX")
+    if cxx:
+        return cxx
+    return "clang++" if shutil.which("clang++") else "c++"
+
+
 @functools.lru_cache(maxsize=None)
 def _is_gcc(cxx):
     """True when the compiler `cxx` is GCC (it takes GCC_PARAMS; clang does not)."""
@@ -363,7 +374,7 @@ def build_host(job, build, eigen, digest):
     d = build / f"host-{name}-{scalar}"
     d.mkdir(parents=True, exist_ok=True)
     exe = d / "fw_host"
-    cxx = os.environ.get("CXX", "c++")
+    cxx = host_cxx()
     run_cached([cxx, *HOST_CXXFLAGS, *(GCC_PARAMS if _is_gcc(cxx) else []), "-I", str(build), "-I", str(HERE), "-I", str(INCLUDE), "-isystem", eigen,
                 *defines(name, kind, adapter, scalar), str(HERE / "firmware.cpp"), "-o", str(exe)], [exe], digest, d)
     return exe
